@@ -1,0 +1,163 @@
+#include "filter/detail/common.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace stvl::filter::detail {
+
+namespace {
+std::string format(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+}  // namespace
+
+void validate(const VoxelGridConfig& config) {
+  if (!std::isfinite(config.voxel_size_m) || config.voxel_size_m <= 0.0) {
+    throw std::invalid_argument("voxel grid: voxel_size_m must be finite and > 0, got " + format(config.voxel_size_m));
+  }
+  if (config.min_points_per_voxel < 0) {
+    throw std::invalid_argument("voxel grid: min_points_per_voxel must be >= 0, got " +
+                                std::to_string(config.min_points_per_voxel));
+  }
+}
+
+void validate(const CsnbConfig& config) {
+  if (!std::isfinite(config.voxel_size_m) || config.voxel_size_m <= 0.0) {
+    throw std::invalid_argument("csnb: voxel_size_m must be finite and > 0, got " + format(config.voxel_size_m));
+  }
+  if (config.max_neighbours < 0) {
+    throw std::invalid_argument("csnb: max_neighbours must be >= 0, got " + std::to_string(config.max_neighbours));
+  }
+  if (config.batch_size < 1) {
+    throw std::invalid_argument("csnb: batch_size must be >= 1, got " + std::to_string(config.batch_size));
+  }
+  if (config.grid_exponent != 0 && (config.grid_exponent < 4 || config.grid_exponent > 9)) {
+    throw std::invalid_argument("csnb: grid_exponent must be 0 (auto) or 4..9, got " +
+                                std::to_string(config.grid_exponent));
+  }
+}
+
+void check_cloud_size(std::int64_t points) {
+  if (points >= std::int64_t{std::numeric_limits<std::uint32_t>::max()}) {
+    throw std::invalid_argument("filter: clouds are limited to 2^32-1 points, got " + std::to_string(points));
+  }
+}
+
+int bit_width(std::uint64_t value) {
+  int bits = 0;
+  while (value != 0) {
+    ++bits;
+    value >>= 1;
+  }
+  return bits;
+}
+
+int resolve_threads(int threads) {
+  if (threads > 0) return threads;
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+VoxelLayout make_voxel_layout(const Bounds& bounds, double voxel_size_m, std::uint64_t points) {
+  VoxelLayout layout;
+  layout.voxel_size_m = voxel_size_m;
+  constexpr double kLimit = 4.0e18;  // |floor(x / voxel)| must fit an int64 with room for differences
+  std::uint64_t total = 1;
+  bool overflow = false;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = std::floor(double(bounds.min[a]) / voxel_size_m);
+    const double hi = std::floor(double(bounds.max[a]) / voxel_size_m);
+    if (!(std::fabs(lo) < kLimit && std::fabs(hi) < kLimit)) {
+      overflow = true;
+      break;
+    }
+    layout.base[a] = static_cast<std::int64_t>(lo);
+    layout.dims[a] = static_cast<std::uint64_t>(static_cast<std::int64_t>(hi) - layout.base[a]) + 1;
+    if (__builtin_mul_overflow(total, layout.dims[a], &total)) {
+      overflow = true;
+      break;
+    }
+  }
+  if (overflow) {
+    std::ostringstream out;
+    out << "voxel grid: the cloud's bounding box (" << double(bounds.max[0]) - bounds.min[0] << " x "
+        << double(bounds.max[1]) - bounds.min[1] << " x " << double(bounds.max[2]) - bounds.min[2]
+        << " m) at voxel_size_m=" << voxel_size_m
+        << " needs more voxels than a 64-bit key holds; use a larger voxel_size_m";
+    throw std::invalid_argument(out.str());
+  }
+  layout.key_bits = bit_width(total - 1);
+  layout.index_bits = bit_width(points > 0 ? points - 1 : 0);
+  layout.packed = layout.key_bits + layout.index_bits <= 64;
+  return layout;
+}
+
+CsnbLayout make_csnb_layout(const Bounds& bounds, const CsnbConfig& config) {
+  CsnbLayout layout;
+  double extent = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    layout.min_m[a] = bounds.min[a];
+    extent = std::max(extent, double(bounds.max[a]) - double(bounds.min[a]));
+  }
+  const double d = config.voxel_size_m;
+  // The [-1,1]^3 normalisation is scaled so that a cube is exactly d (the grid may overhang the cloud);
+  // when the extent needs more than 2^9 cubes of d, the cube grows to extent / 2^9: the 27-cube search
+  // still covers the radius, so the density bound stays exact, only the candidates per point grow.
+  int n = config.grid_exponent;
+  if (n == 0) {
+    layout.cube_edge_m = std::max(d, extent / 512.0);
+    n = std::clamp(static_cast<int>(std::ceil(std::log2(std::max(extent / layout.cube_edge_m, 1.0)))), 4, 9);
+  } else {
+    layout.cube_edge_m = extent > 0.0 ? extent / double(1u << n) : d;  // given n: the paper's exact fit
+  }
+  layout.grid_exponent = n;
+  const double reach = std::ceil(d / layout.cube_edge_m);
+  layout.reach = static_cast<int>(std::clamp(reach, 1.0, double((1u << n) - 1)));
+  layout.radius_sq = static_cast<float>(d * d);
+  return layout;
+}
+
+Bounds compute_bounds(const Eigen::Matrix3Xf& points, int threads) {
+  const std::size_t n = static_cast<std::size_t>(points.cols());
+  threads = parts_for(n, threads);
+  std::vector<Bounds> parts(static_cast<std::size_t>(threads));
+  const float* p = points.data();
+  parallel_for(n, threads, [&](std::size_t b, std::size_t e, int t) {
+    Bounds part;
+    for (int a = 0; a < 3; ++a) {
+      part.min[a] = std::numeric_limits<float>::infinity();
+      part.max[a] = -std::numeric_limits<float>::infinity();
+    }
+    for (std::size_t i = b; i < e; ++i) {
+      const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+      if (!finite3(x, y, z)) continue;
+      ++part.finite;
+      part.min[0] = std::min(part.min[0], x);
+      part.max[0] = std::max(part.max[0], x);
+      part.min[1] = std::min(part.min[1], y);
+      part.max[1] = std::max(part.max[1], y);
+      part.min[2] = std::min(part.min[2], z);
+      part.max[2] = std::max(part.max[2], z);
+    }
+    parts[t] = part;
+  });
+  Bounds all = parts[0];
+  for (std::size_t t = 1; t < parts.size(); ++t) {
+    if (parts[t].finite == 0) continue;
+    if (all.finite == 0) {
+      all = parts[t];
+      continue;
+    }
+    all.finite += parts[t].finite;
+    for (int a = 0; a < 3; ++a) {
+      all.min[a] = std::min(all.min[a], parts[t].min[a]);
+      all.max[a] = std::max(all.max[a], parts[t].max[a]);
+    }
+  }
+  return all;
+}
+
+}  // namespace stvl::filter::detail

@@ -1,0 +1,123 @@
+#include "filter/voxel_grid.hpp"
+
+#include "filter/detail/common.hpp"
+
+namespace stvl::filter {
+
+namespace {
+
+struct KeyIndex {
+  std::uint64_t key;
+  std::uint32_t index;
+};
+
+// Sorted entries -> centroids of runs of equal key, each part of the array handled by one thread.
+template <class T, class KeyFn, class IndexFn>
+Eigen::Matrix3Xf reduce_runs(const std::vector<T>& sorted, KeyFn key, IndexFn index, const float* p,
+                             std::size_t min_points, int threads) {
+  const std::size_t n = sorted.size();
+  threads = detail::parts_for(n, threads);
+  std::vector<std::size_t> begin(threads + 1, n), kept(threads + 1, 0);
+  for (int t = 0; t < threads; ++t) {
+    std::size_t b = n * t / threads;
+    while (b > 0 && b < n && key(sorted[b]) == key(sorted[b - 1])) ++b;
+    begin[t] = b;
+  }
+  auto for_runs = [&](int t, auto&& on_run) {
+    for (std::size_t i = begin[t]; i < begin[t + 1];) {
+      std::size_t j = i + 1;
+      const std::uint64_t k = key(sorted[i]);
+      while (j < n && key(sorted[j]) == k) ++j;
+      if (j - i >= min_points) on_run(i, j);
+      i = j;
+    }
+  };
+  detail::parallel_for(threads, threads, [&](std::size_t, std::size_t, int t) {
+    std::size_t count = 0;
+    for_runs(t, [&](std::size_t, std::size_t) { ++count; });
+    kept[t + 1] = count;
+  });
+  for (int t = 0; t < threads; ++t) kept[t + 1] += kept[t];
+  Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(kept[threads]));
+  float* o = out.data();
+  detail::parallel_for(threads, threads, [&](std::size_t, std::size_t, int t) {
+    std::size_t v = kept[t];
+    for_runs(t, [&](std::size_t i, std::size_t j) {
+      double sx = 0, sy = 0, sz = 0;
+      for (std::size_t m = i; m < j; ++m) {
+        const std::size_t q = index(sorted[m]);
+        sx += p[3 * q];
+        sy += p[3 * q + 1];
+        sz += p[3 * q + 2];
+      }
+      const double c = double(j - i);
+      o[3 * v] = static_cast<float>(sx / c);
+      o[3 * v + 1] = static_cast<float>(sy / c);
+      o[3 * v + 2] = static_cast<float>(sz / c);
+      ++v;
+    });
+  });
+  return out;
+}
+
+}  // namespace
+
+Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfig& config, int threads) {
+  detail::validate(config);
+  detail::check_cloud_size(points.cols());
+  threads = detail::resolve_threads(threads);
+  const detail::Bounds bounds = detail::compute_bounds(points, threads);
+  if (bounds.finite == 0) return Eigen::Matrix3Xf(3, 0);
+  const std::size_t n = static_cast<std::size_t>(points.cols());
+  const detail::VoxelLayout layout = detail::make_voxel_layout(bounds, config.voxel_size_m, n);
+  const std::size_t min_points = static_cast<std::size_t>(std::max(config.min_points_per_voxel, 1));
+  const float* p = points.data();
+
+  // Finite points only, in index order, each thread writing its own slice.
+  const int parts = detail::parts_for(n, threads);
+  std::vector<std::size_t> offset(parts + 1, 0);
+  if (bounds.finite != n) {
+    detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
+      std::size_t c = 0;
+      for (std::size_t i = b; i < e; ++i) c += detail::finite3(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+      offset[t + 1] = c;
+    });
+  } else {
+    for (int t = 0; t < parts; ++t) offset[t + 1] = n * (t + 1) / parts - n * t / parts;
+  }
+  for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
+
+  if (layout.packed) {
+    const int shift = layout.index_bits;
+    std::vector<std::uint64_t> items(bounds.finite), scratch;
+    detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
+      std::size_t o = offset[t];
+      for (std::size_t i = b; i < e; ++i) {
+        const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+        if (!detail::finite3(x, y, z)) continue;
+        items[o++] = (shift == 64 ? 0 : detail::voxel_key(layout, x, y, z) << shift) | i;
+      }
+    });
+    // Index bits are already in order and the sort is stable: sort the key bits only.
+    detail::radix_sort(items, scratch, shift, shift + layout.key_bits, [](std::uint64_t v) { return v; }, threads);
+    const std::uint64_t index_mask = shift == 64 ? ~0ull : (std::uint64_t{1} << shift) - 1;
+    return reduce_runs(
+        items, [shift](std::uint64_t v) { return shift == 64 ? 0 : v >> shift; },
+        [index_mask](std::uint64_t v) { return v & index_mask; }, p, min_points, threads);
+  }
+  std::vector<KeyIndex> items(bounds.finite), scratch;
+  detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
+    std::size_t o = offset[t];
+    for (std::size_t i = b; i < e; ++i) {
+      const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+      if (!detail::finite3(x, y, z)) continue;
+      items[o++] = {detail::voxel_key(layout, x, y, z), static_cast<std::uint32_t>(i)};
+    }
+  });
+  detail::radix_sort(items, scratch, 0, layout.key_bits, [](const KeyIndex& v) { return v.key; }, threads);
+  return reduce_runs(
+      items, [](const KeyIndex& v) { return v.key; }, [](const KeyIndex& v) { return v.index; }, p, min_points,
+      threads);
+}
+
+}  // namespace stvl::filter

@@ -1,0 +1,94 @@
+#include "mapping/config.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace stvl::mapping {
+namespace {
+
+[[noreturn]] void reject(const std::string& field, double value, const std::string& rule) {
+  std::ostringstream message;
+  message << field << " = " << value << " is invalid: " << rule;
+  throw std::invalid_argument(message.str());
+}
+
+void require_finite(const char* field, double value) {
+  if (!std::isfinite(value)) reject(field, value, "must be finite");
+}
+
+}  // namespace
+
+DecayModel parse_decay_model(const std::string& text) {
+  if (text == "linear" || text == "0") return DecayModel::kLinear;
+  if (text == "exponential" || text == "1") return DecayModel::kExponential;
+  if (text == "persistent" || text == "-1" || text == "2") return DecayModel::kPersistent;
+  throw std::invalid_argument("decay_model = '" + text +
+                              "' is invalid: expected linear|exponential|persistent or 0|1|-1");
+}
+
+std::string to_string(DecayModel model) {
+  switch (model) {
+    case DecayModel::kLinear: return "linear";
+    case DecayModel::kExponential: return "exponential";
+    case DecayModel::kPersistent: return "persistent";
+  }
+  return "unknown";
+}
+
+ClearingMode parse_clearing_mode(const std::string& text) {
+  if (text == "frustum") return ClearingMode::kFrustum;
+  if (text == "raycast") return ClearingMode::kRaycast;
+  throw std::invalid_argument("clearing_mode = '" + text + "' is invalid: expected frustum|raycast");
+}
+
+std::string to_string(ClearingMode mode) { return mode == ClearingMode::kFrustum ? "frustum" : "raycast"; }
+
+ClearingWalk parse_clearing_walk(const std::string& text) {
+  if (text == "bounded") return ClearingWalk::kBounded;
+  if (text == "full_walk") return ClearingWalk::kFullWalk;
+  throw std::invalid_argument("clearing_walk = '" + text + "' is invalid: expected bounded|full_walk");
+}
+
+std::string to_string(ClearingWalk walk) { return walk == ClearingWalk::kBounded ? "bounded" : "full_walk"; }
+
+void StvlConfig::validate() const {
+  require_finite("voxel_size", voxel_size);
+  if (!(voxel_size >= 0.01 && voxel_size <= 1.0)) reject("voxel_size", voxel_size, "must lie in [0.01, 1.0] m");
+  require_finite("voxel_decay", voxel_decay);
+  if (voxel_decay < 0.0) reject("voxel_decay", voxel_decay, "must be >= 0 s");
+  const int model = static_cast<int>(decay_model);
+  if (model != 0 && model != 1 && model != -1) reject("decay_model", model, "must be linear, exponential or persistent");
+  if (mark_threshold < 0) reject("mark_threshold", mark_threshold, "must be >= 0");
+  if (clearing_mode != ClearingMode::kFrustum && clearing_mode != ClearingMode::kRaycast)
+    reject("clearing_mode", static_cast<int>(clearing_mode), "must be frustum or raycast");
+  if (clearing_walk != ClearingWalk::kBounded && clearing_walk != ClearingWalk::kFullWalk)
+    reject("clearing_walk", static_cast<int>(clearing_walk), "must be bounded or full_walk");
+  if (expiry_leaves_per_update < 1)
+    reject("expiry_leaves_per_update", static_cast<double>(expiry_leaves_per_update), "must be >= 1");
+}
+
+void ObservationSource::validate() const {
+  require_finite("obstacle_range", obstacle_range);
+  if (obstacle_range <= 0.0) reject("obstacle_range", obstacle_range, "must be > 0 m");
+  require_finite("min_obstacle_height", min_obstacle_height);
+  require_finite("max_obstacle_height", max_obstacle_height);
+  if (min_obstacle_height > max_obstacle_height)
+    reject("min_obstacle_height", min_obstacle_height,
+           "must be <= max_obstacle_height = " + std::to_string(max_obstacle_height));
+  constexpr double kPi = 3.14159265358979323846;
+  require_finite("horizontal_fov_angle", horizontal_fov_angle);
+  if (!(horizontal_fov_angle > 0.0 && horizontal_fov_angle < kPi))
+    reject("horizontal_fov_angle", horizontal_fov_angle, "must lie in (0, pi) rad");
+  require_finite("vertical_fov_angle", vertical_fov_angle);
+  if (!(vertical_fov_angle > 0.0 && vertical_fov_angle < kPi))
+    reject("vertical_fov_angle", vertical_fov_angle, "must lie in (0, pi) rad");
+  require_finite("min_z", min_z);
+  require_finite("max_z", max_z);
+  if (min_z < 0.0) reject("min_z", min_z, "must be >= 0 m");
+  if (min_z >= max_z) reject("min_z", min_z, "must be < max_z = " + std::to_string(max_z));
+  require_finite("decay_acceleration", decay_acceleration);
+  if (decay_acceleration < 0.0) reject("decay_acceleration", decay_acceleration, "must be >= 0");
+}
+
+}  // namespace stvl::mapping

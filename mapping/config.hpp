@@ -1,0 +1,69 @@
+#pragma once
+// Parameters of the spatio-temporal voxel map. Field names and defaults follow STVL's ROS parameters
+// (spatio_temporal_voxel_layer.cpp); where we differ the comment says so. Lengths in metres, angles in
+// radians, times in seconds of simulated time.
+#include <cstddef>
+#include <string>
+
+namespace stvl::mapping {
+
+// STVL's integer codes are kept: 0 linear, 1 exponential, -1 persistent. STVL documents -1 for persistent,
+// its enum says PERSISTENT = 2 and its decay function treats every code but 0 and 1 as persistent; here
+// -1 and 2 both mean persistent and any other code is rejected instead of silently becoming persistent.
+enum class DecayModel { kLinear = 0, kExponential = 1, kPersistent = -1 };
+
+// Accepts "linear" | "exponential" | "persistent" and "0" | "1" | "-1" | "2"; throws std::invalid_argument.
+DecayModel parse_decay_model(const std::string& text);
+std::string to_string(DecayModel model);
+
+// frustum: STVL's decay acceleration inside the clearing frustums.
+// raycast: free space between the sensor and each point is cleared outright (what STVL cannot do).
+enum class ClearingMode { kFrustum, kRaycast };
+ClearingMode parse_clearing_mode(const std::string& text);
+std::string to_string(ClearingMode mode);
+
+// bounded: visit only leaf nodes whose bounding boxes meet a clearing frustum, plus an expiry index that
+//          removes at most `expiry_leaves_per_update` leaves of expired voxels elsewhere per update.
+// full_walk: STVL's behaviour, every active voxel visited on every update (the in-run baseline).
+enum class ClearingWalk { kBounded, kFullWalk };
+ClearingWalk parse_clearing_walk(const std::string& text);
+std::string to_string(ClearingWalk walk);
+
+struct StvlConfig {
+  // Accepted range [0.01, 1.0] m (STVL's usable range is 0.02..0.2): below 1 cm one 10 m frustum holds
+  // over 10^9 voxels; above 1 m the map is useless for a ground robot.
+  double voxel_size = 0.05;
+  // STVL declares -1.0 (which makes linear voxels expire at once); negative values are rejected here and
+  // the default is the 15 s used in STVL's example configuration.
+  double voxel_decay = 15.0;
+  DecayModel decay_model = DecayModel::kLinear;
+  // A costmap cell is lethal where its column holds >= max(mark_threshold, 1) voxels (STVL compares
+  // count >= mark_threshold over columns that hold at least one voxel, so 0 behaves like 1).
+  int mark_threshold = 0;
+  ClearingMode clearing_mode = ClearingMode::kFrustum;
+  ClearingWalk clearing_walk = ClearingWalk::kBounded;
+  // Bound on expiry work per update in bounded mode; a backlog larger than this is worked off over the next
+  // updates (lag = ceil(backlog / expiry_leaves_per_update) updates).
+  std::size_t expiry_leaves_per_update = 256;
+
+  void validate() const;  // throws std::invalid_argument naming the offending field and value
+};
+
+// One observation source (STVL: a sensor topic). The clearing frustum is a depth camera's: apex at the
+// optical centre, z forward, x right, y down.
+struct ObservationSource {
+  bool marking = true;
+  bool clearing = false;
+  double obstacle_range = 2.5;         // points farther than this from the optical centre are not marked
+  double min_obstacle_height = 0.0;    // world z band for marking, inclusive
+  double max_obstacle_height = 3.0;
+  double horizontal_fov_angle = 1.04;  // full angle, (0, pi)
+  double vertical_fov_angle = 0.7;     // full angle, (0, pi)
+  double min_z = 0.0;                  // frustum near plane along the optical axis, >= 0
+  double max_z = 10.0;                 // frustum far plane (and the ray-cast clearing range)
+  double decay_acceleration = 0.0;     // >= 0, 1/s^3
+
+  void validate() const;
+};
+
+}  // namespace stvl::mapping

@@ -1,0 +1,65 @@
+#include "mapping/costmap.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace stvl::mapping {
+
+std::optional<std::uint8_t> Costmap2D::at_world(double x, double y) const {
+  const double fx = std::floor((x - origin_x) / resolution);
+  const double fy = std::floor((y - origin_y) / resolution);
+  if (!(fx >= 0 && fy >= 0 && fx < width && fy < height)) return std::nullopt;
+  return at(static_cast<int>(fx), static_cast<int>(fy));
+}
+
+void write_file_atomically(const std::string& path, const std::string& bytes) {
+  const std::string temp = path + ".tmp";
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot open '" + temp + "' for writing");
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) throw std::runtime_error("cannot write '" + temp + "'");
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    std::remove(temp.c_str());
+    throw std::runtime_error("cannot rename '" + temp + "' to '" + path + "'");
+  }
+}
+
+void write_costmap(const Costmap2D& costmap, const std::string& base_path) {
+  if (costmap.width <= 0 || costmap.height <= 0 ||
+      costmap.cells.size() != static_cast<std::size_t>(costmap.width) * costmap.height)
+    throw std::invalid_argument("costmap is empty or its cells do not match " + std::to_string(costmap.width) +
+                                "x" + std::to_string(costmap.height));
+  std::string pgm = "P5\n" + std::to_string(costmap.width) + " " + std::to_string(costmap.height) + "\n255\n";
+  const std::size_t header = pgm.size();
+  pgm.resize(header + costmap.cells.size());
+  for (int row = 0; row < costmap.height; ++row) {
+    const int iy = costmap.height - 1 - row;
+    for (int ix = 0; ix < costmap.width; ++ix) {
+      const std::uint8_t cost = costmap.at(ix, iy);
+      const char pixel = static_cast<char>(cost == kCostLethal ? 0 : cost == kCostFree ? 254 : 205);
+      pgm[header + static_cast<std::size_t>(row) * costmap.width + ix] = pixel;
+    }
+  }
+  const std::string pgm_path = base_path + ".pgm";
+  std::string image_name = pgm_path;
+  if (const auto slash = image_name.find_last_of('/'); slash != std::string::npos) image_name.erase(0, slash + 1);
+  std::ostringstream yaml;
+  yaml.precision(17);
+  yaml << "image: " << image_name << "\n"
+       << "mode: trinary\n"
+       << "resolution: " << costmap.resolution << "\n"
+       << "origin: [" << costmap.origin_x << ", " << costmap.origin_y << ", 0.0]\n"
+       << "negate: 0\n"
+       << "occupied_thresh: 0.65\n"
+       << "free_thresh: 0.196\n";
+  write_file_atomically(pgm_path, pgm);
+  write_file_atomically(base_path + ".yaml", yaml.str());
+}
+
+}  // namespace stvl::mapping

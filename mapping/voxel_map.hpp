@@ -1,0 +1,101 @@
+#pragma once
+// Spatio-temporal voxel map (STVL on OpenVDB). The value of a voxel is the time it was last marked
+// (possibly pulled back by frustum acceleration, as STVL does); empty voxels are absent.
+//
+// Voxel index: key = floor(p / voxel_size) per axis, so voxel key k spans [k*s, (k+1)*s) and its centre is
+// (k + 0.5)*s; negative coordinates work (p = -0.01 -> key -1).
+//
+// Clearing (one call to clear() per update, before mark(), as STVL's layer does), with age = time_s - value:
+//   time_left = voxel_decay - age            (linear)
+//             = voxel_decay * exp(-age)      (exponential: never below 0, so only frustums remove voxels)
+//             = voxel_decay                  (persistent: likewise)
+//   inside a clearing frustum time_left -= decay_acceleration * age^3 / 6, and if the voxel survives its value
+//   is pulled back by that amount (STVL's compounding); a voxel with time_left < 0 is removed.
+// Bounded walk: frustums visit only the leaf nodes (8^3 voxels) whose boxes meet them; linear expiry
+// elsewhere comes from a per-leaf expiry index, at most expiry_leaves_per_update leaves per call. After
+// ceil(backlog / expiry_leaves_per_update) further calls the map equals the full walk's.
+// Ray-cast mode: instead of frustum acceleration, every voxel strictly between the optical centre and a
+// point's voxel (up to max_z) is removed at once; linear expiry still applies.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mapping/config.hpp"
+#include "mapping/costmap.hpp"
+
+namespace stvl::mapping {
+
+struct ClearingObservation {
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
+  ObservationSource source;
+  const Eigen::Matrix3Xf* points_W = nullptr;  // required in ray-cast mode; must outlive the clear() call
+};
+
+struct Voxel {
+  Eigen::Vector3i key;
+  double time_s;
+};
+
+struct ClearStats {
+  std::size_t voxels_visited = 0;  // voxels tested against frustums / rays / expiry
+  std::size_t voxels_removed = 0;
+  std::size_t leaves_visited = 0;
+  std::size_t expiry_backlog = 0;  // leaves due for expiry but left for later calls (bounded walk)
+};
+
+class VoxelMap {
+ public:
+  explicit VoxelMap(const StvlConfig& config = {});  // throws std::invalid_argument
+  ~VoxelMap();
+  VoxelMap(VoxelMap&&) noexcept;
+  VoxelMap& operator=(VoxelMap&&) noexcept;
+  VoxelMap(const VoxelMap&) = delete;
+  VoxelMap& operator=(const VoxelMap&) = delete;
+
+  const StvlConfig& config() const;
+  double voxel_size_m() const;
+
+  // Marks points_W at time_s (no-op when !source.marking). Skips non-finite points, points farther than
+  // obstacle_range (or closer than 1 cm) from the optical centre, and points outside the height band.
+  // Returns the number of points marked. Throws std::invalid_argument for a bad source, pose or time
+  // (time_s must be finite and not earlier than any time already given to the map).
+  std::size_t mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isometry3d& T_world_camera,
+                   const ObservationSource& source, double time_s);
+
+  // Decay + clearing for one update at time_s. Observations with source.clearing == false are ignored.
+  ClearStats clear(const std::vector<ClearingObservation>& observations, double time_s);
+
+  std::size_t size() const;  // active voxels
+  bool empty() const { return size() == 0; }
+  std::optional<double> lookup(const Eigen::Vector3d& p_W) const;  // time of the voxel holding p_W
+  Eigen::Vector3i key_of(const Eigen::Vector3d& p_W) const;
+  Eigen::Vector3d center_of(const Eigen::Vector3i& key) const;
+  std::vector<Eigen::Vector3i> voxel_keys() const;  // sorted lexicographically (x, y, z)
+  std::vector<Voxel> voxels() const;                // sorted by key
+  Eigen::Matrix3Xf voxel_centers() const;           // in voxel_keys() order
+  std::size_t leaf_count() const;
+
+  // Inserts voxels directly (benchmarks, tests): key -> time.
+  void set_voxels(const std::vector<Voxel>& voxels);
+
+  // Column projection: lethal where a column holds >= max(mark_threshold, 1) voxels inside the band.
+  Costmap2D project_costmap(const CostmapOptions& options = {}) const;
+
+  // .vdb with one DoubleGrid "stvl_voxels" (world transform puts voxel centres at (k + 0.5)*s) and the
+  // config as metadata; written to a temporary name and renamed. Throws std::runtime_error on I/O errors.
+  void save_vdb(const std::string& path) const;
+  static VoxelMap load_vdb(const std::string& path);
+  // Binary little-endian PLY: float x, y, z (voxel centres), double time.
+  void save_ply(const std::string& path) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace stvl::mapping

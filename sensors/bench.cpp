@@ -1,0 +1,137 @@
+// sensors-bench [world.xml] [backend...]: depth frames per second on a corridor, render only and
+// render + noise + cloud, at 640x480 and 848x480, for each backend (default: osmesa egl). Each backend runs in its
+// own child process so that one does not decide MuJoCo's GL binding for the other.
+#include "sensors/depth_noise.hpp"
+#include "sensors/depth_renderer.hpp"
+
+#include <mujoco/mujoco.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+// A 3 m wide, 2.6 m high corridor, 20 m long along +x, with boxes, cylinders and spheres along it.
+const char* kCorridor = R"(
+<mujoco model="bench_corridor">
+  <worldbody>
+    <geom name="floor" type="box" size="12 2 0.05" pos="8 0 -0.05"/>
+    <geom name="ceiling" type="box" size="12 2 0.05" pos="8 0 2.65"/>
+    <geom name="wall_left" type="box" size="12 0.05 1.3" pos="8 1.55 1.3"/>
+    <geom name="wall_right" type="box" size="12 0.05 1.3" pos="8 -1.55 1.3"/>
+    <geom name="end" type="box" size="0.05 1.5 1.3" pos="19 0 1.3"/>
+    <geom type="box" size="0.3 0.3 0.4" pos="2 0.8 0.4"/>
+    <geom type="cylinder" size="0.2 0.5" pos="3.5 -0.7 0.5"/>
+    <geom type="sphere" size="0.25" pos="5 0.2 0.25"/>
+    <geom type="box" size="0.5 0.2 0.9" pos="7 -1.0 0.9"/>
+    <geom type="cylinder" size="0.05 1.3" pos="9 0.9 1.3"/>
+    <geom type="box" size="0.4 0.4 0.4" pos="12 0 0.4" euler="0 0 30"/>
+  </worldbody>
+</mujoco>)";
+
+struct Result {
+  double render_fps = 0.0, full_fps = 0.0, valid_fraction = 0.0, points = 0.0, noise_ms = 0.0, cloud_ms = 0.0;
+};
+
+Result measure(const std::string& world_path, stvl::sensors::GlBackend backend,
+               const stvl::sensors::CameraIntrinsics& intrinsics, int frames, std::string& name) {
+  using namespace stvl::sensors;
+  char error[1000] = "";
+  mjModel* model = mj_loadXML(world_path.c_str(), nullptr, error, sizeof(error));
+  if (!model) throw std::runtime_error(std::string("cannot load ") + world_path + ": " + error);
+  mjData* data = mj_makeData(model);
+  mj_forward(model, data);
+  Result result;
+  {
+    DepthRenderer renderer(model, intrinsics, backend);
+    name = renderer.backend_name();
+    DepthNoise noise(DepthNoiseConfig{}, intrinsics);
+    DepthImage noisy;
+    Eigen::Matrix3Xf points_C;
+    auto pose = [](int i) {  // walk down the corridor at 0.4 m height, swaying +-10 deg
+      Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
+      Eigen::Matrix3d optical_to_body;  // optical z forward = body x, x right = -y, y down = -z
+      optical_to_body << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+      T_world_camera.linear() = Eigen::AngleAxisd(0.17 * std::sin(0.05 * i), Eigen::Vector3d::UnitZ()) * optical_to_body;
+      T_world_camera.translation() = Eigen::Vector3d(0.01 * i, 0.0, 0.4);
+      return T_world_camera;
+    };
+    for (int i = 0; i < 10; ++i) renderer.render(model, data, pose(i));  // warm-up
+    using clock = std::chrono::steady_clock;
+    auto t0 = clock::now();
+    double valid = 0.0;
+    for (int i = 0; i < frames; ++i) valid += renderer.render(model, data, pose(i)).valid_count();
+    result.render_fps = frames / std::chrono::duration<double>(clock::now() - t0).count();
+    result.valid_fraction = valid / frames / (double(intrinsics.width) * intrinsics.height);
+    t0 = clock::now();
+    double points = 0.0, noise_s = 0.0, cloud_s = 0.0;
+    for (int i = 0; i < frames; ++i) {
+      noisy = renderer.render(model, data, pose(i));
+      const auto t1 = clock::now();
+      noise.apply(noisy, 7, uint64_t(i));
+      const auto t2 = clock::now();
+      points += double(depth_to_cloud(noisy, intrinsics, points_C));
+      noise_s += std::chrono::duration<double>(t2 - t1).count();
+      cloud_s += std::chrono::duration<double>(clock::now() - t2).count();
+    }
+    result.full_fps = frames / std::chrono::duration<double>(clock::now() - t0).count();
+    result.noise_ms = 1e3 * noise_s / frames;
+    result.cloud_ms = 1e3 * cloud_s / frames;
+    result.points = points / frames;
+  }
+  mj_deleteData(data);
+  mj_deleteModel(model);
+  return result;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace stvl::sensors;
+  std::string world_path;
+  std::vector<std::string> backends;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "egl" || arg == "osmesa" || arg == "auto") {
+      backends.push_back(arg);
+    } else {
+      world_path = arg;
+    }
+  }
+  if (backends.empty()) backends = {"osmesa", "egl"};
+  if (world_path.empty()) {
+    world_path = "/tmp/stvl_sensors_bench_" + std::to_string(getpid()) + ".xml";
+    std::ofstream(world_path) << kCorridor;
+  }
+  const int frames = 300;
+  std::printf("%-7s %-8s %11s %19s %9s %9s %7s %8s\n", "backend", "size", "render fps", "render+noise+cloud",
+              "noise ms", "cloud ms", "valid", "points");
+  for (const std::string& backend_arg : backends) {
+    std::fflush(stdout);
+    const pid_t child = fork();
+    if (child == 0) {
+      int status = 0;
+      for (const CameraIntrinsics& k : {CameraIntrinsics::d435_640x480(), CameraIntrinsics::d435_848x480()}) {
+        try {
+          std::string name;
+          const Result r = measure(world_path, parse_gl_backend(backend_arg), k, frames, name);
+          std::printf("%-7s %4dx%-3d %11.1f %19.1f %9.2f %9.2f %6.1f%% %8.0f\n", name.c_str(), k.width, k.height,
+                      r.render_fps, r.full_fps, r.noise_ms, r.cloud_ms, 100.0 * r.valid_fraction, r.points);
+        } catch (const std::exception& e) {
+          std::printf("%-7s %4dx%-3d unavailable: %s\n", backend_arg.c_str(), k.width, k.height, e.what());
+          status = 2;
+        }
+        std::fflush(stdout);
+      }
+      _exit(status);
+    }
+    int status = 0;
+    waitpid(child, &status, 0);
+  }
+  return 0;
+}

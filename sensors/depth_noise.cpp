@@ -1,0 +1,192 @@
+#include "sensors/depth_noise.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace stvl::sensors {
+namespace {
+
+constexpr double kTwoPi = 6.28318530717958647692;
+
+// splitmix64 finalizer: a bijective 64-bit mix with good avalanche.
+inline uint64_t mix(uint64_t x) {
+  x ^= x >> 30;
+  x *= 0xBF58476D1CE4E5B9ULL;
+  x ^= x >> 27;
+  x *= 0x94D049BB133111EBULL;
+  return x ^ (x >> 31);
+}
+
+enum Stream : uint64_t { kGauss = 0, kEdge, kEdgeKind, kEdgeBlend, kDropout, kHoleCount, kHole, kStreams };
+
+// Frame key, computed once per frame; draws then cost one mix each.
+inline uint64_t frame_key(uint64_t seed, uint64_t frame_index) {
+  return mix(mix(seed + 0x9E3779B97F4A7C15ULL) ^ (frame_index * 0xD1B54A32D192ED03ULL + 0x632BE59BD9B4E019ULL));
+}
+
+// splitmix64 over the counter (index, stream): one mix per draw.
+inline uint64_t draw(uint64_t key, uint64_t index, Stream stream) {
+  return mix(key + (index * kStreams + stream + 1) * 0x9E3779B97F4A7C15ULL);
+}
+
+inline double uniform(uint64_t key, uint64_t index, Stream stream) {
+  return double(draw(key, index, stream) >> 11) * 0x1.0p-53;  // [0, 1)
+}
+
+// Threshold for "draw < p" done on the raw 64-bit value.
+inline uint64_t threshold(double p) {
+  return p >= 1.0 ? ~0ULL : uint64_t(p * 18446744073709551616.0);
+}
+
+// Standard normal quantized to 4096 equiprobable bins, each represented by its conditional mean: drawing a normal
+// is one table look-up on 12 random bits (std 0.9999; far finer than the 1/32 px disparity step it feeds).
+constexpr int kNormalBits = 12;
+constexpr int kNormalBins = 1 << kNormalBits;
+
+const std::array<float, kNormalBins>& normal_table() {
+  static const std::array<float, kNormalBins> table = [] {
+    auto cdf = [](double x) { return 0.5 * std::erfc(-x / std::sqrt(2.0)); };
+    auto pdf = [](double x) { return std::exp(-0.5 * x * x) / std::sqrt(kTwoPi); };
+    auto quantile = [&](double p) {  // bisection is plenty for a one-off table
+      double lo = -40.0, hi = 40.0;
+      for (int i = 0; i < 100; ++i) (cdf(0.5 * (lo + hi)) < p ? lo : hi) = 0.5 * (lo + hi);
+      return 0.5 * (lo + hi);
+    };
+    std::array<float, kNormalBins> t{};
+    double lower_pdf = 0.0;  // pdf at the lower edge of bin k (0 at -infinity)
+    for (int k = 0; k < kNormalBins; ++k) {
+      const double upper_pdf = k + 1 < kNormalBins ? pdf(quantile(double(k + 1) / kNormalBins)) : 0.0;
+      t[size_t(k)] = float(kNormalBins * (lower_pdf - upper_pdf));
+      lower_pdf = upper_pdf;
+    }
+    return t;
+  }();
+  return table;
+}
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw std::invalid_argument("DepthNoiseConfig: " + message);
+}
+
+void require_probability(double p, const char* name) {
+  require(std::isfinite(p) && p >= 0.0 && p <= 1.0, std::string(name) + " " + std::to_string(p) + " not in [0, 1]");
+}
+
+void require_non_negative(double x, const char* name) {
+  require(std::isfinite(x) && x >= 0.0, std::string(name) + " " + std::to_string(x) + " must be finite and >= 0");
+}
+
+}  // namespace
+
+void DepthNoiseConfig::validate() const {
+  require(std::isfinite(baseline_m) && baseline_m > 0.0, "baseline_m " + std::to_string(baseline_m) + " must be > 0");
+  require_non_negative(subpixel, "subpixel");
+  require_non_negative(disparity_step_px, "disparity_step_px");
+  require_non_negative(edge_jump_m, "edge_jump_m");
+  require_probability(edge_probability, "edge_probability");
+  require_probability(edge_invalid_fraction, "edge_invalid_fraction");
+  require_probability(dropout_probability, "dropout_probability");
+  require_non_negative(holes_per_frame, "holes_per_frame");
+  require(holes_per_frame <= 1e4, "holes_per_frame " + std::to_string(holes_per_frame) + " above 10000");
+  require(std::isfinite(hole_max_radius_px) && hole_max_radius_px >= 1.0 && hole_max_radius_px <= 1e3,
+          "hole_max_radius_px " + std::to_string(hole_max_radius_px) + " not in [1, 1000]");
+}
+
+DepthNoise::DepthNoise(const DepthNoiseConfig& config, const CameraIntrinsics& intrinsics)
+    : config_(config), intrinsics_(intrinsics) {
+  config_.validate();
+  intrinsics_.validate();
+}
+
+double DepthNoise::rms_error_m(double z_m) const {
+  return z_m * z_m * config_.subpixel / (intrinsics_.fx * config_.baseline_m);
+}
+
+void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index) {
+  if (!config_.enabled) return;
+  const int W = intrinsics_.width, H = intrinsics_.height;
+  if (image.width != W || image.height != H || image.depth_m.size() != size_t(W) * H) {
+    throw std::invalid_argument("DepthNoise::apply: image " + std::to_string(image.width) + "x" +
+                                std::to_string(image.height) + " does not match intrinsics " + std::to_string(W) +
+                                "x" + std::to_string(H));
+  }
+  truth_.assign(image.depth_m.begin(), image.depth_m.end());
+  const uint64_t key = frame_key(seed, frame_index);
+  const double fb = intrinsics_.fx * config_.baseline_m;  // px * m
+  const double step = config_.disparity_step_px;
+  const double inv_step = step > 0.0 ? 1.0 / step : 0.0;
+  const double min_m = intrinsics_.min_range_m, max_m = intrinsics_.max_range_m;
+  const float edge_jump = float(config_.edge_jump_m);
+  const bool stereo = config_.subpixel > 0.0 || step > 0.0;
+  const uint64_t edge_threshold = threshold(config_.edge_probability);
+  const uint64_t dropout_threshold = threshold(config_.dropout_probability);
+
+  const std::array<float, kNormalBins>& normal = normal_table();
+  uint64_t normal_bits = 0;  // four 16-bit fields per draw, 12 bits used each
+  for (int v = 0; v < H; ++v) {
+    for (int u = 0; u < W; ++u) {
+      const size_t i = size_t(v) * W + u;
+      if ((i & 3) == 0) normal_bits = draw(key, i >> 2, kGauss);
+      const float z_true = truth_[i];
+      if (!(z_true > 0.0f)) {
+        image.depth_m[i] = 0.0f;
+        continue;
+      }
+      double z = z_true;
+
+      if (config_.edge_probability > 0.0) {
+        float z_other = z_true, jump = 0.0f;
+        auto consider = [&](int uu, int vv) {
+          if (uu < 0 || vv < 0 || uu >= W || vv >= H) return;
+          const float zn = truth_[size_t(vv) * W + uu];
+          if (zn > 0.0f && std::abs(zn - z_true) > jump) {
+            jump = std::abs(zn - z_true);
+            z_other = zn;
+          }
+        };
+        consider(u - 1, v);
+        consider(u + 1, v);
+        consider(u, v - 1);
+        consider(u, v + 1);
+        if (jump > edge_jump && draw(key, i, kEdge) < edge_threshold) {
+          if (uniform(key, i, kEdgeKind) < config_.edge_invalid_fraction) {
+            image.depth_m[i] = 0.0f;
+            continue;
+          }
+          z += uniform(key, i, kEdgeBlend) * (double(z_other) - z);
+        }
+      }
+
+      if (stereo) {
+        double disparity = fb / z + config_.subpixel * double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
+        if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
+        z = disparity > 0.0 ? fb / disparity : 0.0;
+      }
+      if (!(z >= min_m && z <= max_m)) z = 0.0;
+      if (dropout_threshold > 0 && draw(key, i, kDropout) < dropout_threshold) z = 0.0;
+      image.depth_m[i] = float(z);
+    }
+  }
+
+  const double whole = std::floor(config_.holes_per_frame);
+  const int holes = int(whole) + (uniform(key, 0, kHoleCount) < config_.holes_per_frame - whole ? 1 : 0);
+  for (int h = 0; h < holes; ++h) {
+    const double hole_u = uniform(key, 3 * uint64_t(h), kHole) * W;
+    const double hole_v = uniform(key, 3 * uint64_t(h) + 1, kHole) * H;
+    const double radius = 1.0 + uniform(key, 3 * uint64_t(h) + 2, kHole) * (config_.hole_max_radius_px - 1.0);
+    const int u0 = std::max(0, int(std::floor(hole_u - radius))), u1 = std::min(W - 1, int(std::ceil(hole_u + radius)));
+    const int v0 = std::max(0, int(std::floor(hole_v - radius))), v1 = std::min(H - 1, int(std::ceil(hole_v + radius)));
+    for (int v = v0; v <= v1; ++v) {
+      for (int u = u0; u <= u1; ++u) {
+        if ((u - hole_u) * (u - hole_u) + (v - hole_v) * (v - hole_v) <= radius * radius) {
+          image.depth_m[size_t(v) * W + u] = 0.0f;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace stvl::sensors

@@ -1,0 +1,57 @@
+#pragma once
+// D435-like stereo depth noise, deterministic for (seed, frame_index): every random draw comes from a counter-based
+// hash of (seed, frame_index, pixel or blob index, stream), so frames can be regenerated in any order.
+#include "sensors/camera.hpp"
+#include "sensors/depth_image.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace stvl::sensors {
+
+struct DepthNoiseConfig {
+  bool enabled = true;
+  // Stereo: disparity d = f * b / z (px) gets Gaussian noise of std subpixel, which to first order is Intel's RMS
+  // depth error sigma_z = z^2 * subpixel / (f * baseline).
+  double baseline_m = 0.050;
+  double subpixel = 0.08;  // px (RMS subpixel accuracy; D435 spec 0.08 to 0.1)
+  // Disparity quantization step in px (D4 ASIC: 1/32); 0 = off. Adds step / sqrt(12) = 0.009 px in quadrature to
+  // the noise (+0.6 % at the defaults); the RMS test measures it together with the Gaussian part.
+  double disparity_step_px = 1.0 / 32.0;
+  // Edge / flying pixels: a pixel whose 4-neighbourhood depth jumps by more than edge_jump_m is affected with
+  // probability edge_probability; then it is invalidated with probability edge_invalid_fraction, else it takes a
+  // depth uniformly between its own and the farthest/nearest neighbour's (a "flying pixel").
+  double edge_jump_m = 0.10;
+  double edge_probability = 0.5;
+  double edge_invalid_fraction = 0.5;
+  // Independent per-pixel dropouts (probability per pixel).
+  double dropout_probability = 0.002;
+  // Holes: mean number of disk-shaped blobs per frame (actual count: floor or ceil, randomly), radius uniform in
+  // [1, hole_max_radius_px] px.
+  double holes_per_frame = 2.0;
+  double hole_max_radius_px = 4.0;
+
+  // Throws std::invalid_argument naming the first bad field (negative, non-finite, probabilities outside [0, 1]).
+  void validate() const;
+};
+
+class DepthNoise {
+ public:
+  // intrinsics give f (fx, px) and the valid range [min_range_m, max_range_m]; results outside it become 0.
+  DepthNoise(const DepthNoiseConfig& config, const CameraIntrinsics& intrinsics);
+
+  // In place; no allocation after the first call for a given image size. Identity when config.enabled is false.
+  // Throws std::invalid_argument when the image size does not match the intrinsics.
+  void apply(DepthImage& image, uint64_t seed, uint64_t frame_index);
+
+  // Intel's RMS depth error at depth z (m): z^2 * subpixel / (fx * baseline).
+  double rms_error_m(double z_m) const;
+  const DepthNoiseConfig& config() const { return config_; }
+
+ private:
+  DepthNoiseConfig config_;
+  CameraIntrinsics intrinsics_;
+  std::vector<float> truth_;  // the input image, read while the output is modified
+};
+
+}  // namespace stvl::sensors

@@ -1,0 +1,68 @@
+#pragma once
+// Pure pursuit along a 2D polyline. Vertices where the path turns by more than corner_angle_rad
+// split it into legs: the robot decelerates to a stop on each such corner, turns in place toward
+// the next leg and goes on, so sharp corners are not cut. Output is a body twist (v, omega);
+// DiffDriveRobot turns it into wheel speeds under its acceleration limits.
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace stvl::sim {
+
+struct Path {
+  std::vector<Eigen::Vector2d> waypoints_W;
+  double cruise_speed_mps = 0.5;
+};
+
+struct Twist2D {
+  double v_mps = 0.0;
+  double omega_radps = 0.0;
+};
+
+struct PathFollowerConfig {
+  double lookahead_m = 0.4;
+  double goal_tolerance_m = 0.03;
+  double corner_angle_rad = 0.5;
+  double align_angle_rad = 0.8;        // rotate in place first when the target is further off
+  double heading_tolerance_rad = 0.03;
+  double max_angular_speed_radps = 1.2;
+  double decel_mps2 = 0.5;             // keep below DiffDriveConfig::max_linear_accel_mps2
+  double angular_decel_radps2 = 1.5;   // keep below DiffDriveConfig::max_angular_accel_radps2
+  double min_speed_mps = 0.04;
+  double max_cruise_speed_mps = 1.2;
+};
+
+class PathFollower {
+ public:
+  explicit PathFollower(PathFollowerConfig config = {});
+
+  // Throws std::invalid_argument on fewer than 2 waypoints, non-finite or repeated consecutive
+  // points, or a cruise speed outside (0, max_cruise_speed_mps].
+  void set_path(const Path& path);
+  // Twist for the robot at p_W with heading yaw_rad. Zero once finished.
+  Twist2D update(const Eigen::Vector2d& p_W, double yaw_rad);
+  bool finished() const { return finished_; }
+  bool has_path() const { return !path_.waypoints_W.empty(); }
+  // Distance from p_W to the whole polyline.
+  double cross_track_error_m(const Eigen::Vector2d& p_W) const;
+  const Path& path() const { return path_; }
+
+ private:
+  enum class Mode { align, track, turn_at_corner };
+  Eigen::Vector2d point_at(double s) const;  // arc length along the whole path
+  double project(const Eigen::Vector2d& p_W, double s_from, double s_to) const;
+  double heading_at(double s) const;
+  Twist2D rotate_toward(double heading_rad, double yaw_rad);
+
+  PathFollowerConfig config_;
+  Path path_;
+  std::vector<double> s_vertex_;  // cumulative arc length at each waypoint
+  std::vector<double> s_corner_;  // arc length of leg ends (sharp corners and the path end)
+  std::size_t leg_ = 0;
+  double s_ = 0.0;
+  Mode mode_ = Mode::align;
+  bool finished_ = false;
+};
+
+}  // namespace stvl::sim

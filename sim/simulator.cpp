@@ -1,0 +1,59 @@
+#include "sim/simulator.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace stvl::sim {
+
+Simulator::Simulator(World world, SimulatorConfig config)
+    : world_(std::move(world)),
+      config_(std::move(config)),
+      robot_(world_, config_.robot),
+      follower_(config_.follower),
+      odometry_(robot_.wheel_radius_m(), robot_.track_width_m(), config_.odometry) {
+  if (!(config_.control_period_s > 0)) {
+    throw std::invalid_argument("control_period_s " + std::to_string(config_.control_period_s) + " must be > 0");
+  }
+  steps_per_control_ = std::max(1, static_cast<int>(std::lround(config_.control_period_s / world_.timestep_s())));
+  robot_.set_camera_mount(config_.camera_mount);
+}
+
+void Simulator::set_start_pose(double x_m, double y_m, double yaw_rad) {
+  robot_.set_pose(x_m, y_m, yaw_rad);
+  odometry_ = WheelOdometry(robot_.wheel_radius_m(), robot_.track_width_m(), config_.odometry);
+}
+
+void Simulator::set_path(const Path& path) { follower_.set_path(path); }
+
+void Simulator::set_mocap_tracks(std::vector<MocapTrack> tracks) {
+  mocap_ = MocapScript(world_, std::move(tracks));
+  mocap_.apply(world_.model(), world_.data(), world_.time_s());
+  world_.forward();
+}
+
+void Simulator::step() {
+  if (step_count_ % steps_per_control_ == 0 && follower_.has_path()) {
+    const Eigen::Isometry3d T = robot_.T_world_base();
+    const Eigen::Vector3d x_axis = T.linear().col(0);
+    const Twist2D twist = follower_.update(T.translation().head<2>(), std::atan2(x_axis.y(), x_axis.x()));
+    robot_.command_twist(twist.v_mps, twist.omega_radps);
+  }
+  const double dt = world_.timestep_s();
+  robot_.apply_controls(dt);
+  mjModel* m = world_.mutable_model();
+  mjData* d = world_.data();
+  mj_step2(m, d);
+  mocap_.apply(m, d, d->time);
+  mj_step1(m, d);
+  const Eigen::Vector2d rates = robot_.wheel_rates_radps();
+  odometry_.update(rates.x(), rates.y(), dt);
+  ++step_count_;
+}
+
+void Simulator::run_until(double t_s) {
+  if (!std::isfinite(t_s)) throw std::invalid_argument("run_until: time_s is not finite");
+  while (world_.time_s() < t_s - 1e-12) step();
+}
+
+}  // namespace stvl::sim

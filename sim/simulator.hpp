@@ -1,0 +1,69 @@
+#pragma once
+// One world, its robot, a path follower, wheel odometry and mocap scripts, stepped together.
+//   stvl::sim::Simulator sim(stvl::sim::World::from_file("worlds/office_corridor.xml"));
+//   sim.set_path({{{0, 0}, {5, 0}}, 0.6});
+//   while (!sim.path_finished() && sim.time_s() < 30) sim.step();
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "sim/diff_drive.hpp"
+#include "sim/mocap_script.hpp"
+#include "sim/odometry.hpp"
+#include "sim/path_follower.hpp"
+#include "sim/world.hpp"
+
+namespace stvl::sim {
+
+struct SimulatorConfig {
+  DiffDriveConfig robot;
+  PathFollowerConfig follower;
+  OdometryConfig odometry;
+  CameraMount camera_mount;
+  double control_period_s = 0.02;  // path follower rate; wheel commands are rate-limited every step
+};
+
+class Simulator {
+ public:
+  // Throws std::invalid_argument if the world lacks the robot or the config is out of range.
+  explicit Simulator(World world, SimulatorConfig config = {});
+  Simulator(const Simulator&) = delete;
+  Simulator& operator=(const Simulator&) = delete;
+
+  // Places the robot at rest and restarts odometry (T_odom_base = identity here).
+  void set_start_pose(double x_m, double y_m, double yaw_rad);
+  void set_path(const Path& path);
+  bool path_finished() const { return follower_.finished(); }
+  void set_mocap_tracks(std::vector<MocapTrack> tracks);
+
+  // One physics step: controller (every control_period_s), wheel commands, physics, mocap
+  // script at the new time, kinematics, odometry.
+  void step();
+  // Steps until time_s() >= t_s.
+  void run_until(double t_s);
+
+  double time_s() const { return world_.time_s(); }
+  World& world() { return world_; }
+  const World& world() const { return world_; }
+  DiffDriveRobot& robot() { return robot_; }
+  const DiffDriveRobot& robot() const { return robot_; }
+  const PathFollower& follower() const { return follower_; }
+  const WheelOdometry& odometry() const { return odometry_; }
+
+  Eigen::Isometry3d T_world_base() const { return robot_.T_world_base(); }
+  Eigen::Isometry3d T_odom_base() const { return odometry_.T_odom_base(); }
+  Eigen::Isometry3d T_map_odom() const { return T_world_base() * T_odom_base().inverse(); }
+  Eigen::Isometry3d T_world_camera() const { return robot_.T_world_camera(); }
+
+ private:
+  World world_;
+  SimulatorConfig config_;
+  DiffDriveRobot robot_;
+  PathFollower follower_;
+  WheelOdometry odometry_;
+  MocapScript mocap_;
+  int steps_per_control_ = 10;
+  long step_count_ = 0;
+};
+
+}  // namespace stvl::sim

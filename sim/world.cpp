@@ -1,0 +1,102 @@
+#include "sim/world.hpp"
+
+#include <array>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+namespace stvl::sim {
+namespace {
+
+constexpr int kErrorSize = 1024;
+
+std::string trimmed(const char* text) {
+  std::string s(text);
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  for (char& c : s) if (c == '\n') c = ' ';
+  return s;
+}
+
+}  // namespace
+
+World::World(mjModel* model, std::string source) : model_(model), data_(mj_makeData(model)),
+                                                    source_(std::move(source)) {
+  if (!data_) throw std::runtime_error("mj_makeData failed for world '" + source_ + "'");
+  mj_forward(model_.get(), data_.get());
+}
+
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+World::~World() = default;
+
+World World::from_file(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) {
+    throw std::runtime_error("world file not found: '" + path + "'");
+  }
+  std::array<char, kErrorSize> error{};
+  mjModel* model = mj_loadXML(path.c_str(), nullptr, error.data(), kErrorSize);
+  if (!model) {
+    throw std::runtime_error("cannot load world '" + path + "': " + trimmed(error.data()));
+  }
+  return World(model, path);
+}
+
+World World::from_string(const std::string& xml, const std::string& base_dir) {
+  if (xml.empty()) throw std::invalid_argument("world XML string is empty");
+  if (!base_dir.empty() && !std::filesystem::is_directory(base_dir)) {
+    throw std::runtime_error("world base directory not found: '" + base_dir + "'");
+  }
+  // The string lives in MuJoCo's virtual file system under a name inside base_dir, so that
+  // relative <include>s resolve against base_dir on disk. mjVFS is about 2 MB: heap only.
+  const std::filesystem::path dir = base_dir.empty() ? std::filesystem::current_path()
+                                                      : std::filesystem::path(base_dir);
+  const std::string name = (dir / "__stvl_inline_world__.xml").string();
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(xml.size())) != 0) {
+    throw std::runtime_error("cannot create virtual file for world XML string");
+  }
+  const int index = mj_findFileVFS(vfs.get(), name.c_str());
+  std::memcpy(vfs->filedata[index], xml.data(), xml.size());
+  std::array<char, kErrorSize> error{};
+  mjModel* model = mj_loadXML(name.c_str(), vfs.get(), error.data(), kErrorSize);
+  mj_deleteVFS(vfs.get());
+  const std::string source = "<xml string, base dir '" + dir.string() + "'>";
+  if (!model) throw std::runtime_error("cannot load world " + source + ": " + trimmed(error.data()));
+  return World(model, source);
+}
+
+void World::step() {
+  mj_step2(model_.get(), data_.get());
+  mj_step1(model_.get(), data_.get());
+}
+
+void World::forward() { mj_forward(model_.get(), data_.get()); }
+
+int World::id_of(int type, const std::string& name, const char* what) const {
+  const int id = mj_name2id(model_.get(), type, name.c_str());
+  if (id < 0) {
+    throw std::invalid_argument(std::string("no ") + what + " named '" + name + "' in world '" +
+                                source_ + "'");
+  }
+  return id;
+}
+
+int World::body_id(const std::string& name) const { return id_of(mjOBJ_BODY, name, "body"); }
+int World::site_id(const std::string& name) const { return id_of(mjOBJ_SITE, name, "site"); }
+int World::joint_id(const std::string& name) const { return id_of(mjOBJ_JOINT, name, "joint"); }
+int World::actuator_id(const std::string& name) const {
+  return id_of(mjOBJ_ACTUATOR, name, "actuator");
+}
+int World::geom_id(const std::string& name) const { return id_of(mjOBJ_GEOM, name, "geom"); }
+int World::camera_id(const std::string& name) const { return id_of(mjOBJ_CAMERA, name, "camera"); }
+
+std::string World::body_name(int body_id) const {
+  if (body_id < 0 || body_id >= model_->nbody) {
+    throw std::invalid_argument("body id " + std::to_string(body_id) + " out of range");
+  }
+  const char* name = mj_id2name(model_.get(), mjOBJ_BODY, body_id);
+  return name ? std::string(name) : "body_" + std::to_string(body_id);
+}
+
+}  // namespace stvl::sim

@@ -1,0 +1,59 @@
+#pragma once
+// A loaded MuJoCo world: owns mjModel and mjData. Invariant: after construction and after every
+// step(), the kinematic quantities in data() (xpos, geom_xpos, site_xpos, ...) match time_s().
+#include <memory>
+#include <string>
+
+#include <mujoco/mujoco.h>
+
+namespace stvl::sim {
+
+class World {
+ public:
+  // Throws std::runtime_error naming the path and quoting MuJoCo's error text.
+  static World from_file(const std::string& path);
+  // `base_dir` resolves <include file=...> and mesh files; empty means the current directory.
+  static World from_string(const std::string& xml, const std::string& base_dir = "");
+
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+  ~World();
+
+  const mjModel* model() const { return model_.get(); }
+  // Run-time edits of model parameters (site poses, ...). Call forward() afterwards.
+  mjModel* mutable_model() { return model_.get(); }
+  mjData* data() { return data_.get(); }
+  const mjData* data() const { return data_.get(); }
+
+  double time_s() const { return data_->time; }
+  double timestep_s() const { return model_->opt.timestep; }
+  const std::string& source() const { return source_; }
+
+  // Advances one physics step with the controls already in data()->ctrl (mj_step2 then mj_step1).
+  void step();
+  // Recomputes everything from qpos/qvel/mocap (mj_forward), e.g. after editing the state.
+  void forward();
+
+  // Name lookups; throw std::invalid_argument naming the missing object.
+  int body_id(const std::string& name) const;
+  int site_id(const std::string& name) const;
+  int joint_id(const std::string& name) const;
+  int actuator_id(const std::string& name) const;
+  int geom_id(const std::string& name) const;
+  int camera_id(const std::string& name) const;
+  std::string body_name(int body_id) const;
+
+ private:
+  struct ModelDeleter { void operator()(mjModel* m) const { mj_deleteModel(m); } };
+  struct DataDeleter { void operator()(mjData* d) const { mj_deleteData(d); } };
+  World(mjModel* model, std::string source);
+  int id_of(int type, const std::string& name, const char* what) const;
+
+  std::unique_ptr<mjModel, ModelDeleter> model_;
+  std::unique_ptr<mjData, DataDeleter> data_;
+  std::string source_;
+};
+
+}  // namespace stvl::sim

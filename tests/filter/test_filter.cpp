@@ -1,0 +1,148 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "filter/benchmark.hpp"
+#include "filter/cloud_io.hpp"
+#include "filter/filter.hpp"
+#include "helpers.hpp"
+
+namespace stvl::filter {
+namespace {
+
+TEST(FilterConfig, ParsesNamesAndRejectsOthers) {
+  EXPECT_EQ(parse_device("cpu"), Device::kCpu);
+  EXPECT_EQ(parse_device("cuda"), Device::kCuda);
+  EXPECT_EQ(parse_device("auto"), Device::kAuto);
+  EXPECT_EQ(parse_memory_mode("managed"), MemoryMode::kManaged);
+  EXPECT_EQ(parse_memory_mode("mapped"), MemoryMode::kMapped);
+  EXPECT_EQ(parse_filter_type("csnb"), FilterType::kCsnb);
+  EXPECT_STREQ(to_string(MemoryMode::kPinned), "pinned");
+  try {
+    parse_device("gpu");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'gpu'"), std::string::npos);
+  }
+  EXPECT_THROW(parse_memory_mode("Copy"), std::invalid_argument);
+  EXPECT_THROW(parse_filter_type(""), std::invalid_argument);
+}
+
+TEST(Filter, PassthroughThenVoxelOnCpu) {
+  FilterConfig config;
+  config.device = Device::kCpu;
+  config.passthrough = {0.2, 0.8};
+  config.voxel.voxel_size_m = 0.1;
+  Filter filter(config);
+  const Eigen::Matrix3Xf cloud = test::random_cloud(2, 10000, 0.f, 1.f);
+  const Eigen::Matrix3Xf out = filter.apply(cloud);
+  EXPECT_STREQ(filter.device_used(), "cpu");
+  EXPECT_TRUE(out.cols() > 0);
+  EXPECT_GE(out.row(2).minCoeff(), 0.2f);
+  EXPECT_LE(out.row(2).maxCoeff(), 0.8f);
+  EXPECT_TRUE(out == voxel_grid(passthrough(cloud, config.passthrough), config.voxel));
+  config.voxel.voxel_size_m = -1;
+  EXPECT_THROW(Filter{config}, std::invalid_argument);
+}
+
+TEST(Filter, WithoutGpuAutoFallsBackAndCudaThrows) {
+  if (cuda_available()) GTEST_SKIP() << "a GPU is present";
+  FilterConfig config;
+  config.device = Device::kAuto;
+  EXPECT_STREQ(Filter(config).device_used(), "cpu");
+  config.device = Device::kCuda;
+  EXPECT_THROW(Filter{config}, std::runtime_error);
+}
+
+class CpuVsCuda : public ::testing::TestWithParam<MemoryMode> {};
+
+TEST_P(CpuVsCuda, IdenticalOutputs) {
+  std::string reason;
+  if (!cuda_available(&reason)) GTEST_SKIP() << "no GPU: " << reason;
+  const Eigen::Matrix3Xf corridor = make_corridor_cloud(4, 424, 240);
+  Eigen::Matrix3Xf random = test::random_cloud(6, 50000, -2.f, 3.f);
+  random(0, 17) = std::numeric_limits<float>::quiet_NaN();
+  for (const Eigen::Matrix3Xf* cloud : {&corridor, static_cast<const Eigen::Matrix3Xf*>(&random)}) {
+    for (FilterType type : {FilterType::kVoxel, FilterType::kCsnb}) {
+      for (double voxel : {0.02, 0.1}) {
+        FilterConfig config;
+        config.type = type;
+        config.passthrough_enabled = false;
+        config.memory = GetParam();
+        config.voxel = {voxel, 2};
+        config.csnb.voxel_size_m = voxel;
+        config.csnb.max_neighbours = 3;
+        config.csnb.batch_size = 500;
+        config.device = Device::kCpu;
+        Filter cpu(config);
+        config.device = Device::kCuda;
+        Filter gpu(config);
+        const Eigen::Matrix3Xf expected = cpu.apply(*cloud);
+        for (int call = 0; call < 2; ++call) {  // the second call reuses the device buffers
+          const Eigen::Matrix3Xf actual = gpu.apply(*cloud);
+          ASSERT_EQ(actual.cols(), expected.cols()) << to_string(type) << " " << voxel;
+          EXPECT_TRUE(actual == expected) << to_string(type) << " " << voxel;
+        }
+        EXPECT_STREQ(gpu.device_used(), "cuda");
+      }
+    }
+  }
+  FilterConfig bad;
+  bad.device = Device::kCuda;
+  bad.memory = GetParam();
+  Filter gpu(bad);
+  Eigen::Matrix3Xf cube(3, 2);
+  cube << -5e4f, 5e4f, -5e4f, 5e4f, -5e4f, 5e4f;
+  bad.voxel.voxel_size_m = 0.001;
+  Filter tiny(bad);
+  EXPECT_THROW(tiny.apply(cube), std::invalid_argument);
+  EXPECT_EQ(gpu.apply(Eigen::Matrix3Xf(3, 0)).cols(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(MemoryModes, CpuVsCuda,
+                         ::testing::Values(MemoryMode::kCopy, MemoryMode::kPinned, MemoryMode::kMapped,
+                                           MemoryMode::kManaged),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+TEST(CloudIo, RoundTripAndBadFiles) {
+  const std::string path = ::testing::TempDir() + "stvl_filter_cloud.bin";
+  const Eigen::Matrix3Xf cloud = test::random_cloud(8, 1234, -1.f, 1.f);
+  save_cloud(path, cloud);
+  EXPECT_TRUE(load_cloud(path) == cloud);
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::app);
+    out.put('x');
+  }
+  EXPECT_THROW(load_cloud(path), std::invalid_argument);
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << "NOTACLOUDFILE...";
+  }
+  EXPECT_THROW(load_cloud(path), std::invalid_argument);
+  EXPECT_THROW(load_cloud(path + ".missing"), std::runtime_error);
+  std::remove(path.c_str());
+}
+
+TEST(Benchmark, CorridorCloudAndTable) {
+  const Eigen::Matrix3Xf corridor = make_corridor_cloud(1);
+  EXPECT_GT(corridor.cols(), 350000);
+  EXPECT_LE(corridor.cols(), 848 * 480);
+  EXPECT_TRUE(corridor == make_corridor_cloud(1));
+  BenchmarkConfig config;
+  config.warmup = 0;
+  config.repetitions = 1;
+  config.cuda = false;
+  const auto rows = run_benchmark({{"small", test::random_cloud(1, 2000, 0.f, 1.f)}}, config);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].method, "voxel/cpu");
+  EXPECT_EQ(rows[1].method, "csnb/cpu");
+  std::ostringstream table;
+  print_benchmark_table(table, rows);
+  EXPECT_NE(table.str().find("| small | csnb/cpu |"), std::string::npos) << table.str();
+}
+
+}  // namespace
+}  // namespace stvl::filter

@@ -1,0 +1,165 @@
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+#include "filter/passthrough.hpp"
+#include "filter/voxel_grid.hpp"
+#include "helpers.hpp"
+
+namespace stvl::filter {
+namespace {
+
+constexpr double kCentroidTolerance_m = 1e-5;
+
+// Reference: std::map over (z, y, x) voxel indices, double sums in index order.
+Eigen::Matrix3Xf reference_voxel_grid(const Eigen::Matrix3Xf& points, double voxel, int min_points) {
+  std::map<std::array<std::int64_t, 3>, std::pair<Eigen::Vector3d, int>> voxels;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if (!points.col(i).allFinite()) continue;
+    std::array<std::int64_t, 3> key;
+    for (int a = 0; a < 3; ++a) key[2 - a] = static_cast<std::int64_t>(std::floor(double(points(a, i)) / voxel));
+    auto& v = voxels[key];
+    if (v.second == 0) v.first.setZero();
+    v.first += points.col(i).cast<double>();
+    ++v.second;
+  }
+  Eigen::Matrix3Xf out(3, 0);
+  for (const auto& [key, v] : voxels) {
+    if (v.second < std::max(min_points, 1)) continue;
+    out.conservativeResize(3, out.cols() + 1);
+    out.col(out.cols() - 1) = (v.first / v.second).cast<float>();
+  }
+  return out;
+}
+
+void expect_same(const Eigen::Matrix3Xf& actual, const Eigen::Matrix3Xf& expected) {
+  ASSERT_EQ(actual.cols(), expected.cols());
+  for (Eigen::Index i = 0; i < actual.cols(); ++i) {
+    ASSERT_LE((actual.col(i) - expected.col(i)).cwiseAbs().maxCoeff(), kCentroidTolerance_m) << "voxel " << i;
+  }
+}
+
+TEST(VoxelGrid, MatchesReferenceOnRandomClouds) {
+  for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    const Eigen::Matrix3Xf cloud = test::random_cloud(seed, 20000, -3.f, 2.f);
+    for (double voxel : {0.05, 0.2, 1.0}) {
+      for (int threads : {1, 2, 3}) {
+        expect_same(voxel_grid(cloud, {voxel, 1}, threads), reference_voxel_grid(cloud, voxel, 1));
+      }
+    }
+  }
+}
+
+TEST(VoxelGrid, MatchesReferenceOnBoundariesAndNegativeCoordinates) {
+  Eigen::Matrix3Xf cloud(3, 0);
+  for (int i = -20; i <= 20; ++i) {
+    for (int j = -3; j <= 3; ++j) {
+      cloud.conservativeResize(3, cloud.cols() + 1);
+      cloud.col(cloud.cols() - 1) << 0.25f * i, 0.5f * j, -0.25f * (i % 3);
+    }
+  }
+  for (double voxel : {0.25, 0.5, 0.1}) {
+    const Eigen::Matrix3Xf out = voxel_grid(cloud, {voxel, 1}, 2);
+    expect_same(out, reference_voxel_grid(cloud, voxel, 1));
+  }
+  // A point exactly on a boundary belongs to the voxel above it.
+  Eigen::Matrix3Xf two(3, 2);
+  two << -0.5f, -0.25f, 0.f, 0.f, 0.f, 0.f;
+  EXPECT_EQ(voxel_grid(two, {0.25, 1}).cols(), 2);
+  EXPECT_EQ(voxel_grid(two, {0.5, 1}).cols(), 1);
+  EXPECT_EQ(voxel_grid(two, {1.0, 1}).cols(), 1);
+}
+
+TEST(VoxelGrid, MinPointsPerVoxel) {
+  const Eigen::Matrix3Xf cloud = test::random_cloud(7, 5000, 0.f, 1.f);
+  for (int min_points : {0, 1, 2, 5, 40}) {
+    expect_same(voxel_grid(cloud, {0.1, min_points}, 2), reference_voxel_grid(cloud, 0.1, min_points));
+  }
+  EXPECT_EQ(voxel_grid(cloud, {0.1, 100000}).cols(), 0);
+  EXPECT_THROW(voxel_grid(cloud, {0.1, -1}), std::invalid_argument);
+}
+
+TEST(VoxelGrid, NonFiniteEmptyAndSinglePoints) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  Eigen::Matrix3Xf cloud(3, 5);
+  cloud << 0.01f, nan, 0.02f, inf, 5.f,  //
+      0.01f, 0.f, 0.02f, 0.f, 5.f,       //
+      0.01f, 0.f, 0.02f, 0.f, -inf;
+  const Eigen::Matrix3Xf out = voxel_grid(cloud, {0.1, 1});
+  ASSERT_EQ(out.cols(), 1);
+  EXPECT_NEAR(out(0, 0), 0.015f, 1e-6);
+  EXPECT_EQ(voxel_grid(Eigen::Matrix3Xf(3, 0), {0.1, 1}).cols(), 0);
+  Eigen::Matrix3Xf all_nan = Eigen::Matrix3Xf::Constant(3, 4, nan);
+  EXPECT_EQ(voxel_grid(all_nan, {0.1, 1}).cols(), 0);
+  Eigen::Matrix3Xf one(3, 1);
+  one << -1.5f, 2.5f, 1e6f;
+  const Eigen::Matrix3Xf single = voxel_grid(one, {1e-12, 1});
+  ASSERT_EQ(single.cols(), 1);
+  EXPECT_EQ(single.col(0), one.col(0));
+}
+
+TEST(VoxelGrid, AbsurdVoxelSizesThrow) {
+  const Eigen::Matrix3Xf cloud = test::random_cloud(3, 100, 0.f, 1.f);
+  for (double voxel : {0.0, -0.1, std::nan(""), std::numeric_limits<double>::infinity(), -1e300}) {
+    EXPECT_THROW(voxel_grid(cloud, {voxel, 1}), std::invalid_argument) << voxel;
+  }
+  // 1 m cube at 1e-12 m needs 1e36 voxels: a clear error, never garbage.
+  try {
+    voxel_grid(cloud, {1e-12, 1});
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("64-bit key"), std::string::npos) << e.what();
+  }
+}
+
+TEST(VoxelGrid, HugeExtentWithTinyVoxels) {
+  // 1e5 m along x at 1 mm: 1e8 voxels per axis (27 bits, beyond 21 bits per axis) but the box fits 64 bits.
+  Eigen::Matrix3Xf line(3, 4);
+  line << -5e4f, -5e4f, 0.f, 5e4f,  //
+      0.f, 0.0004f, 0.f, 0.f,       //
+      0.f, 0.f, 0.f, 0.f;
+  const Eigen::Matrix3Xf out = voxel_grid(line, {0.001, 1});
+  expect_same(out, reference_voxel_grid(line, 0.001, 1));
+  EXPECT_EQ(out.cols(), 3);
+  // 1e5 m in every axis at 1 mm needs 1e24 voxels: clear error.
+  Eigen::Matrix3Xf cube(3, 2);
+  cube << -5e4f, 5e4f, -5e4f, 5e4f, -5e4f, 5e4f;
+  EXPECT_THROW(voxel_grid(cube, {0.001, 1}), std::invalid_argument);
+}
+
+TEST(VoxelGrid, TenMillionPoints) {
+  const Eigen::Index n = 10'000'000;
+  Eigen::Matrix3Xf cloud(3, n);
+  // Exact binary coordinates: steps of 1/128 m, voxels of 1/16 m hold 8 steps per axis.
+  for (Eigen::Index i = 0; i < n; ++i) {
+    cloud.col(i) << float(i % 1000) / 128.f, float((i / 1000) % 100) / 128.f, float(i / 100000) / 128.f;
+  }
+  const Eigen::Matrix3Xf out = voxel_grid(cloud, {1.0 / 16.0, 1}, 2);
+  ASSERT_EQ(out.cols(), 125 * 13 * 13);
+  EXPECT_FLOAT_EQ(out(0, 0), 3.5f / 128.f);
+  EXPECT_FLOAT_EQ(out(2, 0), 3.5f / 128.f);
+  // Last voxel: x steps 992..999, y and z steps 96..99.
+  EXPECT_FLOAT_EQ(out(0, out.cols() - 1), 995.5f / 128.f);
+  EXPECT_FLOAT_EQ(out(1, out.cols() - 1), 97.5f / 128.f);
+}
+
+TEST(Passthrough, KeepsClosedRangeAndDropsNonFinite) {
+  Eigen::Matrix3Xf cloud(3, 5);
+  cloud << 0, 1, 2, 3, std::numeric_limits<float>::quiet_NaN(),  //
+      0, 0, 0, 0, 0,                                              //
+      -0.5f, 0.0f, 1.0f, 2.5f, 1.0f;
+  const Eigen::Matrix3Xf out = passthrough(cloud, {0.0, 1.0});
+  ASSERT_EQ(out.cols(), 2);
+  EXPECT_EQ(out(0, 0), 1.f);
+  EXPECT_EQ(out(0, 1), 2.f);
+  EXPECT_EQ(passthrough(cloud, {}).cols(), 4);
+  EXPECT_THROW(passthrough(cloud, {2.0, 1.0}), std::invalid_argument);
+  EXPECT_THROW(passthrough(cloud, {std::nan(""), 1.0}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace stvl::filter

@@ -1,0 +1,391 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <random>
+
+#include "mapping/benchmark.hpp"
+#include "mapping/voxel_map.hpp"
+#include "test_helpers.hpp"
+
+namespace stvl::mapping {
+namespace {
+
+using test::camera_looking_along_x;
+using test::cloud;
+using test::wide_source;
+
+constexpr double kExactVoxel = 0.125;  // representable in float, so boundaries are exact
+
+StvlConfig exact_config() {
+  StvlConfig config;
+  config.voxel_size = kExactVoxel;
+  return config;
+}
+
+TEST(VoxelMapMark, KeysAtBoundariesAndNegativeCoordinates) {
+  VoxelMap map(exact_config());
+  const auto camera = camera_looking_along_x({-5, 0, 0});
+  map.mark(cloud({{0.125f, 0.1249f, -0.0001f}, {-0.125f, -0.1251f, 0.25f}}), camera, wide_source(), 1.0);
+  ASSERT_EQ(map.size(), 2u);
+  const auto keys = map.voxel_keys();
+  EXPECT_EQ(keys[0], Eigen::Vector3i(-1, -2, 2));
+  EXPECT_EQ(keys[1], Eigen::Vector3i(1, 0, -1));
+  EXPECT_EQ(map.key_of({-1e-9, 0.0, 0.0}), Eigen::Vector3i(-1, 0, 0));
+  EXPECT_TRUE(map.center_of({-1, 0, 0}).isApprox(Eigen::Vector3d(-0.0625, 0.0625, 0.0625)));
+
+  EXPECT_EQ(map.lookup({0.125, 0.0, -0.125}), 1.0);   // lower corner belongs to the voxel
+  EXPECT_EQ(map.lookup({0.2499, 0.1249, -1e-6}), 1.0);
+  EXPECT_FALSE(map.lookup({0.25, 0.0, -0.1}).has_value());  // upper face belongs to the next voxel
+  EXPECT_FALSE(map.lookup({0.1249, 0.0, -0.1}).has_value());
+  EXPECT_EQ(map.lookup({-0.1, -0.2, 0.3}), 1.0);
+  EXPECT_FALSE(map.lookup({std::nan(""), 0, 0}).has_value());
+
+  const Eigen::Matrix3Xf centres = map.voxel_centers();
+  ASSERT_EQ(centres.cols(), 2);
+  EXPECT_TRUE(centres.col(0).isApprox(Eigen::Vector3f(-0.0625f, -0.1875f, 0.3125f)));
+}
+
+TEST(VoxelMapMark, SkipsOutOfRangeOutOfBandNonFiniteAndSensorOrigin) {
+  VoxelMap map(exact_config());
+  ObservationSource source = wide_source();
+  source.obstacle_range = 2.0;
+  source.min_obstacle_height = 0.0;
+  source.max_obstacle_height = 1.0;
+  const auto camera = camera_looking_along_x({0, 0, 0.5});
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::size_t marked = map.mark(cloud({
+                                          {1.0f, 0.0f, 0.5f},    // kept
+                                          {2.4f, 0.0f, 0.5f},    // beyond range
+                                          {1.0f, 0.0f, -0.01f},  // below band
+                                          {1.0f, 0.0f, 1.01f},   // above band
+                                          {1.0f, 0.0f, 1.0f},    // on the band's edge: kept
+                                          {nan, 0.0f, 0.5f},
+                                          {1.0f, inf, 0.5f},
+                                          {0.0f, 0.0f, 0.5f},  // at the sensor
+                                      }),
+                                      camera, source, 3.0);
+  EXPECT_EQ(marked, 2u);
+  EXPECT_EQ(map.size(), 2u);
+  EXPECT_TRUE(map.lookup({1.0, 0.0, 0.5}).has_value());
+  EXPECT_TRUE(map.lookup({1.0, 0.0, 1.0}).has_value());
+  source.marking = false;
+  EXPECT_EQ(map.mark(cloud({{1.5f, 0.0f, 0.5f}}), camera, source, 3.0), 0u);
+  EXPECT_EQ(map.size(), 2u);
+}
+
+// One voxel at (x, 0, 0) marked at t = 0, cleared once at time_s by a camera at the origin looking along +x.
+bool survives_single_clear(DecayModel model, double voxel_decay, double acceleration, double x, double time_s) {
+  StvlConfig config = exact_config();
+  config.decay_model = model;
+  config.voxel_decay = voxel_decay;
+  VoxelMap map(config);
+  const auto camera = camera_looking_along_x({0, 0, 0});
+  ObservationSource source = wide_source();
+  source.decay_acceleration = acceleration;
+  map.mark(cloud({{static_cast<float>(x), 0.01f, 0.01f}}), camera, source, 0.0);
+  map.clear({{camera, source, nullptr}}, time_s);
+  return map.lookup({x, 0.01, 0.01}).has_value();
+}
+
+double bisect(const std::function<double(double)>& f, double lo, double hi) {
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (f(lo) > 0) == (f(mid) > 0) ? lo = mid : hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+constexpr double kInside = 2.0;    // in front of the camera
+constexpr double kOutside = -2.0;  // behind it
+constexpr double kEps = 1e-3;
+
+TEST(VoxelMapDecay, LinearExpiresAtVoxelDecay) {
+  EXPECT_TRUE(survives_single_clear(DecayModel::kLinear, 2.0, 0.0, kOutside, 2.0 - kEps));
+  EXPECT_TRUE(survives_single_clear(DecayModel::kLinear, 2.0, 0.0, kOutside, 2.0));  // time left 0 is not < 0
+  EXPECT_FALSE(survives_single_clear(DecayModel::kLinear, 2.0, 0.0, kOutside, 2.0 + kEps));
+  // inside: 2 - t - 3 t^3 / 6 < 0
+  const double t = bisect([](double s) { return 2.0 - s - 3.0 * s * s * s / 6.0; }, 0.0, 2.0);
+  EXPECT_TRUE(survives_single_clear(DecayModel::kLinear, 2.0, 3.0, kInside, t - kEps));
+  EXPECT_FALSE(survives_single_clear(DecayModel::kLinear, 2.0, 3.0, kInside, t + kEps));
+}
+
+TEST(VoxelMapDecay, ExponentialOnlyExpiresInsideFrustum) {
+  EXPECT_TRUE(survives_single_clear(DecayModel::kExponential, 1.0, 6.0, kOutside, 1000.0));
+  const double t = bisect([](double s) { return std::exp(-s) - s * s * s; }, 0.0, 2.0);
+  EXPECT_TRUE(survives_single_clear(DecayModel::kExponential, 1.0, 6.0, kInside, t - kEps));
+  EXPECT_FALSE(survives_single_clear(DecayModel::kExponential, 1.0, 6.0, kInside, t + kEps));
+}
+
+TEST(VoxelMapDecay, PersistentOnlyExpiresInsideFrustum) {
+  EXPECT_TRUE(survives_single_clear(DecayModel::kPersistent, 1.0, 6.0, kOutside, 1e6));
+  EXPECT_TRUE(survives_single_clear(DecayModel::kPersistent, 1.0, 0.0, kInside, 1e6));
+  const double t = std::cbrt(6.0 * 1.0 / 6.0);
+  EXPECT_TRUE(survives_single_clear(DecayModel::kPersistent, 1.0, 6.0, kInside, t - kEps));
+  EXPECT_FALSE(survives_single_clear(DecayModel::kPersistent, 1.0, 6.0, kInside, t + kEps));
+}
+
+TEST(VoxelMapDecay, AccelerationClearsInsideBeforeOutside) {
+  StvlConfig config = exact_config();
+  config.voxel_decay = 10.0;
+  VoxelMap map(config);
+  const auto camera = camera_looking_along_x({0, 0, 0});
+  ObservationSource source = wide_source();
+  source.decay_acceleration = 100.0;
+  map.mark(cloud({{2.0f, 0.0f, 0.0f}, {-2.0f, 0.0f, 0.0f}, {2.0f, 5.0f, 0.0f}}), camera, source, 0.0);
+  map.clear({{camera, source, nullptr}}, 1.5);
+  EXPECT_FALSE(map.lookup({2.0, 0.0, 0.0}).has_value());
+  EXPECT_TRUE(map.lookup({-2.0, 0.0, 0.0}).has_value());  // behind
+  EXPECT_TRUE(map.lookup({2.0, 5.0, 0.0}).has_value());   // beside, outside the FOV
+  // STVL pulls a surviving voxel's mark back by the acceleration term.
+  VoxelMap slow(config);
+  source.decay_acceleration = 6.0;
+  slow.mark(cloud({{2.0f, 0.0f, 0.0f}}), camera, source, 0.0);
+  slow.clear({{camera, source, nullptr}}, 1.0);
+  EXPECT_DOUBLE_EQ(*slow.lookup({2.0, 0.0, 0.0}), -1.0);
+}
+
+TEST(VoxelMapDecay, NonClearingSourceDoesNotAccelerate) {
+  StvlConfig config = exact_config();
+  VoxelMap map(config);
+  const auto camera = camera_looking_along_x({0, 0, 0});
+  ObservationSource source = wide_source();
+  source.decay_acceleration = 100.0;
+  source.clearing = false;
+  map.mark(cloud({{2.0f, 0.0f, 0.0f}}), camera, source, 0.0);
+  map.clear({{camera, source, nullptr}}, 1.5);
+  EXPECT_EQ(map.size(), 1u);
+}
+
+// Obstacle at x = 2 seen at t = 0, then gone: the camera sees the wall at x = 4 through where it stood.
+VoxelMap moved_obstacle_map(ClearingMode mode, int updates) {
+  StvlConfig config = exact_config();
+  config.clearing_mode = mode;
+  VoxelMap map(config);
+  const auto camera = camera_looking_along_x({0, 0, 0});
+  ObservationSource source = wide_source();
+  source.decay_acceleration = 20.0;
+  std::vector<Eigen::Vector3f> obstacle, wall;
+  for (float y = -0.5f; y <= 0.5f; y += 0.1f)
+    for (float z = -0.3f; z <= 0.3f; z += 0.1f) {
+      obstacle.emplace_back(2.0f, y, z);
+      wall.emplace_back(4.0f, y, z);
+    }
+  const Eigen::Matrix3Xf obstacle_W = cloud(obstacle), wall_W = cloud(wall);
+  map.clear({{camera, source, &obstacle_W}}, 0.0);
+  map.mark(obstacle_W, camera, source, 0.0);
+  for (int i = 1; i <= updates; ++i) {
+    const double t = 0.1 * i;
+    map.clear({{camera, source, &wall_W}}, t);
+    map.mark(wall_W, camera, source, t);
+  }
+  return map;
+}
+
+TEST(VoxelMapClear, MovedObstacleClearedByFrustumAcceleration) {
+  const VoxelMap early = moved_obstacle_map(ClearingMode::kFrustum, 1);
+  EXPECT_TRUE(early.lookup({2.0, 0.0, 0.0}).has_value());  // 15 - 0.1 - 20*0.001/6 > 0: still there
+  const VoxelMap later = moved_obstacle_map(ClearingMode::kFrustum, 10);
+  EXPECT_FALSE(later.lookup({2.0, 0.0, 0.0}).has_value());
+  EXPECT_FALSE(later.lookup({2.0, 0.3, 0.2}).has_value());
+  // The wall is re-marked every update: age 0 means no acceleration.
+  EXPECT_TRUE(later.lookup({4.0, 0.0, 0.0}).has_value());
+}
+
+TEST(VoxelMapClear, MovedObstacleClearedByRaycastAtOnce) {
+  const VoxelMap map = moved_obstacle_map(ClearingMode::kRaycast, 1);
+  EXPECT_FALSE(map.lookup({2.0, 0.0, 0.0}).has_value());
+  EXPECT_TRUE(map.lookup({4.0, 0.0, 0.0}).has_value());
+}
+
+TEST(VoxelMapClear, RaycastStopsBeforeHitVoxelInAnyDirection) {
+  StvlConfig config = exact_config();
+  config.clearing_mode = ClearingMode::kRaycast;
+  ObservationSource source = wide_source();
+  const auto camera = camera_looking_along_x({0.01, 0.02, 0.03});
+  for (const Eigen::Vector3f& target : {Eigen::Vector3f(3, 1, -0.5), Eigen::Vector3f(-3, -2, 1), Eigen::Vector3f(0.01f, -4, 0.03f)}) {
+    VoxelMap map(config);
+    const Eigen::Vector3f origin = camera.translation().cast<float>();
+    std::vector<Eigen::Vector3f> on_ray;
+    for (float f = 0.1f; f < 0.95f; f += 0.1f) on_ray.push_back(origin + f * (target - origin));
+    on_ray.push_back(target);
+    map.set_voxels([&] {
+      std::vector<Voxel> voxels;
+      for (const auto& p : on_ray) voxels.push_back({map.key_of(p.cast<double>()), 0.0});
+      voxels.push_back({map.key_of(Eigen::Vector3d(0, 3, 3)), 0.0});  // off the ray
+      return voxels;
+    }());
+    const Eigen::Matrix3Xf hit = cloud({target});
+    map.clear({{camera, source, &hit}}, 0.5);
+    EXPECT_EQ(map.size(), 2u) << target.transpose();
+    EXPECT_TRUE(map.lookup(target.cast<double>()).has_value());
+    EXPECT_TRUE(map.lookup({0, 3, 3}).has_value());
+  }
+}
+
+TEST(VoxelMapClear, RaycastRespectsMaxZ) {
+  StvlConfig config = exact_config();
+  config.clearing_mode = ClearingMode::kRaycast;
+  VoxelMap map(config);
+  ObservationSource source = wide_source();
+  source.max_z = 2.0;
+  const auto camera = camera_looking_along_x({0, 0, 0});
+  map.set_voxels({{map.key_of({1.0, 0.01, 0.01}), 0.0}, {map.key_of({3.0, 0.01, 0.01}), 0.0}});
+  const Eigen::Matrix3Xf hit = cloud({{5.0f, 0.01f, 0.01f}});
+  map.clear({{camera, source, &hit}}, 0.1);
+  EXPECT_FALSE(map.lookup({1.0, 0.01, 0.01}).has_value());
+  EXPECT_TRUE(map.lookup({3.0, 0.01, 0.01}).has_value());
+}
+
+// Random voxels with random mark times, a moving camera, mark + clear per update; the bounded walk with a
+// tiny expiry budget must equal the full walk once its backlog is worked off.
+TEST(VoxelMapClear, BoundedWalkEqualsFullWalkAfterSweepBound) {
+  for (ClearingMode mode : {ClearingMode::kFrustum, ClearingMode::kRaycast}) {
+    StvlConfig config = exact_config();
+    config.voxel_decay = 3.0;
+    config.expiry_leaves_per_update = 2;
+    config.clearing_mode = mode;
+    VoxelMap bounded(config);
+    config.clearing_walk = ClearingWalk::kFullWalk;
+    VoxelMap full(config);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> coord(-6.0, 6.0), age(0.0, 4.0);
+    std::vector<Voxel> seed;
+    for (int i = 0; i < 3000; ++i)
+      seed.push_back({bounded.key_of({coord(rng), coord(rng), coord(rng) / 3}), 2.0 - age(rng)});
+    bounded.set_voxels(seed);
+    full.set_voxels(seed);
+    ObservationSource source = wide_source();
+    source.decay_acceleration = 2.0;
+    source.max_z = 5.0;
+    std::size_t last_backlog = 0;
+    for (int frame = 0; frame < 20; ++frame) {
+      const double t = 2.0 + 0.1 * frame;
+      const auto camera = camera_looking_along_x({-4.0 + 0.3 * frame, 0.0, 0.0}, 0.2 * frame);
+      std::vector<Eigen::Vector3f> points;
+      for (int i = 0; i < 200; ++i) points.emplace_back(camera.translation().cast<float>() +
+                                                        Eigen::Vector3f(coord(rng), coord(rng), coord(rng) / 3));
+      const Eigen::Matrix3Xf points_W = cloud(points);
+      last_backlog = bounded.clear({{camera, source, &points_W}}, t).expiry_backlog;
+      full.clear({{camera, source, &points_W}}, t);
+      bounded.mark(points_W, camera, source, t);
+      full.mark(points_W, camera, source, t);
+      // Lag only ever keeps expired voxels: the bounded map is a superset of the full walk's.
+      EXPECT_LE(full.size(), bounded.size());
+    }
+    EXPECT_GT(last_backlog, 0u) << "the test should exercise the bounded lag";
+    const double t_end = 2.0 + 0.1 * 19;
+    std::size_t extra_updates = 0;
+    while (bounded.clear({}, t_end).expiry_backlog > 0) ++extra_updates;
+    full.clear({}, t_end);
+    EXPECT_LE(extra_updates, last_backlog / config.expiry_leaves_per_update + 1);
+    EXPECT_TRUE(test::same_voxels(bounded.voxels(), full.voxels())) << to_string(mode);
+  }
+}
+
+TEST(VoxelMapClear, FrustumPassVisitsOnlyNearbyLeaves) {
+  VoxelMap map(exact_config());
+  std::vector<Voxel> far;
+  for (int i = 0; i < 64; ++i)
+    for (int j = 0; j < 64; ++j) far.push_back({Eigen::Vector3i(-400 + i, j, 0), 1.0});
+  map.set_voxels(far);
+  ObservationSource source = wide_source();
+  source.max_z = 3.0;
+  const auto stats = map.clear({{camera_looking_along_x({0, 0, 0}), source, nullptr}}, 1.5);
+  EXPECT_EQ(stats.voxels_visited, 0u);
+  EXPECT_EQ(map.size(), far.size());
+}
+
+TEST(VoxelMap, DeterministicForSameInputs) {
+  auto run = [] {
+    StvlConfig config;
+    config.expiry_leaves_per_update = 3;
+    VoxelMap map(config);
+    ObservationSource source = wide_source();
+    source.decay_acceleration = 1.0;
+    for (int f = 0; f < 8; ++f) {
+      const SyntheticFrame frame = synthetic_corridor_frame(3, f, 0.05);
+      map.clear({{frame.T_world_camera, source, &frame.points_W}}, frame.time_s);
+      map.mark(frame.points_W, frame.T_world_camera, source, frame.time_s);
+    }
+    return map.voxels();
+  };
+  const auto a = run(), b = run();
+  EXPECT_GT(a.size(), 1000u);
+  EXPECT_TRUE(test::same_voxels(a, b));
+  const auto f1 = synthetic_corridor_frame(3, 2, 0.05), f2 = synthetic_corridor_frame(3, 2, 0.05);
+  EXPECT_TRUE(f1.points_W.isApprox(f2.points_W));
+}
+
+TEST(VoxelMapErrors, BadParametersNameTheField) {
+  auto expect_message = [](auto&& make, const std::string& field) {
+    try {
+      make();
+      ADD_FAILURE() << "no exception for " << field;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  auto with_config = [](auto edit) {
+    return [edit] {
+      StvlConfig config;
+      edit(config);
+      VoxelMap map(config);
+    };
+  };
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size = 0.0; }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size = -0.05; }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size = std::nan(""); }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size = 0.001; }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size = 2.0; }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_decay = -1.0; }), "voxel_decay");
+  expect_message(with_config([](StvlConfig& c) { c.mark_threshold = -1; }), "mark_threshold");
+  expect_message(with_config([](StvlConfig& c) { c.expiry_leaves_per_update = 0; }), "expiry_leaves_per_update");
+  expect_message([] { parse_decay_model("3"); }, "decay_model");
+  expect_message([] { parse_clearing_mode("lidar"); }, "clearing_mode");
+  EXPECT_EQ(parse_decay_model("-1"), DecayModel::kPersistent);
+  EXPECT_EQ(parse_decay_model("2"), DecayModel::kPersistent);
+  EXPECT_EQ(parse_decay_model("exponential"), DecayModel::kExponential);
+  EXPECT_EQ(parse_decay_model("0"), DecayModel::kLinear);
+
+  VoxelMap map;
+  const auto camera = camera_looking_along_x({0, 0, 0});
+  const Eigen::Matrix3Xf points = cloud({{1, 0, 0}});
+  auto with_source = [&](auto edit) {
+    return [&, edit] {
+      ObservationSource source = wide_source();
+      edit(source);
+      map.mark(points, camera, source, 1.0);
+    };
+  };
+  expect_message(with_source([](ObservationSource& s) { s.horizontal_fov_angle = 0.0; }), "horizontal_fov_angle");
+  expect_message(with_source([](ObservationSource& s) { s.horizontal_fov_angle = 3.2; }), "horizontal_fov_angle");
+  expect_message(with_source([](ObservationSource& s) { s.vertical_fov_angle = -1.0; }), "vertical_fov_angle");
+  expect_message(with_source([](ObservationSource& s) { s.min_z = 5.0; s.max_z = 5.0; }), "min_z");
+  expect_message(with_source([](ObservationSource& s) { s.min_z = -0.1; }), "min_z");
+  expect_message(with_source([](ObservationSource& s) { s.max_z = std::numeric_limits<double>::infinity(); }), "max_z");
+  expect_message(with_source([](ObservationSource& s) { s.decay_acceleration = -1.0; }), "decay_acceleration");
+  expect_message(with_source([](ObservationSource& s) { s.obstacle_range = 0.0; }), "obstacle_range");
+  expect_message(with_source([](ObservationSource& s) { s.min_obstacle_height = 2.0; s.max_obstacle_height = 1.0; }),
+                 "min_obstacle_height");
+
+  Eigen::Isometry3d bad_pose = camera;
+  bad_pose.translation().x() = std::nan("");
+  expect_message([&] { map.mark(points, bad_pose, wide_source(), 1.0); }, "T_world_camera");
+  bad_pose = camera;
+  bad_pose.linear() *= 2.0;
+  expect_message([&] { map.mark(points, bad_pose, wide_source(), 1.0); }, "T_world_camera");
+  map.mark(points, camera, wide_source(), 5.0);
+  expect_message([&] { map.mark(points, camera, wide_source(), 4.0); }, "time_s");
+  expect_message([&] { map.clear({}, std::nan("")); }, "time_s");
+
+  StvlConfig raycast;
+  raycast.clearing_mode = ClearingMode::kRaycast;
+  VoxelMap ray_map(raycast);
+  expect_message([&] { ray_map.clear({{camera, wide_source(), nullptr}}, 1.0); }, "points_W");
+}
+
+}  // namespace
+}  // namespace stvl::mapping

@@ -1,0 +1,151 @@
+#include "sensors/camera.hpp"
+#include "sensors/depth_image.hpp"
+#include "sensors/gl_context.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+namespace stvl::sensors {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+TEST(CameraIntrinsics, D435PresetsKeepVerticalFovWithSquarePixels) {
+  for (const CameraIntrinsics& k : {CameraIntrinsics::d435_848x480(), CameraIntrinsics::d435_640x480()}) {
+    EXPECT_NO_THROW(k.validate());
+    EXPECT_TRUE(k.square_pixels());
+    EXPECT_NEAR(k.vfov_rad(), 58.0 * kDeg, 1e-9);
+    EXPECT_DOUBLE_EQ(k.min_range_m, 0.28);
+    EXPECT_DOUBLE_EQ(k.max_range_m, 10.0);
+  }
+  EXPECT_NEAR(CameraIntrinsics::d435_848x480().hfov_rad() / kDeg, 88.8, 0.1);
+  EXPECT_NEAR(CameraIntrinsics::d435_640x480().hfov_rad() / kDeg, 72.9, 0.1);
+  EXPECT_NEAR(CameraIntrinsics::d435_848x480().fx, 433.0, 0.1);
+}
+
+TEST(CameraIntrinsics, FromHfov) {
+  const CameraIntrinsics k = CameraIntrinsics::from_hfov(640, 480, 87.0 * kDeg, 0.3, 8.0, 15.0);
+  EXPECT_NEAR(k.hfov_rad(), 87.0 * kDeg, 1e-9);
+  EXPECT_NEAR(k.fx, 320.0 / std::tan(43.5 * kDeg), 1e-9);
+  EXPECT_THROW(CameraIntrinsics::from_hfov(640, 480, M_PI, 0.3, 8.0, 15.0), std::invalid_argument);
+}
+
+TEST(CameraIntrinsics, BadValuesThrowNamingTheField) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto expect_bad = [](CameraIntrinsics k, const std::string& field) {
+    try {
+      k.validate();
+      ADD_FAILURE() << "no throw for " << field;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  auto with = [&](auto change) {
+    CameraIntrinsics copy = k;
+    change(copy);
+    return copy;
+  };
+  expect_bad(with([](auto& c) { c.width = 0; }), "width");
+  expect_bad(with([](auto& c) { c.height = -4; }), "height");
+  expect_bad(with([](auto& c) { c.fx = 0.0; }), "fx");
+  expect_bad(with([&](auto& c) { c.fy = nan; }), "fy");
+  expect_bad(with([](auto& c) { c.fx = std::numeric_limits<double>::infinity(); }), "fx");
+  expect_bad(with([](auto& c) { c.cx = 700.0; }), "cx");
+  expect_bad(with([&](auto& c) { c.cy = nan; }), "cy");
+  expect_bad(with([](auto& c) { c.min_range_m = 0.0; }), "min_range_m");
+  expect_bad(with([](auto& c) { c.max_range_m = 0.2; }), "max_range_m");
+  expect_bad(with([](auto& c) { c.rate_hz = 0.0; }), "rate_hz");
+}
+
+TEST(CameraIntrinsics, ProjectionInvertsPixelRay) {
+  CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  k.cx = 301.25;
+  k.cy = 255.5;
+  k.fy = 410.0;  // projection itself supports non-square pixels
+  for (double u : {0.0, 123.4, 639.0}) {
+    for (double v : {0.0, 240.0, 479.0}) {
+      const Eigen::Vector3d p_C = 2.5 * pixel_ray_C(k, u, v);
+      const auto uv = project_to_pixel(k, p_C);
+      ASSERT_TRUE(uv.has_value());
+      EXPECT_NEAR(uv->x(), u, 1e-9);
+      EXPECT_NEAR(uv->y(), v, 1e-9);
+    }
+  }
+  EXPECT_FALSE(project_to_pixel(k, Eigen::Vector3d(0.1, 0.1, -1.0)).has_value());
+}
+
+TEST(DepthToCloud, RoundTripDropsInvalidPixels) {
+  CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  k.cx = 290.0;  // off-centre principal point
+  k.cy = 250.0;
+  DepthImage image(k.width, k.height);
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) image.at(u, v) = ((u + v) % 7 == 0) ? 0.0f : 0.5f + 0.01f * float((u * 3 + v) % 300);
+  }
+  const Eigen::Matrix3Xf points_C = depth_to_cloud(image, k);
+  ASSERT_EQ(points_C.cols(), image.valid_count());
+  Eigen::Index column = 0;
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      if (image.at(u, v) == 0.0f) continue;
+      const Eigen::Vector3d p_C = points_C.col(column++).cast<double>();
+      EXPECT_FLOAT_EQ(float(p_C.z()), image.at(u, v));
+      const auto uv = project_to_pixel(k, p_C);
+      ASSERT_TRUE(uv.has_value());
+      ASSERT_NEAR(uv->x(), u, 1e-3);
+      ASSERT_NEAR(uv->y(), v, 1e-3);
+    }
+  }
+  Eigen::Matrix3Xf buffer;
+  EXPECT_EQ(depth_to_cloud(image, k, buffer), points_C.cols());
+  EXPECT_EQ(buffer.cols(), Eigen::Index(k.width) * k.height);
+  EXPECT_TRUE(buffer.leftCols(points_C.cols()).isApprox(points_C));
+  DepthImage wrong(10, 10);
+  EXPECT_THROW(depth_to_cloud(wrong, k), std::invalid_argument);
+}
+
+TEST(DepthPng, MillimetreRoundTripAndColorized) {
+  DepthImage image(5, 3);
+  const float values[] = {0.0f, 0.28f, 1.2344f, 9.9996f, 70.0f};
+  for (int v = 0; v < 3; ++v) {
+    for (int u = 0; u < 5; ++u) image.at(u, v) = values[u] + (u > 0 ? 0.001f * v : 0.0f);
+  }
+  const std::string path = ::testing::TempDir() + "stvl_depth_mm.png";
+  write_depth_png_mm(image, path);
+  const DepthImage back = read_depth_png_mm(path);
+  ASSERT_EQ(back.width, 5);
+  ASSERT_EQ(back.height, 3);
+  for (int v = 0; v < 3; ++v) {
+    EXPECT_EQ(back.at(0, v), 0.0f);
+    for (int u = 1; u < 4; ++u) EXPECT_NEAR(back.at(u, v), image.at(u, v), 0.0005 + 1e-6);
+    EXPECT_FLOAT_EQ(back.at(4, v), 65.535f);  // saturated
+  }
+  const std::string color_path = ::testing::TempDir() + "stvl_depth_color.png";
+  write_depth_png_colorized(image, color_path, 0.28, 10.0);
+  std::ifstream file(color_path, std::ios::binary);
+  char signature[8] = {};
+  file.read(signature, 8);
+  EXPECT_EQ(std::string(signature + 1, 3), "PNG");
+  EXPECT_THROW(write_depth_png_colorized(image, color_path, 2.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(write_depth_png_mm(image, "/nonexistent_dir/x.png"), std::runtime_error);
+  EXPECT_THROW(read_depth_png_mm(color_path), std::runtime_error);  // 8-bit RGB is not a depth PNG
+  std::remove(path.c_str());
+  std::remove(color_path.c_str());
+}
+
+TEST(GlBackend, Parse) {
+  EXPECT_EQ(parse_gl_backend("auto"), GlBackend::kAuto);
+  EXPECT_EQ(parse_gl_backend("egl"), GlBackend::kEgl);
+  EXPECT_EQ(parse_gl_backend("osmesa"), GlBackend::kOsmesa);
+  EXPECT_THROW(parse_gl_backend("glx"), std::invalid_argument);
+  EXPECT_STREQ(to_string(GlBackend::kOsmesa), "osmesa");
+}
+
+}  // namespace
+}  // namespace stvl::sensors

@@ -1,0 +1,180 @@
+#include "sensors/depth_noise.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace stvl::sensors {
+namespace {
+
+constexpr double kRmsTolerance = 0.20;  // measured std vs Intel's formula
+
+DepthImage flat_wall(const CameraIntrinsics& k, float z_m) {
+  DepthImage image(k.width, k.height);
+  std::fill(image.depth_m.begin(), image.depth_m.end(), z_m);
+  return image;
+}
+
+DepthNoiseConfig stereo_only() {
+  DepthNoiseConfig config;
+  config.edge_probability = 0.0;
+  config.dropout_probability = 0.0;
+  config.holes_per_frame = 0.0;
+  return config;
+}
+
+class NoiseRms : public ::testing::TestWithParam<double> {};
+
+TEST_P(NoiseRms, StdOfDepthErrorMatchesIntelFormula) {
+  const double z = GetParam();
+  const CameraIntrinsics k = CameraIntrinsics::d435_848x480();
+  DepthNoise noise(stereo_only(), k);  // quantization (1/32 px) stays on and is part of the measured std
+  DepthImage image = flat_wall(k, float(z));
+  noise.apply(image, 42, 0);
+  double sum = 0.0, sum_sq = 0.0;
+  int n = 0;
+  for (float d : image.depth_m) {
+    ASSERT_GT(d, 0.0f);
+    const double error = d - z;
+    sum += error;
+    sum_sq += error * error;
+    ++n;
+  }
+  const double mean = sum / n;
+  const double std = std::sqrt(sum_sq / n - mean * mean);
+  const double expected = noise.rms_error_m(z);
+  std::printf("z %.1f m: measured std %.3f mm, formula %.3f mm, ratio %.3f, mean %.3f mm\n", z, 1e3 * std,
+              1e3 * expected, std / expected, 1e3 * mean);
+  EXPECT_NEAR(expected, z * z * 0.08 / (k.fx * 0.05), 1e-12);
+  EXPECT_NEAR(std / expected, 1.0, kRmsTolerance) << "z " << z << " std " << std << " expected " << expected;
+  EXPECT_LT(std::abs(mean), 0.2 * expected);  // first-order unbiased
+}
+
+INSTANTIATE_TEST_SUITE_P(FlatWall, NoiseRms, ::testing::Values(1.0, 3.0));
+
+TEST(DepthNoise, DeterministicPerSeedAndFrame) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  DepthNoise noise(DepthNoiseConfig{}, k);
+  const DepthImage truth = flat_wall(k, 2.0f);
+  auto noisy = [&](uint64_t seed, uint64_t frame) {
+    DepthImage image = truth;
+    noise.apply(image, seed, frame);
+    return image.depth_m;
+  };
+  EXPECT_EQ(noisy(7, 3), noisy(7, 3));
+  EXPECT_NE(noisy(7, 3), noisy(8, 3));
+  EXPECT_NE(noisy(7, 3), noisy(7, 4));
+  DepthNoise other(DepthNoiseConfig{}, k);  // a second instance, after other frames, gives the same frame
+  DepthImage image = truth;
+  other.apply(image, 7, 3);
+  EXPECT_EQ(image.depth_m, noisy(7, 3));
+}
+
+TEST(DepthNoise, DisabledIsIdentity) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  DepthNoiseConfig config;
+  config.enabled = false;
+  DepthNoise noise(config, k);
+  DepthImage image = flat_wall(k, 2.0f);
+  noise.apply(image, 1, 1);
+  EXPECT_EQ(image.depth_m, flat_wall(k, 2.0f).depth_m);
+}
+
+TEST(DepthNoise, RangeInvalidation) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  DepthNoise noise(stereo_only(), k);
+  for (float z : {0.1f, 12.0f}) {
+    DepthImage image = flat_wall(k, z);
+    noise.apply(image, 1, 0);
+    EXPECT_EQ(image.valid_count(), 0) << z;
+  }
+}
+
+TEST(DepthNoise, DropoutsAndHoles) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  DepthNoiseConfig config = stereo_only();
+  config.subpixel = 0.0;
+  config.disparity_step_px = 0.0;
+  config.dropout_probability = 0.01;
+  DepthNoise dropouts(config, k);
+  DepthImage image = flat_wall(k, 2.0f);
+  dropouts.apply(image, 5, 0);
+  const double n = double(k.width) * k.height;
+  const double dropped = (n - image.valid_count()) / n;
+  EXPECT_NEAR(dropped, 0.01, 0.001);
+
+  config.dropout_probability = 0.0;
+  config.holes_per_frame = 3.0;
+  config.hole_max_radius_px = 6.0;
+  DepthNoise holes(config, k);
+  image = flat_wall(k, 2.0f);
+  holes.apply(image, 5, 0);
+  const int missing = int(n) - image.valid_count();
+  EXPECT_GT(missing, 0);
+  EXPECT_LE(missing, 3 * int(std::ceil(M_PI * 7.0 * 7.0)));
+  // Missing pixels come in blobs: most have a missing 4-neighbour.
+  int clustered = 0;
+  for (int v = 1; v + 1 < k.height; ++v) {
+    for (int u = 1; u + 1 < k.width; ++u) {
+      if (image.at(u, v) != 0.0f) continue;
+      clustered += (image.at(u - 1, v) == 0.0f || image.at(u + 1, v) == 0.0f || image.at(u, v - 1) == 0.0f ||
+                    image.at(u, v + 1) == 0.0f);
+    }
+  }
+  EXPECT_GT(clustered, missing / 2);
+}
+
+TEST(DepthNoise, EdgePixelsFlyOrVanishOnlyAtDiscontinuities) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  DepthNoiseConfig config = stereo_only();
+  config.subpixel = 0.0;
+  config.disparity_step_px = 0.0;
+  config.edge_probability = 1.0;
+  config.edge_invalid_fraction = 0.5;
+  DepthNoise noise(config, k);
+  DepthImage image(k.width, k.height);
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) image.at(u, v) = u < 320 ? 1.0f : 3.0f;
+  }
+  noise.apply(image, 9, 0);
+  int invalid = 0, flying = 0;
+  for (int v = 0; v < k.height; ++v) {
+    for (int u = 0; u < k.width; ++u) {
+      const float z = image.at(u, v);
+      if (u != 319 && u != 320) {
+        ASSERT_EQ(z, u < 320 ? 1.0f : 3.0f) << u << "," << v;
+        continue;
+      }
+      if (z == 0.0f) {
+        ++invalid;
+      } else {
+        EXPECT_GE(z, 1.0f);
+        EXPECT_LE(z, 3.0f);
+        flying += (z > 1.0f && z < 3.0f);
+      }
+    }
+  }
+  EXPECT_NEAR(invalid, 480, 100);  // half of the 960 edge pixels
+  EXPECT_GT(flying, 400);
+}
+
+TEST(DepthNoise, BadConfigAndSizeThrow) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  DepthNoiseConfig config;
+  config.dropout_probability = 1.5;
+  EXPECT_THROW(DepthNoise(config, k), std::invalid_argument);
+  config = DepthNoiseConfig{};
+  config.baseline_m = 0.0;
+  EXPECT_THROW(DepthNoise(config, k), std::invalid_argument);
+  config = DepthNoiseConfig{};
+  config.subpixel = -1.0;
+  EXPECT_THROW(DepthNoise(config, k), std::invalid_argument);
+  DepthNoise noise(DepthNoiseConfig{}, k);
+  DepthImage wrong(4, 4);
+  EXPECT_THROW(noise.apply(wrong, 1, 1), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace stvl::sensors

@@ -1,0 +1,242 @@
+#include "sensors/depth_renderer.hpp"
+
+#include "fixture.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+namespace stvl::sensors {
+namespace {
+
+using testing::looking_along_x;
+using testing::ray_cast_depth;
+using testing::World;
+
+constexpr double kMedianErrorM = 1e-3;     // rendered vs mj_ray, over pixels valid in both
+constexpr double kMismatchFraction = 0.01;  // pixels valid in one image only, or off by more than kOutlierM
+constexpr double kOutlierM = 0.05;          // (silhouettes of tessellated shapes)
+
+const char* kShapes = R"(
+<mujoco>
+  <worldbody>
+    <geom type="box" size="6 4 0.05" pos="3 0 -0.05"/>
+    <geom type="box" size="0.1 4 3" pos="6 0 1"/>
+    <geom type="box" size="0.3 0.3 0.3" pos="2 0.5 0.8" euler="0 0 25"/>
+    <geom type="sphere" size="0.4" pos="3 -0.8 1.3"/>
+    <geom type="sphere" size="0.15" pos="1.2 -0.3 0.7"/>
+    <geom type="cylinder" size="0.25 0.5" pos="2.5 -0.2 0.5"/>
+    <geom type="capsule" size="0.1 0.4" pos="4 1.2 1.5" euler="30 0 0"/>
+    <geom name="robot_part" type="box" size="0.1 0.1 0.1" pos="1 0 1" group="2"/>
+  </worldbody>
+</mujoco>)";
+
+struct Comparison {
+  double median_abs_error_m = 0.0;
+  double mismatch_fraction = 0.0;
+  int both_valid = 0;
+};
+
+Comparison compare(const DepthImage& a, const DepthImage& b) {
+  std::vector<double> errors;
+  int mismatch = 0;
+  for (size_t i = 0; i < a.depth_m.size(); ++i) {
+    const bool va = a.depth_m[i] > 0.0f, vb = b.depth_m[i] > 0.0f;
+    if (va && vb) {
+      errors.push_back(std::abs(double(a.depth_m[i]) - b.depth_m[i]));
+      mismatch += errors.back() > kOutlierM;
+    } else if (va != vb) {
+      ++mismatch;
+    }
+  }
+  Comparison c;
+  c.both_valid = int(errors.size());
+  if (!errors.empty()) {
+    std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+    c.median_abs_error_m = errors[errors.size() / 2];
+  }
+  c.mismatch_fraction = double(mismatch) / double(a.depth_m.size());
+  return c;
+}
+
+// nullptr with the reason when the backend does not work on this machine.
+std::unique_ptr<DepthRenderer> try_renderer(const World& world, const CameraIntrinsics& k, GlBackend backend,
+                                            std::string& why,
+                                            std::array<bool, 6> groups = {true, true, false, true, true, true}) {
+  try {
+    return std::make_unique<DepthRenderer>(world.model, k, backend, groups);
+  } catch (const std::runtime_error& e) {
+    why = std::string(to_string(backend)) + " unavailable: " + e.what();
+    return nullptr;
+  }
+}
+
+class Renderer : public ::testing::TestWithParam<GlBackend> {
+ protected:
+  void expect_matches_ray_cast(const CameraIntrinsics& k, const Eigen::Isometry3d& T_world_camera) {
+    World world(kShapes);
+    std::string why;
+    auto renderer = try_renderer(world, k, GetParam(), why);
+    if (!renderer) GTEST_SKIP() << why;
+    EXPECT_STREQ(renderer->backend_name(), to_string(GetParam()));
+    const DepthImage& rendered = renderer->render(world.model, world.data, T_world_camera);
+    const DepthImage truth = ray_cast_depth(world, k, T_world_camera);
+    const Comparison c = compare(rendered, truth);
+    std::printf("[ %s ] median |rendered - mj_ray| %.2e m over %d pixels, mismatched %.4f%%\n",
+                renderer->backend_name(), c.median_abs_error_m, c.both_valid, 100.0 * c.mismatch_fraction);
+    EXPECT_GT(c.both_valid, int(0.5 * k.width * k.height));
+    EXPECT_LT(c.median_abs_error_m, kMedianErrorM);
+    EXPECT_LT(c.mismatch_fraction, kMismatchFraction);
+    // A pixel on the tilted box's face, well inside: exact up to depth-buffer precision.
+    const auto uv = project_to_pixel(k, T_world_camera.inverse() * Eigen::Vector3d(1.7, 0.5, 0.8));
+    ASSERT_TRUE(uv.has_value());
+    const int u = int(std::lround(uv->x())), v = int(std::lround(uv->y()));
+    if (u >= 0 && v >= 0 && u < k.width && v < k.height) {
+      EXPECT_NEAR(rendered.at(u, v), truth.at(u, v), 1e-3) << "pixel " << u << "," << v;
+    }
+  }
+};
+
+TEST_P(Renderer, MatchesRayCastsAt640x480) {
+  expect_matches_ray_cast(CameraIntrinsics::d435_640x480(), looking_along_x({0.0, 0.0, 1.0}));
+}
+
+TEST_P(Renderer, MatchesRayCastsAt848x480) {
+  expect_matches_ray_cast(CameraIntrinsics::d435_848x480(), looking_along_x({0.0, 0.0, 1.0}));
+}
+
+TEST_P(Renderer, PrincipalPointOffset) {
+  CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  k.cx = 250.0;
+  k.cy = 300.0;
+  expect_matches_ray_cast(k, looking_along_x({0.0, 0.1, 0.9}));
+}
+
+TEST_P(Renderer, RotatedPose) {
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(30.0 * M_PI / 180.0, Eigen::Vector3d(0.3, 1.0, 0.4).normalized()).toRotationMatrix();
+  expect_matches_ray_cast(CameraIntrinsics::d435_640x480(), looking_along_x({-0.5, 0.3, 1.2}, rotation));
+}
+
+TEST_P(Renderer, RangeLimitsInvalidate) {
+  World world(kShapes);
+  CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  std::string why;
+  auto renderer = try_renderer(world, k, GetParam(), why);
+  if (!renderer) GTEST_SKIP() << why;
+  // 0.15 m in front of the back wall (closer than min range 0.28 m): nothing valid, nothing drawn through it.
+  EXPECT_EQ(renderer->render(world.model, world.data, looking_along_x({5.75, 0.0, 1.0})).valid_count(), 0);
+  // Looking at the sky from above the scene: nothing within 10 m.
+  Eigen::Isometry3d up = looking_along_x({3.0, 0.0, 5.0});
+  up.linear() = up.linear() * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_EQ(renderer->render(world.model, world.data, up).valid_count(), 0);
+  // The back wall at 5.9 m is beyond a 5 m max range.
+  k.max_range_m = 5.0;
+  DepthRenderer short_range(world.model, k, renderer->backend());
+  const DepthImage& image = short_range.render(world.model, world.data, looking_along_x({0.0, 0.0, 1.0}));
+  for (float z : image.depth_m) ASSERT_TRUE(z == 0.0f || (z >= 0.28f && z <= 5.0f)) << z;
+  EXPECT_EQ(image.at(k.width / 2, 10), 0.0f);  // wall above the shapes
+  EXPECT_GT(image.valid_count(), 1000);
+}
+
+TEST_P(Renderer, HiddenGeomGroupsAreNotRendered) {
+  World world(kShapes);
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  std::string why;
+  auto hidden = try_renderer(world, k, GetParam(), why);
+  if (!hidden) GTEST_SKIP() << why;
+  DepthRenderer shown(world.model, k, hidden->backend(), {true, true, true, true, true, true});
+  const Eigen::Isometry3d T = looking_along_x({0.0, 0.0, 1.0});
+  const int u = int(k.cx), v = int(k.cy);  // straight ahead: the group-2 box face at 0.9 m
+  EXPECT_NEAR(shown.render(world.model, world.data, T).at(u, v), 0.9f, 1e-3);
+  EXPECT_NEAR(hidden->render(world.model, world.data, T).at(u, v), 5.9f, 1e-3);
+}
+
+TEST_P(Renderer, TwoRenderersInOneProcess) {
+  World world(kShapes);
+  std::string why;
+  auto first = try_renderer(world, CameraIntrinsics::d435_640x480(), GetParam(), why);
+  if (!first) GTEST_SKIP() << why;
+  DepthRenderer second(world.model, CameraIntrinsics::d435_848x480(), GetParam());
+  const Eigen::Isometry3d T = looking_along_x({0.0, 0.0, 1.0});
+  const DepthImage a = first->render(world.model, world.data, T);
+  const DepthImage& b = second.render(world.model, world.data, T);
+  // Same scene, same focal length: the 640 image is the centre crop of the 848 one.
+  int compared = 0;
+  for (int v = 0; v < 480; v += 7) {
+    for (int u = 0; u < 640; u += 7) {
+      if (a.at(u, v) > 0.0f && b.at(u + 104, v) > 0.0f) {
+        ++compared;
+        EXPECT_NEAR(a.at(u, v), b.at(u + 104, v), 2e-3);
+      }
+    }
+  }
+  EXPECT_GT(compared, 4000);
+  EXPECT_EQ(first->render(world.model, world.data, T).depth_m, a.depth_m);  // context switch back and forth
+}
+
+TEST_P(Renderer, BadInputThrows) {
+  World world(kShapes);
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  std::string why;
+  auto renderer = try_renderer(world, k, GetParam(), why);
+  if (!renderer) GTEST_SKIP() << why;
+  CameraIntrinsics non_square = k;
+  non_square.fx = 447.0;
+  EXPECT_THROW(DepthRenderer(world.model, non_square, GetParam()), std::invalid_argument);
+  CameraIntrinsics bad = k;
+  bad.min_range_m = -1.0;
+  EXPECT_THROW(DepthRenderer(world.model, bad, GetParam()), std::invalid_argument);
+  EXPECT_THROW(DepthRenderer(nullptr, k, GetParam()), std::invalid_argument);
+  Eigen::Isometry3d scaled = looking_along_x({0.0, 0.0, 1.0});
+  scaled.linear() *= 2.0;
+  EXPECT_THROW(renderer->render(world.model, world.data, scaled), std::invalid_argument);
+  World other("<mujoco><worldbody><geom type='sphere' size='1'/></worldbody></mujoco>");
+  EXPECT_THROW(renderer->render(other.model, other.data, looking_along_x({0, 0, 1})), std::invalid_argument);
+  EXPECT_THROW(renderer->render(world.model, nullptr, looking_along_x({0, 0, 1})), std::invalid_argument);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, Renderer, ::testing::Values(GlBackend::kOsmesa, GlBackend::kEgl),
+                         [](const auto& info) { return std::string(to_string(info.param)); });
+
+TEST(RendererBackends, EglAndOsmesaGiveTheSameImage) {
+  World world(kShapes);
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  std::string why;
+  auto osmesa = try_renderer(world, k, GlBackend::kOsmesa, why);
+  if (!osmesa) GTEST_SKIP() << why;
+  auto egl = try_renderer(world, k, GlBackend::kEgl, why);
+  if (!egl) GTEST_SKIP() << why;
+  const Eigen::Isometry3d T = looking_along_x({0.2, -0.1, 1.1});
+  const DepthImage a = osmesa->render(world.model, world.data, T);
+  const DepthImage b = egl->render(world.model, world.data, T);
+  const Comparison c = compare(a, b);
+  std::printf("osmesa vs egl: median %.2e m, mismatched %.4f%%\n", c.median_abs_error_m,
+              100.0 * c.mismatch_fraction);
+  EXPECT_LT(c.median_abs_error_m, 1e-6);
+  EXPECT_LT(c.mismatch_fraction, 1e-3);
+  EXPECT_EQ(osmesa->render(world.model, world.data, T).depth_m, a.depth_m);  // interleaved contexts still work
+}
+
+TEST(RendererBackends, AutoHonoursEnvironmentOverride) {
+  World world(kShapes);
+  ::setenv("STVL_GL", "osmesa", 1);
+  std::string why;
+  auto renderer = try_renderer(world, CameraIntrinsics::d435_640x480(), GlBackend::kAuto, why);
+  if (renderer) {
+    EXPECT_STREQ(renderer->backend_name(), "osmesa");
+  }
+  ::setenv("STVL_GL", "vulkan", 1);
+  EXPECT_THROW(DepthRenderer(world.model, CameraIntrinsics::d435_640x480(), GlBackend::kAuto), std::invalid_argument);
+  ::unsetenv("STVL_GL");
+  if (!renderer) GTEST_SKIP() << why;
+}
+
+}  // namespace
+}  // namespace stvl::sensors

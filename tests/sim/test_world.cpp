@@ -1,0 +1,130 @@
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "fixture.hpp"
+#include "sim/mocap_script.hpp"
+#include "sim/simulator.hpp"
+#include "sim/world.hpp"
+
+namespace stvl::sim {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::string load_error(const std::string& xml) {
+  try {
+    World::from_string(xml);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(World, CompileErrorCarriesMujocoMessage) {
+  const std::string error = load_error(R"(<mujoco><worldbody><geom type="sphere" size="-1"/></worldbody></mujoco>)");
+  EXPECT_THAT(error, HasSubstr("cannot load world"));
+  EXPECT_THAT(error, HasSubstr("size"));
+}
+
+TEST(World, XmlSyntaxErrorCarriesMujocoMessage) {
+  const std::string error = load_error("<mujoco><worldbody></mujoco>");
+  EXPECT_THAT(error, HasSubstr("XML"));
+}
+
+TEST(World, UnknownAttributeIsReported) {
+  const std::string error = load_error(R"(<mujoco><worldbody><geom type="box" sise="1 1 1"/></worldbody></mujoco>)");
+  EXPECT_THAT(error, HasSubstr("sise"));
+}
+
+TEST(World, MissingFileNamesPath) {
+  try {
+    World::from_file("/nonexistent/dir/world.xml");
+    FAIL() << "expected an exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr("/nonexistent/dir/world.xml"));
+  }
+}
+
+TEST(World, MissingIncludeNamesFile) {
+  const std::string error = load_error(R"(<mujoco><include file="no_such_robot.xml"/></mujoco>)");
+  EXPECT_THAT(error, HasSubstr("no_such_robot.xml"));
+}
+
+TEST(World, EmptyStringAndBadBaseDirThrow) {
+  EXPECT_THROW(World::from_string(""), std::invalid_argument);
+  EXPECT_THROW(World::from_string("<mujoco/>", "/nonexistent/base"), std::runtime_error);
+}
+
+TEST(World, LoadsStringWithIncludeAndIsMovable) {
+  World world = test::flat_world();
+  EXPECT_GT(world.model()->nbody, 3);
+  EXPECT_DOUBLE_EQ(world.timestep_s(), 0.002);
+  World moved = std::move(world);
+  moved.step();
+  EXPECT_NEAR(moved.time_s(), 0.002, 1e-12);
+  EXPECT_GE(moved.body_id("base_link"), 1);
+  EXPECT_THROW(moved.body_id("no_such_body"), std::invalid_argument);
+}
+
+TEST(World, RobotGeomsAreAllInGroupTwo) {
+  World world = test::flat_world();
+  const mjModel* m = world.model();
+  const int base = world.body_id("base_link");
+  for (int g = 0; g < m->ngeom; ++g) {
+    int b = m->geom_bodyid[g];
+    while (b != 0 && b != base) b = m->body_parentid[b];
+    if (b == base) {
+      EXPECT_EQ(m->geom_group[g], 2) << "geom " << g;
+    }
+  }
+}
+
+const char* kMocapWorld = R"(
+<mujoco>
+  <worldbody>
+    <geom name="floor" type="plane" size="10 10 0.1"/>
+    <body name="person" mocap="true" pos="1 0 0.9">
+      <geom type="capsule" size="0.2 0.6"/>
+    </body>
+    <body name="crate" pos="3 0 0.5"><geom type="box" size="0.2 0.2 0.2"/></body>
+  </worldbody>
+</mujoco>)";
+
+TEST(MocapScript, MovesBodyThroughKeyframes) {
+  World world = World::from_string(kMocapWorld);
+  const MocapScript script(world, {{"person", {{1.0, {1, 0, 0.9}, 0.0}, {3.0, {1, 6, 0.9}, 1.5}}}});
+  const int body = world.body_id("person");
+  auto pos_at = [&](double t) {
+    script.apply(world.model(), world.data(), t);
+    world.forward();
+    return Eigen::Vector3d(world.data()->xpos[3 * body], world.data()->xpos[3 * body + 1],
+                           world.data()->xpos[3 * body + 2]);
+  };
+  EXPECT_TRUE(pos_at(0.0).isApprox(Eigen::Vector3d(1, 0, 0.9)));
+  EXPECT_TRUE(pos_at(2.0).isApprox(Eigen::Vector3d(1, 3, 0.9)));
+  EXPECT_TRUE(pos_at(3.0).isApprox(Eigen::Vector3d(1, 6, 0.9)));
+  EXPECT_TRUE(pos_at(10.0).isApprox(Eigen::Vector3d(1, 6, 0.9)));
+  const double w = world.data()->xquat[4 * body], z = world.data()->xquat[4 * body + 3];
+  EXPECT_NEAR(2 * std::atan2(z, w), 1.5, 1e-9);
+}
+
+TEST(MocapScript, RejectsBadTracks) {
+  World world = World::from_string(kMocapWorld);
+  EXPECT_THROW(MocapScript(world, {{"nobody", {{0.0, {0, 0, 0}, {}}}}}), std::invalid_argument);
+  EXPECT_THROW(MocapScript(world, {{"crate", {{0.0, {0, 0, 0}, {}}}}}), std::invalid_argument);
+  EXPECT_THROW(MocapScript(world, {{"person", {}}}), std::invalid_argument);
+  EXPECT_THROW(MocapScript(world, {{"person", {{1.0, {0, 0, 0}, {}}, {1.0, {1, 0, 0}, {}}}}}),
+               std::invalid_argument);
+  EXPECT_THROW(MocapScript(world, {{"person", {{0.0, {0, 0, 0}, 0.0}, {1.0, {1, 0, 0}, {}}}}}),
+               std::invalid_argument);
+  try {
+    MocapScript(world, {{"nobody", {{0.0, {0, 0, 0}, {}}}}});
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("nobody"));
+  }
+}
+
+}  // namespace
+}  // namespace stvl::sim

@@ -1,0 +1,77 @@
+#pragma once
+// ROS 1 bag (format 2.0) export of a run. No ROS headers here: rosbag lives behind the pimpl in bag_writer.cpp.
+//
+// Times are simulated seconds (t_s >= 0). rosbag refuses record times below ros::TIME_MIN (1 ns), and a zero
+// header stamp means "latest" to tf, so every header stamp, record time and /clock value is
+// t_s + kBagTimeOffset_s. Frames follow REP-105: map -> odom -> base_link -> camera_link ->
+// camera_depth_optical_frame.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace stvl::tools {
+
+inline constexpr double kBagTimeOffset_s = 1.0;
+
+inline constexpr const char* kMapFrame = "map";
+inline constexpr const char* kOdomFrame = "odom";
+inline constexpr const char* kBaseFrame = "base_link";
+inline constexpr const char* kCameraLinkFrame = "camera_link";
+inline constexpr const char* kCameraOpticalFrame = "camera_depth_optical_frame";
+
+enum class BagCompression { kNone, kBz2, kLz4 };
+
+// "none", "bz2" or "lz4"; throws std::invalid_argument otherwise.
+BagCompression parse_bag_compression(const std::string& name);
+std::string to_string(BagCompression compression);
+
+class BagWriter {
+ public:
+  // Writes to path + ".active"; throws std::runtime_error if it cannot be created.
+  BagWriter(std::string path, BagCompression compression);
+  // Without close() (an exception, an interruption) only path + ".active" is left, never path.
+  ~BagWriter();
+  BagWriter(const BagWriter&) = delete;
+  BagWriter& operator=(const BagWriter&) = delete;
+
+  // /clock rosgraph_msgs/Clock.
+  void write_clock(double t_s);
+  // /tf: map -> odom and odom -> base_link in one tf2_msgs/TFMessage.
+  void write_tf(double t_s, const Eigen::Isometry3d& T_map_odom, const Eigen::Isometry3d& T_odom_base);
+  // /tf_static (latched), stamped at t = 0: base_link -> camera_link -> camera_depth_optical_frame.
+  void write_tf_static(const Eigen::Isometry3d& T_base_camera_link,
+                       const Eigen::Isometry3d& T_camera_link_optical);
+  // /odom nav_msgs/Odometry, frame odom, child base_link; twist in base_link (v along x, omega about z).
+  void write_odometry(double t_s, const Eigen::Isometry3d& T_odom_base, double v_mps, double omega_radps);
+  // /ground_truth/pose geometry_msgs/PoseStamped, frame map.
+  void write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_map_base);
+  // /camera/depth/image_rect_raw 16UC1 (mm, 0 = invalid), row-major top row first, frame
+  // camera_depth_optical_frame. depth_mm.size() must be width * height.
+  void write_depth_image(double t_s, int width, int height, const std::vector<std::uint16_t>& depth_mm);
+  // /camera/depth/camera_info: plumb_bob with zero distortion, K, R = I, P = [K | 0].
+  void write_camera_info(double t_s, int width, int height, double fx_px, double fy_px, double cx_px,
+                         double cy_px);
+  // sensor_msgs/PointCloud2 with fields x y z float32, unorganized (height 1); is_dense when all finite.
+  void write_points(const std::string& topic, double t_s, const std::string& frame_id,
+                    const Eigen::Matrix3Xf& points, bool latched = false);
+  // /stvl/costmap nav_msgs/OccupancyGrid, frame map; data row-major from the origin cell, -1 unknown,
+  // 0..100 cost. data.size() must be width * height.
+  void write_occupancy_grid(double t_s, double resolution_m, double origin_x_m, double origin_y_m, int width,
+                            int height, const std::vector<std::int8_t>& data);
+
+  // Writes the index, closes the file and renames path.active -> path. Further writes throw.
+  void close();
+  // Bytes in the file so far (the final size after close()).
+  std::uint64_t bytes_written() const;
+  const std::string& path() const { return path_; }
+
+ private:
+  struct Impl;
+  std::string path_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace stvl::tools

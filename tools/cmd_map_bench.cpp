@@ -1,0 +1,30 @@
+// `stvl-bench map-bench`: the mapping module's benchmark (logic in mapping/benchmark.cpp).
+#include <iostream>
+#include <memory>
+
+#include "mapping/benchmark.hpp"
+#include "tools/command.hpp"
+
+namespace {
+
+struct MapBenchCli {
+  stvl::mapping::MapBenchOptions options;
+  bool no_octomap = false;
+};
+
+const stvl::tools::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) {
+  auto* cmd = app.add_subcommand("map-bench", "per-frame mark/clear cost of the voxel map vs map size, with peers");
+  auto cli = std::make_shared<MapBenchCli>();
+  cmd->add_option("--voxel-size", cli->options.voxel_size, "voxel size in m");
+  cmd->add_option("--frames", cli->options.frames, "synthetic frames per map size");
+  cmd->add_option("--sizes", cli->options.sizes, "pre-filled voxel counts, comma separated")->delimiter(',');
+  cmd->add_option("--seed", cli->options.seed, "seed of the synthetic frames");
+  cmd->add_flag("--no-octomap", cli->no_octomap, "skip the OctoMap peer");
+  return [cli] {
+    cli->options.octomap = !cli->no_octomap;
+    stvl::mapping::print_map_bench(stvl::mapping::run_map_bench(cli->options), std::cout);
+    return stvl::tools::kExitOk;
+  };
+}};
+
+}  // namespace

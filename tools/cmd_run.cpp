@@ -1,0 +1,83 @@
+// stvl-bench run [SCENARIO.yaml] [--out DIR] [--bag FILE] ...: one scenario end to end.
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+
+#include "tools/command.hpp"
+#include "tools/report.hpp"
+#include "tools/runner.hpp"
+
+namespace stvl::tools {
+namespace {
+
+std::atomic<bool> g_stop{false};
+std::atomic<int> g_signal{0};
+extern "C" void request_stop(int signal) {
+  g_signal = signal;
+  g_stop = true;
+}
+
+struct RunCommandOptions {
+  std::string scenario;
+  std::string out_dir;
+  std::string bag;
+  std::string bag_compression = "none";
+  bool no_progress = false;
+  ScenarioOverrides overrides;
+  std::string noise;
+};
+
+int run(const RunCommandOptions& o) {
+  Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario);
+  ScenarioOverrides overrides = o.overrides;
+  if (!o.noise.empty()) {
+    if (o.noise != "on" && o.noise != "off") throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
+    overrides.noise = o.noise == "on";
+  }
+  apply_overrides(scenario, overrides);
+  RunOptions options;
+  options.out_dir = o.out_dir.empty() ? "out/" + scenario.name : o.out_dir;
+  options.bag_path = o.bag;
+  options.bag_compression = o.bag_compression;
+  options.progress = !o.no_progress;
+  options.stop_requested = &g_stop;
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+
+  const RunResult result = run_scenario(scenario, options);
+  if (result.interrupted) {
+    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written%s\n", g_signal.load(),
+                 result.frames, options.bag_path.empty() ? "" : (", the bag stays as " + options.bag_path + ".active").c_str());
+    return 128 + g_signal.load();
+  }
+  write_report(result, options.out_dir);
+  for (const auto& c : result.checks) std::printf("%s %-24s %s\n", c.passed ? "PASS" : "FAIL", c.name.c_str(), c.message.c_str());
+  const auto& m = result.evaluation.mean;
+  std::printf("%s: %zu frames, %.1f s simulated, real-time factor %.2f, F1 %.3f (P %.3f R %.3f), outputs in %s\n",
+              scenario.name.c_str(), result.frames, result.sim_time_s, result.real_time_factor, m.f1, m.precision,
+              m.recall, options.out_dir.c_str());
+  return result.passed() ? kExitOk : kExitCheckFailed;
+}
+
+const CommandRegistration kRun{"run", [](CLI::App& app) {
+  auto o = std::make_shared<RunCommandOptions>();
+  auto* cmd = app.add_subcommand("run", "Run a scenario (the default office corridor when none is given)");
+  cmd->add_option("scenario", o->scenario, "Scenario YAML file (default: scenarios/office_corridor.yaml)");
+  cmd->add_option("--out", o->out_dir, "Output directory (default: out/<scenario name>)");
+  cmd->add_option("--bag", o->bag, "Also write a ROS 1 bag to this file");
+  cmd->add_option("--bag-compression", o->bag_compression, "none | bz2 | lz4")->check(CLI::IsMember({"none", "bz2", "lz4"}));
+  cmd->add_option("--seed", o->overrides.seed, "Override the scenario's seed");
+  cmd->add_option("--filter", o->overrides.filter_type, "Override the filter: none | passthrough | voxel | csnb");
+  cmd->add_option("--device", o->overrides.device, "Override the filter device: cpu | cuda | auto");
+  cmd->add_option("--memory", o->overrides.memory, "Override the CUDA memory mode: copy | pinned | mapped | managed");
+  cmd->add_option("--voxel-size", o->overrides.voxel_size_m, "Override the map and filter voxel size (m)");
+  cmd->add_option("--duration", o->overrides.duration_s, "Override the duration (s)");
+  cmd->add_option("--gl", o->overrides.gl_backend, "Override the GL backend: auto | egl | osmesa");
+  cmd->add_option("--noise", o->noise, "Override the depth noise: on | off");
+  cmd->add_flag("--no-progress", o->no_progress, "No progress output");
+  return [o] { return run(*o); };
+}};
+
+}  // namespace
+}  // namespace stvl::tools

@@ -1,0 +1,104 @@
+#include "tools/raster.hpp"
+
+#include "tools/atomic_file.hpp"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace stvl::tools {
+
+RgbImage::RgbImage(int width, int height, Rgb background) : width_(width), height_(height) {
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+    throw std::invalid_argument("image size " + std::to_string(width) + "x" + std::to_string(height) +
+                                " is out of range (1..16384)");
+  rgb_.resize(static_cast<std::size_t>(width) * height * 3);
+  for (std::size_t i = 0; i < rgb_.size(); i += 3) std::copy(background.begin(), background.end(), &rgb_[i]);
+}
+
+void RgbImage::set(int x, int y, Rgb color) {
+  if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
+  std::copy(color.begin(), color.end(), &rgb_[(static_cast<std::size_t>(y) * width_ + x) * 3]);
+}
+
+Rgb RgbImage::at(int x, int y) const {
+  const auto* p = &rgb_[(static_cast<std::size_t>(y) * width_ + x) * 3];
+  return {p[0], p[1], p[2]};
+}
+
+void RgbImage::fill_rect(int x0, int y0, int x1, int y1, Rgb color) {
+  for (int y = std::max(0, std::min(y0, y1)); y <= std::min(height_ - 1, std::max(y0, y1)); ++y)
+    for (int x = std::max(0, std::min(x0, x1)); x <= std::min(width_ - 1, std::max(x0, x1)); ++x) set(x, y, color);
+}
+
+void RgbImage::line(int x0, int y0, int x1, int y1, Rgb color) {
+  const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
+  const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+  int error = dx + dy;
+  for (int steps = 0; steps <= 4 * (width_ + height_); ++steps) {
+    set(x0, y0, color);
+    if (x0 == x1 && y0 == y1) break;
+    const int e2 = 2 * error;
+    if (e2 >= dy) error += dy, x0 += sx;
+    if (e2 <= dx) error += dx, y0 += sy;
+  }
+}
+
+namespace {
+void append_to_string(png_structp png, png_bytep data, png_size_t length) {
+  static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data), length);
+}
+}  // namespace
+
+std::string encode_png(const RgbImage& image) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw std::runtime_error("libpng: cannot allocate the encoder");
+  }
+  std::string bytes;
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("libpng: encoding failed");
+  }
+  png_set_write_fn(png, &bytes, append_to_string, nullptr);
+  png_set_IHDR(png, info, image.width(), image.height(), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < image.height(); ++y)
+    png_write_row(png, const_cast<png_bytep>(&image.rgb()[static_cast<std::size_t>(y) * image.width() * 3]));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return bytes;
+}
+
+void write_png(const std::filesystem::path& path, const RgbImage& image) {
+  write_file_atomically(path, encode_png(image));
+}
+
+RgbImage plot_series(const std::vector<PlotSeries>& series, int width, int height) {
+  RgbImage image(width, height);
+  double max_value = 0.0;
+  std::size_t max_count = 1;
+  for (const auto& s : series) {
+    for (double v : s.values)
+      if (std::isfinite(v)) max_value = std::max(max_value, v);
+    max_count = std::max(max_count, s.values.size());
+  }
+  if (max_value <= 0.0) max_value = 1.0;
+  const Rgb grid{225, 225, 225};
+  for (int i = 1; i < 4; ++i) image.line(0, i * height / 4, width - 1, i * height / 4, grid);
+  const auto to_x = [&](std::size_t i) { return static_cast<int>(i * (width - 1) / std::max<std::size_t>(1, max_count - 1)); };
+  const auto to_y = [&](double v) { return height - 1 - static_cast<int>(v / max_value * (height - 1)); };
+  for (const auto& s : series)
+    for (std::size_t i = 1; i < s.values.size(); ++i)
+      if (std::isfinite(s.values[i - 1]) && std::isfinite(s.values[i]))
+        image.line(to_x(i - 1), to_y(s.values[i - 1]), to_x(i), to_y(s.values[i]), s.color);
+  return image;
+}
+
+}  // namespace stvl::tools

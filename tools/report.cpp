@@ -1,0 +1,238 @@
+#include "tools/report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "tools/atomic_file.hpp"
+#include "tools/raster.hpp"
+
+namespace stvl::tools {
+namespace {
+
+nlohmann::json stage_stats(std::vector<double> ms) {
+  if (ms.empty()) return {{"mean", 0.0}, {"p50", 0.0}, {"p95", 0.0}};
+  const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
+  std::sort(ms.begin(), ms.end());
+  const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * (ms.size() - 1) + 0.5))]; };
+  return {{"mean", mean}, {"p50", at(0.5)}, {"p95", at(0.95)}};
+}
+
+nlohmann::json snapshot_json(const EvaluationSnapshot& s) {
+  return {{"time_s", s.time_s},
+          {"mapped_voxels", s.mapped_voxels},
+          {"observed_truth_voxels", s.observed_truth_voxels},
+          {"precision", s.precision},
+          {"recall", s.recall},
+          {"f1", s.f1},
+          {"iou", s.iou},
+          {"lethal_cells", s.lethal_cells},
+          {"costmap_precision", s.costmap_precision},
+          {"costmap_recall", s.costmap_recall},
+          {"phantom_obstacles", s.phantom_obstacles}};
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '&': out += "&amp;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+RgbImage top_down_image(const RunResult& r) {
+  const auto& td = r.top_down;
+  Eigen::AlignedBox2d bounds = td.bounds_W;
+  for (const auto& p : r.path_W) bounds.extend(p);
+  if (bounds.isEmpty()) bounds = Eigen::AlignedBox2d(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1));
+  const int cells_x = static_cast<int>(std::ceil(bounds.sizes().x() / td.cell_m)) + 2;
+  const int cells_y = static_cast<int>(std::ceil(bounds.sizes().y() / td.cell_m)) + 2;
+  const int scale = std::max(1, std::min(8, 1800 / std::max(cells_x, cells_y)));
+  RgbImage image(std::max(1, cells_x * scale), std::max(1, cells_y * scale));
+  const auto px = [&](double x) { return static_cast<int>((x - bounds.min().x()) / td.cell_m * scale) + scale; };
+  const auto py = [&](double y) { return image.height() - 1 - (static_cast<int>((y - bounds.min().y()) / td.cell_m * scale) + scale); };
+  const auto paint = [&](const std::vector<sim::CellKey>& cells, Rgb color) {
+    for (const auto& c : cells) {
+      const int x = px(c.x * td.cell_m), y = py((c.y + 1) * td.cell_m);
+      image.fill_rect(x, y, x + scale - 1, y + scale - 1, color);
+    }
+  };
+  paint(td.truth, {190, 190, 190});
+  paint(td.false_negative, {40, 90, 230});
+  paint(td.true_positive, {30, 160, 60});
+  paint(td.false_positive, {220, 40, 40});
+  for (std::size_t i = 1; i < r.path_W.size(); ++i)
+    image.line(px(r.path_W[i - 1].x()), py(r.path_W[i - 1].y()), px(r.path_W[i].x()), py(r.path_W[i].y()), {0, 0, 0});
+  return image;
+}
+
+}  // namespace
+
+nlohmann::json metrics_json(const RunResult& r) {
+  const auto& e = r.evaluation;
+  nlohmann::json obstacles = nlohmann::json::array();
+  for (const auto& o : e.obstacles)
+    obstacles.push_back({{"name", o.name},
+                         {"truth_voxels", o.truth_voxels},
+                         {"observed_voxels", o.observed_voxels},
+                         {"observed", o.observed},
+                         {"detected", o.detected},
+                         {"best_recall", o.best_recall}});
+  nlohmann::json snapshots = nlohmann::json::array();
+  for (const auto& s : e.snapshots) snapshots.push_back(snapshot_json(s));
+  nlohmann::json checks = nlohmann::json::array();
+  for (const auto& c : r.checks) checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}});
+  const auto& t = r.times;
+  return {
+      {"scenario", r.scenario.name},
+      {"scenario_file", r.scenario.file},
+      {"seed", r.scenario.seed},
+      {"passed", r.passed()},
+      {"interrupted", r.interrupted},
+      {"frames", r.frames},
+      {"sim_time_s", r.sim_time_s},
+      {"voxel_size_m", r.scenario.map.voxel_size},
+      {"filter", {{"type", filter::to_string(r.scenario.filter.type)}, {"device", r.filter_device}}},
+      {"gl_backend", r.gl_backend},
+      {"noise", r.scenario.camera.noise.enabled},
+      {"evaluation",
+       {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
+        {"recall_window_s", r.scenario.evaluation.recall_window_s},
+        {"mean", snapshot_json(e.mean)},
+        {"final", snapshot_json(e.final)},
+        {"snapshots", snapshots},
+        {"obstacles", obstacles},
+        {"accuracy_m",
+         {{"count", e.accuracy.count},
+          {"mean", e.accuracy.mean_m},
+          {"median", e.accuracy.median_m},
+          {"p90", e.accuracy.p90_m},
+          {"p99", e.accuracy.p99_m},
+          {"max", e.accuracy.max_m}}},
+        {"clearing",
+         {{"stale_voxels_seen_through", e.clearing.stale_voxels_seen_through},
+          {"not_cleared", e.clearing.not_cleared},
+          {"max_latency_s", e.clearing.max_latency_s},
+          {"mean_latency_s", e.clearing.mean_latency_s}}},
+        {"observed_off_truth_voxels", e.observed_off_truth_voxels}}},
+      {"checks", checks},
+      {"points",
+       {{"raw_mean", r.points_raw.empty() ? 0.0 : std::accumulate(r.points_raw.begin(), r.points_raw.end(), 0.0) / r.points_raw.size()},
+        {"filtered_mean", r.points_filtered.empty() ? 0.0 : std::accumulate(r.points_filtered.begin(), r.points_filtered.end(), 0.0) / r.points_filtered.size()},
+        {"map_voxels_final", r.map_voxels.empty() ? 0 : r.map_voxels.back()}}},
+      {"timing_ms",
+       {{"render", stage_stats(t.render)},
+        {"noise", stage_stats(t.noise)},
+        {"cloud", stage_stats(t.cloud)},
+        {"filter", stage_stats(t.filter)},
+        {"clear", stage_stats(t.clear)},
+        {"mark", stage_stats(t.mark)},
+        {"evaluation", stage_stats(t.evaluation)},
+        {"bag", stage_stats(t.bag)},
+        {"frame", stage_stats(t.frame)}}},
+      {"wall_time_s", r.wall_time_s},
+      {"real_time_factor", r.real_time_factor},
+  };
+}
+
+std::string junit_xml(const RunResult& r) {
+  int failures = 0;
+  for (const auto& c : r.checks) failures += !c.passed;
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    << "<testsuites tests=\"" << r.checks.size() << "\" failures=\"" << failures << "\">\n"
+    << "  <testsuite name=\"" << xml_escape(r.scenario.name) << "\" tests=\"" << r.checks.size() << "\" failures=\""
+    << failures << "\" time=\"" << r.wall_time_s << "\">\n";
+  for (const auto& c : r.checks) {
+    x << "    <testcase classname=\"stvl-bench." << xml_escape(r.scenario.name) << "\" name=\"" << xml_escape(c.name) << "\">";
+    if (c.passed)
+      x << "<system-out>" << xml_escape(c.message) << "</system-out>";
+    else
+      x << "<failure message=\"" << xml_escape(c.message) << "\"/>";
+    x << "</testcase>\n";
+  }
+  x << "  </testsuite>\n</testsuites>\n";
+  return x.str();
+}
+
+void write_report(const RunResult& r, const std::filesystem::path& out) {
+  write_file_atomically(out / "metrics.json", metrics_json(r).dump(2) + "\n");
+  write_file_atomically(out / "junit.xml", junit_xml(r));
+  write_png(out / "top_down.png", top_down_image(r));
+  const auto& t = r.times;
+  write_png(out / "timing.png", plot_series({{"render", t.render, {230, 120, 20}},
+                                             {"filter", t.filter, {30, 120, 220}},
+                                             {"clear", t.clear, {200, 40, 40}},
+                                             {"mark", t.mark, {40, 160, 60}},
+                                             {"frame", t.frame, {0, 0, 0}}},
+                                            900, 260));
+  std::vector<double> f1, recall, precision;
+  for (const auto& s : r.evaluation.snapshots) f1.push_back(s.f1), recall.push_back(s.recall), precision.push_back(s.precision);
+  write_png(out / "quality.png", plot_series({{"f1", f1, {0, 0, 0}}, {"precision", precision, {220, 40, 40}},
+                                              {"recall", recall, {40, 90, 230}}},
+                                             900, 200));
+
+  const auto& e = r.evaluation;
+  std::ostringstream h;
+  h.precision(4);
+  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench: " << xml_escape(r.scenario.name)
+    << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
+       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}"
+       "img{max-width:100%;border:1px solid #ddd}</style></head><body>\n";
+  h << "<h1>" << xml_escape(r.scenario.name) << " <span class=\"" << (r.passed() ? "pass\">PASSED" : "fail\">FAILED")
+    << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.seed << ", " << r.frames
+    << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s << " s (real-time factor "
+    << r.real_time_factor << "), voxel " << r.scenario.map.voxel_size << " m, filter "
+    << filter::to_string(r.scenario.filter.type) << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
+    << (r.scenario.camera.noise.enabled ? "on" : "off") << ".</p>\n";
+  h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";
+  for (const auto& c : r.checks)
+    h << "<tr><td>" << c.name << "</td><td class=\"" << (c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
+      << xml_escape(c.message) << "</td></tr>\n";
+  h << "</table>\n<h2>Map quality</h2><p>Tolerance " << r.scenario.evaluation.tolerance_voxels
+    << " voxel(s); recall against surfaces seen by the noise-free camera within the last "
+    << r.scenario.evaluation.recall_window_s << " s.</p><table><tr><th></th><th>precision</th><th>recall</th><th>F1</th>"
+       "<th>IoU</th><th>costmap precision</th><th>costmap recall</th><th>phantoms</th></tr>\n";
+  for (const auto& [label, s] : {std::pair<const char*, const EvaluationSnapshot&>{"mean", e.mean}, {"final", e.final}})
+    h << "<tr><td>" << label << "</td><td>" << s.precision << "</td><td>" << s.recall << "</td><td>" << s.f1 << "</td><td>"
+      << s.iou << "</td><td>" << s.costmap_precision << "</td><td>" << s.costmap_recall << "</td><td>"
+      << s.phantom_obstacles << "</td></tr>\n";
+  h << "</table><p>Distance of mapped voxel centres to the true surface: mean " << e.accuracy.mean_m << " m, median "
+    << e.accuracy.median_m << " m, p90 " << e.accuracy.p90_m << " m, p99 " << e.accuracy.p99_m << " m.</p>\n";
+  h << "<img src=\"quality.png\" alt=\"F1 (black), precision (red), recall (blue) over time\"><p>F1 (black), precision "
+       "(red) and recall (blue) at each evaluation, 0 to 1.</p>\n";
+  h << "<h2>Top-down: truth vs map</h2><img src=\"top_down.png\" alt=\"top-down map\"><p>Grey: true footprints in the "
+       "height band; green: lethal and true; red: lethal and false; blue: observed footprint missed; black: the "
+       "robot's path.</p>\n";
+  h << "<h2>Obstacles</h2><table><tr><th>body</th><th>observed</th><th>detected</th><th>best recall</th></tr>\n";
+  for (const auto& o : e.obstacles)
+    h << "<tr><td>" << xml_escape(o.name) << "</td><td>" << (o.observed ? "yes" : "no") << "</td><td class=\""
+      << (o.detected ? "pass\">yes" : (o.observed ? "fail\">MISSED" : "\">-")) << "</td><td>" << o.best_recall << "</td></tr>\n";
+  h << "</table>\n<h2>Clearing</h2><p>" << e.clearing.stale_voxels_seen_through
+    << " stale voxels of moved bodies were seen through; max latency " << e.clearing.max_latency_s << " s, mean "
+    << e.clearing.mean_latency_s << " s, " << e.clearing.not_cleared << " never cleared.</p>\n";
+  h << "<h2>Sample depth frames</h2>\n";
+  std::vector<std::string> frames;
+  if (std::filesystem::is_directory(out / "frames"))
+    for (const auto& f : std::filesystem::directory_iterator(out / "frames"))
+      if (f.path().filename().string().find("_color.png") != std::string::npos) frames.push_back(f.path().filename().string());
+  std::sort(frames.begin(), frames.end());
+  for (const auto& f : frames) h << "<img src=\"frames/" << f << "\" width=\"424\" alt=\"" << f << "\"> ";
+  h << "\n<h2>Timing</h2><img src=\"timing.png\" alt=\"per-frame timing\"><p>Per-frame wall time in ms: render "
+       "(orange), filter (blue), clear (red), mark (green), whole frame (black).</p><table><tr><th>stage</th>"
+       "<th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
+  for (const auto& [stage, stats] : metrics_json(r)["timing_ms"].items())
+    h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()
+      << "</td><td>" << stats["p95"].get<double>() << "</td></tr>\n";
+  h << "</table></body></html>\n";
+  write_file_atomically(out / "report.html", h.str());
+}
+
+}  // namespace stvl::tools

@@ -1,0 +1,19 @@
+#pragma once
+// A run's outputs for machines and people: metrics.json, junit.xml (one testcase per check), report.html with
+// PNG pictures (top-down truth vs map, the robot's path, sample depth frames, timing and quality plots).
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include "tools/runner.hpp"
+
+namespace stvl::tools {
+
+// Every figure of the run; timings under "timing_ms" (mean, p50, p95 per stage) and "real_time_factor".
+nlohmann::json metrics_json(const RunResult& result);
+std::string junit_xml(const RunResult& result);
+// Writes metrics.json, junit.xml, report.html and its PNGs into out_dir (each atomically).
+void write_report(const RunResult& result, const std::filesystem::path& out_dir);
+
+}  // namespace stvl::tools

@@ -1,0 +1,52 @@
+#pragma once
+// Runs one scenario end to end: physics, depth rendering, noise, filter, STVL map, evaluation, outputs.
+#include <atomic>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tools/evaluation.hpp"
+#include "tools/scenario.hpp"
+
+namespace stvl::tools {
+
+struct RunOptions {
+  std::string out_dir;           // empty: no files
+  std::string bag_path;          // empty: no bag
+  std::string bag_compression = "none";
+  bool progress = true;          // progress bar on a TTY, plain lines otherwise
+  const std::atomic<bool>* stop_requested = nullptr;  // set from a signal handler
+};
+
+struct StageTimes {
+  // Wall-clock milliseconds per frame; timings are the only part of a run that is not deterministic.
+  std::vector<double> render, noise, cloud, filter, clear, mark, evaluation, bag, frame;
+};
+
+struct CheckResult {
+  std::string name;
+  bool passed = false;
+  std::string message;  // value and threshold, or why it failed
+};
+
+struct RunResult {
+  Scenario scenario;
+  EvaluationSummary evaluation;
+  Evaluator::TopDown top_down;
+  StageTimes times;
+  std::vector<CheckResult> checks;
+  std::vector<Eigen::Vector2d> path_W;  // the robot's true position at each frame
+  std::vector<std::size_t> points_raw, points_filtered, map_voxels;  // per frame
+  std::size_t frames = 0;
+  double sim_time_s = 0;
+  double wall_time_s = 0;
+  double real_time_factor = 0;  // simulated seconds per wall-clock second
+  bool interrupted = false;
+  std::string gl_backend, filter_device;
+  bool passed() const;
+};
+
+// Throws std::invalid_argument / std::runtime_error for bad input or environment (exit code 2).
+RunResult run_scenario(const Scenario& scenario, const RunOptions& options);
+
+}  // namespace stvl::tools

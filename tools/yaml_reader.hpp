@@ -1,0 +1,66 @@
+#pragma once
+// Strict reading of YAML mappings: every key must be known, every value must have the expected type, and
+// each error names the file, the line and the key (for example
+// "scenarios/x.yaml:12: map.voxel_sze: unknown key (known: voxel_size, voxel_decay, ...)").
+#include <yaml-cpp/yaml.h>
+
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace stvl::tools {
+
+class YamlMap {
+ public:
+  // `path` is the dotted location of this mapping in the document ("" for the root).
+  YamlMap(YAML::Node node, std::string file, std::string path);
+
+  bool has(const std::string& key) const;
+  // Reads `key` into `value` when present (the default stays otherwise); type errors throw.
+  template <typename T>
+  void get(const std::string& key, T& value) {
+    if (const auto node = lookup(key)) value = convert<T>(*node, key);
+  }
+  template <typename T>
+  void require(const std::string& key, T& value) {
+    const auto node = lookup(key);
+    if (!node) fail(node_, key, "required key is missing");
+    value = convert<T>(*node, key);
+  }
+  YamlMap map(const std::string& key);                // a nested mapping (required)
+  std::vector<YamlMap> list_of_maps(const std::string& key);
+  YAML::Node raw(const std::string& key);             // marks the key used; null node when absent
+
+  // Throws on any key that was never read.
+  void finish() const;
+
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& key, const std::string& message) const;
+  const std::string& file() const { return file_; }
+  std::string location(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+ private:
+  std::optional<YAML::Node> lookup(const std::string& key);
+  template <typename T>
+  T convert(const YAML::Node& node, const std::string& key) const {
+    try {
+      return node.as<T>();
+    } catch (const YAML::Exception&) {
+      fail(node, key, std::string("expected ") + type_name<T>() + ", got '" + describe(node) + "'");
+    }
+  }
+  template <typename T>
+  static const char* type_name();
+  static std::string describe(const YAML::Node& node);
+
+  YAML::Node node_;
+  std::string file_;
+  std::string path_;
+  std::set<std::string> used_;
+};
+
+// Loads a YAML file; parse errors name the file and line.
+YAML::Node load_yaml_file(const std::string& file);
+
+}  // namespace stvl::tools
