@@ -286,6 +286,7 @@ struct VoxelMap::Impl {
   struct LeafTable {
     Coord min_block;
     int n = 0;  // blocks per axis; 0 = not built (too large)
+    double free_radius = 0.0;  // voxel units: no leaf lies nearer than this to the centre
     std::vector<LeafT*> leaves;
     bool covers(const Coord& block) const {
       const Coord r = block - min_block;
@@ -298,7 +299,7 @@ struct VoxelMap::Impl {
     LeafT* at(const Coord& block) const { return leaves[index(block)]; }
   };
 
-  LeafTable leaf_table_around(const Coord& centre_key, int radius_voxels) {
+  LeafTable leaf_table_around(const Eigen::Vector3d& centre, const Coord& centre_key, int radius_voxels) {
     constexpr std::size_t kMaxEntries = 1u << 21;
     LeafTable table;
     table.min_block = leaf_origin(centre_key - Coord(radius_voxels));
@@ -307,15 +308,25 @@ struct VoxelMap::Impl {
     if (static_cast<std::size_t>(n) * n * n > kMaxEntries) return table;
     table.n = n;
     table.leaves.assign(static_cast<std::size_t>(n) * n * n, nullptr);
+    double free_sq = static_cast<double>(radius_voxels) * radius_voxels;
     const openvdb::CoordBBox region(table.min_block, max_block + Coord(7));
     for (auto n2 = grid->tree().root().beginChildOn(); n2; ++n2) {
       if (!region.hasOverlap(n2->getNodeBoundingBox())) continue;
       for (auto n1 = n2->beginChildOn(); n1; ++n1) {
         if (!region.hasOverlap(n1->getNodeBoundingBox())) continue;
         for (auto leaf = n1->beginChildOn(); leaf; ++leaf)
-          if (table.covers(leaf->origin())) table.leaves[table.index(leaf->origin())] = &*leaf;
+          if (table.covers(leaf->origin())) {
+            table.leaves[table.index(leaf->origin())] = &*leaf;
+            double distance_sq = 0.0;
+            for (int a = 0; a < 3; ++a) {
+              const double gap = std::max({leaf->origin()[a] - centre[a], centre[a] - (leaf->origin()[a] + 8), 0.0});
+              distance_sq += gap * gap;
+            }
+            free_sq = std::min(free_sq, distance_sq);
+          }
       }
     }
+    table.free_radius = std::sqrt(free_sq);
     return table;
   }
 
@@ -395,7 +406,7 @@ struct VoxelMap::Impl {
       if (!to_key(origin_W, start)) continue;
       const Eigen::Matrix3Xf& points = *obs.points_W;
       const double max_range_sq = obs.source.max_z * obs.source.max_z;
-      const LeafTable table = leaf_table_around(start, static_cast<int>(std::ceil(obs.source.max_z * inv)) + 1);
+      const LeafTable table = leaf_table_around(s, start, static_cast<int>(std::ceil(obs.source.max_z * inv)) + 1);
       for (Eigen::Index i = 0; i < points.cols(); ++i) {
         Eigen::Vector3d p = points.col(i).cast<double>();
         if (!p.allFinite()) continue;
@@ -404,7 +415,18 @@ struct VoxelMap::Impl {
         if (length_sq > max_range_sq) p = origin_W + (p - origin_W) * (obs.source.max_z / std::sqrt(length_sq));
         Coord end;
         if (!to_key(p, end)) continue;
-        walk_ray(s, p * inv, start, end, table, accessor, touched, stats);
+        // Every block nearer than free_radius is empty: skip that part of the ray (or all of it).
+        const Eigen::Vector3d e = p * inv;
+        const double length = (e - s).norm();
+        if (length < table.free_radius) continue;
+        if (table.free_radius > 1.0) {
+          const Eigen::Vector3d s0 = s + (e - s) * ((table.free_radius - 0.5) / length);
+          const Coord start0(static_cast<int>(std::floor(s0.x())), static_cast<int>(std::floor(s0.y())),
+                             static_cast<int>(std::floor(s0.z())));
+          walk_ray(s0, e, start0, end, table, accessor, touched, stats);
+        } else {
+          walk_ray(s, e, start, end, table, accessor, touched, stats);
+        }
       }
     }
     delete_empty_leaves(touched);

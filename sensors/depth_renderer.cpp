@@ -23,8 +23,8 @@ class ThrowOnMujocoError {
   void (*previous_)(const char*);
 };
 
-constexpr int kMinSlices = 96;  // sphere/cylinder tessellation: 96 slices keep silhouettes within ~0.05% of radius
-constexpr int kMinStacks = 48;
+constexpr int kMinSlices = 32;  // sphere/cylinder tessellation: chord error 1 - cos(pi/32) = 0.5 % of the radius
+constexpr int kMinStacks = 16;
 
 }  // namespace
 

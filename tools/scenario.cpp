@@ -1,8 +1,10 @@
 #include "tools/scenario.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 
 #include "tools/yaml_reader.hpp"
@@ -12,13 +14,56 @@ namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
 
+// A field a module's validate() may name in its message, and the YAML key (in `map`) that sets it.
+struct Blame {
+  const char* word;
+  YamlMap* map;
+  const char* key;
+};
+
+std::size_t find_word(const std::string& text, const std::string& word) {
+  const auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (auto pos = text.find(word); pos != std::string::npos; pos = text.find(word, pos + 1)) {
+    const bool starts = pos == 0 || !is_name_char(text[pos - 1]);
+    const bool ends = pos + word.size() == text.size() || !is_name_char(text[pos + word.size()]);
+    if (starts && ends) return pos;
+  }
+  return std::string::npos;
+}
+
+// Runs a module's validation; its std::invalid_argument is rethrown naming the file, line and key of the field
+// mentioned first in the message (the first entry of `blame` when none is).
 template <typename F>
-void with_context(const YamlMap& map, const std::string& key, F&& validate) {
+void validate_keys(std::initializer_list<Blame> blame, F&& validate) {
   try {
     validate();
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(map.file() + ": " + map.location(key) + ": " + e.what());
+    const std::string message = e.what();
+    const Blame* culprit = blame.begin();
+    std::size_t first = std::string::npos;
+    for (const auto& b : blame) {
+      const std::size_t pos = find_word(message, b.word);
+      if (pos < first) first = pos, culprit = &b;
+    }
+    YamlMap& map = *culprit->map;
+    map.fail(map.has(culprit->key) ? map.raw(culprit->key) : YAML::Node(), culprit->key, message);
   }
+}
+
+template <typename T>
+void require_range(YamlMap& map, const std::string& key, const T& value, bool ok, const std::string& rule) {
+  if (ok) return;
+  std::ostringstream text;
+  text << rule << ", got " << value;
+  map.fail(map.has(key) ? map.raw(key) : YAML::Node(), key, text.str());
+}
+
+template <typename T>
+void get_optional(YamlMap& map, const std::string& key, std::optional<T>& value) {
+  if (!map.has(key)) return;
+  T v{};
+  map.get(key, v);
+  value = v;
 }
 
 Eigen::Vector2d to_point2(const std::vector<double>& xy, YamlMap& map, const std::string& key) {
@@ -30,13 +75,15 @@ void read_robot(YamlMap robot, Scenario& s) {
   std::vector<double> start{0.0, 0.0, 0.0};
   robot.get("start", start);
   if (start.size() != 3) robot.fail(robot.raw("start"), "start", "expected [x_m, y_m, yaw_deg]");
+  require_range(robot, "start", "non-finite values", std::isfinite(start[0] + start[1] + start[2]), "must be finite");
   s.start_pose = {start[0], start[1], start[2] * kDegToRad};
   std::vector<std::vector<double>> waypoints;
   robot.require("waypoints", waypoints);
   s.path.waypoints_W.clear();
   for (const auto& xy : waypoints) s.path.waypoints_W.push_back(to_point2(xy, robot, "waypoints"));
   robot.require("speed_mps", s.path.cruise_speed_mps);
-  with_context(robot, "waypoints", [&] { sim::PathFollower().set_path(s.path); });
+  validate_keys({{"waypoints", &robot, "waypoints"}, {"waypoint", &robot, "waypoints"}, {"cruise_speed_mps", &robot, "speed_mps"}},
+                [&] { sim::PathFollower(s.sim.follower).set_path(s.path); });
 
   if (robot.has("camera_mount")) {
     auto mount = robot.map("camera_mount");
@@ -57,6 +104,16 @@ void read_robot(YamlMap robot, Scenario& s) {
     drift.get("track_width_error", o.track_width_error);
     drift.get("linear_noise_std_mps", o.linear_noise_std_mps);
     drift.get("angular_noise_std_radps", o.angular_noise_std_radps);
+    for (const char* key : {"left_wheel_radius_error", "right_wheel_radius_error", "track_width_error"}) {
+      double value = 0.0;
+      drift.get(key, value);
+      require_range(drift, key, value, std::isfinite(value) && std::abs(value) < 0.5, "must lie in (-0.5, 0.5)");
+    }
+    for (const char* key : {"linear_noise_std_mps", "angular_noise_std_radps"}) {
+      double value = 0.0;
+      drift.get(key, value);
+      require_range(drift, key, value, std::isfinite(value) && value >= 0.0, "must be finite and >= 0");
+    }
     drift.finish();
   }
   robot.finish();
@@ -90,29 +147,38 @@ void read_moving_bodies(YamlMap& root, Scenario& s) {
 void read_camera(YamlMap camera, Scenario& s) {
   auto& c = s.camera;
   camera.get("preset", c.preset);
+  std::optional<YamlMap> in;
   if (c.preset == "d435_848x480") {
     c.intrinsics = sensors::CameraIntrinsics::d435_848x480();
   } else if (c.preset == "d435_640x480") {
     c.intrinsics = sensors::CameraIntrinsics::d435_640x480();
   } else if (c.preset == "custom") {
-    auto in = camera.map("intrinsics");
-    in.require("width", c.intrinsics.width);
-    in.require("height", c.intrinsics.height);
-    in.require("fx", c.intrinsics.fx);
-    in.require("fy", c.intrinsics.fy);
-    in.require("cx", c.intrinsics.cx);
-    in.require("cy", c.intrinsics.cy);
-    in.finish();
+    in = camera.map("intrinsics");
+    in->require("width", c.intrinsics.width);
+    in->require("height", c.intrinsics.height);
+    in->require("fx", c.intrinsics.fx);
+    in->require("fy", c.intrinsics.fy);
+    in->require("cx", c.intrinsics.cx);
+    in->require("cy", c.intrinsics.cy);
+    in->finish();
   } else {
     camera.fail(camera.raw("preset"), "preset", "unknown preset '" + c.preset + "' (d435_848x480, d435_640x480, custom)");
   }
+  if (!in && camera.has("intrinsics"))
+    camera.fail(camera.raw("intrinsics"), "intrinsics", "only used with preset: custom (preset is " + c.preset + ")");
   camera.get("min_range_m", c.intrinsics.min_range_m);
   camera.get("max_range_m", c.intrinsics.max_range_m);
   camera.get("rate_hz", c.intrinsics.rate_hz);
-  with_context(camera, "intrinsics", [&] { c.intrinsics.validate(); });
+  YamlMap& k = in ? *in : camera;
+  const char* k_key = in ? "fx" : "preset";
+  validate_keys({{k_key, &k, k_key}, {"width", &k, in ? "width" : "preset"}, {"height", &k, in ? "height" : "preset"},
+                 {"fx", &k, k_key}, {"fy", &k, in ? "fy" : "preset"}, {"cx", &k, in ? "cx" : "preset"},
+                 {"cy", &k, in ? "cy" : "preset"}, {"min_range_m", &camera, "min_range_m"},
+                 {"max_range_m", &camera, "max_range_m"}, {"rate_hz", &camera, "rate_hz"}},
+                [&] { c.intrinsics.validate(); });
   std::string backend = sensors::to_string(c.gl_backend);
   camera.get("gl_backend", backend);
-  with_context(camera, "gl_backend", [&] { c.gl_backend = sensors::parse_gl_backend(backend); });
+  validate_keys({{"gl_backend", &camera, "gl_backend"}}, [&] { c.gl_backend = sensors::parse_gl_backend(backend); });
   if (camera.has("noise")) {
     auto noise = camera.map("noise");
     auto& n = c.noise;
@@ -127,7 +193,13 @@ void read_camera(YamlMap camera, Scenario& s) {
     noise.get("holes_per_frame", n.holes_per_frame);
     noise.get("hole_max_radius_px", n.hole_max_radius_px);
     noise.finish();
-    with_context(camera, "noise", [&] { n.validate(); });
+    validate_keys({{"enabled", &noise, "enabled"}, {"baseline_m", &noise, "baseline_m"}, {"subpixel", &noise, "subpixel"},
+                   {"disparity_step_px", &noise, "disparity_step_px"}, {"edge_jump_m", &noise, "edge_jump_m"},
+                   {"edge_probability", &noise, "edge_probability"},
+                   {"edge_invalid_fraction", &noise, "edge_invalid_fraction"},
+                   {"dropout_probability", &noise, "dropout_probability"}, {"holes_per_frame", &noise, "holes_per_frame"},
+                   {"hole_max_radius_px", &noise, "hole_max_radius_px"}},
+                  [&] { n.validate(); });
   }
   camera.finish();
 }
@@ -139,21 +211,29 @@ void read_filter(YamlMap filter, Scenario& s) {
   filter.get("type", type);
   filter.get("device", device);
   filter.get("memory", memory);
-  with_context(filter, "type", [&] { f.type = filter::parse_filter_type(type); });
-  with_context(filter, "device", [&] { f.device = filter::parse_device(device); });
-  with_context(filter, "memory", [&] { f.memory = filter::parse_memory_mode(memory); });
+  validate_keys({{"type", &filter, "type"}}, [&] { f.type = filter::parse_filter_type(type); });
+  validate_keys({{"device", &filter, "device"}}, [&] { f.device = filter::parse_device(device); });
+  validate_keys({{"memory", &filter, "memory"}}, [&] { f.memory = filter::parse_memory_mode(memory); });
   filter.get("cpu_threads", f.cpu_threads);
+  require_range(filter, "cpu_threads", f.cpu_threads, f.cpu_threads >= 0, "must be >= 0 (0: all cores)");
   if (filter.has("passthrough")) {
     auto p = filter.map("passthrough");
     p.get("enabled", f.passthrough_enabled);
     p.get("min_z_m", f.passthrough.min_z_m);
     p.get("max_z_m", f.passthrough.max_z_m);
+    require_range(p, "min_z_m", f.passthrough.min_z_m,
+                  !std::isnan(f.passthrough.min_z_m) && !std::isnan(f.passthrough.max_z_m) &&
+                      f.passthrough.min_z_m <= f.passthrough.max_z_m,
+                  "must be a number <= max_z_m (" + std::to_string(f.passthrough.max_z_m) + ")");
     p.finish();
   }
   if (filter.has("voxel")) {
     auto v = filter.map("voxel");
     v.get("voxel_size_m", f.voxel.voxel_size_m);
     v.get("min_points_per_voxel", f.voxel.min_points_per_voxel);
+    require_range(v, "voxel_size_m", f.voxel.voxel_size_m,
+                  std::isfinite(f.voxel.voxel_size_m) && f.voxel.voxel_size_m > 0, "must be finite and > 0 m");
+    require_range(v, "min_points_per_voxel", f.voxel.min_points_per_voxel, f.voxel.min_points_per_voxel >= 0, "must be >= 0");
     v.finish();
   }
   if (filter.has("csnb")) {
@@ -162,9 +242,39 @@ void read_filter(YamlMap filter, Scenario& s) {
     c.get("max_neighbours", f.csnb.max_neighbours);
     c.get("batch_size", f.csnb.batch_size);
     c.get("grid_exponent", f.csnb.grid_exponent);
+    require_range(c, "voxel_size_m", f.csnb.voxel_size_m, std::isfinite(f.csnb.voxel_size_m) && f.csnb.voxel_size_m > 0,
+                  "must be finite and > 0 m");
+    require_range(c, "max_neighbours", f.csnb.max_neighbours, f.csnb.max_neighbours >= 0, "must be >= 0");
+    require_range(c, "batch_size", f.csnb.batch_size, f.csnb.batch_size >= 1, "must be >= 1");
+    require_range(c, "grid_exponent", f.csnb.grid_exponent,
+                  f.csnb.grid_exponent == 0 || (f.csnb.grid_exponent >= 4 && f.csnb.grid_exponent <= 9),
+                  "must be 0 (auto) or 4..9");
     c.finish();
   }
   filter.finish();
+}
+
+void read_observation(YamlMap o, Scenario& s) {
+  auto& src = s.source;
+  std::optional<double> hfov, vfov;
+  o.get("marking", src.marking);
+  o.get("clearing", src.clearing);
+  o.get("obstacle_range", src.obstacle_range);
+  o.get("min_obstacle_height", src.min_obstacle_height);
+  o.get("max_obstacle_height", src.max_obstacle_height);
+  get_optional(o, "horizontal_fov_angle", hfov);
+  get_optional(o, "vertical_fov_angle", vfov);
+  o.get("min_z", src.min_z);
+  o.get("max_z", src.max_z);
+  o.get("decay_acceleration", src.decay_acceleration);
+  o.finish();
+  src.horizontal_fov_angle = hfov.value_or(s.camera.intrinsics.hfov_rad());
+  src.vertical_fov_angle = vfov.value_or(s.camera.intrinsics.vfov_rad());
+  const char* keys[] = {"obstacle_range", "min_obstacle_height", "max_obstacle_height", "horizontal_fov_angle",
+                        "vertical_fov_angle", "min_z", "max_z", "decay_acceleration"};
+  validate_keys({{keys[0], &o, keys[0]}, {keys[1], &o, keys[1]}, {keys[2], &o, keys[2]}, {keys[3], &o, keys[3]},
+                 {keys[4], &o, keys[4]}, {keys[5], &o, keys[5]}, {keys[6], &o, keys[6]}, {keys[7], &o, keys[7]}},
+                [&] { src.validate(); });
 }
 
 void read_map(YamlMap map, Scenario& s) {
@@ -176,33 +286,21 @@ void read_map(YamlMap map, Scenario& s) {
   map.get("decay_model", decay);
   map.get("clearing_mode", mode);
   map.get("clearing_walk", walk);
-  with_context(map, "decay_model", [&] { m.decay_model = mapping::parse_decay_model(decay); });
-  with_context(map, "clearing_mode", [&] { m.clearing_mode = mapping::parse_clearing_mode(mode); });
-  with_context(map, "clearing_walk", [&] { m.clearing_walk = mapping::parse_clearing_walk(walk); });
+  validate_keys({{"decay_model", &map, "decay_model"}}, [&] { m.decay_model = mapping::parse_decay_model(decay); });
+  validate_keys({{"clearing_mode", &map, "clearing_mode"}}, [&] { m.clearing_mode = mapping::parse_clearing_mode(mode); });
+  validate_keys({{"clearing_walk", &map, "clearing_walk"}}, [&] { m.clearing_walk = mapping::parse_clearing_walk(walk); });
   map.get("mark_threshold", m.mark_threshold);
   int expiry_leaves = static_cast<int>(m.expiry_leaves_per_update);
   map.get("expiry_leaves_per_update", expiry_leaves);
-  if (expiry_leaves < 1) map.fail(map.raw("expiry_leaves_per_update"), "expiry_leaves_per_update", "must be >= 1");
+  require_range(map, "expiry_leaves_per_update", expiry_leaves, expiry_leaves >= 1, "must be >= 1");
   m.expiry_leaves_per_update = static_cast<std::size_t>(expiry_leaves);
   map.get("publish_period_s", s.voxel_grid_publish_period_s);
-  with_context(map, "voxel_size", [&] { m.validate(); });
-  if (map.has("observation")) {
-    auto o = map.map("observation");
-    auto& src = s.source;
-    src.horizontal_fov_angle = std::nan("");
-    src.vertical_fov_angle = std::nan("");
-    o.get("marking", src.marking);
-    o.get("clearing", src.clearing);
-    o.get("obstacle_range", src.obstacle_range);
-    o.get("min_obstacle_height", src.min_obstacle_height);
-    o.get("max_obstacle_height", src.max_obstacle_height);
-    o.get("horizontal_fov_angle", src.horizontal_fov_angle);
-    o.get("vertical_fov_angle", src.vertical_fov_angle);
-    o.get("min_z", src.min_z);
-    o.get("max_z", src.max_z);
-    o.get("decay_acceleration", src.decay_acceleration);
-    o.finish();
-  }
+  require_range(map, "publish_period_s", s.voxel_grid_publish_period_s,
+                std::isfinite(s.voxel_grid_publish_period_s) && s.voxel_grid_publish_period_s > 0, "must be finite and > 0 s");
+  validate_keys({{"voxel_size", &map, "voxel_size"}, {"voxel_decay", &map, "voxel_decay"},
+                 {"decay_model", &map, "decay_model"}, {"mark_threshold", &map, "mark_threshold"}},
+                [&] { m.validate(); });
+  if (map.has("observation")) read_observation(map.map("observation"), s);
   map.finish();
 }
 
@@ -214,30 +312,42 @@ void read_evaluation(YamlMap e, Scenario& s) {
   e.get("min_observed_voxels", ev.min_observed_voxels);
   e.get("phantom_min_cells", ev.phantom_min_cells);
   e.get("sample_depth_frames", ev.sample_depth_frames);
-  if (!(ev.recall_window_s > 0) || !(ev.evaluate_every_s > 0) || ev.tolerance_voxels < 0 || ev.tolerance_voxels > 3 ||
-      ev.min_observed_voxels < 1 || ev.phantom_min_cells < 1 || ev.sample_depth_frames < 0)
-    e.fail(e.raw("recall_window_s"), "", "out of range (windows > 0, tolerance_voxels 0..3, counts >= 1)");
   e.finish();
-}
-
-template <typename T>
-void get_optional(YamlMap& map, const std::string& key, std::optional<T>& value) {
-  if (!map.has(key)) return;
-  T v{};
-  map.get(key, v);
-  value = v;
+  require_range(e, "recall_window_s", ev.recall_window_s, std::isfinite(ev.recall_window_s) && ev.recall_window_s > 0,
+                "must be finite and > 0 s");
+  require_range(e, "evaluate_every_s", ev.evaluate_every_s, std::isfinite(ev.evaluate_every_s) && ev.evaluate_every_s > 0,
+                "must be finite and > 0 s");
+  require_range(e, "tolerance_voxels", ev.tolerance_voxels, ev.tolerance_voxels >= 0 && ev.tolerance_voxels <= 3,
+                "must lie in 0..3");
+  require_range(e, "min_observed_voxels", ev.min_observed_voxels, ev.min_observed_voxels >= 1, "must be >= 1");
+  require_range(e, "phantom_min_cells", ev.phantom_min_cells, ev.phantom_min_cells >= 1, "must be >= 1");
+  require_range(e, "sample_depth_frames", ev.sample_depth_frames, ev.sample_depth_frames >= 0 && ev.sample_depth_frames <= 100,
+                "must lie in 0..100");
 }
 
 void read_checks(YamlMap c, Scenario& s) {
   auto& ch = s.checks;
-  get_optional(c, "f1_3d_min", ch.f1_3d_min);
-  get_optional(c, "iou_3d_min", ch.iou_3d_min);
-  get_optional(c, "costmap_precision_min", ch.costmap_precision_min);
-  get_optional(c, "costmap_recall_min", ch.costmap_recall_min);
+  const std::pair<const char*, std::optional<double>*> fractions[] = {
+      {"f1_3d_min", &ch.f1_3d_min},
+      {"iou_3d_min", &ch.iou_3d_min},
+      {"costmap_precision_min", &ch.costmap_precision_min},
+      {"costmap_recall_min", &ch.costmap_recall_min}};
+  for (const auto& [key, value] : fractions) {
+    get_optional(c, key, *value);
+    if (*value) require_range(c, key, **value, **value >= 0.0 && **value <= 1.0, "must lie in [0, 1]");
+  }
   c.get("all_obstacles_detected", ch.all_obstacles_detected);
   get_optional(c, "phantom_obstacles_max", ch.phantom_obstacles_max);
+  if (ch.phantom_obstacles_max)
+    require_range(c, "phantom_obstacles_max", *ch.phantom_obstacles_max, *ch.phantom_obstacles_max >= 0, "must be >= 0");
   get_optional(c, "clearing_latency_max_s", ch.clearing_latency_max_s);
+  if (ch.clearing_latency_max_s)
+    require_range(c, "clearing_latency_max_s", *ch.clearing_latency_max_s,
+                  std::isfinite(*ch.clearing_latency_max_s) && *ch.clearing_latency_max_s >= 0, "must be finite and >= 0 s");
   get_optional(c, "accuracy_p90_max_m", ch.accuracy_p90_max_m);
+  if (ch.accuracy_p90_max_m)
+    require_range(c, "accuracy_p90_max_m", *ch.accuracy_p90_max_m,
+                  std::isfinite(*ch.accuracy_p90_max_m) && *ch.accuracy_p90_max_m > 0, "must be finite and > 0 m");
   c.finish();
 }
 
@@ -245,27 +355,30 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   Scenario s;
   s.file = root.file();
   root.require("name", s.name);
+  require_range(root, "name", "an empty name", !s.name.empty(), "must not be empty");
   std::string world;
   root.require("world", world);
-  s.world_path = std::filesystem::path(world).is_absolute() ? world : (std::filesystem::path(base_dir) / world).lexically_normal().string();
+  require_range(root, "world", "an empty path", !world.empty(), "must not be empty");
+  s.world_path = std::filesystem::path(world).is_absolute()
+                     ? world
+                     : (std::filesystem::path(base_dir) / world).lexically_normal().string();
   root.get("seed", s.seed);
   root.get("duration_s", s.duration_s);
-  if (!(s.duration_s > 0 && s.duration_s <= 3600)) root.fail(root.raw("duration_s"), "duration_s", "must be in (0, 3600] s");
+  require_range(root, "duration_s", s.duration_s, s.duration_s > 0 && s.duration_s <= 3600, "must lie in (0, 3600] s");
   root.get("stop_at_path_end", s.stop_at_path_end);
   read_robot(root.map("robot"), s);
   read_moving_bodies(root, s);
   if (root.has("camera")) read_camera(root.map("camera"), s);
   if (root.has("filter")) read_filter(root.map("filter"), s);
   s.source.clearing = true;
-  s.source.horizontal_fov_angle = std::nan("");
-  s.source.vertical_fov_angle = std::nan("");
+  s.source.horizontal_fov_angle = s.camera.intrinsics.hfov_rad();
+  s.source.vertical_fov_angle = s.camera.intrinsics.vfov_rad();
   if (root.has("map")) read_map(root.map("map"), s);
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
   root.finish();
-  if (std::isnan(s.source.horizontal_fov_angle)) s.source.horizontal_fov_angle = s.camera.intrinsics.hfov_rad();
-  if (std::isnan(s.source.vertical_fov_angle)) s.source.vertical_fov_angle = s.camera.intrinsics.vfov_rad();
   s.filter.csnb.seed = s.seed;
+  s.sim.odometry.seed = s.seed;
   try {
     s.source.validate();
   } catch (const std::invalid_argument& e) {
@@ -277,13 +390,7 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
 }  // namespace
 
 Scenario parse_scenario(const std::string& yaml_text, const std::string& file_name, const std::string& base_dir) {
-  YAML::Node node;
-  try {
-    node = YAML::Load(yaml_text);
-  } catch (const YAML::ParserException& e) {
-    throw std::invalid_argument(file_name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
-  }
-  return parse_root(YamlMap(node, file_name, ""), base_dir);
+  return parse_root(YamlMap(load_yaml_string(yaml_text, file_name), file_name, ""), base_dir);
 }
 
 Scenario load_scenario(const std::string& path) {
@@ -293,23 +400,40 @@ Scenario load_scenario(const std::string& path) {
 
 std::string default_scenario_path() { return std::string(STVL_SOURCE_DIR) + "/scenarios/office_corridor.yaml"; }
 
+namespace {
+template <typename F>
+void override_option(const char* option, F&& apply) {
+  try {
+    apply();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string(option) + ": " + e.what());
+  }
+}
+}  // namespace
+
 void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
-  if (o.seed) s.seed = *o.seed, s.filter.csnb.seed = *o.seed;
-  if (o.filter_type) s.filter.type = filter::parse_filter_type(*o.filter_type);
-  if (o.device) s.filter.device = filter::parse_device(*o.device);
-  if (o.memory) s.filter.memory = filter::parse_memory_mode(*o.memory);
+  // Validated on a copy, so a rejected override leaves the scenario as it was.
+  Scenario r = s;
+  if (o.seed) r.seed = *o.seed, r.filter.csnb.seed = *o.seed, r.sim.odometry.seed = *o.seed;
+  if (o.filter_type) override_option("--filter", [&] { r.filter.type = filter::parse_filter_type(*o.filter_type); });
+  if (o.device) override_option("--device", [&] { r.filter.device = filter::parse_device(*o.device); });
+  if (o.memory) override_option("--memory", [&] { r.filter.memory = filter::parse_memory_mode(*o.memory); });
   if (o.voxel_size_m) {
-    s.map.voxel_size = *o.voxel_size_m;
-    s.filter.voxel.voxel_size_m = *o.voxel_size_m;
-    s.filter.csnb.voxel_size_m = *o.voxel_size_m;
-    s.map.validate();
+    override_option("--voxel-size", [&] {
+      r.map.voxel_size = *o.voxel_size_m;
+      r.filter.voxel.voxel_size_m = *o.voxel_size_m;
+      r.filter.csnb.voxel_size_m = *o.voxel_size_m;
+      r.map.validate();
+    });
   }
   if (o.duration_s) {
-    if (!(*o.duration_s > 0 && *o.duration_s <= 3600)) throw std::invalid_argument("--duration must be in (0, 3600] s");
-    s.duration_s = *o.duration_s;
+    if (!(*o.duration_s > 0 && *o.duration_s <= 3600))
+      throw std::invalid_argument("--duration: must lie in (0, 3600] s, got " + std::to_string(*o.duration_s));
+    r.duration_s = *o.duration_s;
   }
-  if (o.gl_backend) s.camera.gl_backend = sensors::parse_gl_backend(*o.gl_backend);
-  if (o.noise) s.camera.noise.enabled = *o.noise;
+  if (o.gl_backend) override_option("--gl", [&] { r.camera.gl_backend = sensors::parse_gl_backend(*o.gl_backend); });
+  if (o.noise) r.camera.noise.enabled = *o.noise;
+  s = std::move(r);
 }
 
 }  // namespace stvl::tools

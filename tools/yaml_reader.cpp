@@ -16,13 +16,29 @@ template <> const char* YamlMap::type_name<std::vector<double>>() { return "a li
 template <> const char* YamlMap::type_name<std::vector<std::vector<double>>>() { return "a list of number lists"; }
 template <> const char* YamlMap::type_name<std::vector<std::string>>() { return "a list of strings"; }
 
+namespace {
+int line_of(const YAML::Mark& mark) { return mark.is_null() || mark.line < 0 ? 1 : mark.line + 1; }
+}  // namespace
+
 YamlMap::YamlMap(YAML::Node node, std::string file, std::string path)
     : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {
+  const std::string where = path_.empty() ? "document" : path_;
   if (!node_.IsMap()) {
     std::ostringstream message;
-    message << file_ << ":" << node_.Mark().line + 1 << ": " << (path_.empty() ? "document" : path_)
-            << ": expected a mapping of keys to values";
+    message << file_ << ":" << line_of(node_.Mark()) << ": " << where << ": expected a mapping of keys to values";
     throw std::invalid_argument(message.str());
+  }
+  // yaml-cpp keeps duplicate keys and lookups see only the first, so a repeated key would be ignored silently.
+  std::set<std::string> seen;
+  for (const auto& entry : node_) {
+    if (!entry.first.IsScalar()) {
+      std::ostringstream message;
+      message << file_ << ":" << line_of(entry.first.Mark()) << ": " << where << ": keys must be plain names, got "
+              << describe(entry.first);
+      throw std::invalid_argument(message.str());
+    }
+    const std::string key = entry.first.Scalar();
+    if (!seen.insert(key).second) fail(entry.first, key, "duplicate key");
   }
 }
 
@@ -31,7 +47,7 @@ bool YamlMap::has(const std::string& key) const { return static_cast<bool>(node_
 std::optional<YAML::Node> YamlMap::lookup(const std::string& key) {
   used_.insert(key);
   YAML::Node child = node_[key];
-  if (!child || child.IsNull()) return std::nullopt;
+  if (!child) return std::nullopt;
   return child;
 }
 
@@ -63,7 +79,7 @@ YAML::Node YamlMap::raw(const std::string& key) {
 
 void YamlMap::finish() const {
   for (const auto& entry : node_) {
-    const auto key = entry.first.as<std::string>();
+    const std::string key = entry.first.Scalar();
     if (used_.count(key)) continue;
     std::string known;
     for (const auto& k : used_) known += (known.empty() ? "" : ", ") + k;
@@ -73,8 +89,8 @@ void YamlMap::finish() const {
 
 void YamlMap::fail(const YAML::Node& at, const std::string& key, const std::string& message) const {
   std::ostringstream text;
-  const int line = at.Mark().is_null() ? node_.Mark().line : at.Mark().line;
-  text << file_ << ":" << line + 1 << ": " << location(key) << ": " << message;
+  const int line = at.Mark().is_null() ? line_of(node_.Mark()) : line_of(at.Mark());
+  text << file_ << ":" << line << ": " << location(key) << ": " << message;
   throw std::invalid_argument(text.str());
 }
 
@@ -82,7 +98,7 @@ std::string YamlMap::describe(const YAML::Node& node) {
   if (node.IsScalar()) return node.Scalar();
   if (node.IsSequence()) return "a list";
   if (node.IsMap()) return "a mapping";
-  return "null";
+  return "nothing";
 }
 
 YAML::Node load_yaml_file(const std::string& file) {
@@ -90,7 +106,19 @@ YAML::Node load_yaml_file(const std::string& file) {
   try {
     return YAML::LoadFile(file);
   } catch (const YAML::ParserException& e) {
-    throw std::invalid_argument(file + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+    throw std::invalid_argument(file + ":" + std::to_string(line_of(e.mark)) + ": YAML syntax error: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(file + ": cannot read: " + e.msg);
+  }
+}
+
+YAML::Node load_yaml_string(const std::string& text, const std::string& file_name) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw std::invalid_argument(file_name + ":" + std::to_string(line_of(e.mark)) + ": YAML syntax error: " + e.msg);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(file_name + ": cannot read: " + e.msg);
   }
 }
 

@@ -44,6 +44,7 @@ class YamlMap {
   std::optional<YAML::Node> lookup(const std::string& key);
   template <typename T>
   T convert(const YAML::Node& node, const std::string& key) const {
+    if (node.IsNull()) fail(node, key, std::string("expected ") + type_name<T>() + ", got nothing");
     try {
       return node.as<T>();
     } catch (const YAML::Exception&) {
@@ -60,7 +61,8 @@ class YamlMap {
   std::set<std::string> used_;
 };
 
-// Loads a YAML file; parse errors name the file and line.
+// Loads a YAML file or text; parse errors name the file and line.
 YAML::Node load_yaml_file(const std::string& file);
+YAML::Node load_yaml_string(const std::string& text, const std::string& file_name);
 
 }  // namespace stvl::tools

@@ -48,6 +48,13 @@ STVL_HD double sq_dist_d(double ax, double ay, double az, double bx, double by, 
 #endif
 }
 
+// floor(a / b) as an integer, exact for |a / b| < 2^62 (checked by make_voxel_layout); no libm call.
+STVL_HD std::int64_t floor_div(double a, double b) {
+  const double q = a / b;
+  const std::int64_t t = static_cast<std::int64_t>(q);
+  return t - (static_cast<double>(t) > q);
+}
+
 // Voxel grid: 64-bit mixed-radix key over the bounding box, x fastest.
 struct VoxelLayout {
   double voxel_size_m = 1.0;
@@ -59,9 +66,9 @@ struct VoxelLayout {
 };
 
 STVL_HD std::uint64_t voxel_key(const VoxelLayout& l, float x, float y, float z) {
-  const std::uint64_t ix = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(double(x) / l.voxel_size_m)) - l.base[0]);
-  const std::uint64_t iy = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(double(y) / l.voxel_size_m)) - l.base[1]);
-  const std::uint64_t iz = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(double(z) / l.voxel_size_m)) - l.base[2]);
+  const std::uint64_t ix = static_cast<std::uint64_t>(floor_div(double(x), l.voxel_size_m) - l.base[0]);
+  const std::uint64_t iy = static_cast<std::uint64_t>(floor_div(double(y), l.voxel_size_m) - l.base[1]);
+  const std::uint64_t iz = static_cast<std::uint64_t>(floor_div(double(z), l.voxel_size_m) - l.base[2]);
   return ix + l.dims[0] * (iy + l.dims[1] * iz);
 }
 

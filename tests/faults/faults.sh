@@ -1,0 +1,240 @@
+#!/usr/bin/env bash
+# Fault tests for `stvl-bench run`: faults.sh CASE STVL_BENCH SOURCE_DIR. Exit 0 pass, 1 fail, 77 skipped.
+# Each case runs in its own temporary directory and checks the exit code, the message and that nothing that
+# looks like a finished result is left behind (metrics.json, report.html, map.vdb, a bag without .active).
+set -uo pipefail
+case_name=$1
+bench=$2
+src=$3
+scenario=$src/scenarios/office_corridor.yaml
+# Seconds allowed between a signal and the process exit (sanitizer builds are several times slower).
+signal_limit_s=${STVL_FAULT_SIGNAL_LIMIT_S:-1.0}
+
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/stvl-fault.XXXXXX")
+mounted=""
+cleanup() {
+  [[ -n "$mounted" ]] && umount "$mounted" 2>/dev/null
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+
+fail() {
+  echo "FAIL [$case_name]: $*" >&2
+  for f in "$tmp"/stdout "$tmp"/stderr; do [[ -s $f ]] && { echo "--- $(basename "$f"):" >&2; tail -n 20 "$f" >&2; }; done
+  exit 1
+}
+skip() {
+  echo "SKIP [$case_name]: $*"
+  exit 77
+}
+
+# run_bench ARGS...: runs stvl-bench with stdout/stderr captured; sets $rc.
+run_bench() {
+  "$bench" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
+  rc=$?
+}
+expect_rc() {
+  [[ $rc -eq $1 ]] || fail "exit code $rc, expected $1"
+}
+# The error is one line "stvl-bench: error: ..." on stderr that matches $1 (an ERE).
+expect_error_line() {
+  local line
+  line=$(grep -E "^stvl-bench: error: " "$tmp/stderr" | head -n 1)
+  [[ -n "$line" ]] || fail "no 'stvl-bench: error:' line on stderr"
+  [[ "$line" =~ $1 ]] || fail "error line '$line' does not match /$1/"
+  echo "message: $line"
+}
+# No file anywhere under $1 that looks like a complete result.
+expect_no_results() {
+  local found
+  found=$(find "$1" \( -name metrics.json -o -name report.html -o -name junit.xml -o -name map.vdb -o -name '*.bag' \) -print 2>/dev/null)
+  [[ -z "$found" ]] || fail "left files that look complete: $found"
+}
+
+case $case_name in
+  out_under_file)
+    # --out names a path below a regular file: nothing can be created there.
+    touch "$tmp/plain_file"
+    run_bench run "$scenario" --out "$tmp/plain_file/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "plain_file/out"
+    expect_no_results "$tmp"
+    ;;
+
+  bag_under_file)
+    # The output directory is fine but the bag cannot be created.
+    touch "$tmp/plain_file"
+    run_bench run "$scenario" --out "$tmp/out" --bag "$tmp/plain_file/run.bag" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "plain_file/run.bag"
+    expect_no_results "$tmp"
+    ;;
+
+  file_size_limit)
+    # Disk full, simulated with RLIMIT_FSIZE (writes past 4 MiB fail with EFBIG; SIGXFSZ ignored so that the
+    # write fails instead of killing the process). The bag outgrows it within the first frames.
+    (
+      trap '' XFSZ
+      ulimit -f 4096
+      exec "$bench" run "$scenario" --out "$tmp/out" --bag "$tmp/out/run.bag" --no-progress --duration 3
+    ) >"$tmp/stdout" 2>"$tmp/stderr"
+    rc=$?
+    expect_rc 2
+    expect_error_line "run\.bag"
+    expect_no_results "$tmp"
+    ;;
+
+  file_size_limit_outputs)
+    # Same without a bag: the first output that outgrows 64 KiB (a depth PNG or map.vdb) must fail the run.
+    (
+      trap '' XFSZ
+      ulimit -f 64
+      exec "$bench" run "$scenario" --out "$tmp/out" --no-progress --duration 2
+    ) >"$tmp/stdout" 2>"$tmp/stderr"
+    rc=$?
+    expect_rc 2
+    expect_error_line "$tmp/out"
+    [[ -e "$tmp/out/metrics.json" ]] && fail "metrics.json written although an output failed"
+    [[ -n "$(find "$tmp" -name '*.tmp')" ]] && fail "temporary files left: $(find "$tmp" -name '*.tmp')"
+    ;;
+
+  tmpfs_full)
+    # A real full file system: a 6 MiB tmpfs (needs root and a mount namespace that allows it; skipped otherwise).
+    mkdir -p "$tmp/mnt"
+    mount -t tmpfs -o size=6m stvl-fault "$tmp/mnt" 2>/dev/null || skip "cannot mount a tmpfs here"
+    mounted=$tmp/mnt
+    run_bench run "$scenario" --out "$tmp/mnt/out" --bag "$tmp/mnt/out/run.bag" --no-progress --duration 3
+    expect_rc 2
+    expect_error_line "run\.bag"
+    expect_no_results "$tmp/mnt"
+    ;;
+
+  sigint | sigterm)
+    signal=${case_name#sig}
+    signal=${signal^^}
+    "$bench" run "$scenario" --out "$tmp/out" --bag "$tmp/out/run.bag" --no-progress >"$tmp/stdout" 2>"$tmp/stderr" &
+    pid=$!
+    # About 3 s in, and at least until the frame loop has started (the bag exists).
+    sleep 3
+    for _ in $(seq 1 200); do
+      [[ -e "$tmp/out/run.bag.active" ]] && break
+      kill -0 "$pid" 2>/dev/null || break
+      sleep 0.1
+    done
+    kill -0 "$pid" 2>/dev/null || { wait "$pid"; rc=$?; fail "exited (code $rc) before the signal"; }
+    sent=$(date +%s.%N)
+    kill -s "$signal" "$pid"
+    rc=""
+    for _ in $(seq 1 600); do
+      if ! kill -0 "$pid" 2>/dev/null; then break; fi
+      sleep 0.02
+    done
+    exited=$(date +%s.%N)
+    if kill -0 "$pid" 2>/dev/null; then
+      kill -s KILL "$pid"
+      wait "$pid"
+      fail "still running 12 s after SIG$signal"
+    fi
+    wait "$pid"
+    rc=$?
+    took=$(awk -v a="$sent" -v b="$exited" 'BEGIN { printf "%.2f", b - a }')
+    echo "exited ${took}s after SIG$signal with code $rc"
+    awk -v t="$took" -v l="$signal_limit_s" 'BEGIN { exit !(t <= l) }' || fail "took ${took}s to exit, limit ${signal_limit_s}s"
+    expected=$((128 + $(kill -l "$signal")))
+    expect_rc "$expected"
+    grep -q "interrupted by signal" "$tmp/stderr" || fail "no 'interrupted by signal' message"
+    expect_no_results "$tmp"
+    ;;
+
+  gl_bogus)
+    STVL_GL=bogus run_bench run "$scenario" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "bogus"
+    [[ $(grep -c . "$tmp/stderr") -le 2 ]] || fail "more than a short message on stderr"
+    expect_no_results "$tmp"
+    ;;
+
+  gl_missing)
+    # libEGL and libOSMesa are dlopen'ed by soname: empty files with those names first on LD_LIBRARY_PATH make
+    # both fail to load, as on a machine without them.
+    mkdir -p "$tmp/nogl"
+    for lib in libEGL.so.1 libEGL.so libOSMesa.so.8 libOSMesa.so.6 libOSMesa.so; do : >"$tmp/nogl/$lib"; done
+    LD_LIBRARY_PATH="$tmp/nogl${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" run_bench run "$scenario" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "OpenGL|EGL|OSMesa"
+    expect_no_results "$tmp"
+    ;;
+
+  gl_missing_osmesa)
+    # Only OSMesa asked for, and it is missing.
+    mkdir -p "$tmp/nogl"
+    for lib in libOSMesa.so.8 libOSMesa.so.6 libOSMesa.so; do : >"$tmp/nogl/$lib"; done
+    STVL_GL=osmesa LD_LIBRARY_PATH="$tmp/nogl${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" \
+      run_bench run "$scenario" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "OSMesa"
+    expect_no_results "$tmp"
+    ;;
+
+  robot_falls)
+    # A 2 m platform with nothing around it: the path leads off its edge and the robot falls.
+    cp "$src/worlds/robot.xml" "$tmp/"
+    cat >"$tmp/platform.xml" <<'EOF'
+<mujoco model="platform">
+  <compiler autolimits="true" angle="radian"/>
+  <option timestep="0.002"/>
+  <statistic extent="1" center="0 0 0"/>
+  <visual>
+    <quality offsamples="0" shadowsize="0"/>
+    <global offwidth="1280" offheight="960"/>
+    <map znear="0.01" zfar="50"/>
+  </visual>
+  <include file="robot.xml"/>
+  <worldbody>
+    <light name="sun" directional="true" pos="0 0 10" dir="0 0 -1" castshadow="false"/>
+    <geom name="floor" type="box" pos="0 0 -0.05" size="1 1 0.05" group="0"/>
+    <body name="box_1" pos="0.8 0.6 0.2">
+      <geom type="box" size="0.1 0.1 0.2" group="1"/>
+    </body>
+  </worldbody>
+</mujoco>
+EOF
+    cat >"$tmp/falls.yaml" <<'EOF'
+name: robot_falls
+world: platform.xml
+duration_s: 12
+robot:
+  start: [0.0, 0.0, 0.0]
+  waypoints: [[0.0, 0.0], [6.0, 0.0]]
+  speed_mps: 0.8
+camera: {preset: d435_640x480, rate_hz: 10, noise: {enabled: false}}
+EOF
+    run_bench run "$tmp/falls.yaml" --out "$tmp/out" --no-progress
+    expect_rc 1
+    grep -Eq "^FAIL robot_upright +the robot fell over or left the world" "$tmp/stdout" ||
+      fail "no 'FAIL robot_upright ... fell over or left the world' line on stdout"
+    grep -E "robot_upright" "$tmp/stdout"
+    ;;
+
+  world_missing)
+    sed "s#^world: .*#world: does_not_exist.xml#" "$scenario" >"$tmp/missing.yaml"
+    run_bench run "$tmp/missing.yaml" --out "$tmp/out" --no-progress
+    expect_rc 2
+    expect_error_line "does_not_exist\.xml"
+    expect_no_results "$tmp"
+    ;;
+
+  scenario_malformed)
+    printf 'name: x\nworld: [unclosed\n' >"$tmp/bad.yaml"
+    run_bench run "$tmp/bad.yaml" --out "$tmp/out" --no-progress
+    expect_rc 2
+    expect_error_line "bad\.yaml:[0-9]+"
+    expect_no_results "$tmp"
+    ;;
+
+  *)
+    echo "faults.sh: unknown case '$case_name'" >&2
+    exit 2
+    ;;
+esac
+echo "PASS [$case_name]"
