@@ -21,7 +21,7 @@ int line_of(const YAML::Mark& mark) { return mark.is_null() || mark.line < 0 ? 1
 }  // namespace
 
 YamlMap::YamlMap(YAML::Node node, std::string file, std::string path)
-    : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {
+    : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)), line_(line_of(node_.Mark())) {
   const std::string where = path_.empty() ? "document" : path_;
   if (!node_.IsMap()) {
     std::ostringstream message;
@@ -51,11 +51,19 @@ std::optional<YAML::Node> YamlMap::lookup(const std::string& key) {
   return child;
 }
 
+YAML::Node YamlMap::key_node(const std::string& key) const {
+  for (const auto& entry : node_)
+    if (entry.first.Scalar() == key) return entry.first;
+  return YAML::Node();
+}
+
 YamlMap YamlMap::map(const std::string& key) {
   const auto node = lookup(key);
-  if (!node) fail(node_, key, "required mapping is missing");
+  if (!node) fail(YAML::Node(), key, "required mapping is missing");
   if (!node->IsMap()) fail(*node, key, "expected a mapping, got '" + describe(*node) + "'");
-  return YamlMap(*node, file_, location(key));
+  YamlMap child(*node, file_, location(key));
+  child.line_ = line_of(key_node(key).Mark());
+  return child;
 }
 
 std::vector<YamlMap> YamlMap::list_of_maps(const std::string& key) {
@@ -89,7 +97,12 @@ void YamlMap::finish() const {
 
 void YamlMap::fail(const YAML::Node& at, const std::string& key, const std::string& message) const {
   std::ostringstream text;
-  const int line = at.Mark().is_null() ? line_of(node_.Mark()) : line_of(at.Mark());
+  int line = line_;
+  if (!at.IsNull() && !at.Mark().is_null()) {
+    line = line_of(at.Mark());
+  } else if (const YAML::Node k = key_node(key); !k.IsNull()) {
+    line = line_of(k.Mark());
+  }
   text << file_ << ":" << line << ": " << location(key) << ": " << message;
   throw std::invalid_argument(text.str());
 }

@@ -26,7 +26,7 @@ class YamlMap {
   template <typename T>
   void require(const std::string& key, T& value) {
     const auto node = lookup(key);
-    if (!node) fail(node_, key, "required key is missing");
+    if (!node) fail(YAML::Node(), key, "required key is missing");
     value = convert<T>(*node, key);
   }
   YamlMap map(const std::string& key);                // a nested mapping (required)
@@ -36,12 +36,15 @@ class YamlMap {
   // Throws on any key that was never read.
   void finish() const;
 
+  // Names the line of `at`; of the key itself when `at` is empty or null; of this mapping's own key when `key`
+  // is absent too.
   [[noreturn]] void fail(const YAML::Node& at, const std::string& key, const std::string& message) const;
   const std::string& file() const { return file_; }
   std::string location(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
 
  private:
   std::optional<YAML::Node> lookup(const std::string& key);
+  YAML::Node key_node(const std::string& key) const;  // null node when absent
   template <typename T>
   T convert(const YAML::Node& node, const std::string& key) const {
     if (node.IsNull()) fail(node, key, std::string("expected ") + type_name<T>() + ", got nothing");
@@ -59,6 +62,7 @@ class YamlMap {
   std::string file_;
   std::string path_;
   std::set<std::string> used_;
+  int line_;  // 1-based line of the key that holds this mapping (of the mapping itself for the root)
 };
 
 // Loads a YAML file or text; parse errors name the file and line.

@@ -446,7 +446,7 @@ TEST(ScenarioParse, SectionsOfTheWrongKind) {
 }
 
 TEST(ScenarioParse, MissingRequiredKeys) {
-  EXPECT_THAT(error_of(replace_line(kMinimal, "name:", "").yaml), HasSubstr("x.yaml:1: name: required key is missing"));
+  EXPECT_THAT(error_of(replace_line(kMinimal, "name:", "").yaml), HasSubstr("x.yaml:2: name: required key is missing"));
   EXPECT_THAT(error_of(replace_line(kMinimal, "world:", "").yaml), HasSubstr("world: required key is missing"));
   EXPECT_THAT(error_of("name: a\nworld: b\n"), HasSubstr("robot: required mapping is missing"));
   EXPECT_THAT(error_of(replace_line(kMinimal, "  waypoints:", "").yaml), HasSubstr("x.yaml:3: robot.waypoints: required key is missing"));

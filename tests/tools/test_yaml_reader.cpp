@@ -67,7 +67,7 @@ TEST(YamlReader, RequireNamesTheMissingKeyAndTheMappingsLine) {
   auto root = root_of("top: 1\ninner:\n  x: 1\n");
   auto inner = root.map("inner");
   double y = 0;
-  EXPECT_EQ(invalid_argument_of([&] { inner.require("y", y); }), "t.yaml:3: inner.y: required key is missing");
+  EXPECT_EQ(invalid_argument_of([&] { inner.require("y", y); }), "t.yaml:2: inner.y: required key is missing");
   EXPECT_THAT(invalid_argument_of([&] { root.map("missing"); }), HasSubstr("missing: required mapping is missing"));
 }
 
