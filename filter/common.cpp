@@ -1,7 +1,10 @@
 #include "filter/detail/common.hpp"
 
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <limits>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -13,7 +16,118 @@ std::string format(double value) {
   out << value;
   return out.str();
 }
+void cpu_relax() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#endif
+}
+
+// Persistent workers for run_parallel: a call publishes (fn, context, parts) under a generation number;
+// workers and the caller claim parts through one atomic counter tagged with that generation, so a worker
+// late from an earlier call can never take a part of a later one.
+class Pool {
+ public:
+  ~Pool() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+      generation_.fetch_add(1);
+    }
+    wake_.notify_all();
+    for (auto& worker : workers_) worker.join();
+  }
+
+  bool try_run(int parts, void (*fn)(void*, int), void* context) {
+    std::unique_lock<std::mutex> call(call_, std::try_to_lock);
+    if (!call.owns_lock()) return false;
+    while (static_cast<int>(workers_.size()) < parts - 1) {
+      workers_.emplace_back([this] { loop(); });
+    }
+    std::uint64_t generation;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      fn_ = fn;
+      context_ = context;
+      parts_ = parts;
+      pending_.store(parts);
+      generation = generation_.load() + 1;
+      next_.store(generation << 32);
+      generation_.store(generation);
+    }
+    wake_.notify_all();
+    work(generation, fn, context, parts);
+    for (int spin = 0; pending_.load(std::memory_order_acquire) != 0; ++spin) {
+      if (spin < 20000) {
+        cpu_relax();
+        continue;
+      }
+      std::unique_lock<std::mutex> lock(mutex_);
+      done_.wait(lock, [this] { return pending_.load() == 0; });
+    }
+    return true;
+  }
+
+ private:
+  void work(std::uint64_t generation, void (*fn)(void*, int), void* context, int parts) {
+    for (;;) {
+      std::uint64_t v = next_.load();
+      do {
+        if ((v >> 32) != generation || static_cast<int>(v & 0xFFFFFFFFu) >= parts) return;
+      } while (!next_.compare_exchange_weak(v, v + 1));
+      fn(context, static_cast<int>(v & 0xFFFFFFFFu));
+      if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        done_.notify_all();
+      }
+    }
+  }
+
+  void loop() {
+    std::uint64_t seen = generation_.load();
+    for (;;) {
+      for (int spin = 0; spin < 20000 && generation_.load(std::memory_order_acquire) == seen; ++spin) cpu_relax();
+      void (*fn)(void*, int);
+      void* context;
+      int parts;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [&] { return generation_.load() != seen; });
+        if (stop_) return;
+        seen = generation_.load();
+        fn = fn_;
+        context = context_;
+        parts = parts_;
+      }
+      work(seen, fn, context, parts);
+    }
+  }
+
+  std::mutex call_, mutex_;
+  std::condition_variable wake_, done_;
+  std::vector<std::thread> workers_;
+  std::atomic<std::uint64_t> generation_{0}, next_{0};
+  std::atomic<int> pending_{0};
+  void (*fn_)(void*, int) = nullptr;
+  void* context_ = nullptr;
+  int parts_ = 0;
+  bool stop_ = false;
+};
+
 }  // namespace
+
+void run_parallel(int parts, void (*fn)(void*, int), void* context) {
+  if (parts <= 1) {
+    if (parts == 1) fn(context, 0);
+    return;
+  }
+  static Pool pool;
+  if (pool.try_run(parts, fn, context)) return;
+  std::vector<std::thread> spawned;
+  spawned.reserve(parts - 1);
+  for (int t = 0; t + 1 < parts; ++t) spawned.emplace_back([fn, context, t] { fn(context, t); });
+  fn(context, parts - 1);
+  for (auto& thread : spawned) thread.join();
+}
 
 void validate(const VoxelGridConfig& config) {
   if (!std::isfinite(config.voxel_size_m) || config.voxel_size_m <= 0.0) {

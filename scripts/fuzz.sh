@@ -21,7 +21,7 @@ targets=("$@")
 
 if [[ -z "${SKIP_BUILD:-}" ]]; then
 command -v clang++ >/dev/null || { echo "fuzz.sh: clang++ not found (apt-get install clang libclang-rt-14-dev)" >&2; exit 2; }
-flags="-O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined"
+flags="-O1 -g -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fsanitize-ignorelist=$root/tests/sanitizers/ubsan_ignorelist.txt"
 cmake -S . -B "$build" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=FuzzDebug \
   -DCMAKE_CXX_FLAGS_FUZZDEBUG="$flags" -DCMAKE_C_FLAGS_FUZZDEBUG="$flags" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" -DSTVL_FUZZ=ON -DSTVL_CUDA=OFF >/dev/null

@@ -71,45 +71,49 @@ Evaluator::Evaluator(const sim::World& world, const Scenario& scenario)
 
 void Evaluator::refresh_truth(const sim::World& world) {
   const auto& s = *scenario_;
-  const bool first = !statics_voxelized_;
-  statics_voxelized_ = true;
   geoms_ = sim::obstacle_geoms(world);
   std::vector<sim::ObstacleGeom> statics;
   dynamic_geoms_.clear();
   for (const auto& g : geoms_) (is_mocap(world, g.body_id) ? dynamic_geoms_ : statics).push_back(g);
   const auto in_band_only = [&](std::vector<sim::BodyVoxels> bodies) {
-    for (auto& body : bodies)
+    for (auto& body : bodies) {
       body.voxels.erase(std::remove_if(body.voxels.begin(), body.voxels.end(),
                                        [&](const VoxelKey& k) { return !in_band(k, s); }),
                         body.voxels.end());
+      auto& result = obstacles_[body.body_name];
+      result.name = body.body_name;
+      result.truth_voxels = std::max(result.truth_voxels, body.voxels.size());
+    }
     return bodies;
   };
-  if (first) {
+  if (!statics_voxelized_) {
+    statics_voxelized_ = true;
     static_bodies_ = in_band_only(sim::voxelize_bodies(statics, voxelize_options(s)));
+    for (const auto& body : static_bodies_) static_truth_.insert(body.voxels.begin(), body.voxels.end());
     for (const auto& body : sim::footprints(statics, voxel_m_, s.source.min_obstacle_height, s.source.max_obstacle_height))
       static_footprint_.insert(body.cells.begin(), body.cells.end());
   }
-  truth_bodies_ = static_bodies_;
-  for (auto& body : in_band_only(sim::voxelize_bodies(dynamic_geoms_, voxelize_options(s)))) {
+  dynamic_bodies_ = in_band_only(sim::voxelize_bodies(dynamic_geoms_, voxelize_options(s)));
+  dynamic_truth_.clear();
+  for (const auto& body : dynamic_bodies_) {
+    dynamic_truth_.insert(body.voxels.begin(), body.voxels.end());
     // A moving body's voxels become candidates for stale map voxels once it leaves them.
     for (const auto& k : body.voxels)
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy)
           for (int dz = -1; dz <= 1; ++dz) vacated_.insert({k.x + dx, k.y + dy, k.z + dz});
-    truth_bodies_.push_back(std::move(body));
-  }
-  truth_.clear();
-  for (const auto& body : truth_bodies_) {
-    truth_.insert(body.voxels.begin(), body.voxels.end());
-    auto& result = obstacles_[body.body_name];
-    result.name = body.body_name;
-    result.truth_voxels = std::max(result.truth_voxels, body.voxels.size());
   }
 }
 
+bool Evaluator::is_truth(const VoxelKey& k) const { return static_truth_.count(k) || dynamic_truth_.count(k); }
+
+bool Evaluator::near_truth(const VoxelKey& k) const {
+  const int tol = scenario_->evaluation.tolerance_voxels;
+  return near_voxel(static_truth_, k, tol) || near_voxel(dynamic_truth_, k, tol);
+}
+
 void Evaluator::observe(double time_s, const sensors::DepthImage& clean_depth,
-                        const sensors::CameraIntrinsics& intrinsics, const Eigen::Isometry3d& T_world_camera,
-                        const mapping::VoxelMap& map) {
+                        const sensors::CameraIntrinsics& intrinsics, const Eigen::Isometry3d& T_world_camera) {
   const auto& s = *scenario_;
   const Eigen::Isometry3f T = T_world_camera.cast<float>();
   constexpr int kStride = 2;
@@ -123,32 +127,41 @@ void Evaluator::observe(double time_s, const sensors::DepthImage& clean_depth,
       if (p_W.z() < s.source.min_obstacle_height || p_W.z() > s.source.max_obstacle_height) continue;
       const VoxelKey key = sim::voxel_key(p_W, voxel_m_);
       last_seen_[key] = time_s;
-      if (!truth_.count(key)) off_truth_keys_.insert(key);
+      if (!is_truth(key)) off_truth_keys_.insert(key);
     }
   }
-  if (vacated_.empty()) return;
-  // Stale voxels: in the map, where a moving body was, no longer near any true surface.
+}
+
+void Evaluator::observe_clearing(double time_s, const sim::World& world, const sensors::DepthImage& clean_depth,
+                                 const sensors::CameraIntrinsics& intrinsics, const Eigen::Isometry3d& T_world_camera,
+                                 const mapping::VoxelMap& map) {
+  if (dynamic_geoms_.empty()) return;
+  refresh_truth(world);
+  // Stale voxels: in the map (as the previous update left it), where a moving body was, now far from every
+  // true surface; seen through when the noise-free depth at their pixel lies beyond them.
   const Eigen::Isometry3d T_camera_world = T_world_camera.inverse();
-  for (auto it = vacated_.begin(); it != vacated_.end(); ++it) {
-    const VoxelKey& k = *it;
+  for (const VoxelKey& k : vacated_) {
+    if (seen_through_.count(k) || near_truth(k)) continue;
     const Eigen::Vector3d c_W = sim::voxel_center(k, voxel_m_);
-    const bool in_map = map.lookup(c_W).has_value();
-    auto seen = seen_through_.find(k);
-    if (!in_map) {
-      if (seen != seen_through_.end()) {
-        latencies_s_.push_back(time_s - seen->second);
-        seen_through_.erase(seen);
-      }
-      continue;
-    }
-    if (seen != seen_through_.end() || near_voxel(truth_, k, s.evaluation.tolerance_voxels)) continue;
+    if (!map.lookup(c_W)) continue;
     const Eigen::Vector3d p_C = T_camera_world * c_W;
     const auto pixel = sensors::project_to_pixel(intrinsics, p_C);
     if (!pixel) continue;
     const int u = static_cast<int>(std::lround(pixel->x())), v = static_cast<int>(std::lround(pixel->y()));
     if (u < 0 || v < 0 || u >= clean_depth.width || v >= clean_depth.height) continue;
     const float depth = clean_depth.at(u, v);
-    if (depth > 0.0f && depth > p_C.z() + voxel_m_ && p_C.z() <= intrinsics.max_range_m) seen_through_[k] = time_s;
+    if (depth > 0.0f && depth > p_C.z() + voxel_m_) seen_through_[k] = time_s;
+  }
+}
+
+void Evaluator::after_update(double time_s, const mapping::VoxelMap& map) {
+  for (auto it = seen_through_.begin(); it != seen_through_.end();) {
+    if (map.lookup(sim::voxel_center(it->first, voxel_m_))) {
+      ++it;
+      continue;
+    }
+    latencies_s_.push_back(time_s - it->second);
+    it = seen_through_.erase(it);
   }
 }
 
@@ -162,22 +175,40 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   VoxelSet mapped;
   for (const auto& k : map.voxel_keys()) mapped.insert({k.x(), k.y(), k.z()});
   snap.mapped_voxels = mapped.size();
+  // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so each distance tests a few geoms.
+  constexpr double kCell = 1.0, kReach = 0.5;
+  std::unordered_map<CellKey, std::vector<int>, sim::CellKeyHash> geoms_near;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (std::size_t g = 0; g < geoms_.size(); ++g) {
+    boxes.push_back(geoms_[g].aabb_W());
+    const auto lo = sim::cell_key(boxes.back().min().head<2>().array() - kReach, kCell);
+    const auto hi = sim::cell_key(boxes.back().max().head<2>().array() + kReach, kCell);
+    for (int x = lo.x; x <= hi.x; ++x)
+      for (int y = lo.y; y <= hi.y; ++y) geoms_near[{x, y}].push_back(static_cast<int>(g));
+  }
   for (const auto& k : mapped) {
-    if (near_voxel(truth_, k, tol)) ++snap.matched_mapped;
+    if (near_truth(k)) ++snap.matched_mapped;
     const Eigen::Vector3d c = sim::voxel_center(k, voxel_m_);
+    const auto bucket = geoms_near.find(sim::cell_key(c.head<2>(), kCell));
     double best = std::numeric_limits<double>::infinity();
-    for (const auto& g : geoms_) {
-      if (g.aabb_W().exteriorDistance(c) >= best) continue;
-      best = std::min(best, std::abs(g.signed_distance_m(c)));
-    }
+    const auto consider = [&](int g) {
+      if (boxes[g].exteriorDistance(c) < best) best = std::min(best, std::abs(geoms_[g].signed_distance_m(c)));
+    };
+    if (bucket != geoms_near.end())
+      for (int g : bucket->second) consider(g);
+    if (!(best <= kReach))  // nothing within reach in this cell: fall back to every geom
+      for (std::size_t g = 0; g < geoms_.size(); ++g) consider(static_cast<int>(g));
     if (std::isfinite(best)) distances_m_.push_back(best);
   }
 
   // Observed truth within the recall window, per body.
+  std::vector<const sim::BodyVoxels*> bodies;
+  for (const auto& body : static_bodies_) bodies.push_back(&body);
+  for (const auto& body : dynamic_bodies_) bodies.push_back(&body);
   std::unordered_map<VoxelKey, int, sim::VoxelKeyHash> body_of;
-  for (std::size_t b = 0; b < truth_bodies_.size(); ++b)
-    for (const auto& k : truth_bodies_[b].voxels) body_of.emplace(k, static_cast<int>(b));
-  std::vector<std::size_t> body_observed(truth_bodies_.size()), body_matched(truth_bodies_.size());
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    for (const auto& k : bodies[b]->voxels) body_of.emplace(k, static_cast<int>(b));
+  std::vector<std::size_t> body_observed(bodies.size()), body_matched(bodies.size());
   CellSet observed_cells;
   for (auto it = last_seen_.begin(); it != last_seen_.end();) {
     if (it->second < time_s - s.evaluation.recall_window_s) {
@@ -193,8 +224,8 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
     }
     ++it;
   }
-  for (std::size_t b = 0; b < truth_bodies_.size(); ++b) {
-    auto& result = obstacles_[truth_bodies_[b].body_name];
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    auto& result = obstacles_[bodies[b]->body_name];
     result.observed_voxels = std::max(result.observed_voxels, body_observed[b]);
     if (body_observed[b] >= static_cast<std::size_t>(s.evaluation.min_observed_voxels)) {
       result.observed = true;
@@ -278,7 +309,8 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
 }
 
 Eigen::Matrix3Xf Evaluator::truth_voxel_centers() const {
-  std::vector<VoxelKey> keys(truth_.begin(), truth_.end());
+  std::vector<VoxelKey> keys(static_truth_.begin(), static_truth_.end());
+  keys.insert(keys.end(), dynamic_truth_.begin(), dynamic_truth_.end());
   std::sort(keys.begin(), keys.end());
   Eigen::Matrix3Xf centers(3, static_cast<Eigen::Index>(keys.size()));
   for (std::size_t i = 0; i < keys.size(); ++i)

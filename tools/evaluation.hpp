@@ -72,9 +72,15 @@ class Evaluator {
  public:
   Evaluator(const sim::World& world, const Scenario& scenario);
 
-  // Every frame, with the noise-free depth image and the camera pose it was rendered from.
+  // Every frame, with the noise-free depth image and the camera pose it was rendered from: what was observed.
   void observe(double time_s, const sensors::DepthImage& clean_depth, const sensors::CameraIntrinsics& intrinsics,
-               const Eigen::Isometry3d& T_world_camera, const mapping::VoxelMap& map);
+               const Eigen::Isometry3d& T_world_camera);
+  // Clearing latency of moved bodies: call before the map's update with this frame (the map as the last frame
+  // left it), then after_update() once the map has been cleared and marked.
+  void observe_clearing(double time_s, const sim::World& world, const sensors::DepthImage& clean_depth,
+                        const sensors::CameraIntrinsics& intrinsics, const Eigen::Isometry3d& T_world_camera,
+                        const mapping::VoxelMap& map);
+  void after_update(double time_s, const mapping::VoxelMap& map);
   // Periodically (evaluation.evaluate_every_s): compares the map with the truth of the world's current state.
   const EvaluationSnapshot& evaluate(double time_s, const sim::World& world, const mapping::VoxelMap& map);
   EvaluationSummary finish(double time_s, const sim::World& world, const mapping::VoxelMap& map);
@@ -91,17 +97,19 @@ class Evaluator {
   Eigen::Matrix3Xf truth_voxel_centers() const;
 
  private:
-  void refresh_truth(const sim::World& world);
+  void refresh_truth(const sim::World& world);  // statics once, mocap bodies every call
+  bool is_truth(const sim::VoxelKey& k) const;
+  bool near_truth(const sim::VoxelKey& k) const;  // within tolerance_voxels
 
   const Scenario* scenario_;
   double voxel_m_;
-  std::vector<sim::BodyVoxels> truth_bodies_;
   std::vector<sim::ObstacleGeom> geoms_;          // every obstacle geom, current poses
   std::vector<sim::ObstacleGeom> dynamic_geoms_;  // those of mocap bodies
   std::vector<sim::BodyVoxels> static_bodies_;    // voxelized once
   sim::CellSet static_footprint_;
   bool statics_voxelized_ = false;
-  sim::VoxelSet truth_;
+  sim::VoxelSet static_truth_, dynamic_truth_;
+  std::vector<sim::BodyVoxels> dynamic_bodies_;
   std::map<std::string, ObstacleResult> obstacles_;
   std::unordered_map<sim::VoxelKey, double, sim::VoxelKeyHash> last_seen_;
   std::unordered_map<sim::VoxelKey, double, sim::VoxelKeyHash> seen_through_;  // stale voxel -> first time

@@ -24,6 +24,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::map<std::string, CommandRun> runs;
   for (auto& [name, setup] : registry()) runs.emplace(name, setup(app));
+  if (argc > 1 && argv[1][0] != '-' && !runs.count(argv[1])) {
+    std::fprintf(stderr, "stvl-bench: unknown subcommand '%s' (see stvl-bench --help)\n", argv[1]);
+    return kExitBadInput;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

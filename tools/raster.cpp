@@ -35,15 +35,28 @@ void RgbImage::fill_rect(int x0, int y0, int x1, int y1, Rgb color) {
 }
 
 void RgbImage::line(int x0, int y0, int x1, int y1, Rgb color) {
-  const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
-  const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-  int error = dx + dy;
-  for (int steps = 0; steps <= 4 * (width_ + height_); ++steps) {
-    set(x0, y0, color);
-    if (x0 == x1 && y0 == y1) break;
+  // Clip the segment to the image first (Liang-Barsky), so that Bresenham walks only pixels inside it.
+  const double dx = double(x1) - x0, dy = double(y1) - y0;
+  double t0 = 0.0, t1 = 1.0;
+  const auto clip = [&](double p, double q) {  // keeps the part where p * t <= q
+    if (p == 0.0) return q >= 0.0;
+    const double t = q / p;
+    if (p < 0.0) t0 = std::max(t0, t);
+    else t1 = std::min(t1, t);
+    return t0 <= t1;
+  };
+  if (!clip(-dx, x0) || !clip(dx, width_ - 1.0 - x0) || !clip(-dy, y0) || !clip(dy, height_ - 1.0 - y0)) return;
+  int ax = static_cast<int>(std::lround(x0 + t0 * dx)), ay = static_cast<int>(std::lround(y0 + t0 * dy));
+  const int bx = static_cast<int>(std::lround(x0 + t1 * dx)), by = static_cast<int>(std::lround(y0 + t1 * dy));
+  const int step_x = ax < bx ? 1 : -1, step_y = ay < by ? 1 : -1;
+  const int adx = std::abs(bx - ax), ady = -std::abs(by - ay);
+  int error = adx + ady;
+  while (true) {
+    set(ax, ay, color);
+    if (ax == bx && ay == by) break;
     const int e2 = 2 * error;
-    if (e2 >= dy) error += dy, x0 += sx;
-    if (e2 <= dx) error += dx, y0 += sy;
+    if (e2 >= ady) error += ady, ax += step_x;
+    if (e2 <= adx) error += adx, ay += step_y;
   }
 }
 

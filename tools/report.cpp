@@ -41,7 +41,7 @@ std::string xml_escape(const std::string& text) {
       case '>': out += "&gt;"; break;
       case '&': out += "&amp;"; break;
       case '"': out += "&quot;"; break;
-      default: out += c;
+      default: out += (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') ? '?' : c;
     }
   }
   return out;
@@ -194,7 +194,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     << (r.scenario.camera.noise.enabled ? "on" : "off") << ".</p>\n";
   h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";
   for (const auto& c : r.checks)
-    h << "<tr><td>" << c.name << "</td><td class=\"" << (c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
+    h << "<tr><td>" << xml_escape(c.name) << "</td><td class=\"" << (c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
       << xml_escape(c.message) << "</td></tr>\n";
   h << "</table>\n<h2>Map quality</h2><p>Tolerance " << r.scenario.evaluation.tolerance_voxels
     << " voxel(s); recall against surfaces seen by the noise-free camera within the last "

@@ -130,8 +130,6 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   RunResult r;
   r.scenario = s;
   const std::filesystem::path out = options.out_dir;
-  if (!options.out_dir.empty()) ensure_writable_directory(out / "frames");
-
   sim::Simulator sim(sim::World::from_file(s.world_path), s.sim);
   sim.set_start_pose(s.start_pose.x(), s.start_pose.y(), s.start_pose.z());
   sim.set_path(s.path);
@@ -139,9 +137,16 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   const auto& intrinsics = s.camera.intrinsics;
   sensors::DepthRenderer renderer(sim.world().model(), intrinsics, s.camera.gl_backend);
   sensors::DepthNoise noise(s.camera.noise, intrinsics);
-  filter::Filter filter(s.filter);
+  // The decimation runs on the whole cloud so that ray-cast clearing also sees the floor behind a moved
+  // obstacle; the passthrough band then applies to the marking cloud only, as STVL applies it before marking.
+  filter::FilterConfig decimation = s.filter;
+  decimation.passthrough_enabled = false;
+  if (decimation.type == filter::FilterType::kPassthrough) decimation.type = filter::FilterType::kNone;
+  const bool passthrough = s.filter.passthrough_enabled || s.filter.type == filter::FilterType::kPassthrough;
+  filter::Filter filter(decimation);
   mapping::VoxelMap map(s.map);
   Evaluator evaluator(sim.world(), s);
+  if (!options.out_dir.empty()) ensure_writable_directory(out / "frames");
   r.gl_backend = renderer.backend_name();
   r.filter_device = filter.device_used();
 
@@ -196,12 +201,17 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     r.times.cloud.push_back(ms_since(start));
 
     start = Clock::now();
-    const Eigen::Matrix3Xf filtered_W = filter.apply(points_W);
+    const Eigen::Matrix3Xf decimated_W = filter.apply(points_W);
+    const Eigen::Matrix3Xf filtered_W = passthrough ? filter::passthrough(decimated_W, s.filter.passthrough) : decimated_W;
     r.times.filter.push_back(ms_since(start));
+
+    start = Clock::now();
+    evaluator.observe_clearing(t, sim.world(), clean, intrinsics, T_world_camera, map);
+    double evaluation_ms = ms_since(start);
 
     // STVL's order: clear with the new observation, then mark it.
     start = Clock::now();
-    mapping::ClearingObservation observation{T_world_camera, s.source, &filtered_W};
+    mapping::ClearingObservation observation{T_world_camera, s.source, &decimated_W};
     map.clear({observation}, t);
     r.times.clear.push_back(ms_since(start));
     start = Clock::now();
@@ -209,12 +219,13 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     r.times.mark.push_back(ms_since(start));
 
     start = Clock::now();
-    evaluator.observe(t, clean, intrinsics, T_world_camera, map);
+    evaluator.after_update(t, map);
+    evaluator.observe(t, clean, intrinsics, T_world_camera);
     if (t + 1e-9 >= next_evaluation_s) {
       evaluator.evaluate(t, sim.world(), map);
       next_evaluation_s += s.evaluation.evaluate_every_s;
     }
-    r.times.evaluation.push_back(ms_since(start));
+    r.times.evaluation.push_back(evaluation_ms + ms_since(start));
 
     if (sample_every && k % sample_every == 0 && k > 0 && !options.out_dir.empty()) {
       char name[64];

@@ -1,5 +1,6 @@
 // CUDA voxel grid and CSNB. Same steps and arithmetic as voxel_grid.cpp / csnb.cpp (filter/detail/shared.hpp),
 // so the outputs are bit-identical to the CPU's.
+#include <cooperative_groups.h>
 #include <cub/cub.cuh>
 
 #include <cstring>
@@ -289,6 +290,88 @@ __global__ void csnb_decrement(const std::uint32_t* picked, int batch, const F3*
   }
 }
 
+// The whole batch loop in one cooperative kernel, one grid-wide barrier per phase and no host round trip.
+// Phase A: every block walks the same window of the random order and finds the same batch (the first K
+// marked points at or after the cursor, and the position of the (K+1)-th), reading counts and live flags
+// that no one writes in this phase, so the choice depends on the data only, never on timing. Phase B: one
+// warp per batch point kills it and decrements its neighbours (integer atomics: order-free). Decrementing
+// points that are dead, the batch included, is harmless: a dead point's count is never read again.
+constexpr int kLoopBlock = 512;
+
+struct LoopParams {
+  const std::uint64_t* order;
+  unsigned long long candidates;
+  const F3* xyz;
+  const std::uint32_t* cube_of;
+  const std::uint32_t* spans;
+  int rows;
+  float r2;
+  std::uint8_t* live;
+  int* count;
+  int threshold;
+  int batch;
+  std::uint32_t* picked;
+};
+
+__global__ void __launch_bounds__(kLoopBlock) csnb_loop(LoopParams P) {
+  namespace cg = cooperative_groups;
+  cg::grid_group grid = cg::this_grid();
+  using Scan = cub::BlockScan<int, kLoopBlock>;
+  __shared__ typename Scan::TempStorage scan_storage;
+  __shared__ long long s_next;
+  constexpr int kWarps = kLoopBlock / 32;
+  const int lane = threadIdx.x % 32;
+  const int total_warps = gridDim.x * kWarps;
+  const int global_warp = blockIdx.x * kWarps + threadIdx.x / 32;
+  unsigned long long cursor = 0;
+  while (cursor < P.candidates) {
+    if (threadIdx.x == 0) s_next = -1;
+    __syncthreads();
+    int found = 0;
+    for (unsigned long long base = cursor; base < P.candidates; base += kLoopBlock) {
+      const unsigned long long i = base + threadIdx.x;
+      int flag = 0;
+      std::uint32_t s = 0;
+      if (i < P.candidates) {
+        s = static_cast<std::uint32_t>(P.order[i]);
+        flag = __ldcg(P.live + s) && __ldcg(P.count + s) > P.threshold;
+      }
+      int pos, total;
+      Scan(scan_storage).ExclusiveSum(flag, pos, total);
+      if (flag) {
+        const int q = found + pos;
+        if (q < P.batch) {
+          if (blockIdx.x == 0) P.picked[q] = s;
+        } else if (q == P.batch) {
+          s_next = static_cast<long long>(i);
+        }
+      }
+      found += total;
+      __syncthreads();
+      if (found > P.batch) break;
+    }
+    const long long next = s_next;
+    const int batch = min(found, P.batch);
+    grid.sync();
+    for (int q = global_warp; q < batch; q += total_warps) {
+      const std::uint32_t s = __ldcg(P.picked + q);
+      if (lane == 0) P.live[s] = 0;
+      const F3 p = P.xyz[s];
+      const std::uint32_t* span = P.spans + std::size_t(P.cube_of[s]) * P.rows * 2;
+      for (int r = 0; r < P.rows; ++r) {
+        const std::uint32_t e = span[2 * r + 1];
+        for (std::uint32_t j = span[2 * r] + lane; j < e; j += 32) {
+          const F3 o = P.xyz[j];
+          if (detail::sq_dist(p.x, p.y, p.z, o.x, o.y, o.z) < P.r2) atomicSub(P.count + j, 1);
+        }
+      }
+    }
+    if (found <= P.batch) break;  // the same in every block
+    cursor = static_cast<unsigned long long>(next);
+    grid.sync();
+  }
+}
+
 __global__ void csnb_claims(const std::uint32_t* anchor, std::uint32_t cubes, const F3* xyz, const std::uint32_t* spans,
                             int rows, float r2, const int* count, int threshold, const std::uint8_t* is_anchor,
                             std::uint8_t* live) {
@@ -343,6 +426,7 @@ struct Context::Impl {
   DeviceBuffer<int> count, flag, pos;
   DeviceBuffer<std::uint64_t> order, order_alt;
   DeviceBuffer<long long> result;
+  int loop_grid = -1;  // blocks of the cooperative CSNB loop; 0: not supported, use the host loop
 
   // Makes `points` readable by kernels according to `mode`; returns the device-side pointer.
   const float* upload(const Eigen::Matrix3Xf& points, MemoryMode mode) {
@@ -359,7 +443,19 @@ struct Context::Impl {
       STVL_CUDA(cudaMemcpyAsync(input.ptr, host_in.ptr, floats * sizeof(float), cudaMemcpyHostToDevice, stream));
       return input.ptr;
     }
+    if (mode == MemoryMode::kManaged) prefetch(host_in.ptr, floats * sizeof(float), true);
     return host_in.device_ptr;  // mapped (zero-copy) or managed
+  }
+
+  // Managed memory: move the pages in one DMA instead of page faults (best effort: errors are ignored).
+  void prefetch(const void* ptr, std::size_t bytes, bool to_device) {
+    if (bytes == 0) return;
+    int device = 0;
+    if (cudaGetDevice(&device) != cudaSuccess) return;
+    cudaMemLocation location{};
+    location.type = to_device ? cudaMemLocationTypeDevice : cudaMemLocationTypeHost;
+    location.id = to_device ? device : 0;
+    if (cudaMemPrefetchAsync(ptr, bytes, location, 0, stream) != cudaSuccess) cudaGetLastError();
   }
 
   // Where the final kernel writes `capacity` points.
@@ -384,6 +480,7 @@ struct Context::Impl {
       STVL_CUDA(cudaStreamSynchronize(stream));
       std::memcpy(out.data(), host_out.ptr, bytes);
     } else {
+      if (mode == MemoryMode::kManaged) prefetch(host_out.ptr, bytes, false);
       STVL_CUDA(cudaStreamSynchronize(stream));
       std::memcpy(out.data(), host_out.ptr, bytes);
     }
@@ -574,7 +671,22 @@ Eigen::Matrix3Xf Context::csnb(const Eigen::Matrix3Xf& points, const CsnbConfig&
   d.pos.ensure(candidates);
   d.picked.ensure(static_cast<std::size_t>(K));
   d.result.ensure(2);
-  for (std::size_t cursor = 0; cursor < candidates;) {
+  if (d.loop_grid < 0) {
+    int device = 0, cooperative = 0, sms = 0, per_sm = 0;
+    STVL_CUDA(cudaGetDevice(&device));
+    STVL_CUDA(cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device));
+    STVL_CUDA(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
+    STVL_CUDA(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, csnb_loop, kLoopBlock, 0));
+    d.loop_grid = cooperative && per_sm > 0 ? sms : 0;
+  }
+  if (d.loop_grid > 0 && candidates > 0) {
+    LoopParams params{order, candidates, d.xyz.ptr, d.cube_of.ptr, d.spans.ptr, rows, layout.radius_sq,
+                      d.live.ptr, d.count.ptr, T, K, d.picked.ptr};
+    void* args[] = {&params};
+    STVL_CUDA(cudaLaunchCooperativeKernel(reinterpret_cast<void*>(csnb_loop), dim3(d.loop_grid), dim3(kLoopBlock),
+                                          args, 0, d.stream));
+  }
+  for (std::size_t cursor = 0; d.loop_grid == 0 && cursor < candidates;) {  // without cooperative launch
     const std::size_t window = candidates - cursor;
     csnb_flags<<<blocks(window), kBlock, 0, d.stream>>>(order + cursor, window, d.live.ptr, d.count.ptr, T, d.flag.ptr);
     d.cub_call([&](void* t, std::size_t& bytes) {

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "filter/csnb.hpp"
@@ -34,59 +35,121 @@ inline int parts_for(std::size_t n, int threads, std::size_t grain = 4096) {
   return static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(threads, n / grain + 1)));
 }
 
-// Runs fn(begin, end, part) on `threads` contiguous parts of [0, n); the caller runs the last part.
+// Runs fn(0) .. fn(parts - 1) on a persistent pool of worker threads (the caller takes a share); falls back to
+// spawning threads when the pool is busy (another caller, or a nested call). Returns once all are done.
+void run_parallel(int parts, void (*fn)(void*, int), void* context);
+
+// Runs fn(begin, end, part) on `threads` contiguous parts of [0, n).
 template <class Fn>
 void parallel_for(std::size_t n, int threads, Fn&& fn) {
-  if (threads == 1) {
+  if (threads <= 1) {
     fn(std::size_t{0}, n, 0);
     return;
   }
-  std::vector<std::thread> pool;
-  pool.reserve(threads - 1);
-  for (int t = 0; t + 1 < threads; ++t) {
-    pool.emplace_back([&fn, n, threads, t] { fn(n * t / threads, n * (t + 1) / threads, t); });
-  }
-  fn(n * (threads - 1) / threads, n, threads - 1);
-  for (auto& thread : pool) thread.join();
+  auto call = [&fn, n, threads](int t) {
+    fn(n * std::size_t(t) / std::size_t(threads), n * std::size_t(t + 1) / std::size_t(threads), t);
+  };
+  run_parallel(threads, [](void* c, int t) { (*static_cast<decltype(call)*>(c))(t); }, &call);
 }
 
 Bounds compute_bounds(const Eigen::Matrix3Xf& points, int threads);
 
-// Stable LSD radix sort of `items` on bits [low_bit, high_bit) of key(item), 11-bit digits, parallel.
+template <class T>
+struct Segment {
+  const T* data = nullptr;
+  std::size_t size = 0;
+};
+
+// Stable LSD radix sort on bits [low_bit, high_bit) of key(item), 8-bit digits, parallel. The input is the
+// concatenation of `segments` (one per part of the first pass, in order); the result is written to `a` or
+// `b` (both of room for the total, neither overlapping the segments unless the segments lie in `a`) and
+// the pointer to it returned. The first pass always runs (it gathers the segments); later passes whose
+// digit is the same for every item are skipped.
 template <class T, class KeyFn>
-void radix_sort(std::vector<T>& items, std::vector<T>& scratch, int low_bit, int high_bit, KeyFn key, int threads) {
-  constexpr int kDigitBits = 11;
+T* radix_sort_segments(const std::vector<Segment<T>>& segments, T* a, T* b, int low_bit, int high_bit, KeyFn key,
+                       int threads) {
+  constexpr int kDigitBits = 8;
   constexpr std::size_t kBins = std::size_t{1} << kDigitBits;
-  const std::size_t n = items.size();
-  scratch.resize(n);
-  threads = parts_for(n, threads, 65536);
-  std::vector<std::array<std::size_t, kBins>> counts(threads);
-  for (int shift = low_bit; shift < high_bit; shift += kDigitBits) {
-    const std::uint64_t mask = (std::uint64_t{1} << std::min(kDigitBits, high_bit - shift)) - 1;
-    parallel_for(n, threads, [&](std::size_t b, std::size_t e, int t) {
+  std::size_t n = 0;
+  for (const auto& s : segments) n += s.size;
+  std::vector<std::array<std::size_t, kBins>> counts(std::max<std::size_t>(segments.size(), std::size_t(threads)));
+  T* src = nullptr;
+  T* dst = b;
+  bool first = true;
+  const int passes = high_bit > low_bit ? (high_bit - low_bit + kDigitBits - 1) / kDigitBits : 0;
+  for (int pass = 0; pass < std::max(passes, 1); ++pass) {
+    const int shift = low_bit + pass * kDigitBits;
+    const int width = passes == 0 ? 0 : std::min(kDigitBits, high_bit - shift);
+    const std::uint64_t mask = (std::uint64_t{1} << width) - 1;
+    const int parts = first ? static_cast<int>(segments.size()) : parts_for(n, threads, 32768);
+    auto part_range = [&](int t, const T*& begin, std::size_t& size) {
+      if (first) {
+        begin = segments[t].data;
+        size = segments[t].size;
+      } else {
+        const std::size_t lo = n * std::size_t(t) / std::size_t(parts), hi = n * std::size_t(t + 1) / std::size_t(parts);
+        begin = src + lo;
+        size = hi - lo;
+      }
+    };
+    parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
       auto& c = counts[t];
       c.fill(0);
-      for (std::size_t i = b; i < e; ++i) ++c[(key(items[i]) >> shift) & mask];
+      const T* in;
+      std::size_t size;
+      part_range(t, in, size);
+      if (width == 0) {
+        c[0] = size;
+        return;
+      }
+      for (std::size_t i = 0; i < size; ++i) ++c[(key(in[i]) >> shift) & mask];
     });
     bool trivial = false;
     std::size_t offset = 0;
     for (std::size_t d = 0; d < kBins; ++d) {
       std::size_t total = 0;
-      for (int t = 0; t < threads; ++t) total += counts[t][d];
+      for (int t = 0; t < parts; ++t) total += counts[t][d];
       if (total == n) trivial = true;
-      for (int t = 0; t < threads; ++t) {
+      for (int t = 0; t < parts; ++t) {
         const std::size_t c = counts[t][d];
         counts[t][d] = offset;
         offset += c;
       }
     }
-    if (trivial) continue;  // every item has the same digit: the pass would not move anything
-    parallel_for(n, threads, [&](std::size_t b, std::size_t e, int t) {
+    if (trivial && !first) continue;  // every item has the same digit: the pass would not move anything
+    parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
       auto& c = counts[t];
-      for (std::size_t i = b; i < e; ++i) scratch[c[(key(items[i]) >> shift) & mask]++] = items[i];
+      const T* in;
+      std::size_t size;
+      part_range(t, in, size);
+      if (size == 0) return;
+      if (trivial) {
+        std::copy(in, in + size, dst + c[width == 0 ? 0 : (key(in[0]) >> shift) & mask]);
+        return;
+      }
+      for (std::size_t i = 0; i < size; ++i) dst[c[(key(in[i]) >> shift) & mask]++] = in[i];
     });
-    items.swap(scratch);
+    first = false;
+    src = dst;
+    dst = dst == b ? a : b;
   }
+  return src;
+}
+
+// Stable LSD radix sort of `items` on bits [low_bit, high_bit) of key(item), parallel.
+template <class T, class KeyFn>
+void radix_sort(std::vector<T>& items, std::vector<T>& scratch, int low_bit, int high_bit, KeyFn key, int threads) {
+  const std::size_t n = items.size();
+  if (n == 0) return;
+  scratch.resize(n);
+  const int parts = parts_for(n, threads, 32768);
+  std::vector<Segment<T>> segments(parts);
+  for (int t = 0; t < parts; ++t) {
+    const std::size_t lo = n * std::size_t(t) / std::size_t(parts), hi = n * std::size_t(t + 1) / std::size_t(parts);
+    segments[t] = {items.data() + lo, hi - lo};
+  }
+  T* out = radix_sort_segments(segments, items.data(), scratch.data(), low_bit, high_bit, key, threads);
+  if (out != items.data()) items.swap(scratch);
 }
 
 }  // namespace stvl::filter::detail

@@ -236,7 +236,7 @@ TEST(Raster, PartlyOutsideShapesDrawTheirInsidePart) {
 
 // Fails with tools/raster.cpp as it is: line() stops after 4 * (width + height) steps, so a segment that
 // starts far outside the image never reaches it. See the clipping patch in the test report.
-TEST(Raster, DISABLED_LongLinesStartingFarOutsideStillCrossTheImage) {
+TEST(Raster, LongLinesStartingFarOutsideStillCrossTheImage) {
   const Rgb blue{0, 0, 255};
   RgbImage image(10, 8);
   image.line(-1000, 3, 1000, 3, blue);
