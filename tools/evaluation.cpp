@@ -275,7 +275,8 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   snap.costmap_precision = ratio(lethal_true, lethal.size());
   snap.costmap_recall = ratio(observed_hit, observed_cells.size());
 
-  // Phantoms: 8-connected lethal components far from every true footprint.
+  // Phantoms: 8-connected lethal components with no true footprint within phantom_clearance_m.
+  const int phantom_cells = static_cast<int>(std::ceil(s.evaluation.phantom_clearance_m / voxel_m_ - 1e-9));
   CellSet visited;
   for (const auto& start : lethal) {
     if (visited.count(start)) continue;
@@ -287,7 +288,7 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
       const CellKey c = stack.back();
       stack.pop_back();
       ++size;
-      near_truth = near_truth || near_cell(footprint, c, tol);
+      near_truth = near_truth || near_cell(footprint, c, phantom_cells);
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy) {
           const CellKey n{c.x + dx, c.y + dy};

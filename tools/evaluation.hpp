@@ -8,7 +8,8 @@
 //   recall     observed truth voxels within tolerance_voxels of a mapped voxel / observed truth voxels
 //   f1         2 P R / (P + R);  iou = matched truth / (observed truth + unmatched mapped)
 // 2D: lethal costmap cells against the true footprints in the band (same tolerance, in cells); a phantom is an
-// 8-connected component of lethal cells (at least phantom_min_cells) with no true footprint within tolerance.
+// 8-connected component of lethal cells (at least phantom_min_cells) with no true footprint within
+// phantom_clearance_m (0.10 m by default, the same distance at every voxel size).
 // Clearing latency: a mapped voxel that no longer lies on any true surface (a moved body's old place) is "seen
 // through" once the noise-free depth at its pixel lies beyond it; its latency runs until it leaves the map.
 #include <map>

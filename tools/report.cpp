@@ -105,6 +105,7 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"evaluation",
        {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
         {"recall_window_s", r.scenario.evaluation.recall_window_s},
+        {"phantom_clearance_m", r.scenario.evaluation.phantom_clearance_m},
         {"mean", snapshot_json(e.mean)},
         {"final", snapshot_json(e.final)},
         {"snapshots", snapshots},

@@ -311,6 +311,7 @@ void read_evaluation(YamlMap e, Scenario& s) {
   e.get("tolerance_voxels", ev.tolerance_voxels);
   e.get("min_observed_voxels", ev.min_observed_voxels);
   e.get("phantom_min_cells", ev.phantom_min_cells);
+  e.get("phantom_clearance_m", ev.phantom_clearance_m);
   e.get("sample_depth_frames", ev.sample_depth_frames);
   e.finish();
   require_range(e, "recall_window_s", ev.recall_window_s, std::isfinite(ev.recall_window_s) && ev.recall_window_s > 0,
@@ -321,6 +322,9 @@ void read_evaluation(YamlMap e, Scenario& s) {
                 "must lie in 0..3");
   require_range(e, "min_observed_voxels", ev.min_observed_voxels, ev.min_observed_voxels >= 1, "must be >= 1");
   require_range(e, "phantom_min_cells", ev.phantom_min_cells, ev.phantom_min_cells >= 1, "must be >= 1");
+  require_range(e, "phantom_clearance_m", ev.phantom_clearance_m,
+                std::isfinite(ev.phantom_clearance_m) && ev.phantom_clearance_m >= 0 && ev.phantom_clearance_m <= 1,
+                "must lie in [0, 1] m");
   require_range(e, "sample_depth_frames", ev.sample_depth_frames, ev.sample_depth_frames >= 0 && ev.sample_depth_frames <= 100,
                 "must lie in 0..100");
 }

@@ -41,6 +41,9 @@ struct EvaluationConfig {
   int tolerance_voxels = 1;        // a mapped voxel within this many voxels (Chebyshev) of a truth voxel matches
   int min_observed_voxels = 3;     // an obstacle counts as observed once this many of its voxels were seen
   int phantom_min_cells = 2;       // lethal components smaller than this are not called phantoms
+  // A lethal component is a phantom when no true footprint lies within this distance (metres, so that the
+  // meaning does not change with the voxel size; 0.10 m is below a small robot's inflation radius).
+  double phantom_clearance_m = 0.10;
   int sample_depth_frames = 3;     // depth frames saved as PNG for the report
 };
 
