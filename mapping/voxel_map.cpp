@@ -592,7 +592,7 @@ Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
     map.origin_y = b.min().y();
     const double w = std::max(1.0, std::ceil((b.max().x() - b.min().x()) / resolution - 1e-9));
     const double h = std::max(1.0, std::ceil((b.max().y() - b.min().y()) / resolution - 1e-9));
-    if (w * h > 1e8) throw std::invalid_argument("costmap of " + std::to_string(w) + " x " + std::to_string(h) + " cells is too large");
+    if (!(w * h <= 1e8)) throw std::invalid_argument("costmap of " + std::to_string(w) + " x " + std::to_string(h) + " cells is too large");
     map.width = static_cast<int>(w);
     map.height = static_cast<int>(h);
   } else if (columns.empty()) {
@@ -602,7 +602,8 @@ Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
     for (const auto& c : columns) extent.extend(c);
     const Eigen::Vector2d lo = (extent.min() / resolution).array().floor();
     const Eigen::Vector2d hi = (extent.max() / resolution).array().floor();
-    if ((hi - lo).prod() > 1e8) throw std::invalid_argument("costmap over the map's extent is too large; give bounds_W");
+    const Eigen::Vector2d cells = (hi - lo).array() + 1.0;
+    if (!(cells.prod() <= 1e8)) throw std::invalid_argument("costmap over the map's extent is too large; give bounds_W");
     map.origin_x = lo.x() * resolution;
     map.origin_y = lo.y() * resolution;
     map.width = static_cast<int>(hi.x() - lo.x()) + 1;

@@ -11,6 +11,7 @@ packages=(
   libgeometry-msgs-dev libstd-msgs-dev python3-rosbag
   libgtest-dev libgmock-dev libbenchmark-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev liboctomap-dev
+  clang libclang-rt-14-dev
 )
 [[ "${1:-}" == "--with-pcl" ]] && packages+=(libpcl-dev)
 

@@ -21,6 +21,7 @@ void check_image(const DepthImage& image) {
 
 void check_matches(const DepthImage& image, const CameraIntrinsics& intrinsics) {
   check_image(image);
+  intrinsics.validate();
   if (image.width != intrinsics.width || image.height != intrinsics.height) {
     throw std::invalid_argument("depth_to_cloud: image " + std::to_string(image.width) + "x" +
                                 std::to_string(image.height) + " does not match intrinsics " +
@@ -75,7 +76,7 @@ void turbo(double t, unsigned char* rgb) {
 }  // namespace
 
 int DepthImage::valid_count() const {
-  return int(std::count_if(depth_m.begin(), depth_m.end(), [](float z) { return z > 0.0f; }));
+  return int(std::count_if(depth_m.begin(), depth_m.end(), [](float z) { return z > 0.0f && std::isfinite(z); }));
 }
 
 Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C) {
@@ -91,7 +92,7 @@ Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& int
     const float y_over_z = (float(v) - cy) * inv_fy;
     for (int u = 0; u < image.width; ++u) {
       const float z = depth[size_t(v) * image.width + u];
-      if (!(z > 0.0f)) continue;
+      if (!(z > 0.0f) || !std::isfinite(z)) continue;
       out[3 * n + 0] = (float(u) - cx) * inv_fx * z;
       out[3 * n + 1] = y_over_z * z;
       out[3 * n + 2] = z;

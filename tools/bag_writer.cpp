@@ -5,6 +5,9 @@
 #include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
+
+#include <memory>
+#include <vector>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -143,7 +146,9 @@ std::string to_string(BagCompression compression) {
 }
 
 struct BagWriter::Impl {
-  rosbag::Bag bag;
+  // A heap Bag so that one whose write or close failed (a full disk) can be abandoned: rosbag's ~Bag() retries
+  // close(), which throws again from inside a destructor and would terminate the process.
+  std::unique_ptr<rosbag::Bag> bag = std::make_unique<rosbag::Bag>();
   std::string active_path;
   bool open = false;
   std::uint64_t final_size = 0;
@@ -152,6 +157,12 @@ struct BagWriter::Impl {
   // Reused between frames so the large buffers keep their capacity.
   sensor_msgs::Image image;
   sensor_msgs::PointCloud2 cloud;
+
+  void abandon() {
+    open = false;
+    static auto* failed = new std::vector<std::unique_ptr<rosbag::Bag>>;  // never destroyed, on purpose
+    failed->push_back(std::move(bag));
+  }
 
   void require_open() const {
     if (!open) throw std::runtime_error("BagWriter: write after close() of '" + active_path + "'");
@@ -170,7 +181,7 @@ struct BagWriter::Impl {
     require_open();
     try {
       if (!latched) {
-        bag.write(topic, time, msg);
+        bag->write(topic, time, msg);
         return;
       }
       auto& connection_header = latched_headers[topic];
@@ -182,8 +193,9 @@ struct BagWriter::Impl {
         (*connection_header)["callerid"] = kCallerId;
         (*connection_header)["latching"] = "1";
       }
-      bag.write(topic, time, msg, connection_header);
+      bag->write(topic, time, msg, connection_header);
     } catch (const rosbag::BagException& e) {
+      abandon();
       throw std::runtime_error("BagWriter: writing " + topic + " to '" + active_path + "' failed: " + e.what());
     }
   }
@@ -194,19 +206,19 @@ BagWriter::BagWriter(std::string path, BagCompression compression)
   if (path_.empty()) throw std::invalid_argument("BagWriter: empty output path");
   impl_->active_path = path_ + ".active";
   try {
-    impl_->bag.open(impl_->active_path, rosbag::bagmode::Write);
+    impl_->bag->open(impl_->active_path, rosbag::bagmode::Write);
   } catch (const rosbag::BagException& e) {
     throw std::runtime_error("cannot create bag '" + impl_->active_path + "': " + e.what());
   }
   switch (compression) {
     case BagCompression::kNone:
-      impl_->bag.setCompression(rosbag::compression::Uncompressed);
+      impl_->bag->setCompression(rosbag::compression::Uncompressed);
       break;
     case BagCompression::kBz2:
-      impl_->bag.setCompression(rosbag::compression::BZ2);
+      impl_->bag->setCompression(rosbag::compression::BZ2);
       break;
     case BagCompression::kLz4:
-      impl_->bag.setCompression(rosbag::compression::LZ4);
+      impl_->bag->setCompression(rosbag::compression::LZ4);
       break;
   }
   impl_->open = true;
@@ -215,8 +227,9 @@ BagWriter::BagWriter(std::string path, BagCompression compression)
 BagWriter::~BagWriter() {
   if (impl_ && impl_->open) {
     try {
-      impl_->bag.close();  // indexes what was written; the file keeps its .active name
+      impl_->bag->close();  // indexes what was written; the file keeps its .active name
     } catch (...) {
+      impl_->abandon();
     }
   }
 }
@@ -379,8 +392,9 @@ void BagWriter::close() {
   impl_->require_open();
   impl_->open = false;
   try {
-    impl_->bag.close();
+    impl_->bag->close();
   } catch (const rosbag::BagException& e) {
+    impl_->abandon();
     throw std::runtime_error("BagWriter: closing '" + impl_->active_path + "' failed: " + e.what());
   }
   std::error_code ec;
@@ -392,6 +406,6 @@ void BagWriter::close() {
   impl_->final_size = std::filesystem::file_size(path_, ec);
 }
 
-std::uint64_t BagWriter::bytes_written() const { return impl_->open ? impl_->bag.getSize() : impl_->final_size; }
+std::uint64_t BagWriter::bytes_written() const { return impl_->open ? impl_->bag->getSize() : impl_->final_size; }
 
 }  // namespace stvl::tools

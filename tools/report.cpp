@@ -229,7 +229,8 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   h << "\n<h2>Timing</h2><img src=\"timing.png\" alt=\"per-frame timing\"><p>Per-frame wall time in ms: render "
        "(orange), filter (blue), clear (red), mark (green), whole frame (black).</p><table><tr><th>stage</th>"
        "<th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
-  for (const auto& [stage, stats] : metrics_json(r)["timing_ms"].items())
+  const nlohmann::json metrics = metrics_json(r);
+  for (const auto& [stage, stats] : metrics["timing_ms"].items())
     h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()
       << "</td><td>" << stats["p95"].get<double>() << "</td></tr>\n";
   h << "</table></body></html>\n";

@@ -1,8 +1,9 @@
 // Depth to cloud: arbitrary depth values (NaN, Inf, negative, denormal, huge), intrinsics and image sizes,
 // including images whose depth vector disagrees with width x height. Either std::invalid_argument or a cloud of
-// at most one point per valid pixel (z > 0, never NaN); with intrinsics that pass validate(), a pixel of finite
-// depth below 1e30 m gives a finite point. (Invalid intrinsics are not rejected by depth_to_cloud: their points
+// at most one point per valid pixel (z > 0, never NaN); with intrinsics that pass validate(), a point whose
+// exact coordinates fit in a float comes out finite. (Invalid intrinsics are not rejected by depth_to_cloud: their points
 // are only required not to crash; see docs/reliability.md.)
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -60,7 +61,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (Eigen::Index i = 0; i < n; ++i) {
     const float z = cloud(2, i);
     if (!(z > 0.0f)) std::abort();
-    if (intrinsics_valid && z < 1e30f && !cloud.col(i).allFinite()) {
+    // Exact |x|, |y| bounds over the image: a point that fits in a float must come out finite.
+    const double x_max = std::max(std::abs(k.cx), std::abs(k.width - 1 - k.cx)) / k.fx * double(z);
+    const double y_max = std::max(std::abs(k.cy), std::abs(k.height - 1 - k.cy)) / k.fy * double(z);
+    if (intrinsics_valid && x_max < 1e37 && y_max < 1e37 && !cloud.col(i).allFinite()) {
       std::fprintf(stderr, "non-finite point (%g, %g, %g) from valid intrinsics %dx%d fx %g fy %g cx %g cy %g\n",
                    cloud(0, i), cloud(1, i), z, k.width, k.height, k.fx, k.fy, k.cx, k.cy);
       std::abort();

@@ -88,7 +88,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         case 4: {
           m::CostmapOptions options;
           if (in.ConsumeBool()) options.resolution = any_value<double>(in, 0.01, 1.0);
-          (void)map->project_costmap(options);
+          const auto costmap = map->project_costmap(options);
+          if (costmap.width < 1 || costmap.height < 1 || double(costmap.width) * costmap.height > 1e8) std::abort();
           break;
         }
         default: {
