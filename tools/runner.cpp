@@ -292,6 +292,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   }
   if (!options.out_dir.empty()) {
     map.save_vdb((out / "map.vdb").string());
+    map.save_ply((out / "map.ply").string());  // deterministic bytes (a .vdb file carries a random UUID)
     if (!map.empty()) {
       mapping::CostmapOptions costmap_options;
       costmap_options.min_obstacle_height = s.source.min_obstacle_height;
