@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "filter/filter.hpp"
 #include "mapping/voxel_map.hpp"
@@ -15,6 +16,7 @@
 #include "sim/simulator.hpp"
 #include "tools/atomic_file.hpp"
 #include "tools/bag_writer.hpp"
+#include "tools/serial_worker.hpp"
 
 namespace stvl::tools {
 namespace {
@@ -156,6 +158,9 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     bag->write_tf_static(sim.robot().T_base_camera_link(), sim::DiffDriveRobot::T_camera_link_optical());
     bag->write_points("/ground_truth/occupancy", 0.0, kMapFrame, evaluator.truth_voxel_centers(), true);
   }
+  // The bag is written on its own thread (declared after the bag, so it stops first); the frame loop only
+  // copies what each message needs.
+  std::unique_ptr<SerialWorker> bag_worker = bag ? std::make_unique<SerialWorker>() : nullptr;
 
   const double period_s = 1.0 / intrinsics.rate_hz;
   const std::size_t expected_frames = static_cast<std::size_t>(s.duration_s / period_s) + 1;
@@ -237,24 +242,29 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
 
     start = Clock::now();
     if (bag) {
-      bag->write_clock(t);
-      bag->write_tf(t, sim.T_map_odom(), sim.T_odom_base());
-      bag->write_odometry(t, sim.T_odom_base(), sim.odometry().v_mps(), sim.odometry().omega_radps());
-      bag->write_ground_truth_pose(t, T_world_base);
-      bag->write_depth_image(t, noisy.width, noisy.height, to_millimetres(noisy));
-      bag->write_camera_info(t, intrinsics.width, intrinsics.height, intrinsics.fx, intrinsics.fy, intrinsics.cx,
-                             intrinsics.cy);
-      bag->write_points("/camera/depth/points", t, kCameraOpticalFrame, points_C.leftCols(count));
-      bag->write_points("/stvl/filtered_points", t, kMapFrame, filtered_W);
-      if (t + 1e-9 >= next_publish_s) {
-        bag->write_points("/stvl/voxel_grid", t, kMapFrame, map.voxel_centers());
-        if (!map.empty()) {
-          const auto costmap = map.project_costmap();
-          bag->write_occupancy_grid(t, costmap.resolution, costmap.origin_x, costmap.origin_y, costmap.width,
-                                    costmap.height, occupancy(costmap));
-        }
-        next_publish_s += s.voxel_grid_publish_period_s;
-      }
+      const bool publish_map = t + 1e-9 >= next_publish_s;
+      if (publish_map) next_publish_s += s.voxel_grid_publish_period_s;
+      std::optional<mapping::Costmap2D> costmap;
+      if (publish_map && !map.empty()) costmap = map.project_costmap();
+      bag_worker->submit([&bag, t, T_world_base, T_map_odom = sim.T_map_odom(), T_odom_base = sim.T_odom_base(),
+                          v = sim.odometry().v_mps(), omega = sim.odometry().omega_radps(), intrinsics,
+                          depth_mm = to_millimetres(noisy), cloud_C = Eigen::Matrix3Xf(points_C.leftCols(count)),
+                          filtered_W, voxels = publish_map ? map.voxel_centers() : Eigen::Matrix3Xf(), publish_map,
+                          costmap = std::move(costmap)] {
+        bag->write_clock(t);
+        bag->write_tf(t, T_map_odom, T_odom_base);
+        bag->write_odometry(t, T_odom_base, v, omega);
+        bag->write_ground_truth_pose(t, T_world_base);
+        bag->write_depth_image(t, intrinsics.width, intrinsics.height, depth_mm);
+        bag->write_camera_info(t, intrinsics.width, intrinsics.height, intrinsics.fx, intrinsics.fy, intrinsics.cx,
+                               intrinsics.cy);
+        bag->write_points("/camera/depth/points", t, kCameraOpticalFrame, cloud_C);
+        bag->write_points("/stvl/filtered_points", t, kMapFrame, filtered_W);
+        if (publish_map) bag->write_points("/stvl/voxel_grid", t, kMapFrame, voxels);
+        if (costmap)
+          bag->write_occupancy_grid(t, costmap->resolution, costmap->origin_x, costmap->origin_y, costmap->width,
+                                    costmap->height, occupancy(*costmap));
+      });
     }
     r.times.bag.push_back(ms_since(start));
 
@@ -288,6 +298,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     run_checks(r);
   }
   if (bag) {
+    bag_worker->finish();
     bag->close();
   }
   if (!options.out_dir.empty()) {
