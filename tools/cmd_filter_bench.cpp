@@ -32,9 +32,8 @@ struct FilterBenchOptions {
 
 // Clouds in the world frame from the scenario's drive, evenly spaced over its first 20 s.
 std::vector<filter::BenchmarkCloud> render_clouds(const Scenario& s, int count) {
-  sim::Simulator sim(sim::World::from_file(s.world_path), s.sim);
-  sim.set_start_pose(s.start_pose.x(), s.start_pose.y(), s.start_pose.z());
-  sim.set_path(s.path);
+  const auto simulator = make_simulator(s);
+  sim::Simulator& sim = *simulator;
   sensors::DepthRenderer renderer(sim.world().model(), s.camera.intrinsics, s.camera.gl_backend);
   sensors::DepthNoise noise(s.camera.noise, s.camera.intrinsics);
   std::vector<filter::BenchmarkCloud> clouds;

@@ -47,10 +47,8 @@ int render(const RenderOptions& o) {
     s.seed = o.seed;
   }
   ensure_writable_directory(o.out_dir);
-  sim::Simulator sim(sim::World::from_file(s.world_path), s.sim);
-  sim.set_start_pose(s.start_pose.x(), s.start_pose.y(), s.start_pose.z());
-  sim.set_path(s.path);
-  if (!s.moving_bodies.empty()) sim.set_mocap_tracks(s.moving_bodies);
+  const auto simulator = make_simulator(s);
+  sim::Simulator& sim = *simulator;
   const auto& intrinsics = s.camera.intrinsics;
   sensors::DepthRenderer renderer(sim.world().model(), intrinsics, s.camera.gl_backend);
   sensors::DepthNoise noise(s.camera.noise, intrinsics);

@@ -440,4 +440,12 @@ void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
   s = std::move(r);
 }
 
+std::unique_ptr<sim::Simulator> make_simulator(const Scenario& s) {
+  auto sim = std::make_unique<sim::Simulator>(sim::World::from_file(s.world_path), s.sim);
+  sim->set_start_pose(s.start_pose.x(), s.start_pose.y(), s.start_pose.z());
+  sim->set_path(s.path);
+  if (!s.moving_bodies.empty()) sim->set_mocap_tracks(s.moving_bodies);
+  return sim;
+}
+
 }  // namespace stvl::tools

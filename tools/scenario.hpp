@@ -2,6 +2,7 @@
 // A scenario: which world, how the robot drives, the camera, the filter, the map, what is evaluated and which
 // checks must pass. Loaded from YAML (scenarios/*.yaml); every key is documented in scenarios/README.md.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -87,5 +88,8 @@ struct ScenarioOverrides {
   std::optional<bool> noise;
 };
 void apply_overrides(Scenario& scenario, const ScenarioOverrides& overrides);
+
+// The scenario's world with the robot at its start pose, on its path, and the moving bodies scripted.
+std::unique_ptr<sim::Simulator> make_simulator(const Scenario& scenario);
 
 }  // namespace stvl::tools

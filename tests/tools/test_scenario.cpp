@@ -2,6 +2,8 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "tests/tools/test_helpers.hpp"
 #include <unistd.h>
 
 #include <cmath>
@@ -17,23 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using test::invalid_argument_of;
 using ::testing::MatchesRegex;
 
 const std::string kScenarioDir = std::string(STVL_SOURCE_DIR) + "/scenarios";
 
-template <typename F>
-std::string invalid_argument_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected std::invalid_argument, got another exception: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "expected std::invalid_argument, nothing was thrown";
-  return {};
-}
 
 const char* const kMinimal = R"(name: minimal
 world: w.xml

@@ -2,6 +2,8 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include "tests/tools/test_helpers.hpp"
 #include <unistd.h>
 
 #include <cstdint>
@@ -15,23 +17,10 @@ namespace stvl::tools {
 namespace {
 
 namespace fs = std::filesystem;
+using test::invalid_argument_of;
 using ::testing::HasSubstr;
 using ::testing::MatchesRegex;
 
-// The message of the std::invalid_argument that `f` throws; a test failure when it throws nothing or another type.
-template <typename F>
-std::string invalid_argument_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected std::invalid_argument, got another exception: " << e.what();
-    return {};
-  }
-  ADD_FAILURE() << "expected std::invalid_argument, nothing was thrown";
-  return {};
-}
 
 YamlMap root_of(const std::string& text) { return YamlMap(load_yaml_string(text, "t.yaml"), "t.yaml", ""); }
 
