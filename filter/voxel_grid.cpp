@@ -89,7 +89,12 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
 
   if (layout.packed) {
     const int shift = layout.index_bits;
-    std::vector<std::uint64_t> items(bounds.finite), scratch;
+    // Kept per calling thread: a fresh multi-megabyte vector per frame costs tens of thousands of page faults.
+    // Named through references, since the pool's workers must see the caller's vectors, not their own.
+    thread_local std::vector<std::uint64_t> items_workspace, scratch_workspace;
+    std::vector<std::uint64_t>& items = items_workspace;
+    std::vector<std::uint64_t>& scratch = scratch_workspace;
+    items.resize(bounds.finite);
     detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
       std::size_t o = offset[t];
       for (std::size_t i = b; i < e; ++i) {
@@ -105,7 +110,10 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
         items, [shift](std::uint64_t v) { return shift == 64 ? 0 : v >> shift; },
         [index_mask](std::uint64_t v) { return v & index_mask; }, p, min_points, threads);
   }
-  std::vector<KeyIndex> items(bounds.finite), scratch;
+  thread_local std::vector<KeyIndex> items_workspace, scratch_workspace;
+  std::vector<KeyIndex>& items = items_workspace;
+  std::vector<KeyIndex>& scratch = scratch_workspace;
+  items.resize(bounds.finite);
   detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
     std::size_t o = offset[t];
     for (std::size_t i = b; i < e; ++i) {
