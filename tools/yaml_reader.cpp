@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 namespace stvl::tools {
@@ -114,17 +115,6 @@ std::string YamlMap::describe(const YAML::Node& node) {
   return "nothing";
 }
 
-YAML::Node load_yaml_file(const std::string& file) {
-  if (!std::filesystem::is_regular_file(file)) throw std::invalid_argument(file + ": no such file");
-  try {
-    return YAML::LoadFile(file);
-  } catch (const YAML::ParserException& e) {
-    throw std::invalid_argument(file + ":" + std::to_string(line_of(e.mark)) + ": YAML syntax error: " + e.msg);
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument(file + ": cannot read: " + e.msg);
-  }
-}
-
 YAML::Node load_yaml_string(const std::string& text, const std::string& file_name) {
   try {
     return YAML::Load(text);
@@ -133,6 +123,15 @@ YAML::Node load_yaml_string(const std::string& text, const std::string& file_nam
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(file_name + ": cannot read: " + e.msg);
   }
+}
+
+YAML::Node load_yaml_file(const std::string& file) {
+  if (!std::filesystem::is_regular_file(file)) throw std::invalid_argument(file + ": no such file");
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw std::invalid_argument(file + ": cannot read");
+  return load_yaml_string(text.str(), file);
 }
 
 }  // namespace stvl::tools

@@ -130,6 +130,7 @@ evaluation:
   tolerance_voxels: 2
   min_observed_voxels: 5
   phantom_min_cells: 3
+  phantom_clearance_m: 0.2
   sample_depth_frames: 4
 checks:
   f1_3d_min: 0.8
@@ -339,6 +340,7 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_EQ(e.tolerance_voxels, 2);
   EXPECT_EQ(e.min_observed_voxels, 5);
   EXPECT_EQ(e.phantom_min_cells, 3);
+  EXPECT_DOUBLE_EQ(e.phantom_clearance_m, 0.2);
   EXPECT_EQ(e.sample_depth_frames, 4);
   const auto& c = s.checks;
   EXPECT_EQ(c.f1_3d_min, 0.8);
