@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -53,6 +54,113 @@ void check_csnb(const Eigen::Matrix3Xf& in, const Eigen::Matrix3Xf& out, const C
   }
   if (config.max_neighbours >= 26) {
     EXPECT_EQ(over, 0);
+  }
+}
+
+// The documented algorithm, literally and slowly (brute-force neighbour counts, one point at a time), as the
+// reference that the optimized CPU code must match exactly, point for point and in the same order.
+Eigen::Matrix3Xf reference_csnb(const Eigen::Matrix3Xf& in, const CsnbConfig& config) {
+  const detail::CsnbLayout layout = detail::make_csnb_layout(detail::compute_bounds(in, 1), config);
+  struct P {
+    float x, y, z;
+    std::uint32_t column, key;
+    int c[3];
+  };
+  std::vector<P> pts;
+  for (Eigen::Index i = 0; i < in.cols(); ++i) {
+    const float x = in(0, i), y = in(1, i), z = in(2, i);
+    if (!detail::finite3(x, y, z)) continue;
+    pts.push_back({x, y, z, std::uint32_t(i), detail::cube_key(layout, x, y, z),
+                   {int(detail::cube_axis(layout, x, 0)), int(detail::cube_axis(layout, y, 1)),
+                    int(detail::cube_axis(layout, z, 2))}});
+  }
+  std::stable_sort(pts.begin(), pts.end(), [](const P& a, const P& b) { return a.key < b.key; });
+  const std::size_t m = pts.size();
+  std::vector<char> live(m, 1), settled(m, 0), anchor(m, 0);
+  std::vector<std::uint32_t> anchors;
+  for (std::size_t b = 0; b < m;) {
+    std::size_t e = b, best = b;
+    for (; e < m && pts[e].key == pts[b].key; ++e) {
+      if (detail::centre_sq_dist(layout, pts[e].key, pts[e].x, pts[e].y, pts[e].z) <
+          detail::centre_sq_dist(layout, pts[best].key, pts[best].x, pts[best].y, pts[best].z))
+        best = e;
+    }
+    anchor[best] = 1;
+    anchors.push_back(std::uint32_t(best));
+    b = e;
+  }
+  auto near = [&](std::size_t s, std::size_t t) {
+    for (int a = 0; a < 3; ++a)
+      if (std::abs(pts[s].c[a] - pts[t].c[a]) > layout.reach) return false;
+    return detail::sq_dist(pts[s].x, pts[s].y, pts[s].z, pts[t].x, pts[t].y, pts[t].z) < layout.radius_sq;
+  };
+  auto marked = [&](std::size_t s) {
+    int k = 0;
+    for (std::size_t t = 0; t < m; ++t) k += t != s && live[t] && near(s, t);
+    return k > config.max_neighbours;
+  };
+  std::vector<std::uint64_t> order;
+  for (std::size_t s = 0; s < m; ++s)
+    if (!anchor[s]) order.push_back(detail::csnb_priority(config.seed, pts[s].column, std::uint32_t(s)));
+  std::sort(order.begin(), order.end());
+  const std::size_t K = std::size_t(config.batch_size);
+  for (std::size_t cursor = 0;;) {
+    std::vector<std::size_t> batch;
+    std::size_t next = order.size();
+    for (std::size_t i = cursor; i < order.size(); ++i) {
+      const std::size_t s = std::uint32_t(order[i]);
+      if (!live[s] || settled[s]) continue;
+      if (!marked(s)) {
+        settled[s] = 1;
+        continue;
+      }
+      if (batch.size() == K) {
+        next = i;
+        break;
+      }
+      batch.push_back(s);
+    }
+    for (std::size_t s : batch) live[s] = 0;
+    if (next == order.size()) break;
+    cursor = next;
+  }
+  std::vector<std::uint32_t> claims;
+  for (std::uint32_t a : anchors)
+    if (marked(a)) claims.push_back(a);
+  for (std::uint32_t a : claims)
+    for (std::size_t t = 0; t < m; ++t)
+      if (!anchor[t] && near(a, t)) live[t] = 0;
+  Eigen::Matrix3Xf out(3, std::count(live.begin(), live.end(), 1));
+  Eigen::Index o = 0;
+  for (std::size_t s = 0; s < m; ++s)
+    if (live[s]) out.col(o++) << pts[s].x, pts[s].y, pts[s].z;
+  return out;
+}
+
+TEST(Csnb, EqualsTheLiteralAlgorithm) {
+  const Eigen::Matrix3Xf corridor = make_corridor_cloud(4, 96, 54);
+  const Eigen::Matrix3Xf random = test::random_cloud(21, 2500, -0.3f, 0.4f);
+  struct Case {
+    const Eigen::Matrix3Xf* cloud;
+    double voxel_m;
+    int threshold, batch, exponent;
+  };
+  for (const Case& c : {Case{&random, 0.1, 4, 7, 0}, Case{&random, 0.05, 0, 1000, 0}, Case{&random, 0.08, 2, 3, 5},
+                        Case{&corridor, 0.05, 4, 11, 0}, Case{&corridor, 0.1, 8, 200, 0},
+                        Case{&corridor, 0.2, 3, 5, 4}}) {
+    CsnbConfig config;
+    config.voxel_size_m = c.voxel_m;
+    config.max_neighbours = c.threshold;
+    config.batch_size = c.batch;
+    config.grid_exponent = c.exponent;
+    config.seed = 7;
+    const Eigen::Matrix3Xf expected = reference_csnb(*c.cloud, config);
+    for (int threads : {1, 2, 3}) {
+      const Eigen::Matrix3Xf got = csnb(*c.cloud, config, threads);
+      ASSERT_EQ(got.cols(), expected.cols()) << "voxel " << c.voxel_m << " threads " << threads;
+      EXPECT_TRUE(got == expected) << "voxel " << c.voxel_m << " threads " << threads;
+    }
+    EXPECT_LT(expected.cols(), c.cloud->cols());
   }
 }
 
