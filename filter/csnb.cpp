@@ -1,6 +1,7 @@
 #include "filter/csnb.hpp"
 
-#include <atomic>
+#include <algorithm>
+#include <limits>
 
 #include "filter/detail/common.hpp"
 
@@ -10,88 +11,114 @@ namespace {
 
 using detail::CsnbLayout;
 
-// Sorted cloud, cube table and per-cube neighbour spans (sorted-position ranges).
-struct Grid {
-  std::vector<float> x, y, z;
-  std::vector<std::uint32_t> column;       // input column of each sorted point
-  std::vector<std::uint32_t> cube_key;     // occupied cubes, ascending
-  std::vector<std::uint32_t> cube_begin;   // first sorted point of each cube, plus the end
-  std::vector<std::uint32_t> cube_of;      // cube of each sorted point
-  std::vector<std::uint32_t> spans;        // per cube, rows x (first cube, end cube)
-  int rows = 0;
+// A point (cube = index into the occupied-cube table) and a candidate neighbour: the points that were live
+// at the last compaction, per cube in sorted order, with x set to NaN once deleted (NaN is never < r2).
+// The walk visits points in a random order, so everything it reads per point is stored by walk id (the
+// position in that order; anchors follow, by cube) and read sequentially; only neighbours are random.
+struct Point {
+  float x, y, z;
+  std::uint32_t cube;
+};
+struct Candidate {
+  float x, y, z;
+  std::uint32_t id;  // walk id
 };
 
-template <class Fn>
-void parallel_dynamic(std::size_t n, int threads, std::size_t chunk, Fn&& fn) {
-  std::atomic<std::size_t> next{0};
-  detail::parallel_for(static_cast<std::size_t>(threads), threads, [&](std::size_t, std::size_t, int) {
-    for (std::size_t b; (b = next.fetch_add(chunk)) < n;) fn(b, std::min(n, b + chunk));
-  });
+enum : std::uint8_t { kLive = 0, kSettled = 1, kDead = 2 };  // a settled point is live and can never be marked
+
+// Buffers kept per calling thread (see voxel_grid.cpp): fresh ones would page-fault on every frame.
+struct Workspace {
+  std::vector<std::uint64_t> items, scratch, order;
+  std::vector<std::uint32_t> run_end, column, cube_key, cube_begin, spans, anchor, slot_of, start, row_slots, batch,
+      walk_of;
+  std::vector<Point> points, walk_points;
+  std::vector<Candidate> candidates;
+  std::vector<std::uint8_t> state, is_anchor, result, claims;
+};
+
+// Two-pass parallel fill: count(t, b, e) says how many outputs part t makes, write(t, b, e, first) writes them
+// from `first`; returns the total. Parts are contiguous ranges of [0, n), so outputs keep the input order.
+template <class Count, class Write>
+std::size_t parallel_compact(std::size_t n, int threads, std::size_t grain, Count&& count, Write&& write) {
+  const int parts = detail::parts_for(n, threads, grain);
+  std::vector<std::size_t> offset(parts + 1, 0);
+  detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) { offset[t + 1] = count(t, b, e); });
+  for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
+  detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) { write(t, b, e, offset[t]); });
+  return offset[parts];
 }
 
-// Marked = a live point with more than `threshold` live neighbours. Counted lazily with early exit: the
-// centre row (the point's own cube and its x-neighbours) first, then the others.
+// Marked = a live point with more than `threshold` live neighbours. Counted with early exit every 16
+// candidates, the centre row (the point's own cube and its x-neighbours) first.
 struct Evaluator {
-  const float* X;  // sorted points
-  const float* Y;
-  const float* Z;
-  const std::uint8_t* live;
-  const std::uint32_t* spans;
-  const std::uint32_t* cube_of;
+  const Point* points;
+  const Candidate* candidates;
+  const std::uint32_t* row_slots;  // per cube and row: the candidate range [first, end)
   int rows;
   int centre_row;
   float r2;
   int threshold;
-  // The candidates: the points not yet known dead, per cube from start[c], with their sorted positions.
-  const float* CX;
-  const float* CY;
-  const float* CZ;
-  const std::uint32_t* id;
-  const std::uint32_t* start;
 
-  bool marked(std::uint32_t s) const {
-    const std::uint32_t* span = spans + std::size_t(cube_of[s]) * rows * 2;
-    const float px = X[s], py = Y[s], pz = Z[s];
+  bool marked(std::uint32_t id) const {
+    const Point p = points[id];
+    const std::uint32_t* slots = row_slots + std::size_t(p.cube) * rows * 2;
     int k = 0;
     for (int q = -1; q < rows; ++q) {
       const int r = q < 0 ? centre_row : q;
       if (q == centre_row) continue;
-      const std::uint32_t b = start[span[2 * r]], e = start[span[2 * r + 1]];
-      for (std::uint32_t j = b; j < e; ++j) {
-        const std::uint32_t o = id[j];
-        k += (detail::sq_dist(px, py, pz, CX[j], CY[j], CZ[j]) < r2) & live[o] & (o != s);
+      for (std::uint32_t j = slots[2 * r], e = slots[2 * r + 1]; j < e;) {
+        for (const std::uint32_t stop = std::min(e, j + 16); j < stop; ++j) {
+          const Candidate& c = candidates[j];
+          k += (detail::sq_dist(p.x, p.y, p.z, c.x, c.y, c.z) < r2) & (c.id != id);
+        }
+        if (k > threshold) return true;
       }
-      if (k > threshold) return true;
     }
     return false;
   }
-};
-
-// Candidate arrays without the dead points, rebuilt when enough have died.
-struct Compact {
-  std::vector<float> x, y, z;
-  std::vector<std::uint32_t> id, start;
-  void rebuild(const Grid& g, const std::vector<std::uint8_t>& live, std::size_t cubes) {
-    const std::size_t m = g.x.size();
-    x.resize(m);
-    y.resize(m);
-    z.resize(m);
-    id.resize(m);
-    start.resize(cubes + 1);
-    std::uint32_t o = 0;
-    for (std::size_t c = 0; c < cubes; ++c) {
-      start[c] = o;
-      for (std::uint32_t s = g.cube_begin[c]; s < g.cube_begin[c + 1]; ++s) {
-        x[o] = g.x[s];
-        y[o] = g.y[s];
-        z[o] = g.z[s];
-        id[o] = s;
-        o += live[s];
-      }
-    }
-    start[cubes] = o;
+  void prefetch_rows(std::uint32_t id) const {
+    const std::uint32_t* slots = row_slots + std::size_t(points[id].cube) * rows * 2;
+    __builtin_prefetch(slots);
+    __builtin_prefetch(slots + 16);
+  }
+  void prefetch_centre(std::uint32_t id) const {
+    const std::uint32_t* slots = row_slots + std::size_t(points[id].cube) * rows * 2;
+    __builtin_prefetch(&candidates[slots[2 * centre_row]]);
   }
 };
+
+// Candidates = the points not dead, per cube in sorted order, and each row's candidate range per cube.
+void compact(Workspace& w, std::size_t cubes, int rows, int threads) {
+  const std::size_t m = w.points.size();
+  w.candidates.resize(m);
+  w.start.resize(cubes + 1);
+  const std::uint32_t* begin = w.cube_begin.data();
+  const std::size_t total = parallel_compact(
+      cubes, threads, 2048,
+      [&](int, std::size_t b, std::size_t e) {
+        std::size_t live = 0;
+        for (std::uint32_t s = begin[b]; s < begin[e]; ++s) live += w.state[w.walk_of[s]] != kDead;
+        return live;
+      },
+      [&](int, std::size_t b, std::size_t e, std::size_t first) {
+        std::uint32_t o = static_cast<std::uint32_t>(first);
+        for (std::size_t c = b; c < e; ++c) {
+          w.start[c] = o;
+          for (std::uint32_t s = begin[c]; s < begin[c + 1]; ++s) {
+            const std::uint32_t id = w.walk_of[s];
+            if (w.state[id] == kDead) continue;
+            w.candidates[o] = {w.points[s].x, w.points[s].y, w.points[s].z, id};
+            w.slot_of[id] = o++;
+          }
+        }
+      });
+  w.start[cubes] = static_cast<std::uint32_t>(total);
+  w.row_slots.resize(cubes * rows * 2);
+  detail::parallel_for(cubes * rows * 2, detail::parts_for(cubes * rows * 2, threads, 16384),
+                       [&](std::size_t b, std::size_t e, int) {
+                         for (std::size_t i = b; i < e; ++i) w.row_slots[i] = w.start[w.spans[i]];
+                       });
+}
 
 }  // namespace
 
@@ -107,81 +134,99 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   const float* p = points.data();
   const int index_bits = std::max(1, detail::bit_width(n - 1));
   const int key_bits = 3 * layout.grid_exponent;
+  thread_local Workspace workspace;
+  Workspace& w = workspace;  // named through a reference: the pool's workers must see the caller's buffers
 
   // Group points by cube in index order: runs of consecutive points in one cube become one entry
   // (key << index_bits | first index), run_end[first] ends the run; a stable sort on the key bits.
-  std::vector<std::uint64_t> items(n), scratch(n);
-  std::vector<std::uint32_t> run_end(n);
+  w.items.resize(n);
+  w.scratch.resize(n);
+  w.run_end.resize(n);
   const int parts = detail::parts_for(n, threads, 16384);
   std::vector<detail::Segment<std::uint64_t>> segments(parts);
   detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
-    std::uint64_t* out = items.data() + b;
+    std::uint64_t* out = w.items.data() + b;
     std::size_t count = 0;
     std::uint32_t current = 0, run_begin = 0;
     bool in_run = false;
     for (std::size_t i = b; i < e; ++i) {
       const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
       if (!detail::finite3(x, y, z)) {
-        if (in_run) run_end[run_begin] = static_cast<std::uint32_t>(i);
+        if (in_run) w.run_end[run_begin] = static_cast<std::uint32_t>(i);
         in_run = false;
         continue;
       }
       const std::uint32_t key = detail::cube_key(layout, x, y, z);
       if (in_run && key == current) continue;
-      if (in_run) run_end[run_begin] = static_cast<std::uint32_t>(i);
+      if (in_run) w.run_end[run_begin] = static_cast<std::uint32_t>(i);
       out[count++] = std::uint64_t{key} << index_bits | i;
       current = key;
       run_begin = static_cast<std::uint32_t>(i);
       in_run = true;
     }
-    if (in_run) run_end[run_begin] = static_cast<std::uint32_t>(e);
+    if (in_run) w.run_end[run_begin] = static_cast<std::uint32_t>(e);
     segments[t] = {out, count};
   });
   std::size_t runs = 0;
   for (const auto& seg : segments) runs += seg.size;
   const std::uint64_t* sorted = detail::radix_sort_segments(
-      segments, items.data(), scratch.data(), index_bits, index_bits + key_bits, [](std::uint64_t v) { return v; },
+      segments, w.items.data(), w.scratch.data(), index_bits, index_bits + key_bits, [](std::uint64_t v) { return v; },
       threads);
 
-  Grid g;
-  g.x.resize(m);
-  g.y.resize(m);
-  g.z.resize(m);
-  g.column.resize(m);
-  g.cube_of.resize(m);
+  // Sorted points, and the cube table: a cube starts at every run whose key differs from the previous run's.
   const std::uint64_t index_mask = (std::uint64_t{1} << index_bits) - 1;
-  {
-    std::size_t s = 0;
-    for (std::size_t r = 0; r < runs; ++r) {
-      const std::uint32_t first = static_cast<std::uint32_t>(sorted[r] & index_mask);
-      const std::uint32_t key = static_cast<std::uint32_t>(sorted[r] >> index_bits);
-      if (g.cube_key.empty() || key != g.cube_key.back()) {
-        g.cube_key.push_back(key);
-        g.cube_begin.push_back(static_cast<std::uint32_t>(s));
+  auto run_key = [&](std::size_t r) { return static_cast<std::uint32_t>(sorted[r] >> index_bits); };
+  auto run_first = [&](std::size_t r) { return static_cast<std::uint32_t>(sorted[r] & index_mask); };
+  auto opens_cube = [&](std::size_t r) { return r == 0 || run_key(r) != run_key(r - 1); };
+  const int run_parts = detail::parts_for(runs, threads, 4096);
+  std::vector<std::size_t> point_offset(run_parts + 1, 0), cube_offset(run_parts + 1, 0);
+  detail::parallel_for(runs, run_parts, [&](std::size_t b, std::size_t e, int t) {
+    std::size_t count = 0, opened = 0;
+    for (std::size_t r = b; r < e; ++r) {
+      count += w.run_end[run_first(r)] - run_first(r);
+      opened += opens_cube(r);
+    }
+    point_offset[t + 1] = count;
+    cube_offset[t + 1] = opened;
+  });
+  for (int t = 0; t < run_parts; ++t) {
+    point_offset[t + 1] += point_offset[t];
+    cube_offset[t + 1] += cube_offset[t];
+  }
+  const std::size_t cubes = cube_offset[run_parts];
+  w.points.resize(m);
+  w.column.resize(m);
+  w.cube_key.resize(cubes);
+  w.cube_begin.resize(cubes + 1);
+  detail::parallel_for(runs, run_parts, [&](std::size_t b, std::size_t e, int t) {
+    std::size_t s = point_offset[t], c = cube_offset[t];
+    for (std::size_t r = b; r < e; ++r) {
+      if (opens_cube(r)) {
+        w.cube_key[c] = run_key(r);
+        w.cube_begin[c++] = static_cast<std::uint32_t>(s);
       }
-      const std::uint32_t c = static_cast<std::uint32_t>(g.cube_key.size() - 1);
-      for (std::uint32_t i = first; i < run_end[first]; ++i, ++s) {
-        g.cube_of[s] = c;
-        g.column[s] = i;
-        g.x[s] = p[3 * std::size_t(i)];
-        g.y[s] = p[3 * std::size_t(i) + 1];
-        g.z[s] = p[3 * std::size_t(i) + 2];
+      const std::uint32_t cube = static_cast<std::uint32_t>(c - 1);
+      for (std::uint32_t i = run_first(r); i < w.run_end[run_first(r)]; ++i, ++s) {
+        w.points[s] = {p[3 * std::size_t(i)], p[3 * std::size_t(i) + 1], p[3 * std::size_t(i) + 2], cube};
+        w.column[s] = i;
       }
     }
-  }
-  const std::size_t cubes = g.cube_key.size();
-  g.cube_begin.push_back(static_cast<std::uint32_t>(m));
-  g.rows = detail::csnb_rows(layout);
-  g.spans.assign(cubes * g.rows * 2, 0);
-  std::vector<std::uint32_t> anchor(cubes);
+  });
+  w.cube_begin[cubes] = static_cast<std::uint32_t>(m);
+
+  // Per cube and row, the range of occupied cubes the row covers; the anchor: the point nearest the cube
+  // centre, ties to the earliest sorted position.
+  const int rows = detail::csnb_rows(layout);
+  w.spans.assign(cubes * rows * 2, 0);
+  w.anchor.resize(cubes);
   const int cube_parts = detail::parts_for(cubes, threads, 1024);
   detail::parallel_for(cubes, cube_parts, [&](std::size_t b, std::size_t e, int) {
     // Per row the searched key ranges grow with the cube, so two pointers per row walk the cube table.
-    std::vector<std::uint32_t> lo_at(g.rows, 0), hi_at(g.rows, 0);
+    std::vector<std::uint32_t> lo_at(rows, 0), hi_at(rows, 0);
     bool started = false;
-    const std::uint32_t* keys = g.cube_key.data();
+    const std::uint32_t* keys = w.cube_key.data();
     for (std::size_t c = b; c < e; ++c) {
-      for (int r = 0; r < g.rows; ++r) {
+      for (int r = 0; r < rows; ++r) {
         std::uint32_t lo, hi;
         if (!detail::csnb_row(layout, keys[c], r, &lo, &hi)) continue;
         std::uint32_t& c0 = lo_at[r];
@@ -194,45 +239,26 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
           if (c1 < c0) c1 = c0;
           while (c1 < cubes && keys[c1] <= hi) ++c1;
         }
-        g.spans[(c * g.rows + r) * 2] = c0;
-        g.spans[(c * g.rows + r) * 2 + 1] = c1;
+        w.spans[(c * rows + r) * 2] = c0;
+        w.spans[(c * rows + r) * 2 + 1] = c1;
       }
       started = true;
-      // Anchor: the point nearest the cube centre, ties to the earliest sorted position.
-      std::uint32_t best = g.cube_begin[c];
-      double best_d = detail::centre_sq_dist(layout, g.cube_key[c], g.x[best], g.y[best], g.z[best]);
-      for (std::uint32_t s = best + 1; s < g.cube_begin[c + 1]; ++s) {
-        const double d = detail::centre_sq_dist(layout, g.cube_key[c], g.x[s], g.y[s], g.z[s]);
+      std::uint32_t best = w.cube_begin[c];
+      const Point* q = w.points.data();
+      double best_d = detail::centre_sq_dist(layout, keys[c], q[best].x, q[best].y, q[best].z);
+      for (std::uint32_t s = best + 1; s < w.cube_begin[c + 1]; ++s) {
+        const double d = detail::centre_sq_dist(layout, keys[c], q[s].x, q[s].y, q[s].z);
         if (d < best_d) {
           best_d = d;
           best = s;
         }
       }
-      anchor[c] = best;
+      w.anchor[c] = best;
     }
   });
 
-  std::vector<std::uint8_t> live(m, 1), settled(m, 0), is_anchor(m, 0);
-  for (std::size_t c = 0; c < cubes; ++c) is_anchor[anchor[c]] = 1;
-  const int side = 2 * layout.reach + 1;
-  Compact compact;
-  compact.rebuild(g, live, cubes);
-  Evaluator eval{g.x.data(),
-                 g.y.data(),
-                 g.z.data(),
-                 live.data(),
-                 g.spans.data(),
-                 g.cube_of.data(),
-                 g.rows,
-                 layout.reach + layout.reach * side,
-                 layout.radius_sq,
-                 config.max_neighbours,
-                 compact.x.data(),
-                 compact.y.data(),
-                 compact.z.data(),
-                 compact.id.data(),
-                 compact.start.data()};
-  std::size_t alive = m, dead_since = 0;
+  w.is_anchor.assign(m, 0);
+  for (std::size_t c = 0; c < cubes; ++c) w.is_anchor[w.anchor[c]] = 1;
 
   // Batches follow one random order of the non-anchor points, fixed by the seed. A point that is not marked
   // can never be marked again (counts only fall), and deleted points never return, so the points the walk
@@ -241,87 +267,115 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   // A point's mark is counted when the walk reaches it, on the live set of that moment (the batch being
   // gathered is deleted only once complete), which is exactly what per-point neighbour counts kept up to
   // date by decrements would say; a point found unmarked stays settled.
-  std::vector<std::uint64_t> order;
-  order.reserve(m - cubes);
-  for (std::size_t s = 0; s < m; ++s) {
-    if (!is_anchor[s]) order.push_back(detail::csnb_priority(config.seed, g.column[s], static_cast<std::uint32_t>(s)));
-  }
-  detail::radix_sort(order, scratch, 32, 64, [](std::uint64_t v) { return v; }, threads);
-  const std::size_t K = static_cast<std::size_t>(config.batch_size);
-  const float* X = g.x.data();
-  const float* Y = g.y.data();
-  const float* Z = g.z.data();
-  std::vector<std::uint32_t> batch;
-  batch.reserve(std::min(K, m));
-  for (std::size_t cursor = 0;;) {
-    batch.clear();
-    std::size_t next = order.size();
-    for (std::size_t i = cursor; i < order.size(); ++i) {
-      // The walk visits points at random: prefetch the flags and cube of a point 16 ahead, its neighbour
-      // spans and centre row 8 ahead.
-      if (i + 16 < order.size()) {
-        const std::uint32_t f = static_cast<std::uint32_t>(order[i + 16]);
-        __builtin_prefetch(&live[f]);
-        __builtin_prefetch(&settled[f]);
-        __builtin_prefetch(&g.cube_of[f]);
-      }
-      if (i + 8 < order.size()) {
-        const std::uint32_t f = static_cast<std::uint32_t>(order[i + 8]);
-        const std::uint32_t* span = &g.spans[std::size_t(g.cube_of[f]) * g.rows * 2];
-        __builtin_prefetch(span);
-        __builtin_prefetch(&compact.start[span[2 * eval.centre_row]]);
-        __builtin_prefetch(&X[f]);
-        __builtin_prefetch(&Y[f]);
-        __builtin_prefetch(&Z[f]);
-      }
-      const std::uint32_t s = static_cast<std::uint32_t>(order[i]);
-      if (!live[s] || settled[s]) continue;
-      if (!eval.marked(s)) {
-        settled[s] = 1;
-        continue;
-      }
-      if (batch.size() == K) {
-        next = i;
-        break;
-      }
-      batch.push_back(s);
+  const std::size_t order_size = parallel_compact(
+      m, threads, 16384,
+      [&](int, std::size_t b, std::size_t e) {
+        std::size_t count = 0;
+        for (std::size_t s = b; s < e; ++s) count += !w.is_anchor[s];
+        return count;
+      },
+      [&](int, std::size_t b, std::size_t e, std::size_t first) {
+        for (std::size_t s = b; s < e; ++s) {
+          if (w.is_anchor[s]) continue;
+          w.items[first++] = detail::csnb_priority(config.seed, w.column[s], static_cast<std::uint32_t>(s));
+        }
+      });
+  w.order.assign(w.items.begin(), w.items.begin() + order_size);
+  detail::radix_sort(w.order, w.scratch, 32, 64, [](std::uint64_t v) { return v; }, threads);
+  w.walk_of.resize(m);
+  w.walk_points.resize(m);
+  detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
+    for (std::size_t i = b; i < e; ++i) {
+      const std::uint32_t s = i < order_size ? static_cast<std::uint32_t>(w.order[i]) : w.anchor[i - order_size];
+      w.walk_of[s] = static_cast<std::uint32_t>(i);
+      w.walk_points[i] = w.points[s];
     }
-    for (std::uint32_t s : batch) live[s] = 0;  // the last batch (K or fewer marked) deletes all still marked
-    alive -= batch.size();
-    dead_since += batch.size();
-    if (dead_since * 2 > alive && next != order.size()) {
-      compact.rebuild(g, live, cubes);
+  });
+  w.state.assign(m, kLive);
+  w.slot_of.resize(m);
+  compact(w, cubes, rows, threads);
+  const int side = 2 * layout.reach + 1;
+  const Evaluator eval{w.walk_points.data(), w.candidates.data(), w.row_slots.data(), rows,
+                       layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
+
+  // The walk is evaluated ahead in windows, in parallel: within a batch the live set does not change, so
+  // every mark in the window is the one the sequential walk would count. Marked points past the (K+1)-th are
+  // evaluated again later; unmarked ones are settled at once (they would be found unmarked later too).
+  const std::size_t K = static_cast<std::size_t>(config.batch_size);
+  w.result.resize(order_size);
+  std::size_t alive = m, dead_since = 0, window = K + 1;
+  auto evaluate = [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      if (i + 12 < e) eval.prefetch_rows(static_cast<std::uint32_t>(i + 12));
+      if (i + 4 < e) eval.prefetch_centre(static_cast<std::uint32_t>(i + 4));
+      w.result[i] = w.state[i] != kLive ? 0 : eval.marked(static_cast<std::uint32_t>(i)) ? 2 : 1;
+    }
+  };
+  for (std::size_t cursor = 0;;) {
+    w.batch.clear();
+    std::size_t i = cursor, next = order_size;
+    while (i < order_size && next == order_size) {
+      const std::size_t end = std::min(order_size, i + window);
+      const int eval_parts = detail::parts_for(end - i, threads, 256);
+      detail::parallel_for(end - i, eval_parts, [&](std::size_t b, std::size_t e, int) { evaluate(i + b, i + e); });
+      for (std::size_t j = i; j < end; ++j) {
+        if (w.result[j] == 1) {
+          w.state[j] = kSettled;
+        } else if (w.result[j] == 2 && next == order_size) {
+          if (w.batch.size() == K)
+            next = j;
+          else
+            w.batch.push_back(static_cast<std::uint32_t>(j));
+        }
+      }
+      // Next window: enough positions for the marks still missing at the rate seen so far, plus a margin.
+      const std::size_t missing = K + 1 - std::min(K + 1, w.batch.size() + (next != order_size));
+      const double rate = double(w.batch.size() + 1) / double(end - cursor);
+      window = std::max<std::size_t>(256, static_cast<std::size_t>(1.2 * double(std::max<std::size_t>(missing, K / 4 + 1)) / rate));
+      i = end;
+    }
+    for (std::uint32_t id : w.batch) {  // the last batch (K or fewer marked) deletes all still marked
+      w.state[id] = kDead;
+      w.candidates[w.slot_of[id]].x = std::numeric_limits<float>::quiet_NaN();
+    }
+    alive -= w.batch.size();
+    dead_since += w.batch.size();
+    if (next == order_size) break;
+    if (dead_since * 2 > alive) {
+      compact(w, cubes, rows, threads);
       dead_since = 0;
     }
-    if (next == order.size()) break;
     cursor = next;
   }
+
   // Anchors still over the threshold (on the final live set) take their non-anchor neighbours with them.
-  std::vector<std::uint8_t> claims(cubes, 0);
+  w.claims.assign(cubes, 0);
   detail::parallel_for(cubes, cube_parts, [&](std::size_t b, std::size_t e, int) {
-    for (std::size_t c = b; c < e; ++c) claims[c] = eval.marked(anchor[c]);
+    for (std::size_t c = b; c < e; ++c) w.claims[c] = eval.marked(static_cast<std::uint32_t>(order_size + c));
   });
   const float r2 = layout.radius_sq;
+  const Point* q = w.points.data();
   for (std::size_t c = 0; c < cubes; ++c) {
-    if (!claims[c]) continue;
-    const std::uint32_t a = anchor[c];
-    const std::uint32_t* span = &g.spans[c * g.rows * 2];
-    for (int r = 0; r < g.rows; ++r) {
-      for (std::uint32_t j = g.cube_begin[span[2 * r]]; j < g.cube_begin[span[2 * r + 1]]; ++j) {
-        if (!is_anchor[j] && detail::sq_dist(X[a], Y[a], Z[a], X[j], Y[j], Z[j]) < r2) live[j] = 0;
+    if (!w.claims[c]) continue;
+    const Point a = q[w.anchor[c]];
+    const std::uint32_t* span = &w.spans[c * rows * 2];
+    for (int r = 0; r < rows; ++r) {
+      for (std::uint32_t j = w.cube_begin[span[2 * r]]; j < w.cube_begin[span[2 * r + 1]]; ++j) {
+        if (!w.is_anchor[j] && detail::sq_dist(a.x, a.y, a.z, q[j].x, q[j].y, q[j].z) < r2)
+          w.state[w.walk_of[j]] = kDead;
       }
     }
   }
 
   std::size_t kept = 0;
-  for (std::size_t s = 0; s < m; ++s) kept += live[s];
+  for (std::size_t s = 0; s < m; ++s) kept += w.state[w.walk_of[s]] != kDead;
   Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(kept));
   float* o = out.data();
   for (std::size_t s = 0; s < m; ++s) {
-    if (!live[s]) continue;
-    o[0] = X[s];
-    o[1] = Y[s];
-    o[2] = Z[s];
+    if (w.state[w.walk_of[s]] == kDead) continue;
+    o[0] = q[s].x;
+    o[1] = q[s].y;
+    o[2] = q[s].z;
     o += 3;
   }
   return out;
