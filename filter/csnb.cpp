@@ -36,15 +36,18 @@ struct Workspace {
   std::vector<std::uint8_t> state, is_anchor, result, claims;
 };
 
-// Two-pass parallel fill: count(t, b, e) says how many outputs part t makes, write(t, b, e, first) writes them
-// from `first`; returns the total. Parts are contiguous ranges of [0, n), so outputs keep the input order.
-template <class Count, class Write>
-std::size_t parallel_compact(std::size_t n, int threads, std::size_t grain, Count&& count, Write&& write) {
+// Two-pass parallel fill: count(b, e) says how many outputs the part [b, e) makes, prepare(total) makes room,
+// write(b, e, first) writes them from `first`; returns the total. Parts are contiguous ranges of [0, n), so
+// the outputs keep the input order.
+template <class Count, class Prepare, class Write>
+std::size_t parallel_compact(std::size_t n, int threads, std::size_t grain, Count&& count, Prepare&& prepare,
+                             Write&& write) {
   const int parts = detail::parts_for(n, threads, grain);
   std::vector<std::size_t> offset(parts + 1, 0);
-  detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) { offset[t + 1] = count(t, b, e); });
+  detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) { offset[t + 1] = count(b, e); });
   for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
-  detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) { write(t, b, e, offset[t]); });
+  prepare(offset[parts]);
+  detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) { write(b, e, offset[t]); });
   return offset[parts];
 }
 
@@ -95,12 +98,13 @@ void compact(Workspace& w, std::size_t cubes, int rows, int threads) {
   const std::uint32_t* begin = w.cube_begin.data();
   const std::size_t total = parallel_compact(
       cubes, threads, 2048,
-      [&](int, std::size_t b, std::size_t e) {
+      [&](std::size_t b, std::size_t e) {
         std::size_t live = 0;
         for (std::uint32_t s = begin[b]; s < begin[e]; ++s) live += w.state[w.walk_of[s]] != kDead;
         return live;
       },
-      [&](int, std::size_t b, std::size_t e, std::size_t first) {
+      [](std::size_t) {},
+      [&](std::size_t b, std::size_t e, std::size_t first) {
         std::uint32_t o = static_cast<std::uint32_t>(first);
         for (std::size_t c = b; c < e; ++c) {
           w.start[c] = o;
@@ -269,12 +273,13 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   // date by decrements would say; a point found unmarked stays settled.
   const std::size_t order_size = parallel_compact(
       m, threads, 16384,
-      [&](int, std::size_t b, std::size_t e) {
+      [&](std::size_t b, std::size_t e) {
         std::size_t count = 0;
         for (std::size_t s = b; s < e; ++s) count += !w.is_anchor[s];
         return count;
       },
-      [&](int, std::size_t b, std::size_t e, std::size_t first) {
+      [](std::size_t) {},
+      [&](std::size_t b, std::size_t e, std::size_t first) {
         for (std::size_t s = b; s < e; ++s) {
           if (w.is_anchor[s]) continue;
           w.items[first++] = detail::csnb_priority(config.seed, w.column[s], static_cast<std::uint32_t>(s));
@@ -354,30 +359,40 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     for (std::size_t c = b; c < e; ++c) w.claims[c] = eval.marked(static_cast<std::uint32_t>(order_size + c));
   });
   const float r2 = layout.radius_sq;
-  const Point* q = w.points.data();
   for (std::size_t c = 0; c < cubes; ++c) {
     if (!w.claims[c]) continue;
-    const Point a = q[w.anchor[c]];
-    const std::uint32_t* span = &w.spans[c * rows * 2];
+    const Point a = w.walk_points[order_size + c];
+    const std::uint32_t* slots = &w.row_slots[c * rows * 2];
     for (int r = 0; r < rows; ++r) {
-      for (std::uint32_t j = w.cube_begin[span[2 * r]]; j < w.cube_begin[span[2 * r + 1]]; ++j) {
-        if (!w.is_anchor[j] && detail::sq_dist(a.x, a.y, a.z, q[j].x, q[j].y, q[j].z) < r2)
-          w.state[w.walk_of[j]] = kDead;
+      for (std::uint32_t j = slots[2 * r]; j < slots[2 * r + 1]; ++j) {
+        const Candidate& n = w.candidates[j];  // deleted ones have x = NaN: never nearer than r2
+        if (n.id < order_size && detail::sq_dist(a.x, a.y, a.z, n.x, n.y, n.z) < r2) w.state[n.id] = kDead;
       }
     }
   }
+  const Point* q = w.points.data();
 
-  std::size_t kept = 0;
-  for (std::size_t s = 0; s < m; ++s) kept += w.state[w.walk_of[s]] != kDead;
-  Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(kept));
-  float* o = out.data();
-  for (std::size_t s = 0; s < m; ++s) {
-    if (w.state[w.walk_of[s]] == kDead) continue;
-    o[0] = q[s].x;
-    o[1] = q[s].y;
-    o[2] = q[s].z;
-    o += 3;
-  }
+  // Kept points in sorted order.
+  w.result.resize(m);
+  Eigen::Matrix3Xf out;
+  parallel_compact(
+      m, threads, 16384,
+      [&](std::size_t b, std::size_t e) {
+        std::size_t kept = 0;
+        for (std::size_t s = b; s < e; ++s) kept += w.result[s] = w.state[w.walk_of[s]] != kDead;
+        return kept;
+      },
+      [&](std::size_t kept) { out.resize(3, static_cast<Eigen::Index>(kept)); },
+      [&](std::size_t b, std::size_t e, std::size_t first) {
+        float* o = out.data() + 3 * first;
+        for (std::size_t s = b; s < e; ++s) {
+          if (!w.result[s]) continue;
+          o[0] = q[s].x;
+          o[1] = q[s].y;
+          o[2] = q[s].z;
+          o += 3;
+        }
+      });
   return out;
 }
 
