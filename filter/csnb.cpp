@@ -56,6 +56,7 @@ std::size_t parallel_compact(std::size_t n, int threads, std::size_t grain, Coun
 struct Evaluator {
   const Point* points;
   const Candidate* candidates;
+  const std::uint32_t* start;      // per cube: its first candidate
   const std::uint32_t* row_slots;  // per cube and row: the candidate range [first, end)
   int rows;
   int centre_row;
@@ -66,16 +67,23 @@ struct Evaluator {
     const Point p = points[id];
     const std::uint32_t* slots = row_slots + std::size_t(p.cube) * rows * 2;
     int k = 0;
-    for (int q = -1; q < rows; ++q) {
-      const int r = q < 0 ? centre_row : q;
-      if (q == centre_row) continue;
-      for (std::uint32_t j = slots[2 * r], e = slots[2 * r + 1]; j < e;) {
+    auto count = [&](std::uint32_t j, std::uint32_t e) {
+      while (j < e) {
         for (const std::uint32_t stop = std::min(e, j + 16); j < stop; ++j) {
           const Candidate& c = candidates[j];
           k += (detail::sq_dist(p.x, p.y, p.z, c.x, c.y, c.z) < r2) & (c.id != id);
         }
         if (k > threshold) return true;
       }
+      return false;
+    };
+    // The point's own cube, the rest of its row, then the other rows.
+    const std::uint32_t own_begin = start[p.cube], own_end = start[p.cube + 1];
+    if (count(own_begin, own_end) || count(slots[2 * centre_row], own_begin) ||
+        count(own_end, slots[2 * centre_row + 1]))
+      return true;
+    for (int r = 0; r < rows; ++r) {
+      if (r != centre_row && count(slots[2 * r], slots[2 * r + 1])) return true;
     }
     return false;
   }
@@ -86,6 +94,7 @@ struct Evaluator {
   }
   void prefetch_centre(std::uint32_t id) const {
     const std::uint32_t* slots = row_slots + std::size_t(points[id].cube) * rows * 2;
+    __builtin_prefetch(&start[points[id].cube]);
     __builtin_prefetch(&candidates[slots[2 * centre_row]]);
   }
 };
@@ -300,7 +309,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   w.slot_of.resize(m);
   compact(w, cubes, rows, threads);
   const int side = 2 * layout.reach + 1;
-  const Evaluator eval{w.walk_points.data(), w.candidates.data(), w.row_slots.data(), rows,
+  const Evaluator eval{w.walk_points.data(), w.candidates.data(), w.start.data(), w.row_slots.data(), rows,
                        layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
 
   // The walk is evaluated ahead in windows, in parallel: within a batch the live set does not change, so
