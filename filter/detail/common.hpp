@@ -60,23 +60,26 @@ struct Segment {
   std::size_t size = 0;
 };
 
-// Stable LSD radix sort on bits [low_bit, high_bit) of key(item), 8-bit digits, parallel. The input is the
-// concatenation of `segments` (one per part of the first pass, in order); the result is written to `a` or
+// Stable LSD radix sort on bits [low_bit, high_bit) of key(item), digits of up to 12 bits, parallel. The
+// input is the concatenation of `segments` (one per part of the first pass, in order); the result is written to `a` or
 // `b` (both of room for the total, neither overlapping the segments unless the segments lie in `a`) and
 // the pointer to it returned. The first pass always runs (it gathers the segments); later passes whose
 // digit is the same for every item are skipped.
 template <class T, class KeyFn>
 T* radix_sort_segments(const std::vector<Segment<T>>& segments, T* a, T* b, int low_bit, int high_bit, KeyFn key,
                        int threads) {
-  constexpr int kDigitBits = 8;
-  constexpr std::size_t kBins = std::size_t{1} << kDigitBits;
+  // Digits of at most 12 bits, as few passes as that allows, the bits spread evenly over them.
+  constexpr int kMaxDigitBits = 12;
+  constexpr std::size_t kBins = std::size_t{1} << kMaxDigitBits;
+  const int passes = high_bit > low_bit ? (high_bit - low_bit + kMaxDigitBits - 1) / kMaxDigitBits : 0;
+  const int kDigitBits = passes > 0 ? (high_bit - low_bit + passes - 1) / passes : 1;
+  const std::size_t bins = std::size_t{1} << kDigitBits;
   std::size_t n = 0;
   for (const auto& s : segments) n += s.size;
   std::vector<std::array<std::size_t, kBins>> counts(std::max<std::size_t>(segments.size(), std::size_t(threads)));
   T* src = nullptr;
   T* dst = b;
   bool first = true;
-  const int passes = high_bit > low_bit ? (high_bit - low_bit + kDigitBits - 1) / kDigitBits : 0;
   for (int pass = 0; pass < std::max(passes, 1); ++pass) {
     const int shift = low_bit + pass * kDigitBits;
     const int width = passes == 0 ? 0 : std::min(kDigitBits, high_bit - shift);
@@ -94,7 +97,7 @@ T* radix_sort_segments(const std::vector<Segment<T>>& segments, T* a, T* b, int 
     };
     parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
       auto& c = counts[t];
-      c.fill(0);
+      std::fill(c.begin(), c.begin() + bins, 0);
       const T* in;
       std::size_t size;
       part_range(t, in, size);
@@ -106,7 +109,7 @@ T* radix_sort_segments(const std::vector<Segment<T>>& segments, T* a, T* b, int 
     });
     bool trivial = false;
     std::size_t offset = 0;
-    for (std::size_t d = 0; d < kBins; ++d) {
+    for (std::size_t d = 0; d < bins; ++d) {
       std::size_t total = 0;
       for (int t = 0; t < parts; ++t) total += counts[t][d];
       if (total == n) trivial = true;
