@@ -61,10 +61,10 @@ struct Segment {
 };
 
 // Stable LSD radix sort on bits [low_bit, high_bit) of key(item), digits of up to 12 bits, parallel. The
-// input is the concatenation of `segments` (one per part of the first pass, in order); the result is written to `a` or
-// `b` (both of room for the total, neither overlapping the segments unless the segments lie in `a`) and
-// the pointer to it returned. The first pass always runs (it gathers the segments); later passes whose
-// digit is the same for every item are skipped.
+// input is the concatenation of `segments` (one per part of the first pass, in order); the result is
+// written to `a` or `b` (both of room for the total, neither overlapping the segments unless the segments
+// lie in `a`) and the pointer to it returned. The first pass always runs (it gathers the segments); later
+// passes whose digit is the same for every item are skipped.
 template <class T, class KeyFn>
 T* radix_sort_segments(const std::vector<Segment<T>>& segments, T* a, T* b, int low_bit, int high_bit, KeyFn key,
                        int threads) {
