@@ -9,6 +9,10 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/global_control.h>
+
+#include <memory>
+
 #include "mapping/voxel_map.hpp"
 
 #ifdef STVL_HAVE_OCTOMAP
@@ -140,6 +144,7 @@ void MapBenchOptions::validate() const {
   config.validate();
   if (frames < 1 || frames > 100000) throw std::invalid_argument("frames = " + std::to_string(frames) + " must lie in [1, 100000]");
   if (sizes.empty()) throw std::invalid_argument("sizes is empty");
+  if (threads < 0 || threads > 1024) throw std::invalid_argument("threads = " + std::to_string(threads) + " must lie in [0, 1024]");
   for (std::size_t s : sizes)
     if (s > 10'000'000) throw std::invalid_argument("size = " + std::to_string(s) + " exceeds 10^7 voxels");
 }
@@ -179,6 +184,9 @@ SyntheticFrame synthetic_corridor_frame(std::uint64_t seed, int frame, double vo
 
 MapBenchResult run_map_bench(const MapBenchOptions& options) {
   options.validate();
+  std::unique_ptr<tbb::global_control> limit;
+  if (options.threads > 0)
+    limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
   MapBenchResult result;
   result.options = options;
   std::vector<SyntheticFrame> frames;
@@ -249,7 +257,8 @@ void print_map_bench(const MapBenchResult& r, std::ostream& out) {
   out << std::fixed << std::setprecision(3);
   out << "map-bench: voxel_size " << r.options.voxel_size << " m, " << r.options.frames << " frames, "
       << std::setprecision(0) << r.points_per_frame << " points/frame (424x240 D435-like, voxel-filtered), seed "
-      << r.options.seed << "\n"
+      << r.options.seed << ", "
+      << (r.options.threads > 0 ? std::to_string(r.options.threads) : std::string("all")) << " threads\n"
       << "median ms per frame; ratios against the first size in the same run\n\n";
   out << std::setprecision(3);
   out << "| prefilled voxels | mark | clear (ours) | clear (full walk) | full/ours | ours vs first | full vs first "

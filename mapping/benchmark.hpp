@@ -17,6 +17,7 @@ struct MapBenchOptions {
   std::vector<std::size_t> sizes = {10'000, 100'000, 1'000'000};  // pre-filled voxels outside the view
   std::uint64_t seed = 1;
   bool octomap = true;  // run the OctoMap peer when available
+  int threads = 0;      // threads for the map's parallel ray walks (0: all cores); OctoMap's insert is serial
   void validate() const;  // throws std::invalid_argument
 };
 

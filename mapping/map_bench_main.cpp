@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   app.add_option("--sizes", options.sizes, "pre-filled voxel counts")->delimiter(',');
   app.add_option("--seed", options.seed, "seed of the synthetic frames");
   app.add_flag("--no-octomap", no_octomap, "skip the OctoMap peer");
+  app.add_option("--threads", options.threads, "threads for the ray walks (0: all cores)");
   CLI11_PARSE(app, argc, argv);
   options.octomap = !no_octomap;
   try {

@@ -4,6 +4,9 @@
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Prune.h>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -330,11 +333,19 @@ struct VoxelMap::Impl {
     return table;
   }
 
-  // Voxel DDA from s to e (voxel units) clearing every voxel before the end voxel; absent leaves (8^3 blocks)
-  // are crossed in one jump. Every step or jump lowers the key distance to the end, which bounds the loop.
+  // An active voxel a ray passed through: cleared once every ray of the frame has been walked.
+  struct RayHit {
+    const LeafT* leaf;
+    openvdb::Index offset;
+  };
+
+  // Voxel DDA from s to e (voxel units) collecting every active voxel before the end voxel; absent leaves
+  // (8^3 blocks) are crossed in one jump. Every step or jump lowers the key distance to the end, which bounds
+  // the loop. Reads the tree only, so rays are walked in parallel.
   template <typename Accessor>
   static void walk_ray(const Eigen::Vector3d& s, const Eigen::Vector3d& e, const Coord& start, const Coord& end,
-                       const LeafTable& table, Accessor& accessor, std::vector<Coord>& touched, ClearStats& stats) {
+                       const LeafTable& table, Accessor& accessor, std::vector<RayHit>& hits,
+                       std::size_t& visited) {
     int cur[3] = {start.x(), start.y(), start.z()};
     const int last[3] = {end.x(), end.y(), end.z()};
     int step[3];
@@ -348,12 +359,12 @@ struct VoxelMap::Impl {
     }
     long remaining = 3L + std::abs(last[0] - cur[0]) + std::abs(last[1] - cur[1]) + std::abs(last[2] - cur[2]);
     int block[3] = {std::numeric_limits<int>::max(), 0, 0};
-    LeafT* leaf = nullptr;
+    const LeafT* leaf = nullptr;
     while ((cur[0] != last[0] || cur[1] != last[1] || cur[2] != last[2]) && remaining-- > 0) {
       if ((cur[0] & ~7) != block[0] || (cur[1] & ~7) != block[1] || (cur[2] & ~7) != block[2]) {
         for (int a = 0; a < 3; ++a) block[a] = cur[a] & ~7;
         const Coord origin(block[0], block[1], block[2]);
-        leaf = table.covers(origin) ? table.at(origin) : accessor.probeLeaf(origin);
+        leaf = table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
       }
       if (leaf == nullptr) {
         // Block-level DDA until a block with a leaf, then re-enter the voxel walk where the ray enters it.
@@ -367,7 +378,7 @@ struct VoxelMap::Impl {
           block[a] += 8 * step[a];
           tb_max[a] += 8 * t_delta[a];
           const Coord origin(block[0], block[1], block[2]);
-          leaf = table.covers(origin) ? table.at(origin) : accessor.probeLeaf(origin);
+          leaf = table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
           if (leaf == nullptr) continue;
           for (int b = 0; b < 3; ++b) {
             if (b == a) {
@@ -382,13 +393,9 @@ struct VoxelMap::Impl {
         }
         continue;
       }
-      ++stats.voxels_visited;
+      ++visited;
       const openvdb::Index offset = ((cur[0] & 7) << 6) | ((cur[1] & 7) << 3) | (cur[2] & 7);
-      if (leaf->isValueOn(offset)) {
-        leaf->setValueOff(offset);
-        ++stats.voxels_removed;
-        touched.emplace_back(block[0], block[1], block[2]);
-      }
+      if (leaf->isValueOn(offset)) hits.push_back({leaf, offset});
       const int a = argmin3(t_max);
       cur[a] += step[a];
       t_max[a] += t_delta[a];
@@ -396,9 +403,13 @@ struct VoxelMap::Impl {
   }
 
   void raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats) {
-    auto accessor = grid->getAccessor();
     std::vector<Coord> touched;
     const double inv = 1.0 / config.voxel_size;
+    struct Walked {
+      std::vector<RayHit> hits;
+      std::size_t visited = 0;
+    };
+    tbb::enumerable_thread_specific<Walked> walked;
     for (const ClearingObservation& obs : observations) {
       const Eigen::Vector3d origin_W = obs.T_world_camera.translation();
       const Eigen::Vector3d s = origin_W * inv;  // voxel units
@@ -407,26 +418,45 @@ struct VoxelMap::Impl {
       const Eigen::Matrix3Xf& points = *obs.points_W;
       const double max_range_sq = obs.source.max_z * obs.source.max_z;
       const LeafTable table = leaf_table_around(s, start, static_cast<int>(std::ceil(obs.source.max_z * inv)) + 1);
-      for (Eigen::Index i = 0; i < points.cols(); ++i) {
-        Eigen::Vector3d p = points.col(i).cast<double>();
-        if (!p.allFinite()) continue;
-        const double length_sq = (p - origin_W).squaredNorm();
-        if (length_sq < 1e-18) continue;
-        if (length_sq > max_range_sq) p = origin_W + (p - origin_W) * (obs.source.max_z / std::sqrt(length_sq));
-        Coord end;
-        if (!to_key(p, end)) continue;
-        // Every block nearer than free_radius is empty: skip that part of the ray (or all of it).
-        const Eigen::Vector3d e = p * inv;
-        const double length = (e - s).norm();
-        if (length < table.free_radius) continue;
-        if (table.free_radius > 1.0) {
-          const Eigen::Vector3d s0 = s + (e - s) * ((table.free_radius - 0.5) / length);
-          const Coord start0(static_cast<int>(std::floor(s0.x())), static_cast<int>(std::floor(s0.y())),
-                             static_cast<int>(std::floor(s0.z())));
-          walk_ray(s0, e, start0, end, table, accessor, touched, stats);
-        } else {
-          walk_ray(s, e, start, end, table, accessor, touched, stats);
+      // Rays only read the tree (in parallel, one accessor per chunk); the voxels they pass are cleared after.
+      tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
+                        [&](const tbb::blocked_range<Eigen::Index>& range) {
+        Walked& mine = walked.local();
+        auto accessor = grid->getConstAccessor();
+        for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
+          Eigen::Vector3d p = points.col(i).cast<double>();
+          if (!p.allFinite()) continue;
+          const double length_sq = (p - origin_W).squaredNorm();
+          if (length_sq < 1e-18) continue;
+          if (length_sq > max_range_sq) p = origin_W + (p - origin_W) * (obs.source.max_z / std::sqrt(length_sq));
+          Coord end;
+          if (!to_key(p, end)) continue;
+          // Every block nearer than free_radius is empty: skip that part of the ray (or all of it).
+          const Eigen::Vector3d e = p * inv;
+          const double length = (e - s).norm();
+          if (length < table.free_radius) continue;
+          if (table.free_radius > 1.0) {
+            const Eigen::Vector3d s0 = s + (e - s) * ((table.free_radius - 0.5) / length);
+            const Coord start0(static_cast<int>(std::floor(s0.x())), static_cast<int>(std::floor(s0.y())),
+                               static_cast<int>(std::floor(s0.z())));
+            walk_ray(s0, e, start0, end, table, accessor, mine.hits, mine.visited);
+          } else {
+            walk_ray(s, e, start, end, table, accessor, mine.hits, mine.visited);
+          }
         }
+      });
+      // Clearing is idempotent and counted once per voxel, so the result does not depend on the split.
+      for (Walked& mine : walked) {
+        for (const RayHit& hit : mine.hits) {
+          LeafT* leaf = const_cast<LeafT*>(hit.leaf);  // the grid is ours and no ray is being walked now
+          if (!leaf->isValueOn(hit.offset)) continue;
+          leaf->setValueOff(hit.offset);
+          ++stats.voxels_removed;
+          touched.push_back(leaf->origin());
+        }
+        stats.voxels_visited += mine.visited;
+        mine.hits.clear();
+        mine.visited = 0;
       }
     }
     delete_empty_leaves(touched);

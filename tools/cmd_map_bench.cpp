@@ -20,6 +20,7 @@ const stvl::tools::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) 
   cmd->add_option("--sizes", cli->options.sizes, "pre-filled voxel counts, comma separated")->delimiter(',');
   cmd->add_option("--seed", cli->options.seed, "seed of the synthetic frames");
   cmd->add_flag("--no-octomap", cli->no_octomap, "skip the OctoMap peer");
+  cmd->add_option("--threads", cli->options.threads, "threads for the map's ray walks (0: all cores)");
   return [cli] {
     cli->options.octomap = !cli->no_octomap;
     stvl::mapping::print_map_bench(stvl::mapping::run_map_bench(cli->options), std::cout);

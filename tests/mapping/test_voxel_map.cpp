@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <functional>
@@ -198,6 +199,35 @@ TEST(VoxelMapClear, MovedObstacleClearedByRaycastAtOnce) {
   const VoxelMap map = moved_obstacle_map(ClearingMode::kRaycast, 1);
   EXPECT_FALSE(map.lookup({2.0, 0.0, 0.0}).has_value());
   EXPECT_TRUE(map.lookup({4.0, 0.0, 0.0}).has_value());
+}
+
+// Rays are walked in parallel and cleared after: the result must not depend on the number of threads.
+TEST(VoxelMapClear, RaycastSameMapForAnyThreadCount) {
+  auto run = [](int threads, ClearStats& stats) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    StvlConfig config;
+    config.voxel_size = 0.05;
+    config.clearing_mode = ClearingMode::kRaycast;
+    VoxelMap map(config);
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> kx(10, 80), ky(-30, 30), kz(-20, 20);
+    std::vector<Voxel> prefill;
+    for (int i = 0; i < 20000; ++i) prefill.push_back({Eigen::Vector3i(kx(rng), ky(rng), kz(rng)), 0.0});
+    map.set_voxels(prefill);
+    std::uniform_real_distribution<float> ex(3.0f, 6.0f), ey(-2.0f, 2.0f), ez(-1.5f, 1.5f);
+    std::vector<Eigen::Vector3f> ends;
+    for (int i = 0; i < 8000; ++i) ends.emplace_back(ex(rng), ey(rng), ez(rng));
+    const Eigen::Matrix3Xf ends_W = cloud(ends);
+    stats = map.clear({{camera_looking_along_x({0.01, 0.02, 0.03}), wide_source(), &ends_W}}, 0.1);
+    return map.voxels();
+  };
+  ClearStats serial, parallel;
+  const std::vector<Voxel> one = run(1, serial), many = run(4, parallel);
+  EXPECT_TRUE(test::same_voxels(one, many));
+  EXPECT_EQ(serial.voxels_removed, parallel.voxels_removed);
+  EXPECT_EQ(serial.voxels_visited, parallel.voxels_visited);
+  EXPECT_GT(serial.voxels_removed, 1000u);  // the rays did clear, and left the rest
+  EXPECT_GT(one.size(), 5000u);
 }
 
 TEST(VoxelMapClear, RaycastStopsBeforeHitVoxelInAnyDirection) {
