@@ -11,7 +11,8 @@ struct KeyIndex {
   std::uint32_t index;
 };
 
-// Sorted entries -> centroids of runs of equal key, each part of the array handled by one thread.
+// Sorted entries -> centroids of runs of equal key, each part of the array handled by one thread, into its
+// own buffer (one pass), then copied into place.
 template <class T, class KeyFn, class IndexFn>
 Eigen::Matrix3Xf reduce_runs(const std::vector<T>& sorted, KeyFn key, IndexFn index, const float* p,
                              std::size_t min_points, int threads) {
@@ -23,39 +24,38 @@ Eigen::Matrix3Xf reduce_runs(const std::vector<T>& sorted, KeyFn key, IndexFn in
     while (b > 0 && b < n && key(sorted[b]) == key(sorted[b - 1])) ++b;
     begin[t] = b;
   }
-  auto for_runs = [&](int t, auto&& on_run) {
+  thread_local std::vector<std::vector<float>> buffers_workspace;
+  std::vector<std::vector<float>>& buffers = buffers_workspace;  // the caller's, seen by the pool's workers
+  if (static_cast<int>(buffers.size()) < threads) buffers.resize(threads);
+  detail::parallel_for(threads, threads, [&](std::size_t, std::size_t, int t) {
+    std::vector<float>& o = buffers[t];
+    o.clear();
+    constexpr std::size_t kAhead = 16;  // the points of a voxel are scattered over the cloud: prefetch them
     for (std::size_t i = begin[t]; i < begin[t + 1];) {
-      std::size_t j = i + 1;
       const std::uint64_t k = key(sorted[i]);
-      while (j < n && key(sorted[j]) == k) ++j;
-      if (j - i >= min_points) on_run(i, j);
-      i = j;
-    }
-  };
-  detail::parallel_for(threads, threads, [&](std::size_t, std::size_t, int t) {
-    std::size_t count = 0;
-    for_runs(t, [&](std::size_t, std::size_t) { ++count; });
-    kept[t + 1] = count;
-  });
-  for (int t = 0; t < threads; ++t) kept[t + 1] += kept[t];
-  Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(kept[threads]));
-  float* o = out.data();
-  detail::parallel_for(threads, threads, [&](std::size_t, std::size_t, int t) {
-    std::size_t v = kept[t];
-    for_runs(t, [&](std::size_t i, std::size_t j) {
       double sx = 0, sy = 0, sz = 0;
-      for (std::size_t m = i; m < j; ++m) {
-        const std::size_t q = index(sorted[m]);
+      std::size_t j = i;
+      for (; j < n && key(sorted[j]) == k; ++j) {
+        if (j + kAhead < n) __builtin_prefetch(p + 3 * index(sorted[j + kAhead]));
+        const std::size_t q = index(sorted[j]);
         sx += p[3 * q];
         sy += p[3 * q + 1];
         sz += p[3 * q + 2];
       }
-      const double c = double(j - i);
-      o[3 * v] = static_cast<float>(sx / c);
-      o[3 * v + 1] = static_cast<float>(sy / c);
-      o[3 * v + 2] = static_cast<float>(sz / c);
-      ++v;
-    });
+      if (j - i >= min_points) {
+        const double c = double(j - i);
+        o.push_back(static_cast<float>(sx / c));
+        o.push_back(static_cast<float>(sy / c));
+        o.push_back(static_cast<float>(sz / c));
+      }
+      i = j;
+    }
+    kept[t + 1] = o.size() / 3;
+  });
+  for (int t = 0; t < threads; ++t) kept[t + 1] += kept[t];
+  Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(kept[threads]));
+  detail::parallel_for(threads, threads, [&](std::size_t, std::size_t, int t) {
+    std::copy(buffers[t].begin(), buffers[t].end(), out.data() + 3 * kept[t]);
   });
   return out;
 }
