@@ -32,7 +32,8 @@ struct Workspace {
   std::vector<std::uint32_t> run_end, column, cube_key, cube_begin, spans, anchor, slot_of, start, row_slots, batch,
       walk_of;
   std::vector<Point> points, walk_points;
-  std::vector<Candidate> candidates;
+  std::vector<Candidate> candidates, next_candidates;
+  std::vector<std::uint32_t> next_start;
   std::vector<std::uint8_t> state, is_anchor, result, claims;
 };
 
@@ -99,6 +100,14 @@ struct Evaluator {
   }
 };
 
+void update_row_slots(Workspace& w, std::size_t cubes, int rows, int threads) {
+  w.row_slots.resize(cubes * rows * 2);
+  detail::parallel_for(cubes * rows * 2, detail::parts_for(cubes * rows * 2, threads, 16384),
+                       [&](std::size_t b, std::size_t e, int) {
+                         for (std::size_t i = b; i < e; ++i) w.row_slots[i] = w.start[w.spans[i]];
+                       });
+}
+
 // Candidates = the points not dead, per cube in sorted order, and each row's candidate range per cube.
 void compact(Workspace& w, std::size_t cubes, int rows, int threads) {
   const std::size_t m = w.points.size();
@@ -126,11 +135,38 @@ void compact(Workspace& w, std::size_t cubes, int rows, int threads) {
         }
       });
   w.start[cubes] = static_cast<std::uint32_t>(total);
-  w.row_slots.resize(cubes * rows * 2);
-  detail::parallel_for(cubes * rows * 2, detail::parts_for(cubes * rows * 2, threads, 16384),
-                       [&](std::size_t b, std::size_t e, int) {
-                         for (std::size_t i = b; i < e; ++i) w.row_slots[i] = w.start[w.spans[i]];
-                       });
+  update_row_slots(w, cubes, rows, threads);
+}
+
+// Again, from the candidates themselves (the deleted ones have x = NaN): reads only what is left.
+void recompact(Workspace& w, std::size_t cubes, int rows, int threads) {
+  w.next_candidates.resize(w.candidates.size());
+  w.next_start.resize(cubes + 1);
+  const std::uint32_t* start = w.start.data();
+  const Candidate* from = w.candidates.data();
+  const std::size_t total = parallel_compact(
+      cubes, threads, 2048,
+      [&](std::size_t b, std::size_t e) {
+        std::size_t live = 0;
+        for (std::uint32_t j = start[b]; j < start[e]; ++j) live += from[j].x == from[j].x;
+        return live;
+      },
+      [](std::size_t) {},
+      [&](std::size_t b, std::size_t e, std::size_t first) {
+        std::uint32_t o = static_cast<std::uint32_t>(first);
+        for (std::size_t c = b; c < e; ++c) {
+          w.next_start[c] = o;
+          for (std::uint32_t j = start[c]; j < start[c + 1]; ++j) {
+            if (from[j].x != from[j].x) continue;
+            w.next_candidates[o] = from[j];
+            w.slot_of[from[j].id] = o++;
+          }
+        }
+      });
+  w.next_start[cubes] = static_cast<std::uint32_t>(total);
+  w.candidates.swap(w.next_candidates);
+  w.start.swap(w.next_start);
+  update_row_slots(w, cubes, rows, threads);
 }
 
 }  // namespace
@@ -309,7 +345,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   w.slot_of.resize(m);
   compact(w, cubes, rows, threads);
   const int side = 2 * layout.reach + 1;
-  const Evaluator eval{w.walk_points.data(), w.candidates.data(), w.start.data(), w.row_slots.data(), rows,
+  Evaluator eval{w.walk_points.data(), w.candidates.data(), w.start.data(), w.row_slots.data(), rows,
                        layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
 
   // The walk is evaluated ahead in windows, in parallel: within a batch the live set does not change, so
@@ -356,7 +392,9 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     dead_since += w.batch.size();
     if (next == order_size) break;
     if (dead_since * 2 > alive) {
-      compact(w, cubes, rows, threads);
+      recompact(w, cubes, rows, threads);
+      eval.candidates = w.candidates.data();
+      eval.start = w.start.data();
       dead_since = 0;
     }
     cursor = next;
