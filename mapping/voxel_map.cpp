@@ -393,12 +393,32 @@ struct VoxelMap::Impl {
         }
         continue;
       }
-      ++visited;
-      const openvdb::Index offset = ((cur[0] & 7) << 6) | ((cur[1] & 7) << 3) | (cur[2] & 7);
-      if (leaf->isValueOn(offset)) hits.push_back({leaf, offset});
-      const int a = argmin3(t_max);
-      cur[a] += step[a];
-      t_max[a] += t_delta[a];
+      // The voxels of this leaf, in scalars (indexing the arrays by the stepped axis costs a store-to-load
+      // round trip per step); the same steps and ties as argmin3, then back to the arrays at the leaf's end.
+      int cx = cur[0], cy = cur[1], cz = cur[2];
+      double tx = t_max[0], ty = t_max[1], tz = t_max[2];
+      for (;;) {
+        ++visited;
+        const openvdb::Index offset = ((cx & 7) << 6) | ((cy & 7) << 3) | (cz & 7);
+        if (leaf->isValueOn(offset)) hits.push_back({leaf, offset});
+        const bool y_first = ty < tx;
+        const bool z_first = tz < (y_first ? ty : tx);
+        const bool x_step = !z_first && !y_first, y_step = !z_first && y_first;
+        cx += x_step ? step[0] : 0;
+        tx = x_step ? tx + t_delta[0] : tx;
+        cy += y_step ? step[1] : 0;
+        ty = y_step ? ty + t_delta[1] : ty;
+        cz += z_first ? step[2] : 0;
+        tz = z_first ? tz + t_delta[2] : tz;
+        if (((cx ^ block[0]) | (cy ^ block[1]) | (cz ^ block[2])) & ~7) break;  // next leaf: the outer loop
+        if ((cx == last[0] && cy == last[1] && cz == last[2]) || remaining-- <= 0) return;
+      }
+      cur[0] = cx;
+      cur[1] = cy;
+      cur[2] = cz;
+      t_max[0] = tx;
+      t_max[1] = ty;
+      t_max[2] = tz;
     }
   }
 
