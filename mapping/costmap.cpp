@@ -1,10 +1,10 @@
 #include "mapping/costmap.hpp"
 
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "mapping/atomic_file.hpp"
 
 namespace stvl::mapping {
 
@@ -13,21 +13,6 @@ std::optional<std::uint8_t> Costmap2D::at_world(double x, double y) const {
   const double fy = std::floor((y - origin_y) / resolution);
   if (!(fx >= 0 && fy >= 0 && fx < width && fy < height)) return std::nullopt;
   return at(static_cast<int>(fx), static_cast<int>(fy));
-}
-
-void write_file_atomically(const std::string& path, const std::string& bytes) {
-  const std::string temp = path + ".tmp";
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot open '" + temp + "' for writing");
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write '" + temp + "'");
-  }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    std::remove(temp.c_str());
-    throw std::runtime_error("cannot rename '" + temp + "' to '" + path + "'");
-  }
 }
 
 void write_costmap(const Costmap2D& costmap, const std::string& base_path) {

@@ -43,7 +43,4 @@ struct Costmap2D {
 // Each file is written to a temporary name and renamed. Throws std::runtime_error on I/O failure.
 void write_costmap(const Costmap2D& costmap, const std::string& base_path);
 
-// Writes `bytes` to path via a temporary file and rename. Throws std::runtime_error.
-void write_file_atomically(const std::string& path, const std::string& bytes);
-
 }  // namespace stvl::mapping

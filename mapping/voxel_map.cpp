@@ -20,6 +20,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "mapping/atomic_file.hpp"
 #include "mapping/frustum.hpp"
 
 namespace stvl::mapping {

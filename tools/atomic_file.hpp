@@ -4,10 +4,11 @@
 #include <filesystem>
 #include <string>
 
+#include "mapping/atomic_file.hpp"
+
 namespace stvl::tools {
 
-// Writes `content` to `path` atomically; throws std::runtime_error naming the path when it cannot.
-void write_file_atomically(const std::filesystem::path& path, const std::string& content);
+using mapping::write_file_atomically;
 
 // Creates `dir` (and parents) and checks that a file can be written in it; throws std::runtime_error otherwise.
 void ensure_writable_directory(const std::filesystem::path& dir);
