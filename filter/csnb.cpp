@@ -25,6 +25,7 @@ struct Candidate {
 };
 
 enum : std::uint8_t { kLive = 0, kSettled = 1, kDead = 2 };  // a settled point is live and can never be marked
+enum : std::uint8_t { kSkip = 0, kUnmarked = 1, kMarked = 2 };  // what the walk found for a point
 
 // Buffers kept per calling thread (see voxel_grid.cpp): fresh ones would page-fault on every frame.
 struct Workspace {
@@ -362,7 +363,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   w.slot_of.resize(m);
   compact(w, cubes, rows, threads);
   Evaluator eval{w.walk_points.data(), w.candidates.data(), w.start.data(), w.row_slots.data(), rows,
-                       layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
+                 layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
 
   // The walk is evaluated ahead in windows, in parallel: within a batch the live set does not change, so
   // every mark in the window is the one the sequential walk would count. Marked points past the (K+1)-th are
@@ -374,7 +375,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     for (std::size_t i = b; i < e; ++i) {
       if (i + 12 < e) eval.prefetch_rows(static_cast<std::uint32_t>(i + 12));
       if (i + 4 < e) eval.prefetch_centre(static_cast<std::uint32_t>(i + 4));
-      w.result[i] = w.state[i] != kLive ? 0 : eval.marked(static_cast<std::uint32_t>(i)) ? 2 : 1;
+      w.result[i] = w.state[i] != kLive ? kSkip : eval.marked(static_cast<std::uint32_t>(i)) ? kMarked : kUnmarked;
     }
   };
   for (std::size_t cursor = 0;;) {
@@ -385,19 +386,21 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
       const int eval_parts = detail::parts_for(end - i, threads, 256);
       detail::parallel_for(end - i, eval_parts, [&](std::size_t b, std::size_t e, int) { evaluate(i + b, i + e); });
       for (std::size_t j = i; j < end; ++j) {
-        if (w.result[j] == 1) {
+        if (w.result[j] == kUnmarked) {
           w.state[j] = kSettled;
-        } else if (w.result[j] == 2 && next == order_size) {
+        } else if (w.result[j] == kMarked && next == order_size) {
           if (w.batch.size() == K)
             next = j;
           else
             w.batch.push_back(static_cast<std::uint32_t>(j));
         }
       }
-      // Next window: enough positions for the marks still missing at the rate seen so far, plus a margin.
-      const std::size_t missing = K + 1 - std::min(K + 1, w.batch.size() + (next != order_size));
-      const double rate = double(w.batch.size() + 1) / double(end - cursor);
-      window = std::max<std::size_t>(256, static_cast<std::size_t>(1.2 * double(std::max<std::size_t>(missing, K / 4 + 1)) / rate));
+      // Next window: enough positions for the marks still wanted (the rest of this batch, or all K + 1 of
+      // the next one) at the rate seen so far, plus a margin.
+      const std::size_t wanted_marks = next != order_size ? K + 1 : K + 1 - w.batch.size();
+      const double rate = double(w.batch.size() + 1) / double((next != order_size ? next : end) - cursor);
+      const double wanted = 1.2 * double(wanted_marks) / rate;
+      window = std::max<std::size_t>(256, static_cast<std::size_t>(wanted));
       i = end;
     }
     for (std::uint32_t id : w.batch) {  // the last batch (K or fewer marked) deletes all still marked

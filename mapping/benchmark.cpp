@@ -144,7 +144,8 @@ void MapBenchOptions::validate() const {
   config.validate();
   if (frames < 1 || frames > 100000) throw std::invalid_argument("frames = " + std::to_string(frames) + " must lie in [1, 100000]");
   if (sizes.empty()) throw std::invalid_argument("sizes is empty");
-  if (threads < 0 || threads > 1024) throw std::invalid_argument("threads = " + std::to_string(threads) + " must lie in [0, 1024]");
+  if (threads < 0 || threads > 1024)
+    throw std::invalid_argument("threads = " + std::to_string(threads) + " must lie in [0, 1024]");
   for (std::size_t s : sizes)
     if (s > 10'000'000) throw std::invalid_argument("size = " + std::to_string(s) + " exceeds 10^7 voxels");
 }
