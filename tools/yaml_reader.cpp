@@ -126,7 +126,9 @@ YAML::Node load_yaml_string(const std::string& text, const std::string& file_nam
 }
 
 YAML::Node load_yaml_file(const std::string& file) {
-  if (!std::filesystem::is_regular_file(file)) throw std::invalid_argument(file + ": no such file");
+  std::error_code error;
+  if (!std::filesystem::exists(file, error)) throw std::invalid_argument(file + ": no such file");
+  if (!std::filesystem::is_regular_file(file, error)) throw std::invalid_argument(file + ": not a regular file");
   std::ifstream in(file, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();

@@ -94,6 +94,9 @@ TEST_F(Cli, UnknownSubcommandsAndOptionsExitTwo) {
   EXPECT_THAT(option.output, HasSubstr("--frobnicate"));
   EXPECT_EQ(run("run " + quoted(kDefaultScenario) + " --bag-compression zip " + out_arg()).exit_code, kBadInput);
   EXPECT_EQ(run("run " + quoted(kDefaultScenario) + " --voxel-size big " + out_arg()).exit_code, kBadInput);
+  const Outcome seed = run("run " + quoted(kDefaultScenario) + " --seed -1 " + out_arg());
+  EXPECT_EQ(seed.exit_code, kBadInput) << seed.output;
+  EXPECT_THAT(seed.output, HasSubstr("--seed"));
 }
 
 TEST_F(Cli, MissingScenarioFileExitsTwoNamingIt) {

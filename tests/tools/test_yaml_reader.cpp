@@ -168,10 +168,11 @@ TEST_F(YamlFile, LoadsAFile) {
   EXPECT_EQ(load_yaml_file(path)["a"].as<int>(), 1);
 }
 
-TEST_F(YamlFile, MissingFilesAndDirectoriesNameThePath) {
+TEST_F(YamlFile, MissingFilesDirectoriesAndDevicesNameThePath) {
   const std::string missing = (dir_ / "nope.yaml").string();
   EXPECT_EQ(invalid_argument_of([&] { load_yaml_file(missing); }), missing + ": no such file");
-  EXPECT_THAT(invalid_argument_of([&] { load_yaml_file(dir_.string()); }), HasSubstr(dir_.string() + ": no such file"));
+  EXPECT_EQ(invalid_argument_of([&] { load_yaml_file(dir_.string()); }), dir_.string() + ": not a regular file");
+  EXPECT_EQ(invalid_argument_of([&] { load_yaml_file("/dev/null"); }), "/dev/null: not a regular file");
 }
 
 TEST_F(YamlFile, SyntaxErrorsNameTheFileAndLine) {
