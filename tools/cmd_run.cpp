@@ -68,7 +68,12 @@ const CommandRegistration kRun{"run", [](CLI::App& app) {
   cmd->add_option("--bag", o->bag, "Also write a ROS 1 bag to this file");
   cmd->add_option("--bag-compression", o->bag_compression, "none | bz2 | lz4")->check(CLI::IsMember({"none", "bz2", "lz4"}));
   cmd->add_option("--seed", o->overrides.seed, "Override the scenario's seed (a non-negative integer)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return text.find('-') == std::string::npos ? std::string()
+                                                       : "expected a non-negative integer, got '" + text + "'";
+          },
+          "UINT"));
   cmd->add_option("--filter", o->overrides.filter_type, "Override the filter: none | passthrough | voxel | csnb");
   cmd->add_option("--device", o->overrides.device, "Override the filter device: cpu | cuda | auto");
   cmd->add_option("--memory", o->overrides.memory, "Override the CUDA memory mode: copy | pinned | mapped | managed");
