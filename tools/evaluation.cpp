@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <tuple>
 
 namespace stvl::tools {
 namespace {
@@ -284,10 +285,12 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
     visited.insert(start);
     std::size_t size = 0;
     bool near_truth = false;
+    Eigen::Vector2d sum_m = Eigen::Vector2d::Zero();
     while (!stack.empty()) {
       const CellKey c = stack.back();
       stack.pop_back();
       ++size;
+      sum_m += Eigen::Vector2d(c.x + 0.5, c.y + 0.5) * voxel_m_;
       near_truth = near_truth || near_cell(footprint, c, phantom_cells);
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy) {
@@ -295,8 +298,13 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
           if (lethal.count(n) && visited.insert(n).second) stack.push_back(n);
         }
     }
-    if (!near_truth && size >= static_cast<std::size_t>(s.evaluation.phantom_min_cells)) ++snap.phantom_obstacles;
+    if (!near_truth && size >= static_cast<std::size_t>(s.evaluation.phantom_min_cells)) {
+      ++snap.phantom_obstacles;
+      snap.phantoms.push_back({sum_m.x() / double(size), sum_m.y() / double(size), size});
+    }
   }
+  std::sort(snap.phantoms.begin(), snap.phantoms.end(),
+            [](const Phantom& a, const Phantom& b) { return std::tie(a.x_m, a.y_m) < std::tie(b.x_m, b.y_m); });
 
   Eigen::AlignedBox2d bounds;
   for (const auto& g : geoms_) {

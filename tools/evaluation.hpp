@@ -26,6 +26,12 @@
 
 namespace stvl::tools {
 
+// A phantom: where it lies (the mean of its cell centres, world frame) and how many cells it has.
+struct Phantom {
+  double x_m = 0, y_m = 0;
+  std::size_t cells = 0;
+};
+
 struct EvaluationSnapshot {
   double time_s = 0;
   std::size_t mapped_voxels = 0;
@@ -36,6 +42,7 @@ struct EvaluationSnapshot {
   std::size_t lethal_cells = 0;
   double costmap_precision = 0, costmap_recall = 0;
   int phantom_obstacles = 0;
+  std::vector<Phantom> phantoms;  // phantom_obstacles of them, sorted by position
 };
 
 struct ObstacleResult {

@@ -33,6 +33,14 @@ nlohmann::json snapshot_json(const EvaluationSnapshot& s) {
           {"phantom_obstacles", s.phantom_obstacles}};
 }
 
+// The final snapshot also says where its phantoms are.
+nlohmann::json final_json(const EvaluationSnapshot& s) {
+  nlohmann::json j = snapshot_json(s);
+  j["phantoms"] = nlohmann::json::array();
+  for (const Phantom& p : s.phantoms) j["phantoms"].push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
+  return j;
+}
+
 std::string xml_escape(const std::string& text) {
   std::string out;
   for (char c : text) {
@@ -107,7 +115,7 @@ nlohmann::json metrics_json(const RunResult& r) {
         {"recall_window_s", r.scenario.evaluation.recall_window_s},
         {"phantom_clearance_m", r.scenario.evaluation.phantom_clearance_m},
         {"mean", snapshot_json(e.mean)},
-        {"final", snapshot_json(e.final)},
+        {"final", final_json(e.final)},
         {"snapshots", snapshots},
         {"obstacles", obstacles},
         {"accuracy_m",

@@ -51,6 +51,7 @@ RunResult synthetic_result() {
   std::rotate(r.times.frame.begin(), r.times.frame.begin() + 37, r.times.frame.end());
   r.evaluation.mean.f1 = 0.75;
   r.evaluation.final.phantom_obstacles = 3;
+  r.evaluation.final.phantoms = {{1.5, -2.25, 4}, {3.0, 0.5, 2}, {7.25, 1.0, 9}};
   EvaluationSnapshot snapshot;
   snapshot.time_s = 1.0;
   snapshot.precision = 0.5;
@@ -115,6 +116,10 @@ TEST(ReportMetrics, HoldsEveryFigureOfTheRun) {
       EXPECT_TRUE(e[part].contains(key)) << part << "." << key;
   EXPECT_DOUBLE_EQ(e["mean"]["f1"].get<double>(), 0.75);
   EXPECT_EQ(e["final"]["phantom_obstacles"], 3);
+  ASSERT_EQ(e["final"]["phantoms"].size(), 3u);
+  EXPECT_DOUBLE_EQ(e["final"]["phantoms"][0]["y_m"].get<double>(), -2.25);
+  EXPECT_EQ(e["final"]["phantoms"][2]["cells"], 9);
+  EXPECT_FALSE(e["mean"].contains("phantoms"));
   EXPECT_EQ(e["snapshots"].size(), 2u);
   ASSERT_EQ(e["obstacles"].size(), 1u);
   EXPECT_EQ(e["obstacles"][0]["name"], "box_1");
