@@ -73,12 +73,22 @@ int filter_bench(const FilterBenchOptions& o) {
   std::printf("filter-bench: %d clouds of %dx%d rendered from %s (noise %s), %d threads (0: all cores), %d repetitions after %d warm-up\n",
               o.clouds, scenario.camera.intrinsics.width, scenario.camera.intrinsics.height, scenario.world_path.c_str(),
               scenario.camera.noise.enabled ? "on" : "off", o.threads, o.repetitions, o.warmup);
-  auto rows = filter::run_benchmark(clouds, config);
+  std::vector<filter::BenchmarkRow> rows;
   std::string baseline = "voxel/cpu";
   if (o.peer == "pcl") {
-    const auto peer = run_pcl_peer(clouds, o.voxel_sizes_m, o.warmup, o.repetitions);
-    rows.insert(rows.end(), peer.begin(), peer.end());
+    // Ours and PCL's back to back for each cloud and voxel size, so that the ratio compares like with like on
+    // a machine whose speed drifts.
     baseline = "pcl2/cpu";
+    for (const auto& cloud : clouds) {
+      for (double voxel_m : o.voxel_sizes_m) {
+        filter::BenchmarkConfig one = config;
+        one.voxel_sizes_m = {voxel_m};
+        for (auto part : {filter::run_benchmark({cloud}, one), run_pcl_peer({cloud}, {voxel_m}, o.warmup, o.repetitions)})
+          rows.insert(rows.end(), part.begin(), part.end());
+      }
+    }
+  } else {
+    rows = filter::run_benchmark(clouds, config);
   }
   filter::print_benchmark_table(std::cout, rows, baseline);
   return kExitOk;
