@@ -186,6 +186,9 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   const int key_bits = 3 * layout.grid_exponent;
   thread_local Workspace workspace;
   Workspace& w = workspace;  // named through a reference: the pool's workers must see the caller's buffers
+  const detail::AtScopeExit release{[&] {
+    if (n > detail::kKeepBuffersUpToPoints) w = Workspace{};
+  }};
 
   // Group points by cube in index order: runs of consecutive points in one cube become one entry
   // (key << index_bits | first index), run_end[first] ends the run; a stable sort on the key bits.

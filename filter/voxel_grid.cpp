@@ -27,6 +27,9 @@ Eigen::Matrix3Xf reduce_runs(const std::vector<T>& sorted, KeyFn key, IndexFn in
   thread_local std::vector<std::vector<float>> buffers_workspace;
   std::vector<std::vector<float>>& buffers = buffers_workspace;  // the caller's, seen by the pool's workers
   if (static_cast<int>(buffers.size()) < threads) buffers.resize(threads);
+  const detail::AtScopeExit release{[&] {
+    if (n > detail::kKeepBuffersUpToPoints) buffers.clear();
+  }};
   detail::parallel_for(threads, threads, [&](std::size_t, std::size_t, int t) {
     std::vector<float>& o = buffers[t];
     o.clear();
@@ -94,6 +97,9 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
     thread_local std::vector<std::uint64_t> items_workspace, scratch_workspace;
     std::vector<std::uint64_t>& items = items_workspace;
     std::vector<std::uint64_t>& scratch = scratch_workspace;
+    const detail::AtScopeExit release{[&] {
+      if (n > detail::kKeepBuffersUpToPoints) items = {}, scratch = {};
+    }};
     items.resize(bounds.finite);
     detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
       std::size_t o = offset[t];
@@ -113,6 +119,9 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
   thread_local std::vector<KeyIndex> items_workspace, scratch_workspace;
   std::vector<KeyIndex>& items = items_workspace;
   std::vector<KeyIndex>& scratch = scratch_workspace;
+  const detail::AtScopeExit release{[&] {
+    if (n > detail::kKeepBuffersUpToPoints) items = {}, scratch = {};
+  }};
   items.resize(bounds.finite);
   detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
     std::size_t o = offset[t];

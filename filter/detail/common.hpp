@@ -30,6 +30,20 @@ int bit_width(std::uint64_t value);
 
 int resolve_threads(int threads);
 
+// The filters keep their work buffers per calling thread between calls (fresh multi-megabyte buffers would
+// page-fault on every frame), but release them after a cloud larger than this, so that one huge cloud does not
+// hold its memory for the thread's life.
+constexpr std::size_t kKeepBuffersUpToPoints = 2'000'000;
+
+// Runs `f` when the scope ends (also when it ends by an exception).
+template <class F>
+struct AtScopeExit {
+  F f;
+  ~AtScopeExit() { f(); }
+};
+template <class F>
+AtScopeExit(F) -> AtScopeExit<F>;
+
 // Number of parts worth splitting n items into (about 4096 items per thread at least).
 inline int parts_for(std::size_t n, int threads, std::size_t grain = 4096) {
   return static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(threads, n / grain + 1)));
