@@ -14,7 +14,9 @@ using sim::CellSet;
 using sim::VoxelKey;
 using sim::VoxelSet;
 
+// Within tol (Chebyshev) of a member; the key itself first, the usual hit.
 bool near_voxel(const VoxelSet& set, const VoxelKey& k, int tol) {
+  if (set.count(k)) return true;
   for (int dx = -tol; dx <= tol; ++dx)
     for (int dy = -tol; dy <= tol; ++dy)
       for (int dz = -tol; dz <= tol; ++dz)
@@ -23,6 +25,7 @@ bool near_voxel(const VoxelSet& set, const VoxelKey& k, int tol) {
 }
 
 bool near_cell(const CellSet& set, const CellKey& c, int tol) {
+  if (set.count(c)) return true;
   for (int dx = -tol; dx <= tol; ++dx)
     for (int dy = -tol; dy <= tol; ++dy)
       if (set.count({c.x + dx, c.y + dy})) return true;
@@ -91,6 +94,8 @@ void Evaluator::refresh_truth(const sim::World& world) {
     statics_voxelized_ = true;
     static_bodies_ = in_band_only(sim::voxelize_bodies(statics, voxelize_options(s)));
     for (const auto& body : static_bodies_) static_truth_.insert(body.voxels.begin(), body.voxels.end());
+    for (std::size_t b = 0; b < static_bodies_.size(); ++b)
+      for (const auto& k : static_bodies_[b].voxels) static_body_of_.emplace(k, static_cast<int>(b));
     for (const auto& body : sim::footprints(statics, voxel_m_, s.source.min_obstacle_height, s.source.max_obstacle_height))
       static_footprint_.insert(body.cells.begin(), body.cells.end());
   }
@@ -118,6 +123,10 @@ void Evaluator::observe(double time_s, const sensors::DepthImage& clean_depth,
   const auto& s = *scenario_;
   const Eigen::Isometry3f T = T_world_camera.cast<float>();
   constexpr int kStride = 2;
+  // Neighbouring pixels mostly fall in one voxel, and recording a voxel twice in a frame changes nothing:
+  // skip the hash lookups when the key repeats.
+  bool have_last = false;
+  VoxelKey last{};
   for (int v = 0; v < clean_depth.height; v += kStride) {
     for (int u = 0; u < clean_depth.width; u += kStride) {
       const float z = clean_depth.at(u, v);
@@ -127,6 +136,9 @@ void Evaluator::observe(double time_s, const sensors::DepthImage& clean_depth,
       const Eigen::Vector3d p_W = (T * p_C).cast<double>();
       if (p_W.z() < s.source.min_obstacle_height || p_W.z() > s.source.max_obstacle_height) continue;
       const VoxelKey key = sim::voxel_key(p_W, voxel_m_);
+      if (have_last && key == last) continue;
+      have_last = true;
+      last = key;
       last_seen_[key] = time_s;
       if (!is_truth(key)) off_truth_keys_.insert(key);
     }
@@ -206,9 +218,16 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   std::vector<const sim::BodyVoxels*> bodies;
   for (const auto& body : static_bodies_) bodies.push_back(&body);
   for (const auto& body : dynamic_bodies_) bodies.push_back(&body);
-  std::unordered_map<VoxelKey, int, sim::VoxelKeyHash> body_of;
-  for (std::size_t b = 0; b < bodies.size(); ++b)
-    for (const auto& k : bodies[b]->voxels) body_of.emplace(k, static_cast<int>(b));
+  // The first body holding a voxel (static ones first); the static part is built once.
+  std::unordered_map<VoxelKey, int, sim::VoxelKeyHash> dynamic_body_of;
+  for (std::size_t b = static_bodies_.size(); b < bodies.size(); ++b)
+    for (const auto& k : bodies[b]->voxels) dynamic_body_of.emplace(k, static_cast<int>(b));
+  const auto body_of = [&](const VoxelKey& k) {
+    const auto s_it = static_body_of_.find(k);
+    if (s_it != static_body_of_.end()) return s_it->second;
+    const auto d_it = dynamic_body_of.find(k);
+    return d_it != dynamic_body_of.end() ? d_it->second : -1;
+  };
   std::vector<std::size_t> body_observed(bodies.size()), body_matched(bodies.size());
   CellSet observed_cells;
   for (auto it = last_seen_.begin(); it != last_seen_.end();) {
@@ -216,12 +235,12 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
       it = last_seen_.erase(it);
       continue;
     }
-    const auto body = body_of.find(it->first);
-    if (body != body_of.end()) {
+    const int body = body_of(it->first);
+    if (body >= 0) {
       ++snap.observed_truth_voxels;
-      ++body_observed[body->second];
+      ++body_observed[body];
       observed_cells.insert({it->first.x, it->first.y});
-      if (near_voxel(mapped, it->first, tol)) ++snap.matched_truth, ++body_matched[body->second];
+      if (near_voxel(mapped, it->first, tol)) ++snap.matched_truth, ++body_matched[body];
     }
     ++it;
   }

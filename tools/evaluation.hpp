@@ -114,6 +114,7 @@ class Evaluator {
   std::vector<sim::ObstacleGeom> geoms_;          // every obstacle geom, current poses
   std::vector<sim::ObstacleGeom> dynamic_geoms_;  // those of mocap bodies
   std::vector<sim::BodyVoxels> static_bodies_;    // voxelized once
+  std::unordered_map<sim::VoxelKey, int, sim::VoxelKeyHash> static_body_of_;  // voxel -> its first static body
   sim::CellSet static_footprint_;
   bool statics_voxelized_ = false;
   sim::VoxelSet static_truth_, dynamic_truth_;
