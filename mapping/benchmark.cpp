@@ -1,17 +1,16 @@
 #include "mapping/benchmark.hpp"
 
+#include <tbb/global_control.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <memory>
 #include <ostream>
 #include <random>
 #include <stdexcept>
 #include <string>
-
-#include <tbb/global_control.h>
-
-#include <memory>
 
 #include "mapping/voxel_map.hpp"
 
