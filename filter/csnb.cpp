@@ -109,37 +109,22 @@ void update_row_slots(Workspace& w, std::size_t cubes, int rows, int threads) {
                        });
 }
 
-// Candidates = the points not dead, per cube in sorted order, and each row's candidate range per cube.
-void compact(Workspace& w, std::size_t cubes, int rows, int threads) {
+// The first candidates: every point (all are live), per cube in sorted order, and each row's candidate range.
+void init_candidates(Workspace& w, std::size_t cubes, int rows, int threads) {
   const std::size_t m = w.points.size();
   w.candidates.resize(m);
-  w.start.resize(cubes + 1);
-  const std::uint32_t* begin = w.cube_begin.data();
-  const std::size_t total = parallel_compact(
-      cubes, threads, 2048,
-      [&](std::size_t b, std::size_t e) {
-        std::size_t live = 0;
-        for (std::uint32_t s = begin[b]; s < begin[e]; ++s) live += w.state[w.walk_of[s]] != kDead;
-        return live;
-      },
-      [](std::size_t) {},
-      [&](std::size_t b, std::size_t e, std::size_t first) {
-        std::uint32_t o = static_cast<std::uint32_t>(first);
-        for (std::size_t c = b; c < e; ++c) {
-          w.start[c] = o;
-          for (std::uint32_t s = begin[c]; s < begin[c + 1]; ++s) {
-            const std::uint32_t id = w.walk_of[s];
-            if (w.state[id] == kDead) continue;
-            w.candidates[o] = {w.points[s].x, w.points[s].y, w.points[s].z, id};
-            w.slot_of[id] = o++;
-          }
-        }
-      });
-  w.start[cubes] = static_cast<std::uint32_t>(total);
+  w.start.assign(w.cube_begin.begin(), w.cube_begin.begin() + cubes + 1);
+  detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
+    for (std::size_t s = b; s < e; ++s) {
+      const std::uint32_t id = w.walk_of[s];
+      w.candidates[s] = {w.points[s].x, w.points[s].y, w.points[s].z, id};
+      w.slot_of[id] = static_cast<std::uint32_t>(s);
+    }
+  });
   update_row_slots(w, cubes, rows, threads);
 }
 
-// Again, from the candidates themselves (the deleted ones have x = NaN): reads only what is left.
+// Without the deleted candidates (x = NaN), read from the candidates themselves: only what is left.
 void recompact(Workspace& w, std::size_t cubes, int rows, int threads) {
   w.next_candidates.resize(w.candidates.size());
   w.next_start.resize(cubes + 1);
@@ -364,7 +349,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   });
   w.state.assign(m, kLive);
   w.slot_of.resize(m);
-  compact(w, cubes, rows, threads);
+  init_candidates(w, cubes, rows, threads);
   Evaluator eval{w.walk_points.data(), w.candidates.data(), w.start.data(), w.row_slots.data(), rows,
                  layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
 

@@ -76,7 +76,7 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
   const std::size_t min_points = static_cast<std::size_t>(std::max(config.min_points_per_voxel, 1));
   const float* p = points.data();
 
-  // Finite points only, in index order, each thread writing its own slice.
+  // Where each part of the cloud starts among the finite points.
   const int parts = detail::parts_for(n, threads);
   std::vector<std::size_t> offset(parts + 1, 0);
   if (bounds.finite != n) {
@@ -90,13 +90,15 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
   }
   for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
 
-  if (layout.packed) {
-    const int shift = layout.index_bits;
+  // Finite points as sort items, in index order, each thread writing its own slice; a stable sort on the key
+  // bits only (a packed item's index bits are already in order), then the centroids of equal keys.
+  auto sort_and_reduce = [&](auto make_item, auto key, auto index) {
+    using Item = decltype(make_item(std::uint64_t{}, std::uint32_t{}));
     // Kept per calling thread: a fresh multi-megabyte vector per frame costs tens of thousands of page faults.
     // Named through references, since the pool's workers must see the caller's vectors, not their own.
-    thread_local std::vector<std::uint64_t> items_workspace, scratch_workspace;
-    std::vector<std::uint64_t>& items = items_workspace;
-    std::vector<std::uint64_t>& scratch = scratch_workspace;
+    thread_local std::vector<Item> items_workspace, scratch_workspace;
+    std::vector<Item>& items = items_workspace;
+    std::vector<Item>& scratch = scratch_workspace;
     const detail::AtScopeExit release{[&] {
       if (n > detail::kKeepBuffersUpToPoints) items = {}, scratch = {};
     }};
@@ -106,35 +108,22 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
       for (std::size_t i = b; i < e; ++i) {
         const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
         if (!detail::finite3(x, y, z)) continue;
-        items[o++] = (shift == 64 ? 0 : detail::voxel_key(layout, x, y, z) << shift) | i;
+        items[o++] = make_item(detail::voxel_key(layout, x, y, z), static_cast<std::uint32_t>(i));
       }
     });
-    // Index bits are already in order and the sort is stable: sort the key bits only.
-    detail::radix_sort(items, scratch, shift, shift + layout.key_bits, [](std::uint64_t v) { return v; }, threads);
+    detail::radix_sort(items, scratch, 0, layout.key_bits, key, threads);
+    return reduce_runs(items, key, index, p, min_points, threads);
+  };
+  if (layout.packed) {
+    const int shift = layout.index_bits;
     const std::uint64_t index_mask = shift == 64 ? ~0ull : (std::uint64_t{1} << shift) - 1;
-    return reduce_runs(
-        items, [shift](std::uint64_t v) { return shift == 64 ? 0 : v >> shift; },
-        [index_mask](std::uint64_t v) { return v & index_mask; }, p, min_points, threads);
+    return sort_and_reduce(
+        [shift](std::uint64_t key, std::uint32_t i) { return (shift == 64 ? 0 : key << shift) | i; },
+        [shift](std::uint64_t v) { return shift == 64 ? 0 : v >> shift; },
+        [index_mask](std::uint64_t v) { return v & index_mask; });
   }
-  thread_local std::vector<KeyIndex> items_workspace, scratch_workspace;
-  std::vector<KeyIndex>& items = items_workspace;
-  std::vector<KeyIndex>& scratch = scratch_workspace;
-  const detail::AtScopeExit release{[&] {
-    if (n > detail::kKeepBuffersUpToPoints) items = {}, scratch = {};
-  }};
-  items.resize(bounds.finite);
-  detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
-    std::size_t o = offset[t];
-    for (std::size_t i = b; i < e; ++i) {
-      const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
-      if (!detail::finite3(x, y, z)) continue;
-      items[o++] = {detail::voxel_key(layout, x, y, z), static_cast<std::uint32_t>(i)};
-    }
-  });
-  detail::radix_sort(items, scratch, 0, layout.key_bits, [](const KeyIndex& v) { return v.key; }, threads);
-  return reduce_runs(
-      items, [](const KeyIndex& v) { return v.key; }, [](const KeyIndex& v) { return v.index; }, p, min_points,
-      threads);
+  return sort_and_reduce([](std::uint64_t key, std::uint32_t i) { return KeyIndex{key, i}; },
+                         [](const KeyIndex& v) { return v.key; }, [](const KeyIndex& v) { return v.index; });
 }
 
 }  // namespace stvl::filter
