@@ -2,65 +2,80 @@
 
 #include "filter/detail/common.hpp"
 
+#include <array>
+
 namespace stvl::filter {
 
 namespace {
 
-struct KeyIndex {
-  std::uint64_t key;
-  std::uint32_t index;
+// Sort items carry their point, so that the centroids are summed from the sorted items in order instead of
+// gathering each voxel's points from all over the cloud. 32-bit keys whenever the bounding box allows.
+template <class Key>
+struct KeyPoint {
+  Key key;
+  float xyz[3];
 };
 
-// Sorted entries -> centroids of runs of equal key, each part of the array handled by one thread, into its
-// own buffer (one pass), then copied into place.
-template <class T, class KeyFn, class IndexFn>
-Eigen::Matrix3Xf reduce_runs(const std::vector<T>& sorted, KeyFn key, IndexFn index, const float* p,
-                             std::size_t min_points, int threads) {
-  const std::size_t n = sorted.size();
-  threads = detail::parts_for(n, threads);
-  std::vector<std::size_t> begin(threads + 1, n), kept(threads + 1, 0);
-  for (int t = 0; t < threads; ++t) {
-    std::size_t b = n * t / threads;
-    while (b > 0 && b < n && key(sorted[b]) == key(sorted[b - 1])) ++b;
-    begin[t] = b;
-  }
-  thread_local std::vector<std::vector<float>> buffers_workspace;
-  std::vector<std::vector<float>>& buffers = buffers_workspace;  // the caller's, seen by the pool's workers
-  if (static_cast<int>(buffers.size()) < threads) buffers.resize(threads);
-  const detail::AtScopeExit release{[&] {
-    if (n > detail::kKeepBuffersUpToPoints) buffers.clear();
-  }};
-  detail::parallel_for(threads, threads, [&](std::size_t, std::size_t, int t) {
-    std::vector<float>& o = buffers[t];
-    o.clear();
-    constexpr std::size_t kAhead = 16;  // the points of a voxel are scattered over the cloud: prefetch them
-    for (std::size_t i = begin[t]; i < begin[t + 1];) {
-      const std::uint64_t k = key(sorted[i]);
-      double sx = 0, sy = 0, sz = 0;
-      std::size_t j = i;
-      for (; j < n && key(sorted[j]) == k; ++j) {
-        if (j + kAhead < n) __builtin_prefetch(p + 3 * index(sorted[j + kAhead]));
-        const std::size_t q = index(sorted[j]);
-        sx += p[3 * q];
-        sy += p[3 * q + 1];
-        sz += p[3 * q + 2];
-      }
-      if (j - i >= min_points) {
-        const double c = double(j - i);
-        o.push_back(static_cast<float>(sx / c));
-        o.push_back(static_cast<float>(sy / c));
-        o.push_back(static_cast<float>(sz / c));
-      }
-      i = j;
+// Kept per calling thread between calls: fresh multi-megabyte buffers would page-fault on every frame.
+template <class Key>
+struct Workspace {
+  std::vector<Key> keys;                                 // of the finite points, in index order
+  std::vector<KeyPoint<Key>> items;                      // grouped by bucket (the key's high bits)
+  std::vector<std::vector<KeyPoint<Key>>> scratch;       // per worker, for sorting one bucket
+  std::vector<std::vector<float>> centroids;             // per worker, x y z
+};
+
+// The centroids (double sums in order) of the runs of equal key in sorted[0, m), appended to `out`.
+template <class Item>
+void append_centroids(const Item* sorted, std::size_t m, std::size_t min_points, std::vector<float>& out) {
+  for (std::size_t i = 0; i < m;) {
+    const auto k = sorted[i].key;
+    double sx = 0, sy = 0, sz = 0;
+    std::size_t j = i;
+    for (; j < m && sorted[j].key == k; ++j) {
+      sx += sorted[j].xyz[0];
+      sy += sorted[j].xyz[1];
+      sz += sorted[j].xyz[2];
     }
-    kept[t + 1] = o.size() / 3;
-  });
-  for (int t = 0; t < threads; ++t) kept[t + 1] += kept[t];
-  Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(kept[threads]));
-  detail::parallel_for(threads, threads, [&](std::size_t, std::size_t, int t) {
-    std::copy(buffers[t].begin(), buffers[t].end(), out.data() + 3 * kept[t]);
-  });
-  return out;
+    if (j - i >= min_points) {
+      const double c = double(j - i);
+      out.push_back(static_cast<float>(sx / c));
+      out.push_back(static_cast<float>(sy / c));
+      out.push_back(static_cast<float>(sz / c));
+    }
+    i = j;
+  }
+}
+
+// Buckets of a most-significant-digit pass: few enough that the scatter's write positions stay in L1.
+constexpr int kBucketBits = 8;
+// A bucket of at most this many points (256 KiB of 16-byte items) is sorted by a least-significant-digit
+// radix sort in cache; a larger one (the floor's slice, say) is split by its next kBucketBits first.
+constexpr std::size_t kSortInCachePoints = 16384;
+
+// Sorts data[0, m) (all equal above bit `bits`) stably on the key's low `bits`, using spare[0, m), and
+// appends the centroids of its voxels to `out`.
+template <class Item>
+void sort_and_reduce(Item* data, Item* spare, std::size_t m, int bits, std::size_t min_points,
+                     std::vector<float>& out) {
+  auto key = [](const Item& v) { return std::uint64_t{v.key}; };
+  if (m <= kSortInCachePoints || bits <= kBucketBits) {
+    const Item* sorted = data;
+    if (bits > 0 && m > 1) sorted = detail::radix_sort_segments<Item>({{data, m}}, data, spare, 0, bits, key, 1);
+    append_centroids(sorted, m, min_points, out);
+    return;
+  }
+  const int shift = bits - kBucketBits;
+  std::array<std::uint32_t, (1u << kBucketBits) + 1> begin{};
+  for (std::size_t i = 0; i < m; ++i) ++begin[1 + (key(data[i]) >> shift) % (1u << kBucketBits)];
+  for (std::size_t d = 1; d < begin.size(); ++d) begin[d] += begin[d - 1];
+  std::array<std::uint32_t, 1u << kBucketBits> next;
+  std::copy(begin.begin(), begin.end() - 1, next.begin());
+  for (std::size_t i = 0; i < m; ++i) spare[next[(key(data[i]) >> shift) % (1u << kBucketBits)]++] = data[i];
+  for (std::size_t d = 0; d + 1 < begin.size(); ++d) {
+    const std::size_t size = begin[d + 1] - begin[d];
+    if (size > 0) sort_and_reduce(spare + begin[d], data + begin[d], size, shift, min_points, out);
+  }
 }
 
 }  // namespace
@@ -72,6 +87,7 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
   const detail::Bounds bounds = detail::compute_bounds(points, threads);
   if (bounds.finite == 0) return Eigen::Matrix3Xf(3, 0);
   const std::size_t n = static_cast<std::size_t>(points.cols());
+  const std::size_t finite = bounds.finite;
   const detail::VoxelLayout layout = detail::make_voxel_layout(bounds, config.voxel_size_m, n);
   const std::size_t min_points = static_cast<std::size_t>(std::max(config.min_points_per_voxel, 1));
   const float* p = points.data();
@@ -79,7 +95,7 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
   // Where each part of the cloud starts among the finite points.
   const int parts = detail::parts_for(n, threads);
   std::vector<std::size_t> offset(parts + 1, 0);
-  if (bounds.finite != n) {
+  if (finite != n) {
     detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
       std::size_t c = 0;
       for (std::size_t i = b; i < e; ++i) c += detail::finite3(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
@@ -90,40 +106,92 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
   }
   for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
 
-  // Finite points as sort items, in index order, each thread writing its own slice; a stable sort on the key
-  // bits only (a packed item's index bits are already in order), then the centroids of equal keys.
-  auto sort_and_reduce = [&](auto make_item, auto key, auto index) {
-    using Item = decltype(make_item(std::uint64_t{}, std::uint32_t{}));
-    // Kept per calling thread: a fresh multi-megabyte vector per frame costs tens of thousands of page faults.
-    // Named through references, since the pool's workers must see the caller's vectors, not their own.
-    thread_local std::vector<Item> items_workspace, scratch_workspace;
-    std::vector<Item>& items = items_workspace;
-    std::vector<Item>& scratch = scratch_workspace;
+  // A most-significant-digit pass into 2^kBucketBits buckets, then each bucket sorted on the remaining key
+  // bits while in cache and reduced to centroids right away. Every step keeps index order among equal keys.
+  auto run = [&](auto key_type) {
+    using Key = decltype(key_type);
+    using Item = KeyPoint<Key>;
+    thread_local Workspace<Key> workspace;
+    Workspace<Key>& w = workspace;  // the caller's, seen by the pool's workers
     const detail::AtScopeExit release{[&] {
-      if (n > detail::kKeepBuffersUpToPoints) items = {}, scratch = {};
+      if (n > detail::kKeepBuffersUpToPoints) w = {};
     }};
-    items.resize(bounds.finite);
+    const int high_bits = std::min(layout.key_bits, kBucketBits);
+    const int low_bits = layout.key_bits - high_bits;
+    const std::size_t buckets = std::size_t{1} << high_bits;
+
+    // 1. The keys, and per part how many of its points fall in each bucket.
+    w.keys.resize(finite);
+    w.items.resize(finite);
+    std::vector<std::uint32_t> count(parts * buckets, 0);
     detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
+      std::uint32_t* c = count.data() + t * buckets;
+      Key* keys = w.keys.data();
       std::size_t o = offset[t];
       for (std::size_t i = b; i < e; ++i) {
         const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
         if (!detail::finite3(x, y, z)) continue;
-        items[o++] = make_item(detail::voxel_key(layout, x, y, z), static_cast<std::uint32_t>(i));
+        const Key k = static_cast<Key>(detail::voxel_key(layout, x, y, z));
+        keys[o++] = k;
+        ++c[k >> low_bits];
       }
     });
-    detail::radix_sort(items, scratch, 0, layout.key_bits, key, threads);
-    return reduce_runs(items, key, index, p, min_points, threads);
+    // 2. Bucket d of part t starts after bucket d of the parts before it.
+    std::vector<std::size_t> bucket_begin(buckets + 1);
+    std::uint32_t o = 0;
+    for (std::size_t d = 0; d < buckets; ++d) {
+      bucket_begin[d] = o;
+      for (int t = 0; t < parts; ++t) {
+        const std::uint32_t c = count[t * buckets + d];
+        count[t * buckets + d] = o;
+        o += c;
+      }
+    }
+    bucket_begin[buckets] = o;
+    // 3. The points, with their keys, into their buckets.
+    detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
+      std::uint32_t* c = count.data() + t * buckets;
+      const Key* keys = w.keys.data() + offset[t];
+      Item* items = w.items.data();
+      for (std::size_t i = b; i < e; ++i) {
+        const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+        if (!detail::finite3(x, y, z)) continue;
+        const Key k = *keys++;
+        items[c[k >> low_bits]++] = Item{k, {x, y, z}};
+      }
+    });
+    // 4. Each worker takes a run of whole buckets holding about its share of the points, sorts each bucket
+    // on the low bits and appends its centroids; buckets are in key order, so the outputs concatenate.
+    const int workers = detail::parts_for(finite, threads);
+    std::vector<std::size_t> first_bucket(workers + 1, buckets);
+    for (int t = 0; t < workers; ++t) {
+      first_bucket[t] = static_cast<std::size_t>(
+          std::lower_bound(bucket_begin.begin(), bucket_begin.end() - 1, finite * t / workers) - bucket_begin.begin());
+    }
+    first_bucket[0] = 0;
+    if (static_cast<int>(w.scratch.size()) < workers) w.scratch.resize(workers), w.centroids.resize(workers);
+    std::vector<std::size_t> kept(workers + 1, 0);
+    detail::parallel_for(workers, workers, [&](std::size_t, std::size_t, int t) {
+      std::vector<float>& out = w.centroids[t];
+      std::vector<Item>& scratch = w.scratch[t];
+      out.clear();
+      for (std::size_t d = first_bucket[t]; d < first_bucket[t + 1]; ++d) {
+        const std::size_t m = bucket_begin[d + 1] - bucket_begin[d];
+        if (m == 0) continue;
+        if (scratch.size() < m) scratch.resize(m);
+        sort_and_reduce(w.items.data() + bucket_begin[d], scratch.data(), m, low_bits, min_points, out);
+      }
+      kept[t + 1] = out.size() / 3;
+    });
+    for (int t = 0; t < workers; ++t) kept[t + 1] += kept[t];
+    Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(kept[workers]));
+    detail::parallel_for(workers, workers, [&](std::size_t, std::size_t, int t) {
+      std::copy(w.centroids[t].begin(), w.centroids[t].end(), out.data() + 3 * kept[t]);
+    });
+    return out;
   };
-  if (layout.packed) {
-    const int shift = layout.index_bits;
-    const std::uint64_t index_mask = shift == 64 ? ~0ull : (std::uint64_t{1} << shift) - 1;
-    return sort_and_reduce(
-        [shift](std::uint64_t key, std::uint32_t i) { return (shift == 64 ? 0 : key << shift) | i; },
-        [shift](std::uint64_t v) { return shift == 64 ? 0 : v >> shift; },
-        [index_mask](std::uint64_t v) { return v & index_mask; });
-  }
-  return sort_and_reduce([](std::uint64_t key, std::uint32_t i) { return KeyIndex{key, i}; },
-                         [](const KeyIndex& v) { return v.key; }, [](const KeyIndex& v) { return v.index; });
+  if (layout.key_bits <= 32) return run(std::uint32_t{});
+  return run(std::uint64_t{});
 }
 
 }  // namespace stvl::filter

@@ -74,6 +74,21 @@ TEST(VoxelGrid, MatchesReferenceOnBoundariesAndNegativeCoordinates) {
   EXPECT_EQ(voxel_grid(two, {1.0, 1}).cols(), 1);
 }
 
+TEST(VoxelGrid, MatchesReferenceWhenOneSliceHoldsMostPoints) {
+  // A floor: most points share the key's high bits (one z slice), so their bucket is split again before it
+  // is sorted; the rest are spread over the room. NaNs in between keep the index bookkeeping honest.
+  Eigen::Matrix3Xf cloud = test::random_cloud(11, 90000, 0.f, 4.f);
+  for (Eigen::Index i = 0; i < cloud.cols(); ++i) {
+    if (i % 4 != 0) cloud(2, i) = 0.001f * float(i % 7);
+    if (i % 1001 == 0) cloud(1, i) = std::numeric_limits<float>::quiet_NaN();
+  }
+  for (double voxel : {0.01, 0.02, 0.1}) {
+    for (int threads : {1, 2}) {
+      expect_same(voxel_grid(cloud, {voxel, 2}, threads), reference_voxel_grid(cloud, voxel, 2));
+    }
+  }
+}
+
 TEST(VoxelGrid, MinPointsPerVoxel) {
   const Eigen::Matrix3Xf cloud = test::random_cloud(7, 5000, 0.f, 1.f);
   for (int min_points : {0, 1, 2, 5, 40}) {
