@@ -84,14 +84,16 @@ T* radix_sort_segments(const std::vector<Segment<T>>& segments, T* a, T* b, int 
                        int threads) {
   // Digits of at most 12 bits, as few passes as that allows, the bits spread evenly over them.
   constexpr int kMaxDigitBits = 12;
-  constexpr std::size_t kBins = std::size_t{1} << kMaxDigitBits;
   const int passes = high_bit > low_bit ? (high_bit - low_bit + kMaxDigitBits - 1) / kMaxDigitBits : 0;
   const int kDigitBits = passes > 0 ? (high_bit - low_bit + passes - 1) / passes : 1;
   const std::size_t bins = std::size_t{1} << kDigitBits;
   std::size_t n = 0;
   for (const auto& s : segments) n += s.size;
-  // 32-bit counts (clouds hold fewer than 2^32 points): half the cache lines of the scatter's offsets.
-  std::vector<std::array<std::uint32_t, kBins>> counts(std::max<std::size_t>(segments.size(), std::size_t(threads)));
+  // 32-bit counts (clouds hold fewer than 2^32 points), `bins` per part: small sorts of small digits (a
+  // bucket of the voxel grid) stay cheap to set up.
+  const std::size_t slots = std::max<std::size_t>(segments.size(), std::size_t(threads));
+  std::vector<std::uint32_t> counts_storage(slots * bins);
+  auto counts = [&](int t) { return counts_storage.data() + std::size_t(t) * bins; };
   T* src = nullptr;
   T* dst = b;
   bool first = true;
@@ -111,8 +113,8 @@ T* radix_sort_segments(const std::vector<Segment<T>>& segments, T* a, T* b, int 
       }
     };
     parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
-      auto& c = counts[t];
-      std::fill(c.begin(), c.begin() + bins, 0);
+      std::uint32_t* c = counts(t);
+      std::fill(c, c + bins, 0);
       const T* in;
       std::size_t size;
       part_range(t, in, size);
@@ -126,17 +128,17 @@ T* radix_sort_segments(const std::vector<Segment<T>>& segments, T* a, T* b, int 
     std::uint32_t offset = 0;
     for (std::size_t d = 0; d < bins; ++d) {
       std::size_t total = 0;
-      for (int t = 0; t < parts; ++t) total += counts[t][d];
+      for (int t = 0; t < parts; ++t) total += counts(t)[d];
       if (total == n) trivial = true;
       for (int t = 0; t < parts; ++t) {
-        const std::uint32_t c = counts[t][d];
-        counts[t][d] = offset;
+        const std::uint32_t c = counts(t)[d];
+        counts(t)[d] = offset;
         offset += c;
       }
     }
     if (trivial && !first) continue;  // every item has the same digit: the pass would not move anything
     parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
-      auto& c = counts[t];
+      std::uint32_t* c = counts(t);
       const T* in;
       std::size_t size;
       part_range(t, in, size);
