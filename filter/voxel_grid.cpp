@@ -2,6 +2,7 @@
 
 #include "filter/detail/common.hpp"
 
+#include <algorithm>
 #include <array>
 
 namespace stvl::filter {
@@ -16,12 +17,27 @@ struct KeyPoint {
   float xyz[3];
 };
 
+// Voxels that differ only in this many low key bits are summed in a direct-address table (28 KiB: in L1).
+constexpr int kDirectBits = 10;
+// Buckets of a most-significant-digit pass: few enough that the scatter's write positions stay in L1.
+constexpr int kBucketBits = 8;
+// Buckets of at most this many points are sorted by insertion instead.
+constexpr std::size_t kInsertionPoints = 24;
+
+// Sums of the voxels of one bucket, indexed by the key's low bits; all zero between buckets.
+struct Table {
+  std::vector<std::uint32_t> count = std::vector<std::uint32_t>(std::size_t{1} << kDirectBits, 0);
+  std::vector<std::array<double, 3>> sum = std::vector<std::array<double, 3>>(std::size_t{1} << kDirectBits);
+  std::vector<std::uint32_t> touched = std::vector<std::uint32_t>(std::size_t{1} << kDirectBits);
+};
+
 // Kept per calling thread between calls: fresh multi-megabyte buffers would page-fault on every frame.
 template <class Key>
 struct Workspace {
   std::vector<Key> keys;                                 // of the finite points, in index order
   std::vector<KeyPoint<Key>> items;                      // grouped by bucket (the key's high bits)
-  std::vector<std::vector<KeyPoint<Key>>> scratch;       // per worker, for sorting one bucket
+  std::vector<std::vector<KeyPoint<Key>>> scratch;       // per worker, for splitting one bucket
+  std::vector<Table> tables;                             // per worker
   std::vector<std::vector<float>> centroids;             // per worker, x y z
 };
 
@@ -47,34 +63,64 @@ void append_centroids(const Item* sorted, std::size_t m, std::size_t min_points,
   }
 }
 
-// Buckets of a most-significant-digit pass: few enough that the scatter's write positions stay in L1.
-constexpr int kBucketBits = 8;
-// A bucket of at most this many points (256 KiB of 16-byte items) is sorted by a least-significant-digit
-// radix sort in cache; a larger one (the floor's slice, say) is split by its next kBucketBits first.
-constexpr std::size_t kSortInCachePoints = 16384;
-
-// Sorts data[0, m) (all equal above bit `bits`) stably on the key's low `bits`, using spare[0, m), and
-// appends the centroids of its voxels to `out`.
+// Appends to `out`, in key order, the centroids of the voxels in data[0, m): points in index order whose keys
+// are all equal above bit `bits`. Uses spare[0, m). Every step keeps index order within a voxel.
 template <class Item>
-void sort_and_reduce(Item* data, Item* spare, std::size_t m, int bits, std::size_t min_points,
-                     std::vector<float>& out) {
-  auto key = [](const Item& v) { return std::uint64_t{v.key}; };
-  if (m <= kSortInCachePoints || bits <= kBucketBits) {
-    const Item* sorted = data;
-    if (bits > 0 && m > 1) sorted = detail::radix_sort_segments<Item>({{data, m}}, data, spare, 0, bits, key, 1);
-    append_centroids(sorted, m, min_points, out);
+void reduce_bucket(Item* data, Item* spare, std::size_t m, int bits, std::size_t min_points, Table& table,
+                   std::vector<float>& out) {
+  if (m <= kInsertionPoints) {
+    for (std::size_t i = 1; i < m; ++i) {  // only larger keys move past: stable
+      const Item v = data[i];
+      std::size_t j = i;
+      for (; j > 0 && data[j - 1].key > v.key; --j) data[j] = data[j - 1];
+      data[j] = v;
+    }
+    append_centroids(data, m, min_points, out);
     return;
   }
-  const int shift = bits - kBucketBits;
+  if (bits <= kDirectBits) {
+    const std::uint64_t mask = (std::uint64_t{1} << bits) - 1;
+    std::size_t touched = 0;
+    for (std::size_t i = 0; i < m; ++i) {  // no branch per point: a new voxel is a coin flip to predict
+      const auto slot = static_cast<std::uint32_t>(std::uint64_t{data[i].key} & mask);
+      table.touched[touched] = slot;
+      touched += table.count[slot]++ == 0;
+      std::array<double, 3>& sum = table.sum[slot];
+      sum[0] += data[i].xyz[0];
+      sum[1] += data[i].xyz[1];
+      sum[2] += data[i].xyz[2];
+    }
+    auto emit = [&](std::uint32_t slot) {
+      const std::uint32_t c = table.count[slot];
+      std::array<double, 3>& sum = table.sum[slot];
+      if (c >= min_points) {
+        for (int a = 0; a < 3; ++a) out.push_back(static_cast<float>(sum[a] / double(c)));
+      }
+      table.count[slot] = 0;
+      sum = {0.0, 0.0, 0.0};
+    };
+    if (touched * 16 >= mask + 1) {  // dense: walk the slots in order
+      for (std::uint32_t slot = 0; slot <= mask; ++slot) {
+        if (table.count[slot] != 0) emit(slot);
+      }
+    } else {
+      std::sort(table.touched.begin(), table.touched.begin() + touched);
+      for (std::size_t k = 0; k < touched; ++k) emit(table.touched[k]);
+    }
+    return;
+  }
+  const int split = std::min(kBucketBits, bits - kDirectBits);
+  const int shift = bits - split;
+  const std::uint64_t mask = (std::uint64_t{1} << split) - 1;
   std::array<std::uint32_t, (1u << kBucketBits) + 1> begin{};
-  for (std::size_t i = 0; i < m; ++i) ++begin[1 + (key(data[i]) >> shift) % (1u << kBucketBits)];
-  for (std::size_t d = 1; d < begin.size(); ++d) begin[d] += begin[d - 1];
+  for (std::size_t i = 0; i < m; ++i) ++begin[1 + ((std::uint64_t{data[i].key} >> shift) & mask)];
+  for (std::size_t d = 1; d <= mask + 1; ++d) begin[d] += begin[d - 1];
   std::array<std::uint32_t, 1u << kBucketBits> next;
-  std::copy(begin.begin(), begin.end() - 1, next.begin());
-  for (std::size_t i = 0; i < m; ++i) spare[next[(key(data[i]) >> shift) % (1u << kBucketBits)]++] = data[i];
-  for (std::size_t d = 0; d + 1 < begin.size(); ++d) {
+  std::copy(begin.begin(), begin.begin() + mask + 1, next.begin());
+  for (std::size_t i = 0; i < m; ++i) spare[next[(std::uint64_t{data[i].key} >> shift) & mask]++] = data[i];
+  for (std::size_t d = 0; d <= mask; ++d) {
     const std::size_t size = begin[d + 1] - begin[d];
-    if (size > 0) sort_and_reduce(spare + begin[d], data + begin[d], size, shift, min_points, out);
+    if (size > 0) reduce_bucket(spare + begin[d], data + begin[d], size, shift, min_points, table, out);
   }
 }
 
@@ -106,8 +152,8 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
   }
   for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
 
-  // A most-significant-digit pass into 2^kBucketBits buckets, then each bucket sorted on the remaining key
-  // bits while in cache and reduced to centroids right away. Every step keeps index order among equal keys.
+  // A most-significant-digit pass into 2^kBucketBits buckets, then each bucket reduced to centroids while in
+  // cache (reduce_bucket). Every step keeps index order among equal keys.
   auto run = [&](auto key_type) {
     using Key = decltype(key_type);
     using Item = KeyPoint<Key>;
@@ -160,8 +206,8 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
         items[c[k >> low_bits]++] = Item{k, {x, y, z}};
       }
     });
-    // 4. Each worker takes a run of whole buckets holding about its share of the points, sorts each bucket
-    // on the low bits and appends its centroids; buckets are in key order, so the outputs concatenate.
+    // 4. Each worker takes a run of whole buckets holding about its share of the points and appends their
+    // centroids; buckets are in key order, so the outputs concatenate.
     const int workers = detail::parts_for(finite, threads);
     std::vector<std::size_t> first_bucket(workers + 1, buckets);
     for (int t = 0; t < workers; ++t) {
@@ -169,7 +215,11 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
           std::lower_bound(bucket_begin.begin(), bucket_begin.end() - 1, finite * t / workers) - bucket_begin.begin());
     }
     first_bucket[0] = 0;
-    if (static_cast<int>(w.scratch.size()) < workers) w.scratch.resize(workers), w.centroids.resize(workers);
+    if (static_cast<int>(w.scratch.size()) < workers) {
+      w.scratch.resize(workers);
+      w.tables.resize(workers);
+      w.centroids.resize(workers);
+    }
     std::vector<std::size_t> kept(workers + 1, 0);
     detail::parallel_for(workers, workers, [&](std::size_t, std::size_t, int t) {
       std::vector<float>& out = w.centroids[t];
@@ -179,7 +229,7 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
         const std::size_t m = bucket_begin[d + 1] - bucket_begin[d];
         if (m == 0) continue;
         if (scratch.size() < m) scratch.resize(m);
-        sort_and_reduce(w.items.data() + bucket_begin[d], scratch.data(), m, low_bits, min_points, out);
+        reduce_bucket(w.items.data() + bucket_begin[d], scratch.data(), m, low_bits, min_points, w.tables[t], out);
       }
       kept[t + 1] = out.size() / 3;
     });
