@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
+#include <type_traits>
 
 namespace stvl::filter {
 
@@ -23,6 +25,49 @@ constexpr int kDirectBits = 10;
 constexpr int kBucketBits = 8;
 // Buckets of at most this many points are sorted by insertion instead.
 constexpr std::size_t kInsertionPoints = 24;
+
+// Voxel keys of points that are all finite, with voxel indices that fit int32 and keys that fit 32 bits: the
+// same values as detail::voxel_key (the same division and floor) without a branch per point, in a loop the
+// compiler vectorises; on x86 it is compiled for AVX2 and used where the CPU has it (4 divisions at a time).
+struct Keys32 {
+  double voxel_size_m;
+  std::int32_t base[3];
+  std::uint32_t dims[2];
+};
+
+bool make_keys32(const detail::VoxelLayout& l, Keys32& k) {
+  constexpr std::int64_t lo = std::numeric_limits<std::int32_t>::min(), hi = std::numeric_limits<std::int32_t>::max();
+  if (l.key_bits > 32) return false;
+  for (int a = 0; a < 3; ++a) {
+    if (l.base[a] < lo || l.base[a] + std::int64_t(l.dims[a]) - 1 > hi) return false;
+    k.base[a] = static_cast<std::int32_t>(l.base[a]);
+  }
+  k.voxel_size_m = l.voxel_size_m;
+  k.dims[0] = static_cast<std::uint32_t>(l.dims[0]);
+  k.dims[1] = static_cast<std::uint32_t>(l.dims[1]);
+  return true;
+}
+
+#if defined(__x86_64__) || defined(__i386__)
+#define STVL_KEYS32_TARGET __attribute__((target("avx2")))
+bool keys32_supported() { return __builtin_cpu_supports("avx2"); }
+#else
+#define STVL_KEYS32_TARGET
+bool keys32_supported() { return true; }
+#endif
+
+STVL_KEYS32_TARGET void keys32(const float* p, std::size_t n, const Keys32 l, std::uint32_t* keys) {
+  // In range by construction: every finite point lies in the bounding box the layout was made from, and the
+  // rounded division is monotonic, so floor(v / size) is within [base, base + dims - 1].
+  auto axis = [&](float v, int a) {
+    const double q = double(v) / l.voxel_size_m;
+    const std::int32_t t = static_cast<std::int32_t>(q);
+    return static_cast<std::uint32_t>(t - (static_cast<double>(t) > q) - l.base[a]);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    keys[i] = axis(p[3 * i], 0) + l.dims[0] * (axis(p[3 * i + 1], 1) + l.dims[1] * axis(p[3 * i + 2], 2));
+  }
+}
 
 // Sums of the voxels of one bucket, indexed by the key's low bits; all zero between buckets.
 struct Table {
@@ -170,10 +215,20 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
     w.keys.resize(finite);
     w.items.resize(finite);
     std::vector<std::uint32_t> count(parts * buckets, 0);
+    Keys32 layout32;
+    const bool all_32_bit = std::is_same_v<Key, std::uint32_t> && finite == n && keys32_supported() &&
+                            make_keys32(layout, layout32);
     detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
       std::uint32_t* c = count.data() + t * buckets;
       Key* keys = w.keys.data();
       std::size_t o = offset[t];
+      if constexpr (std::is_same_v<Key, std::uint32_t>) {
+        if (all_32_bit) {
+          keys32(p + 3 * b, e - b, layout32, keys + o);
+          for (std::size_t i = o; i < o + (e - b); ++i) ++c[keys[i] >> low_bits];
+          return;
+        }
+      }
       for (std::size_t i = b; i < e; ++i) {
         const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
         if (!detail::finite3(x, y, z)) continue;

@@ -62,9 +62,16 @@ TEST(VoxelGrid, MatchesReferenceOnBoundariesAndNegativeCoordinates) {
       cloud.col(cloud.cols() - 1) << 0.25f * i, 0.5f * j, -0.25f * (i % 3);
     }
   }
-  for (double voxel : {0.25, 0.5, 0.1}) {
+  // With a NaN point added, the keys come from the per-point path instead of the 32-bit branch-free one.
+  Eigen::Matrix3Xf with_nan = cloud;
+  with_nan.conservativeResize(3, cloud.cols() + 1);
+  with_nan.col(cloud.cols()).setConstant(std::numeric_limits<float>::quiet_NaN());
+  for (double voxel : {0.25, 0.5, 0.1, 0.05, 0.02}) {
     const Eigen::Matrix3Xf out = voxel_grid(cloud, {voxel, 1}, 2);
     expect_same(out, reference_voxel_grid(cloud, voxel, 1));
+    const Eigen::Matrix3Xf same = voxel_grid(with_nan, {voxel, 1}, 2);
+    ASSERT_EQ(same.cols(), out.cols());
+    EXPECT_TRUE((same.array() == out.array()).all()) << "voxel " << voxel;
   }
   // A point exactly on a boundary belongs to the voxel above it.
   Eigen::Matrix3Xf two(3, 2);
