@@ -11,7 +11,7 @@ namespace stvl::filter {
 
 namespace {
 
-// Sort items carry their point, so that the centroids are summed from the sorted items in order instead of
+// Items carry their point, so that the centroids are summed from the bucketed items in order instead of
 // gathering each voxel's points from all over the cloud. 32-bit keys whenever the bounding box allows.
 template <class Key>
 struct KeyPoint {
@@ -73,7 +73,8 @@ STVL_KEYS32_TARGET void keys32(const float* p, std::size_t n, const Keys32 l, st
 struct Table {
   std::vector<std::uint32_t> count = std::vector<std::uint32_t>(std::size_t{1} << kDirectBits, 0);
   std::vector<std::array<double, 3>> sum = std::vector<std::array<double, 3>>(std::size_t{1} << kDirectBits);
-  std::vector<std::uint32_t> touched = std::vector<std::uint32_t>(std::size_t{1} << kDirectBits);
+  // The slots in first-touch order; one spare entry, written (not counted) by every point after all are touched.
+  std::vector<std::uint32_t> touched = std::vector<std::uint32_t>((std::size_t{1} << kDirectBits) + 1);
 };
 
 // Kept per calling thread between calls: fresh multi-megabyte buffers would page-fault on every frame.

@@ -96,6 +96,24 @@ TEST(VoxelGrid, MatchesReferenceWhenOneSliceHoldsMostPoints) {
   }
 }
 
+TEST(VoxelGrid, BucketHoldingEveryKeyOfItsTable) {
+  // 1 m voxels, 1024 along x and 256 along z: 18-bit keys, so a bucket (one z layer) is summed in a table of
+  // its 10 low bits. The z = 0 layer holds every one of its 1024 keys twice: the second round of points comes
+  // after all slots are in use.
+  Eigen::Matrix3Xf cloud(3, 2 * 1024 + 2);
+  for (int round = 0; round < 2; ++round) {
+    for (int x = 0; x < 1024; ++x) cloud.col(round * 1024 + x) << x + 0.25f + 0.5f * round, 0.5f, 0.5f;
+  }
+  cloud.col(2048) << 0.5f, 0.5f, 255.5f;
+  cloud.col(2049) << 1023.5f, 0.5f, 100.5f;
+  for (int threads : {1, 2}) {
+    const Eigen::Matrix3Xf out = voxel_grid(cloud, {1.0, 1}, threads);
+    ASSERT_EQ(out.cols(), 1026);
+    expect_same(out, reference_voxel_grid(cloud, 1.0, 1));
+    EXPECT_FLOAT_EQ(out(0, 7), 7.5f);  // the mean of 7.25 and 7.75
+  }
+}
+
 TEST(VoxelGrid, MinPointsPerVoxel) {
   const Eigen::Matrix3Xf cloud = test::random_cloud(7, 5000, 0.f, 1.f);
   for (int min_points : {0, 1, 2, 5, 40}) {
