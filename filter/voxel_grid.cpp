@@ -29,6 +29,7 @@ constexpr std::size_t kInsertionPoints = 24;
 // Voxel keys of points that are all finite, with voxel indices that fit int32 and keys that fit 32 bits: the
 // same values as detail::voxel_key (the same division and floor) without a branch per point, in a loop the
 // compiler vectorises; on x86 it is compiled for AVX2 and used where the CPU has it (4 divisions at a time).
+// detail::voxel_key's 64-bit floor_div would not vectorise: AVX2 converts double to int32, not to int64.
 struct Keys32 {
   double voxel_size_m;
   std::int32_t base[3];
@@ -87,6 +88,17 @@ struct Workspace {
   std::vector<std::vector<float>> centroids;             // per worker, x y z
 };
 
+// One voxel's centroid, appended to `out` when it has at least min_points points. Every path of the reduction
+// ends here, so all of them round alike.
+inline void append_centroid(double sx, double sy, double sz, std::size_t count, std::size_t min_points,
+                            std::vector<float>& out) {
+  if (count < min_points) return;
+  const double c = double(count);
+  out.push_back(static_cast<float>(sx / c));
+  out.push_back(static_cast<float>(sy / c));
+  out.push_back(static_cast<float>(sz / c));
+}
+
 // The centroids (double sums in order) of the runs of equal key in sorted[0, m), appended to `out`.
 template <class Item>
 void append_centroids(const Item* sorted, std::size_t m, std::size_t min_points, std::vector<float>& out) {
@@ -99,12 +111,7 @@ void append_centroids(const Item* sorted, std::size_t m, std::size_t min_points,
       sy += sorted[j].xyz[1];
       sz += sorted[j].xyz[2];
     }
-    if (j - i >= min_points) {
-      const double c = double(j - i);
-      out.push_back(static_cast<float>(sx / c));
-      out.push_back(static_cast<float>(sy / c));
-      out.push_back(static_cast<float>(sz / c));
-    }
+    append_centroid(sx, sy, sz, j - i, min_points, out);
     i = j;
   }
 }
@@ -137,13 +144,10 @@ void reduce_bucket(Item* data, Item* spare, std::size_t m, int bits, std::size_t
       sum[2] += data[i].xyz[2];
     }
     auto emit = [&](std::uint32_t slot) {
-      const std::uint32_t c = table.count[slot];
-      std::array<double, 3>& sum = table.sum[slot];
-      if (c >= min_points) {
-        for (int a = 0; a < 3; ++a) out.push_back(static_cast<float>(sum[a] / double(c)));
-      }
+      const std::array<double, 3>& sum = table.sum[slot];
+      append_centroid(sum[0], sum[1], sum[2], table.count[slot], min_points, out);
       table.count[slot] = 0;
-      sum = {0.0, 0.0, 0.0};
+      table.sum[slot] = {0.0, 0.0, 0.0};
     };
     if (touched * 16 >= mask + 1) {  // dense: walk the slots in order
       for (std::uint32_t slot = 0; slot <= mask; ++slot) {
