@@ -4,7 +4,9 @@
 # median times and their ratio (the rest of filter/ is the working tree's for both, so REV's voxel_grid.cpp
 # must still compile against today's headers). It first checks that both give bit-identical output (exit 1
 # otherwise).
-# Alternating calls in one process keeps this machine's drift out of the ratio, which separate runs do not.
+# Alternating calls in one process keeps this machine's drift out of the ratio, which separate runs do not; the
+# order within each pair alternates too (with a fixed order the second call was 5-10 % slower, HEAD against
+# itself). Run it against HEAD with no change first: the ratio it prints then is the noise floor.
 #
 #   scripts/ab-voxel-grid.sh [REV] [CLOUD.stvlcld] [VOXEL_M] [THREADS] [REPS]
 #   e.g. scripts/ab-voxel-grid.sh HEAD~1 .deps/clouds/corridor_t20.0.stvlcld 0.02 2 200
@@ -46,7 +48,8 @@ int main(int, char** argv) {
   }
   std::vector<double> ms[2];
   for (int r = 0; r < reps; ++r) {
-    for (int which = 0; which < 2; ++which) {
+    for (int k = 0; k < 2; ++k) {
+      const int which = (r + k) % 2;  // each goes first in every other pair: the second call of a pair runs slower
       const auto start = std::chrono::steady_clock::now();
       const Eigen::Matrix3Xf out = which ? voxel_grid(cloud, config, threads) : voxel_grid_old(cloud, config, threads);
       ms[which].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
