@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <limits>
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
 #include "filter/detail/common.hpp"
 
 namespace stvl::filter {
@@ -11,32 +15,37 @@ namespace {
 
 using detail::CsnbLayout;
 
-// A point (cube = index into the occupied-cube table) and a candidate neighbour: the points that were live
-// at the last compaction, per cube in sorted order, with x set to NaN once deleted (NaN is never < r2).
-// The walk visits points in a random order, so everything it reads per point is stored by walk id (the
-// position in that order; anchors follow, by cube) and read sequentially; only neighbours are random.
+// A point of the walk (cube = index into the occupied-cube table). The walk visits points in a random
+// order, so everything it reads per point is stored by walk id (the position in that order; anchors follow,
+// by cube) and read sequentially; only neighbours are random.
 struct Point {
   float x, y, z;
   std::uint32_t cube;
 };
-struct Candidate {
-  float x, y, z;
-  std::uint32_t id;  // walk id
-};
 
 enum : std::uint8_t { kLive = 0, kSettled = 1, kDead = 2 };  // a settled point is live and can never be marked
-enum : std::uint8_t { kSkip = 0, kUnmarked = 1, kMarked = 2 };  // what the walk found for a point
+enum : std::uint8_t { kUnmarked = 1, kMarked = 2 };          // what a count found for a point
+
+// Candidate neighbours: the points that were live at the last compaction, per cube in sorted order, as
+// arrays (x, y, z, walk id) padded with kPad entries that are never within r (x = NaN), so that counts run
+// over whole blocks of kBlock and vectorise.
+constexpr std::uint32_t kBlock = 8;
+constexpr std::uint32_t kPad = kBlock;
 
 // Buffers kept per calling thread (see voxel_grid.cpp): fresh ones would page-fault on every frame.
 struct Workspace {
   std::vector<std::uint64_t> items, scratch, order;
-  std::vector<std::uint32_t> run_end, column, cube_key, cube_begin, spans, anchor, slot_of, start, row_slots, batch,
-      walk_of;
+  std::vector<std::uint32_t> run_end, column, cube_key, cube_begin, spans, anchor, batch, unsure, walk_of;
   std::vector<Point> points, walk_points;
-  std::vector<Candidate> candidates, next_candidates;
-  std::vector<std::uint32_t> next_start;
+  std::vector<float> cx, cy, cz, next_cx, next_cy, next_cz;
+  std::vector<std::uint32_t> cid, next_cid, start, next_start, row_slots;
+  std::vector<std::uint64_t> live;  // bit per walk id: not deleted
+  std::vector<std::uint64_t> sure;  // bit per walk id: marked whenever reached (find_sure)
+  std::vector<std::vector<std::uint64_t>> sure_parts;
   std::vector<std::uint8_t> state, is_anchor, result, claims;
 };
+
+inline bool bit(const std::uint64_t* bits, std::uint32_t i) { return (bits[i / 64] >> (i % 64)) & 1; }
 
 // Two-pass parallel fill: count(b, e) says how many outputs the part [b, e) makes, prepare(total) makes room,
 // write(b, e, first) writes them from `first`; returns the total. Parts are contiguous ranges of [0, n), so
@@ -53,11 +62,56 @@ std::size_t parallel_compact(std::size_t n, int threads, std::size_t grain, Coun
   return offset[parts];
 }
 
-// Marked = a live point with more than `threshold` live neighbours. Counted with early exit every 16
-// candidates, the centre row (the point's own cube and its x-neighbours) first.
-struct Evaluator {
-  const Point* points;
-  const Candidate* candidates;
+#if defined(__x86_64__) || defined(__i386__)
+#define STVL_CSNB_X86 1
+#define STVL_AVX2 __attribute__((target("avx2")))  // not "fma": a*b+c must stay two roundings, as in sq_dist
+bool avx2_supported() { return __builtin_cpu_supports("avx2"); }
+#else
+#define STVL_CSNB_X86 0
+#define STVL_AVX2
+bool avx2_supported() { return false; }
+#endif
+
+// Which candidates a count takes, by walk id; per id, and per 8 ids for AVX2 (ids < 2^31 there).
+struct LaterOrPassed {  // a later walk id (or an anchor), or one before the cursor (settled)
+  std::uint32_t me, cursor;
+  bool operator()(std::uint32_t other) const { return (other > me) | (other < cursor); }
+#if STVL_CSNB_X86
+  STVL_AVX2 __m256i mask(__m256i ids) const {
+    return _mm256_or_si256(_mm256_cmpgt_epi32(ids, _mm256_set1_epi32(int(me))),
+                           _mm256_cmpgt_epi32(_mm256_set1_epi32(int(cursor)), ids));
+  }
+#endif
+};
+struct Other {  // anything but the point itself
+  std::uint32_t me;
+  bool operator()(std::uint32_t other) const { return other != me; }
+#if STVL_CSNB_X86
+  STVL_AVX2 __m256i mask(__m256i ids) const {
+    return _mm256_xor_si256(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(int(me))), _mm256_set1_epi32(-1));
+  }
+#endif
+};
+struct LiveOther {  // live (bit set) and not the point itself
+  const std::uint64_t* live;
+  std::uint32_t me;
+  bool operator()(std::uint32_t other) const { return bit(live, other) & (other != me); }
+#if STVL_CSNB_X86
+  STVL_AVX2 __m256i mask(__m256i ids) const {
+    // Little-endian: bit i of the 64-bit words is bit i % 32 of 32-bit word i / 32.
+    const __m256i words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(live), _mm256_srli_epi32(ids, 5), 4);
+    const __m256i bits = _mm256_srlv_epi32(words, _mm256_and_si256(ids, _mm256_set1_epi32(31)));
+    const __m256i set = _mm256_cmpeq_epi32(_mm256_and_si256(bits, _mm256_set1_epi32(1)), _mm256_set1_epi32(1));
+    return _mm256_andnot_si256(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(int(me))), set);
+  }
+#endif
+};
+
+// Neighbour counts over the candidates, with early exit after every block of kBlock, the centre row (the
+// point's own cube and its x-neighbours) first.
+struct Counter {
+  const float *x, *y, *z;
+  const std::uint32_t* id;
   const std::uint32_t* start;      // per cube: its first candidate
   const std::uint32_t* row_slots;  // per cube and row: the candidate range [first, end)
   int rows;
@@ -65,41 +119,156 @@ struct Evaluator {
   float r2;
   int threshold;
 
-  bool marked(std::uint32_t id) const {
-    const Point p = points[id];
-    const std::uint32_t* slots = row_slots + std::size_t(p.cube) * rows * 2;
+  // True when more than `threshold` candidates that `accept` takes lie closer than r to (px, py, pz) in
+  // `cube`; gives up (false) once `budget` candidates have been tested. Block::count counts one block.
+  template <class Block, class Accept>
+  bool exceeds(float px, float py, float pz, std::uint32_t cube, std::size_t budget, const Accept& accept) const {
+    const std::uint32_t* slots = row_slots + std::size_t(cube) * rows * 2;
     int k = 0;
+    std::size_t tested = 0;
     auto count = [&](std::uint32_t j, std::uint32_t e) {
-      while (j < e) {
-        for (const std::uint32_t stop = std::min(e, j + 16); j < stop; ++j) {
-          const Candidate& c = candidates[j];
-          k += (detail::sq_dist(p.x, p.y, p.z, c.x, c.y, c.z) < r2) & (c.id != id);
-        }
-        if (k > threshold) return true;
+      for (; j < e; j += kBlock) {
+        const std::uint32_t n = std::min(kBlock, e - j);
+        k += Block::count(*this, j, n, px, py, pz, accept);
+        tested += n;
+        if (k > threshold) return 1;
+        if (tested >= budget) return -1;
       }
-      return false;
+      return 0;
     };
-    // The point's own cube, the rest of its row, then the other rows.
-    const std::uint32_t own_begin = start[p.cube], own_end = start[p.cube + 1];
-    if (count(own_begin, own_end) || count(slots[2 * centre_row], own_begin) ||
-        count(own_end, slots[2 * centre_row + 1]))
-      return true;
-    for (int r = 0; r < rows; ++r) {
-      if (r != centre_row && count(slots[2 * r], slots[2 * r + 1])) return true;
+    const std::uint32_t own_begin = start[cube], own_end = start[cube + 1];
+    int verdict = count(own_begin, own_end);
+    if (verdict == 0) verdict = count(slots[2 * centre_row], own_begin);
+    if (verdict == 0) verdict = count(own_end, slots[2 * centre_row + 1]);
+    for (int r = 0; r < rows && verdict == 0; ++r) {
+      if (r != centre_row) verdict = count(slots[2 * r], slots[2 * r + 1]);
     }
-    return false;
+    return verdict == 1;
   }
-  void prefetch_rows(std::uint32_t id) const {
-    const std::uint32_t* slots = row_slots + std::size_t(points[id].cube) * rows * 2;
+  void prefetch(std::uint32_t cube) const {
+    const std::uint32_t* slots = row_slots + std::size_t(cube) * rows * 2;
     __builtin_prefetch(slots);
     __builtin_prefetch(slots + 16);
-  }
-  void prefetch_centre(std::uint32_t id) const {
-    const std::uint32_t* slots = row_slots + std::size_t(points[id].cube) * rows * 2;
-    __builtin_prefetch(&start[points[id].cube]);
-    __builtin_prefetch(&candidates[slots[2 * centre_row]]);
+    __builtin_prefetch(&start[cube]);
   }
 };
+
+// Candidates j .. j + n - 1 (n <= kBlock) within r of (px, py, pz) that `accept` takes, one at a time or 8
+// at a time: the same IEEE operations as detail::sq_dist in both, so the same counts.
+struct PlainBlock {
+  template <class Accept>
+  static int count(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
+                   const Accept& accept) {
+    int k = 0;
+    for (std::uint32_t l = 0; l < n; ++l)
+      k += (detail::sq_dist(px, py, pz, c.x[j + l], c.y[j + l], c.z[j + l]) < c.r2) & accept(c.id[j + l]);
+    return k;
+  }
+};
+#if STVL_CSNB_X86
+struct Avx2Block {
+  template <class Accept>
+  STVL_AVX2 static int count(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
+                             const Accept& accept) {
+    const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(px), _mm256_loadu_ps(c.x + j));
+    const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(py), _mm256_loadu_ps(c.y + j));
+    const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(pz), _mm256_loadu_ps(c.z + j));
+    const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+    const __m256 near = _mm256_cmp_ps(d2, _mm256_set1_ps(c.r2), _CMP_LT_OQ);  // false for the NaN padding
+    const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c.id + j));
+    const __m256 taken = _mm256_and_ps(near, _mm256_castsi256_ps(accept.mask(ids)));
+    return __builtin_popcount(unsigned(_mm256_movemask_ps(taken)) & ((1u << n) - 1u));
+  }
+};
+#endif
+
+// Points sure to be marked whenever the walk reaches them, as bits by walk id: more than `threshold`
+// neighbours that are anchors or come later in the walk (a larger walk id). Batches delete only points the
+// walk has passed and anchors never, so all of these are live when the walk reaches the point. Counted in
+// cube order, where the neighbour rows stay in cache, testing at most kSureBudget candidates per point: a
+// point not shown sure here is counted exactly when the walk reaches it. Needs every candidate live.
+constexpr std::size_t kSureBudget = 64;
+
+// The counting loops, over plain or AVX2 blocks. The AVX2 entry points are compiled for AVX2 with everything
+// they call inlined (flatten), and called only where the CPU has it.
+template <class Block>
+void sure_part(const Counter& c, std::size_t b, std::size_t e, std::uint32_t order_size, std::uint32_t cursor,
+               std::uint64_t* bits) {
+  for (std::size_t cube = b; cube < e; ++cube) {
+    for (std::uint32_t s = c.start[cube]; s < c.start[cube + 1]; ++s) {
+      const std::uint32_t me = c.id[s];
+      if (me >= order_size || me < cursor) continue;  // an anchor, or passed
+      if (c.exceeds<Block>(c.x[s], c.y[s], c.z[s], std::uint32_t(cube), kSureBudget, LaterOrPassed{me, cursor}))
+        bits[me / 64] |= std::uint64_t{1} << (me % 64);
+    }
+  }
+}
+
+// Anchors (walk ids order_size + cube) with more than `threshold` live neighbours.
+template <class Block>
+void anchors_over(const Counter& c, const Point* anchors, const std::uint64_t* live, std::size_t b, std::size_t e,
+                  std::uint32_t order_size, std::uint8_t* over) {
+  for (std::size_t cube = b; cube < e; ++cube) {
+    const Point a = anchors[cube];
+    over[cube] = c.exceeds<Block>(a.x, a.y, a.z, a.cube, std::numeric_limits<std::size_t>::max(),
+                                  LiveOther{live, order_size + std::uint32_t(cube)});
+  }
+}
+
+// Marked or not, for the walk ids ids[b, e), on the live set.
+template <class Block>
+void count_live(const Counter& c, const Point* points, const std::uint64_t* live, const std::uint32_t* ids,
+                std::size_t b, std::size_t e, std::uint8_t* result) {
+  for (std::size_t k = b; k < e; ++k) {
+    if (k + 8 < e) c.prefetch(points[ids[k + 8]].cube);
+    const std::uint32_t me = ids[k];
+    const Point p = points[me];
+    const bool marked =
+        c.exceeds<Block>(p.x, p.y, p.z, p.cube, std::numeric_limits<std::size_t>::max(), LiveOther{live, me});
+    result[me] = marked ? kMarked : kUnmarked;
+  }
+}
+
+#if STVL_CSNB_X86
+#define STVL_AVX2_ENTRY(name, params, args)                                               \
+  STVL_AVX2 __attribute__((flatten)) void name##_avx2 params { name<Avx2Block> args; }
+#else
+#define STVL_AVX2_ENTRY(name, params, args) \
+  void name##_avx2 params { name<PlainBlock> args; }
+#endif
+STVL_AVX2_ENTRY(sure_part, (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint32_t u,
+                            std::uint64_t* bits), (c, b, e, o, u, bits))
+STVL_AVX2_ENTRY(anchors_over, (const Counter& c, const Point* a, const std::uint64_t* l, std::size_t b, std::size_t e,
+                               std::uint32_t o, std::uint8_t* over), (c, a, l, b, e, o, over))
+STVL_AVX2_ENTRY(count_live, (const Counter& c, const Point* p, const std::uint64_t* l, const std::uint32_t* ids,
+                             std::size_t b, std::size_t e, std::uint8_t* result), (c, p, l, ids, b, e, result))
+#undef STVL_AVX2_ENTRY
+
+void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uint32_t order_size,
+               std::uint32_t cursor, bool avx2, int threads) {
+  const std::size_t words = (std::size_t(order_size) + 63) / 64;
+  const int parts = detail::parts_for(cubes, threads, 1024);
+  w.sure_parts.resize(parts);
+  detail::parallel_for(cubes, parts, [&](std::size_t b, std::size_t e, int t) {
+    std::vector<std::uint64_t>& bits = w.sure_parts[t];  // one bitmap per part: no shared cache lines
+    bits.assign(words, 0);
+    if (avx2)
+      sure_part_avx2(counter, b, e, order_size, cursor, bits.data());
+    else
+      sure_part<PlainBlock>(counter, b, e, order_size, cursor, bits.data());
+  });
+  w.sure.assign(words, 0);
+  detail::parallel_for(words, detail::parts_for(words, threads, 4096), [&](std::size_t b, std::size_t e, int) {
+    for (const auto& bits : w.sure_parts)
+      for (std::size_t i = b; i < e; ++i) w.sure[i] |= bits[i];
+  });
+}
+
+void pad(Workspace& w, std::size_t n) {
+  for (auto* v : {&w.cx, &w.cy, &w.cz}) v->resize(n + kPad, std::numeric_limits<float>::quiet_NaN());
+  w.cid.resize(n + kPad, 0);
+  std::fill(w.cx.begin() + n, w.cx.end(), std::numeric_limits<float>::quiet_NaN());
+}
 
 void update_row_slots(Workspace& w, std::size_t cubes, int rows, int threads) {
   w.row_slots.resize(cubes * rows * 2);
@@ -112,30 +281,32 @@ void update_row_slots(Workspace& w, std::size_t cubes, int rows, int threads) {
 // The first candidates: every point (all are live), per cube in sorted order, and each row's candidate range.
 void init_candidates(Workspace& w, std::size_t cubes, int rows, int threads) {
   const std::size_t m = w.points.size();
-  w.candidates.resize(m);
+  pad(w, m);
   w.start.assign(w.cube_begin.begin(), w.cube_begin.begin() + cubes + 1);
   detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
     for (std::size_t s = b; s < e; ++s) {
-      const std::uint32_t id = w.walk_of[s];
-      w.candidates[s] = {w.points[s].x, w.points[s].y, w.points[s].z, id};
-      w.slot_of[id] = static_cast<std::uint32_t>(s);
+      w.cx[s] = w.points[s].x;
+      w.cy[s] = w.points[s].y;
+      w.cz[s] = w.points[s].z;
+      w.cid[s] = w.walk_of[s];
     }
   });
   update_row_slots(w, cubes, rows, threads);
 }
 
-// Without the deleted candidates (x = NaN), read from the candidates themselves: only what is left.
+// Only the live candidates.
 void recompact(Workspace& w, std::size_t cubes, int rows, int threads) {
-  w.next_candidates.resize(w.candidates.size());
+  for (auto* v : {&w.next_cx, &w.next_cy, &w.next_cz}) v->resize(w.cx.size());
+  w.next_cid.resize(w.cid.size());
   w.next_start.resize(cubes + 1);
   const std::uint32_t* start = w.start.data();
-  const Candidate* from = w.candidates.data();
+  const std::uint64_t* live = w.live.data();
   const std::size_t total = parallel_compact(
       cubes, threads, 2048,
       [&](std::size_t b, std::size_t e) {
-        std::size_t live = 0;
-        for (std::uint32_t j = start[b]; j < start[e]; ++j) live += from[j].x == from[j].x;
-        return live;
+        std::size_t count = 0;
+        for (std::uint32_t j = start[b]; j < start[e]; ++j) count += bit(live, w.cid[j]);
+        return count;
       },
       [](std::size_t) {},
       [&](std::size_t b, std::size_t e, std::size_t first) {
@@ -143,16 +314,85 @@ void recompact(Workspace& w, std::size_t cubes, int rows, int threads) {
         for (std::size_t c = b; c < e; ++c) {
           w.next_start[c] = o;
           for (std::uint32_t j = start[c]; j < start[c + 1]; ++j) {
-            if (from[j].x != from[j].x) continue;
-            w.next_candidates[o] = from[j];
-            w.slot_of[from[j].id] = o++;
+            if (!bit(live, w.cid[j])) continue;
+            w.next_cx[o] = w.cx[j];
+            w.next_cy[o] = w.cy[j];
+            w.next_cz[o] = w.cz[j];
+            w.next_cid[o++] = w.cid[j];
           }
         }
       });
   w.next_start[cubes] = static_cast<std::uint32_t>(total);
-  w.candidates.swap(w.next_candidates);
+  w.cx.swap(w.next_cx);
+  w.cy.swap(w.next_cy);
+  w.cz.swap(w.next_cz);
+  w.cid.swap(w.next_cid);
   w.start.swap(w.next_start);
+  pad(w, total);
   update_row_slots(w, cubes, rows, threads);
+}
+
+// detail::cube_key of n all-finite points inside the layout's box (so the quotients are in [0, 2^9] and fit
+// 32-bit integers: the same floor as detail::floor_div), as 32-bit arithmetic that vectorises.
+inline void cube_keys(const float* p, std::size_t n, const CsnbLayout& l, std::uint64_t* keys) {
+  const int bits = l.grid_exponent;
+  const std::int32_t top = (1 << bits) - 1;
+  const double min_x = l.min_m[0], min_y = l.min_m[1], min_z = l.min_m[2], edge = l.cube_edge_m;
+  auto axis = [&](float v, double min) {
+    const double q = (double(v) - min) / edge;
+    const std::int32_t t = static_cast<std::int32_t>(q);
+    return std::min(std::max(t - std::int32_t(double(t) > q), 0), top);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    keys[i] = std::uint32_t(axis(p[3 * i], min_x)) | std::uint32_t(axis(p[3 * i + 1], min_y)) << bits |
+              std::uint32_t(axis(p[3 * i + 2], min_z)) << (2 * bits);
+  }
+}
+#if STVL_CSNB_X86
+STVL_AVX2 __attribute__((flatten)) void cube_keys_avx2(const float* p, std::size_t n, const CsnbLayout& l,
+                                                       std::uint64_t* keys) {
+  cube_keys(p, n, l, keys);
+}
+#else
+void cube_keys_avx2(const float* p, std::size_t n, const CsnbLayout& l, std::uint64_t* keys) {
+  cube_keys(p, n, l, keys);
+}
+#endif
+
+// spans[(c * rows + r) * 2 + {0, 1}]: the occupied cubes [first, end) in row r (detail::csnb_row) of cube c,
+// for the cubes c in [b, e) of the sorted `keys`. A row's key range moves up with the cube's key, so per row
+// one pair of pointers walks the table (after a binary search at b).
+void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cubes, std::size_t b, std::size_t e,
+                std::uint32_t* spans) {
+  const int rows = detail::csnb_rows(l), side = 2 * l.reach + 1, bits = l.grid_exponent, top = (1 << bits) - 1;
+  const std::uint32_t count = static_cast<std::uint32_t>(cubes);
+  for (int r = 0; r < rows; ++r) {
+    // detail::csnb_row with this row's offsets worked out once (it divides by `side` per call).
+    const int dy = r % side - l.reach, dz = r / side - l.reach;
+    std::uint32_t c0 = 0, c1 = 0;
+    bool searched = false;
+    for (std::size_t c = b; c < e; ++c) {
+      std::uint32_t* span = spans + (c * rows + r) * 2;
+      const int key = int(keys[c]), x = key & top, y = ((key >> bits) & top) + dy, z = ((key >> (2 * bits)) & top) + dz;
+      if (y < 0 || y > top || z < 0 || z > top) {
+        span[0] = span[1] = 0;
+        continue;
+      }
+      const std::uint32_t base = std::uint32_t(y << bits) | std::uint32_t(z << (2 * bits));
+      const std::uint32_t lo = base | std::uint32_t(std::max(x - l.reach, 0));
+      const std::uint32_t hi = base | std::uint32_t(std::min(x + l.reach, top));
+      if (!searched) {
+        c0 = detail::search_keys(keys, count, lo, false);
+        c1 = detail::search_keys(keys, count, hi, true);
+        searched = true;
+      }
+      while (c0 < count && keys[c0] < lo) ++c0;
+      if (c1 < c0) c1 = c0;
+      while (c1 < count && keys[c1] <= hi) ++c1;
+      span[0] = c0;
+      span[1] = c1;
+    }
+  }
 }
 
 }  // namespace
@@ -167,142 +407,86 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   const std::size_t n = static_cast<std::size_t>(points.cols());
   const std::size_t m = bounds.finite;
   const float* p = points.data();
-  const int index_bits = std::max(1, detail::bit_width(n - 1));
   const int key_bits = 3 * layout.grid_exponent;
   thread_local Workspace workspace;
   Workspace& w = workspace;  // named through a reference: the pool's workers must see the caller's buffers
   const detail::AtScopeExit release{[&] {
     if (n > detail::kKeepBuffersUpToPoints) w = Workspace{};
   }};
+  const bool avx2 = avx2_supported() && m < (std::size_t{1} << 31);  // ids compared as signed 32-bit
 
-  // Group points by cube in index order: runs of consecutive points in one cube become one entry
-  // (key << index_bits | first index), run_end[first] ends the run; a stable sort on the key bits.
+  // The finite points as (cube key << 32 | index), in index order, then stably sorted by key.
   w.items.resize(n);
   w.scratch.resize(n);
-  w.run_end.resize(n);
   const int parts = detail::parts_for(n, threads, 16384);
   std::vector<detail::Segment<std::uint64_t>> segments(parts);
+  const bool all_finite = m == n;
   detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
     std::uint64_t* out = w.items.data() + b;
     std::size_t count = 0;
-    std::uint32_t current = 0, run_begin = 0;
-    bool in_run = false;
-    for (std::size_t i = b; i < e; ++i) {
-      const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
-      if (!detail::finite3(x, y, z)) {
-        if (in_run) w.run_end[run_begin] = static_cast<std::uint32_t>(i);
-        in_run = false;
-        continue;
+    if (all_finite) {
+      if (avx2)
+        cube_keys_avx2(p + 3 * b, e - b, layout, out);
+      else
+        cube_keys(p + 3 * b, e - b, layout, out);
+      for (std::size_t i = b; i < e; ++i) out[i - b] = out[i - b] << 32 | i;
+      count = e - b;
+    } else {
+      for (std::size_t i = b; i < e; ++i) {
+        const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+        if (detail::finite3(x, y, z)) out[count++] = std::uint64_t{detail::cube_key(layout, x, y, z)} << 32 | i;
       }
-      const std::uint32_t key = detail::cube_key(layout, x, y, z);
-      if (in_run && key == current) continue;
-      if (in_run) w.run_end[run_begin] = static_cast<std::uint32_t>(i);
-      out[count++] = std::uint64_t{key} << index_bits | i;
-      current = key;
-      run_begin = static_cast<std::uint32_t>(i);
-      in_run = true;
     }
-    if (in_run) w.run_end[run_begin] = static_cast<std::uint32_t>(e);
     segments[t] = {out, count};
   });
-  std::size_t runs = 0;
-  for (const auto& seg : segments) runs += seg.size;
-  const std::uint64_t* sorted = detail::radix_sort_segments(
-      segments, w.items.data(), w.scratch.data(), index_bits, index_bits + key_bits, [](std::uint64_t v) { return v; },
-      threads);
+  const std::uint64_t* sorted = detail::radix_sort_segments(segments, w.items.data(), w.scratch.data(), 32,
+                                                            32 + key_bits, [](std::uint64_t v) { return v; }, threads);
 
-  // Sorted points, and the cube table: a cube starts at every run whose key differs from the previous run's.
-  const std::uint64_t index_mask = (std::uint64_t{1} << index_bits) - 1;
-  auto run_key = [&](std::size_t r) { return static_cast<std::uint32_t>(sorted[r] >> index_bits); };
-  auto run_first = [&](std::size_t r) { return static_cast<std::uint32_t>(sorted[r] & index_mask); };
-  auto opens_cube = [&](std::size_t r) { return r == 0 || run_key(r) != run_key(r - 1); };
-  const int run_parts = detail::parts_for(runs, threads, 4096);
-  std::vector<std::size_t> point_offset(run_parts + 1, 0), cube_offset(run_parts + 1, 0);
-  detail::parallel_for(runs, run_parts, [&](std::size_t b, std::size_t e, int t) {
-    std::size_t count = 0, opened = 0;
-    for (std::size_t r = b; r < e; ++r) {
-      count += w.run_end[run_first(r)] - run_first(r);
-      opened += opens_cube(r);
-    }
-    point_offset[t + 1] = count;
+  // Sorted points, and the cube table: a cube starts wherever the key changes.
+  auto key_at = [&](std::size_t s) { return static_cast<std::uint32_t>(sorted[s] >> 32); };
+  auto opens_cube = [&](std::size_t s) { return s == 0 || key_at(s) != key_at(s - 1); };
+  const int point_parts = detail::parts_for(m, threads, 16384);
+  std::vector<std::size_t> cube_offset(point_parts + 1, 0);
+  detail::parallel_for(m, point_parts, [&](std::size_t b, std::size_t e, int t) {
+    std::size_t opened = 0;
+    for (std::size_t s = b; s < e; ++s) opened += opens_cube(s);
     cube_offset[t + 1] = opened;
   });
-  for (int t = 0; t < run_parts; ++t) {
-    point_offset[t + 1] += point_offset[t];
-    cube_offset[t + 1] += cube_offset[t];
-  }
-  const std::size_t cubes = cube_offset[run_parts];
+  for (int t = 0; t < point_parts; ++t) cube_offset[t + 1] += cube_offset[t];
+  const std::size_t cubes = cube_offset[point_parts];
   w.points.resize(m);
   w.column.resize(m);
   w.cube_key.resize(cubes);
   w.cube_begin.resize(cubes + 1);
-  detail::parallel_for(runs, run_parts, [&](std::size_t b, std::size_t e, int t) {
-    std::size_t s = point_offset[t], c = cube_offset[t];
-    for (std::size_t r = b; r < e; ++r) {
-      if (opens_cube(r)) {
-        w.cube_key[c] = run_key(r);
+  detail::parallel_for(m, point_parts, [&](std::size_t b, std::size_t e, int t) {
+    std::size_t c = cube_offset[t];
+    for (std::size_t s = b; s < e; ++s) {
+      if (opens_cube(s)) {
+        w.cube_key[c] = key_at(s);
         w.cube_begin[c++] = static_cast<std::uint32_t>(s);
       }
-      const std::uint32_t cube = static_cast<std::uint32_t>(c - 1);
-      for (std::uint32_t i = run_first(r); i < w.run_end[run_first(r)]; ++i, ++s) {
-        w.points[s] = {p[3 * std::size_t(i)], p[3 * std::size_t(i) + 1], p[3 * std::size_t(i) + 2], cube};
-        w.column[s] = i;
-      }
+      const std::size_t i = static_cast<std::uint32_t>(sorted[s]);
+      w.points[s] = {p[3 * i], p[3 * i + 1], p[3 * i + 2], static_cast<std::uint32_t>(c - 1)};
+      w.column[s] = static_cast<std::uint32_t>(i);
     }
   });
   w.cube_begin[cubes] = static_cast<std::uint32_t>(m);
 
-  // Per cube and row, the range of occupied cubes the row covers; the anchor: the point nearest the cube
-  // centre, ties to the earliest sorted position.
+  // Per cube and row (detail::csnb_row), the range of occupied cubes the row covers; the anchor: the point
+  // nearest the cube centre, ties to the earliest sorted position.
   const int rows = detail::csnb_rows(layout);
-  w.spans.assign(cubes * rows * 2, 0);
+  const int side = 2 * layout.reach + 1;
+  w.spans.resize(cubes * rows * 2);
   w.anchor.resize(cubes);
-  // detail::csnb_row with the row's (dy, dz) looked up instead of divided out (two divisions per row).
-  const int side = 2 * layout.reach + 1, top = (1 << layout.grid_exponent) - 1, n_exp = layout.grid_exponent;
-  std::vector<int> row_dy(rows), row_dz(rows);
-  for (int r = 0; r < rows; ++r) {
-    row_dy[r] = r % side - layout.reach;
-    row_dz[r] = r / side - layout.reach;
-  }
-  auto row_of = [&](std::uint32_t key, int r, std::uint32_t* lo, std::uint32_t* hi) {
-    const int cx = int(key) & top, y = ((int(key) >> n_exp) & top) + row_dy[r],
-              z = ((int(key) >> (2 * n_exp)) & top) + row_dz[r];
-    if (y < 0 || y > top || z < 0 || z > top) return false;
-    const int x0 = std::max(cx - layout.reach, 0), x1 = std::min(cx + layout.reach, top);
-    const std::uint32_t base = std::uint32_t(y << n_exp) | std::uint32_t(z << (2 * n_exp));
-    *lo = base | std::uint32_t(x0);
-    *hi = base | std::uint32_t(x1);
-    return true;
-  };
   const int cube_parts = detail::parts_for(cubes, threads, 1024);
   detail::parallel_for(cubes, cube_parts, [&](std::size_t b, std::size_t e, int) {
-    // Per row the searched key ranges grow with the cube, so two pointers per row walk the cube table.
-    std::vector<std::uint32_t> lo_at(rows, 0), hi_at(rows, 0);
-    bool started = false;
-    const std::uint32_t* keys = w.cube_key.data();
+    find_spans(layout, w.cube_key.data(), cubes, b, e, w.spans.data());
+    const Point* q = w.points.data();
     for (std::size_t c = b; c < e; ++c) {
-      for (int r = 0; r < rows; ++r) {
-        std::uint32_t lo, hi;
-        if (!row_of(keys[c], r, &lo, &hi)) continue;
-        std::uint32_t& c0 = lo_at[r];
-        std::uint32_t& c1 = hi_at[r];
-        if (!started || c0 == 0) {
-          c0 = detail::search_keys(keys, std::uint32_t(cubes), lo, false);
-          c1 = detail::search_keys(keys, std::uint32_t(cubes), hi, true);
-        } else {
-          while (c0 < cubes && keys[c0] < lo) ++c0;
-          if (c1 < c0) c1 = c0;
-          while (c1 < cubes && keys[c1] <= hi) ++c1;
-        }
-        w.spans[(c * rows + r) * 2] = c0;
-        w.spans[(c * rows + r) * 2 + 1] = c1;
-      }
-      started = true;
       std::uint32_t best = w.cube_begin[c];
-      const Point* q = w.points.data();
-      double best_d = detail::centre_sq_dist(layout, keys[c], q[best].x, q[best].y, q[best].z);
+      double best_d = detail::centre_sq_dist(layout, w.cube_key[c], q[best].x, q[best].y, q[best].z);
       for (std::uint32_t s = best + 1; s < w.cube_begin[c + 1]; ++s) {
-        const double d = detail::centre_sq_dist(layout, keys[c], q[s].x, q[s].y, q[s].z);
+        const double d = detail::centre_sq_dist(layout, w.cube_key[c], q[s].x, q[s].y, q[s].z);
         if (d < best_d) {
           best_d = d;
           best = s;
@@ -348,35 +532,51 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     }
   });
   w.state.assign(m, kLive);
-  w.slot_of.resize(m);
+  w.live.assign((m + 63) / 64, ~std::uint64_t{0});
   init_candidates(w, cubes, rows, threads);
-  Evaluator eval{w.walk_points.data(), w.candidates.data(), w.start.data(), w.row_slots.data(), rows,
-                 layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
+  Counter counter{w.cx.data(), w.cy.data(), w.cz.data(), w.cid.data(), w.start.data(), w.row_slots.data(),
+                  rows, layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
+  auto refresh = [&] {  // after the candidates were rebuilt
+    counter.x = w.cx.data();
+    counter.y = w.cy.data();
+    counter.z = w.cz.data();
+    counter.id = w.cid.data();
+    counter.start = w.start.data();
+    counter.row_slots = w.row_slots.data();
+  };
+  find_sure(w, counter, cubes, std::uint32_t(order_size), 0, avx2, threads);
 
-  // The walk is evaluated ahead in windows, in parallel: within a batch the live set does not change, so
-  // every mark in the window is the one the sequential walk would count. Marked points past the (K+1)-th are
-  // evaluated again later; unmarked ones are settled at once (they would be found unmarked later too).
+  // The walk is evaluated ahead in windows: within a batch the live set does not change, so every mark in
+  // the window is the one the sequential walk would count. Points not sure to be marked are counted (live
+  // neighbours, exactly), in parallel when there are enough of them. Marked points past the (K+1)-th are
+  // counted again later; unmarked ones are settled at once (they would be found unmarked later too).
   const std::size_t K = static_cast<std::size_t>(config.batch_size);
   w.result.resize(order_size);
   std::size_t alive = m, dead_since = 0, window = K + 1;
+  const std::uint64_t* sure = w.sure.data();
+  const std::uint64_t* live = w.live.data();
   auto evaluate = [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      if (i + 12 < e) eval.prefetch_rows(static_cast<std::uint32_t>(i + 12));
-      if (i + 4 < e) eval.prefetch_centre(static_cast<std::uint32_t>(i + 4));
-      w.result[i] = w.state[i] != kLive ? kSkip : eval.marked(static_cast<std::uint32_t>(i)) ? kMarked : kUnmarked;
-    }
+    if (avx2)
+      count_live_avx2(counter, w.walk_points.data(), live, w.unsure.data(), b, e, w.result.data());
+    else
+      count_live<PlainBlock>(counter, w.walk_points.data(), live, w.unsure.data(), b, e, w.result.data());
   };
   for (std::size_t cursor = 0;;) {
     w.batch.clear();
     std::size_t i = cursor, next = order_size;
     while (i < order_size && next == order_size) {
       const std::size_t end = std::min(order_size, i + window);
-      const int eval_parts = detail::parts_for(end - i, threads, 256);
-      detail::parallel_for(end - i, eval_parts, [&](std::size_t b, std::size_t e, int) { evaluate(i + b, i + e); });
+      w.unsure.clear();
       for (std::size_t j = i; j < end; ++j) {
-        if (w.result[j] == kUnmarked) {
+        if (w.state[j] == kLive && !bit(sure, std::uint32_t(j))) w.unsure.push_back(static_cast<std::uint32_t>(j));
+      }
+      const std::size_t u = w.unsure.size();
+      detail::parallel_for(u, detail::parts_for(u, threads, 128), [&](std::size_t b, std::size_t e, int) { evaluate(b, e); });
+      for (std::size_t j = i; j < end; ++j) {
+        if (w.state[j] != kLive) continue;
+        if (!bit(sure, std::uint32_t(j)) && w.result[j] == kUnmarked) {
           w.state[j] = kSettled;
-        } else if (w.result[j] == kMarked && next == order_size) {
+        } else if (next == order_size) {
           if (w.batch.size() == K)
             next = j;
           else
@@ -393,15 +593,14 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     }
     for (std::uint32_t id : w.batch) {  // the last batch (K or fewer marked) deletes all still marked
       w.state[id] = kDead;
-      w.candidates[w.slot_of[id]].x = std::numeric_limits<float>::quiet_NaN();
+      w.live[id / 64] &= ~(std::uint64_t{1} << (id % 64));
     }
     alive -= w.batch.size();
     dead_since += w.batch.size();
     if (next == order_size) break;
     if (dead_since * 2 > alive) {
       recompact(w, cubes, rows, threads);
-      eval.candidates = w.candidates.data();
-      eval.start = w.start.data();
+      refresh();
       dead_since = 0;
     }
     cursor = next;
@@ -410,7 +609,11 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   // Anchors still over the threshold (on the final live set) take their non-anchor neighbours with them.
   w.claims.assign(cubes, 0);
   detail::parallel_for(cubes, cube_parts, [&](std::size_t b, std::size_t e, int) {
-    for (std::size_t c = b; c < e; ++c) w.claims[c] = eval.marked(static_cast<std::uint32_t>(order_size + c));
+    const Point* anchors = w.walk_points.data() + order_size;
+    if (avx2)
+      anchors_over_avx2(counter, anchors, live, b, e, std::uint32_t(order_size), w.claims.data());
+    else
+      anchors_over<PlainBlock>(counter, anchors, live, b, e, std::uint32_t(order_size), w.claims.data());
   });
   const float r2 = layout.radius_sq;
   for (std::size_t c = 0; c < cubes; ++c) {
@@ -419,8 +622,8 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     const std::uint32_t* slots = &w.row_slots[c * rows * 2];
     for (int r = 0; r < rows; ++r) {
       for (std::uint32_t j = slots[2 * r]; j < slots[2 * r + 1]; ++j) {
-        const Candidate& n = w.candidates[j];  // deleted ones have x = NaN: never nearer than r2
-        if (n.id < order_size && detail::sq_dist(a.x, a.y, a.z, n.x, n.y, n.z) < r2) w.state[n.id] = kDead;
+        if (w.cid[j] < order_size && detail::sq_dist(a.x, a.y, a.z, w.cx[j], w.cy[j], w.cz[j]) < r2)
+          w.state[w.cid[j]] = kDead;
       }
     }
   }
