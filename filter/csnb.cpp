@@ -26,9 +26,12 @@ struct Point {
 enum : std::uint8_t { kLive = 0, kSettled = 1, kDead = 2 };  // a settled point is live and can never be marked
 enum : std::uint8_t { kUnmarked = 1, kMarked = 2 };          // what a count found for a point
 
-// Candidate neighbours: the points that were live at the last compaction, per cube in sorted order, as
-// arrays (x, y, z, walk id) padded with kPad entries that are never within r (x = NaN), so that counts run
-// over whole blocks of kBlock and vectorise.
+// Candidate neighbours: the points that were live at the last compaction, per cube in sorted order, padded
+// with kPad entries that are never within r (x = NaN), so that counts can read whole blocks of kBlock.
+struct Candidate {
+  float x, y, z;
+  std::uint32_t id;  // walk id
+};
 constexpr std::uint32_t kBlock = 8;
 constexpr std::uint32_t kPad = kBlock;
 
@@ -37,12 +40,15 @@ struct Workspace {
   std::vector<std::uint64_t> items, scratch, order;
   std::vector<std::uint32_t> run_end, column, cube_key, cube_begin, spans, anchor, batch, unsure, walk_of;
   std::vector<Point> points, walk_points;
-  std::vector<float> cx, cy, cz, next_cx, next_cy, next_cz;
-  std::vector<std::uint32_t> cid, next_cid, start, next_start, row_slots;
+  std::vector<Candidate> candidates, next_candidates;
+  std::vector<std::uint32_t> start, next_start;
   std::vector<std::uint64_t> live;  // bit per walk id: not deleted
   std::vector<std::uint64_t> sure;  // bit per walk id: marked whenever reached (find_sure)
   std::vector<std::vector<std::uint64_t>> sure_parts;
   std::vector<std::uint8_t> state, is_anchor, result, claims;
+  std::vector<Candidate> anchor_candidates;  // by cube, for the final claims
+  std::vector<std::uint32_t> cube_index;
+  std::vector<std::vector<std::uint32_t>> settled_near;  // per part: settled points near each anchor
 };
 
 inline bool bit(const std::uint64_t* bits, std::uint32_t i) { return (bits[i / 64] >> (i % 64)) & 1; }
@@ -110,10 +116,9 @@ struct LiveOther {  // live (bit set) and not the point itself
 // Neighbour counts over the candidates, with early exit after every block of kBlock, the centre row (the
 // point's own cube and its x-neighbours) first.
 struct Counter {
-  const float *x, *y, *z;
-  const std::uint32_t* id;
+  const Candidate* candidates;
   const std::uint32_t* start;      // per cube: its first candidate
-  const std::uint32_t* row_slots;  // per cube and row: the candidate range [first, end)
+  const std::uint32_t* spans;      // per cube and row: the occupied cubes [first, end) the row covers
   int rows;
   int centre_row;
   float r2;
@@ -123,7 +128,7 @@ struct Counter {
   // `cube`; gives up (false) once `budget` candidates have been tested. Block::count counts one block.
   template <class Block, class Accept>
   bool exceeds(float px, float py, float pz, std::uint32_t cube, std::size_t budget, const Accept& accept) const {
-    const std::uint32_t* slots = row_slots + std::size_t(cube) * rows * 2;
+    const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
     int k = 0;
     std::size_t tested = 0;
     auto count = [&](std::uint32_t j, std::uint32_t e) {
@@ -138,18 +143,23 @@ struct Counter {
     };
     const std::uint32_t own_begin = start[cube], own_end = start[cube + 1];
     int verdict = count(own_begin, own_end);
-    if (verdict == 0) verdict = count(slots[2 * centre_row], own_begin);
-    if (verdict == 0) verdict = count(own_end, slots[2 * centre_row + 1]);
+    if (verdict == 0) verdict = count(start[span[2 * centre_row]], own_begin);
+    if (verdict == 0) verdict = count(own_end, start[span[2 * centre_row + 1]]);
     for (int r = 0; r < rows && verdict == 0; ++r) {
-      if (r != centre_row) verdict = count(slots[2 * r], slots[2 * r + 1]);
+      if (r != centre_row) verdict = count(start[span[2 * r]], start[span[2 * r + 1]]);
     }
     return verdict == 1;
   }
   void prefetch(std::uint32_t cube) const {
-    const std::uint32_t* slots = row_slots + std::size_t(cube) * rows * 2;
-    __builtin_prefetch(slots);
-    __builtin_prefetch(slots + 16);
+    const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
+    __builtin_prefetch(span);
+    __builtin_prefetch(span + 16);
     __builtin_prefetch(&start[cube]);
+  }
+  void prefetch_own(std::uint32_t cube) const {  // after prefetch(cube) has brought start[cube] in
+    const std::uint32_t first = start[cube];
+    __builtin_prefetch(candidates + first);
+    __builtin_prefetch(candidates + first + 4);
   }
 };
 
@@ -160,24 +170,37 @@ struct PlainBlock {
   static int count(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
                    const Accept& accept) {
     int k = 0;
-    for (std::uint32_t l = 0; l < n; ++l)
-      k += (detail::sq_dist(px, py, pz, c.x[j + l], c.y[j + l], c.z[j + l]) < c.r2) & accept(c.id[j + l]);
+    for (std::uint32_t l = 0; l < n; ++l) {
+      const Candidate& o = c.candidates[j + l];
+      k += (detail::sq_dist(px, py, pz, o.x, o.y, o.z) < c.r2) & accept(o.id);
+    }
     return k;
   }
 };
 #if STVL_CSNB_X86
 struct Avx2Block {
+  // kFirstLanes[n]: the lanes that hold candidates 0 .. n - 1 after the transpose.
+  static constexpr unsigned kFirstLanes[9] = {0x00, 0x01, 0x11, 0x13, 0x33, 0x37, 0x77, 0x7F, 0xFF};
   template <class Accept>
   STVL_AVX2 static int count(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
                              const Accept& accept) {
-    const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(px), _mm256_loadu_ps(c.x + j));
-    const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(py), _mm256_loadu_ps(c.y + j));
-    const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(pz), _mm256_loadu_ps(c.z + j));
+    // Two candidates per load; transposed, lane l holds candidate kLaneCandidate[l] (0 2 4 6 1 3 5 7).
+    const float* f = reinterpret_cast<const float*>(c.candidates + j);
+    const __m256 a0 = _mm256_loadu_ps(f), a1 = _mm256_loadu_ps(f + 8), a2 = _mm256_loadu_ps(f + 16),
+                 a3 = _mm256_loadu_ps(f + 24);
+    const __m256 t0 = _mm256_unpacklo_ps(a0, a1), t1 = _mm256_unpackhi_ps(a0, a1);
+    const __m256 t2 = _mm256_unpacklo_ps(a2, a3), t3 = _mm256_unpackhi_ps(a2, a3);
+    const __m256 xs = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
+    const __m256 ys = _mm256_castpd_ps(_mm256_unpackhi_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
+    const __m256 zs = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
+    const __m256i ids = _mm256_castpd_si256(_mm256_unpackhi_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
+    const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(px), xs);
+    const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(py), ys);
+    const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(pz), zs);
     const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
     const __m256 near = _mm256_cmp_ps(d2, _mm256_set1_ps(c.r2), _CMP_LT_OQ);  // false for the NaN padding
-    const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(c.id + j));
     const __m256 taken = _mm256_and_ps(near, _mm256_castsi256_ps(accept.mask(ids)));
-    return __builtin_popcount(unsigned(_mm256_movemask_ps(taken)) & ((1u << n) - 1u));
+    return __builtin_popcount(unsigned(_mm256_movemask_ps(taken)) & kFirstLanes[n]);
   }
 };
 #endif
@@ -196,22 +219,26 @@ void sure_part(const Counter& c, std::size_t b, std::size_t e, std::uint32_t ord
                std::uint64_t* bits) {
   for (std::size_t cube = b; cube < e; ++cube) {
     for (std::uint32_t s = c.start[cube]; s < c.start[cube + 1]; ++s) {
-      const std::uint32_t me = c.id[s];
+      const Candidate& p = c.candidates[s];
+      const std::uint32_t me = p.id;
       if (me >= order_size || me < cursor) continue;  // an anchor, or passed
-      if (c.exceeds<Block>(c.x[s], c.y[s], c.z[s], std::uint32_t(cube), kSureBudget, LaterOrPassed{me, cursor}))
+      if (c.exceeds<Block>(p.x, p.y, p.z, std::uint32_t(cube), kSureBudget, LaterOrPassed{me, cursor}))
         bits[me / 64] |= std::uint64_t{1} << (me % 64);
     }
   }
 }
 
-// Anchors (walk ids order_size + cube) with more than `threshold` live neighbours.
+// Anchors with more than `threshold` live neighbours after the walk: `anchors` counts over the anchors alone
+// (candidate c = the anchor of cube c), settled_near[c] the settled points near anchor c.
 template <class Block>
-void anchors_over(const Counter& c, const Point* anchors, const std::uint64_t* live, std::size_t b, std::size_t e,
-                  std::uint32_t order_size, std::uint8_t* over) {
+void anchors_over(const Counter& anchors, const std::uint32_t* settled_near, std::size_t b, std::size_t e,
+                  std::uint8_t* over) {
+  Counter rest = anchors;
   for (std::size_t cube = b; cube < e; ++cube) {
-    const Point a = anchors[cube];
-    over[cube] = c.exceeds<Block>(a.x, a.y, a.z, a.cube, std::numeric_limits<std::size_t>::max(),
-                                  LiveOther{live, order_size + std::uint32_t(cube)});
+    const Candidate& a = anchors.candidates[cube];
+    rest.threshold = anchors.threshold - int(std::min<std::uint32_t>(settled_near[cube], 1u << 30));
+    over[cube] = rest.threshold < 0 || rest.exceeds<Block>(a.x, a.y, a.z, std::uint32_t(cube),
+                                                           std::numeric_limits<std::size_t>::max(), Other{a.id});
   }
 }
 
@@ -220,7 +247,9 @@ template <class Block>
 void count_live(const Counter& c, const Point* points, const std::uint64_t* live, const std::uint32_t* ids,
                 std::size_t b, std::size_t e, std::uint8_t* result) {
   for (std::size_t k = b; k < e; ++k) {
+    if (k + 16 < e) __builtin_prefetch(&points[ids[k + 16]]);
     if (k + 8 < e) c.prefetch(points[ids[k + 8]].cube);
+    if (k + 4 < e) c.prefetch_own(points[ids[k + 4]].cube);
     const std::uint32_t me = ids[k];
     const Point p = points[me];
     const bool marked =
@@ -238,8 +267,8 @@ void count_live(const Counter& c, const Point* points, const std::uint64_t* live
 #endif
 STVL_AVX2_ENTRY(sure_part, (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint32_t u,
                             std::uint64_t* bits), (c, b, e, o, u, bits))
-STVL_AVX2_ENTRY(anchors_over, (const Counter& c, const Point* a, const std::uint64_t* l, std::size_t b, std::size_t e,
-                               std::uint32_t o, std::uint8_t* over), (c, a, l, b, e, o, over))
+STVL_AVX2_ENTRY(anchors_over, (const Counter& c, const std::uint32_t* near, std::size_t b, std::size_t e,
+                               std::uint8_t* over), (c, near, b, e, over))
 STVL_AVX2_ENTRY(count_live, (const Counter& c, const Point* p, const std::uint64_t* l, const std::uint32_t* ids,
                              std::size_t b, std::size_t e, std::uint8_t* result), (c, p, l, ids, b, e, result))
 #undef STVL_AVX2_ENTRY
@@ -265,39 +294,26 @@ void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uin
 }
 
 void pad(Workspace& w, std::size_t n) {
-  for (auto* v : {&w.cx, &w.cy, &w.cz}) v->resize(n + kPad, std::numeric_limits<float>::quiet_NaN());
-  w.cid.resize(n + kPad, 0);
-  std::fill(w.cx.begin() + n, w.cx.end(), std::numeric_limits<float>::quiet_NaN());
-}
-
-void update_row_slots(Workspace& w, std::size_t cubes, int rows, int threads) {
-  w.row_slots.resize(cubes * rows * 2);
-  detail::parallel_for(cubes * rows * 2, detail::parts_for(cubes * rows * 2, threads, 16384),
-                       [&](std::size_t b, std::size_t e, int) {
-                         for (std::size_t i = b; i < e; ++i) w.row_slots[i] = w.start[w.spans[i]];
-                       });
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  w.candidates.resize(n + kPad);
+  std::fill(w.candidates.begin() + n, w.candidates.end(), Candidate{nan, nan, nan, 0});
 }
 
 // The first candidates: every point (all are live), per cube in sorted order, and each row's candidate range.
-void init_candidates(Workspace& w, std::size_t cubes, int rows, int threads) {
+void init_candidates(Workspace& w, std::size_t cubes, int threads) {
   const std::size_t m = w.points.size();
   pad(w, m);
   w.start.assign(w.cube_begin.begin(), w.cube_begin.begin() + cubes + 1);
   detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
     for (std::size_t s = b; s < e; ++s) {
-      w.cx[s] = w.points[s].x;
-      w.cy[s] = w.points[s].y;
-      w.cz[s] = w.points[s].z;
-      w.cid[s] = w.walk_of[s];
+      w.candidates[s] = {w.points[s].x, w.points[s].y, w.points[s].z, w.walk_of[s]};
     }
   });
-  update_row_slots(w, cubes, rows, threads);
 }
 
 // Only the live candidates.
-void recompact(Workspace& w, std::size_t cubes, int rows, int threads) {
-  for (auto* v : {&w.next_cx, &w.next_cy, &w.next_cz}) v->resize(w.cx.size());
-  w.next_cid.resize(w.cid.size());
+void recompact(Workspace& w, std::size_t cubes, int threads) {
+  w.next_candidates.resize(w.candidates.size());
   w.next_start.resize(cubes + 1);
   const std::uint32_t* start = w.start.data();
   const std::uint64_t* live = w.live.data();
@@ -305,31 +321,28 @@ void recompact(Workspace& w, std::size_t cubes, int rows, int threads) {
       cubes, threads, 2048,
       [&](std::size_t b, std::size_t e) {
         std::size_t count = 0;
-        for (std::uint32_t j = start[b]; j < start[e]; ++j) count += bit(live, w.cid[j]);
+        for (std::uint32_t j = start[b]; j < start[e]; ++j) count += bit(live, w.candidates[j].id);
         return count;
       },
       [](std::size_t) {},
       [&](std::size_t b, std::size_t e, std::size_t first) {
+        // Every candidate is written and the next one overwrites it when it was deleted (half of them are:
+        // a branch would mispredict), except the part's last, whose slot may be the next part's first.
         std::uint32_t o = static_cast<std::uint32_t>(first);
+        const std::uint32_t last = start[e] - 1;
         for (std::size_t c = b; c < e; ++c) {
           w.next_start[c] = o;
           for (std::uint32_t j = start[c]; j < start[c + 1]; ++j) {
-            if (!bit(live, w.cid[j])) continue;
-            w.next_cx[o] = w.cx[j];
-            w.next_cy[o] = w.cy[j];
-            w.next_cz[o] = w.cz[j];
-            w.next_cid[o++] = w.cid[j];
+            const bool keep = bit(live, w.candidates[j].id);
+            if (j != last || keep) w.next_candidates[o] = w.candidates[j];
+            o += keep;
           }
         }
       });
   w.next_start[cubes] = static_cast<std::uint32_t>(total);
-  w.cx.swap(w.next_cx);
-  w.cy.swap(w.next_cy);
-  w.cz.swap(w.next_cz);
-  w.cid.swap(w.next_cid);
+  w.candidates.swap(w.next_candidates);
   w.start.swap(w.next_start);
   pad(w, total);
-  update_row_slots(w, cubes, rows, threads);
 }
 
 // detail::cube_key of n all-finite points inside the layout's box (so the quotients are in [0, 2^9] and fit
@@ -465,6 +478,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
         w.cube_key[c] = key_at(s);
         w.cube_begin[c++] = static_cast<std::uint32_t>(s);
       }
+      if (s + 16 < e) __builtin_prefetch(p + 3 * static_cast<std::uint32_t>(sorted[s + 16]));  // a gather
       const std::size_t i = static_cast<std::uint32_t>(sorted[s]);
       w.points[s] = {p[3 * i], p[3 * i + 1], p[3 * i + 2], static_cast<std::uint32_t>(c - 1)};
       w.column[s] = static_cast<std::uint32_t>(i);
@@ -526,6 +540,11 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   w.walk_points.resize(m);
   detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
     for (std::size_t i = b; i < e; ++i) {
+      if (i + 16 < std::min(e, order_size)) {  // a gather and a scatter
+        const std::uint32_t ahead = static_cast<std::uint32_t>(w.order[i + 16]);
+        __builtin_prefetch(&w.points[ahead]);
+        __builtin_prefetch(&w.walk_of[ahead], 1);
+      }
       const std::uint32_t s = i < order_size ? static_cast<std::uint32_t>(w.order[i]) : w.anchor[i - order_size];
       w.walk_of[s] = static_cast<std::uint32_t>(i);
       w.walk_points[i] = w.points[s];
@@ -533,16 +552,12 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   });
   w.state.assign(m, kLive);
   w.live.assign((m + 63) / 64, ~std::uint64_t{0});
-  init_candidates(w, cubes, rows, threads);
-  Counter counter{w.cx.data(), w.cy.data(), w.cz.data(), w.cid.data(), w.start.data(), w.row_slots.data(),
+  init_candidates(w, cubes, threads);
+  Counter counter{w.candidates.data(), w.start.data(), w.spans.data(),
                   rows, layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
   auto refresh = [&] {  // after the candidates were rebuilt
-    counter.x = w.cx.data();
-    counter.y = w.cy.data();
-    counter.z = w.cz.data();
-    counter.id = w.cid.data();
+    counter.candidates = w.candidates.data();
     counter.start = w.start.data();
-    counter.row_slots = w.row_slots.data();
   };
   find_sure(w, counter, cubes, std::uint32_t(order_size), 0, avx2, threads);
 
@@ -599,34 +614,71 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     dead_since += w.batch.size();
     if (next == order_size) break;
     if (dead_since * 2 > alive) {
-      recompact(w, cubes, rows, threads);
+      recompact(w, cubes, threads);
       refresh();
       dead_since = 0;
     }
     cursor = next;
   }
 
-  // Anchors still over the threshold (on the final live set) take their non-anchor neighbours with them.
-  w.claims.assign(cubes, 0);
-  detail::parallel_for(cubes, cube_parts, [&](std::size_t b, std::size_t e, int) {
-    const Point* anchors = w.walk_points.data() + order_size;
-    if (avx2)
-      anchors_over_avx2(counter, anchors, live, b, e, std::uint32_t(order_size), w.claims.data());
-    else
-      anchors_over<PlainBlock>(counter, anchors, live, b, e, std::uint32_t(order_size), w.claims.data());
+  // Anchors still over the threshold (on the final live set) take their non-anchor neighbours with them. All
+  // live points are now anchors or settled: an anchor's count is the anchors near it, counted over the
+  // anchors alone (one per cube, so cube ranges are anchor ranges), plus the settled points near it.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  w.anchor_candidates.resize(cubes + kPad);
+  w.cube_index.resize(cubes + 1);
+  detail::parallel_for(cubes + 1, cube_parts, [&](std::size_t b, std::size_t e, int) {
+    for (std::size_t c = b; c < e; ++c) {
+      w.cube_index[c] = static_cast<std::uint32_t>(c);
+      if (c == cubes) break;
+      const Point& a = w.walk_points[order_size + c];
+      w.anchor_candidates[c] = {a.x, a.y, a.z, static_cast<std::uint32_t>(order_size + c)};
+    }
   });
-  const float r2 = layout.radius_sq;
-  for (std::size_t c = 0; c < cubes; ++c) {
-    if (!w.claims[c]) continue;
-    const Point a = w.walk_points[order_size + c];
-    const std::uint32_t* slots = &w.row_slots[c * rows * 2];
+  std::fill(w.anchor_candidates.begin() + cubes, w.anchor_candidates.end(), Candidate{nan, nan, nan, 0});
+  const Counter anchors{w.anchor_candidates.data(), w.cube_index.data(), w.spans.data(), rows, counter.centre_row,
+                        layout.radius_sq, config.max_neighbours};
+  // The anchors near a settled point (sorted position s).
+  auto near_anchors = [&](std::size_t s, auto&& visit) {
+    const Point& q = w.points[s];
+    const std::uint32_t* span = &w.spans[std::size_t(q.cube) * rows * 2];
     for (int r = 0; r < rows; ++r) {
-      for (std::uint32_t j = slots[2 * r]; j < slots[2 * r + 1]; ++j) {
-        if (w.cid[j] < order_size && detail::sq_dist(a.x, a.y, a.z, w.cx[j], w.cy[j], w.cz[j]) < r2)
-          w.state[w.cid[j]] = kDead;
+      for (std::uint32_t c = span[2 * r]; c < span[2 * r + 1]; ++c) {
+        const Candidate& a = w.anchor_candidates[c];
+        if (detail::sq_dist(q.x, q.y, q.z, a.x, a.y, a.z) < layout.radius_sq) visit(c);
       }
     }
-  }
+  };
+  auto settled = [&](std::size_t s) {
+    const std::uint32_t id = w.walk_of[s];
+    return id < order_size && w.state[id] == kSettled;
+  };
+  const int settled_parts = detail::parts_for(m, threads, 16384);
+  w.settled_near.resize(settled_parts);
+  detail::parallel_for(m, settled_parts, [&](std::size_t b, std::size_t e, int t) {
+    std::vector<std::uint32_t>& near = w.settled_near[t];  // per part: no shared counters
+    near.assign(cubes, 0);
+    for (std::size_t s = b; s < e; ++s) {
+      if (settled(s)) near_anchors(s, [&](std::uint32_t c) { ++near[c]; });
+    }
+  });
+  for (int t = 1; t < settled_parts; ++t)
+    for (std::size_t c = 0; c < cubes; ++c) w.settled_near[0][c] += w.settled_near[t][c];
+  w.claims.resize(cubes);
+  detail::parallel_for(cubes, cube_parts, [&](std::size_t b, std::size_t e, int) {
+    if (avx2)
+      anchors_over_avx2(anchors, w.settled_near[0].data(), b, e, w.claims.data());
+    else
+      anchors_over<PlainBlock>(anchors, w.settled_near[0].data(), b, e, w.claims.data());
+  });
+  detail::parallel_for(m, settled_parts, [&](std::size_t b, std::size_t e, int) {
+    for (std::size_t s = b; s < e; ++s) {
+      if (!settled(s)) continue;
+      bool claimed = false;
+      near_anchors(s, [&](std::uint32_t c) { claimed |= w.claims[c] != 0; });
+      if (claimed) w.state[w.walk_of[s]] = kDead;
+    }
+  });
   const Point* q = w.points.data();
 
   // Kept points in sorted order.
