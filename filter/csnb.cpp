@@ -49,6 +49,7 @@ struct Workspace {
   std::vector<Candidate> anchor_candidates;  // by cube, for the final claims
   std::vector<std::uint32_t> cube_index;
   std::vector<std::vector<std::uint32_t>> settled_near;  // per part: settled points near each anchor
+  std::vector<std::uint64_t> settled_bits;
 };
 
 inline bool bit(const std::uint64_t* bits, std::uint32_t i) { return (bits[i / 64] >> (i % 64)) & 1; }
@@ -649,18 +650,25 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
       }
     }
   };
-  auto settled = [&](std::size_t s) {
-    const std::uint32_t id = w.walk_of[s];
-    return id < order_size && w.state[id] == kSettled;
+  // The settled points as bits by sorted position (visited in cube order below).
+  const std::size_t words = (m + 63) / 64;
+  w.settled_bits.assign(words, 0);
+  for (std::size_t i = 0; i < order_size; ++i) {
+    if (w.state[i] != kSettled) continue;
+    const std::uint32_t s = static_cast<std::uint32_t>(w.order[i]);
+    w.settled_bits[s / 64] |= std::uint64_t{1} << (s % 64);
+  }
+  auto for_settled = [&](std::size_t b, std::size_t e, auto&& visit) {  // sorted positions in words [b, e)
+    for (std::size_t k = b; k < e; ++k) {
+      for (std::uint64_t bits = w.settled_bits[k]; bits != 0; bits &= bits - 1) visit(k * 64 + __builtin_ctzll(bits));
+    }
   };
-  const int settled_parts = detail::parts_for(m, threads, 16384);
+  const int settled_parts = detail::parts_for(words, threads, 256);
   w.settled_near.resize(settled_parts);
-  detail::parallel_for(m, settled_parts, [&](std::size_t b, std::size_t e, int t) {
+  detail::parallel_for(words, settled_parts, [&](std::size_t b, std::size_t e, int t) {
     std::vector<std::uint32_t>& near = w.settled_near[t];  // per part: no shared counters
     near.assign(cubes, 0);
-    for (std::size_t s = b; s < e; ++s) {
-      if (settled(s)) near_anchors(s, [&](std::uint32_t c) { ++near[c]; });
-    }
+    for_settled(b, e, [&](std::size_t s) { near_anchors(s, [&](std::uint32_t c) { ++near[c]; }); });
   });
   for (int t = 1; t < settled_parts; ++t)
     for (std::size_t c = 0; c < cubes; ++c) w.settled_near[0][c] += w.settled_near[t][c];
@@ -671,13 +679,12 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     else
       anchors_over<PlainBlock>(anchors, w.settled_near[0].data(), b, e, w.claims.data());
   });
-  detail::parallel_for(m, settled_parts, [&](std::size_t b, std::size_t e, int) {
-    for (std::size_t s = b; s < e; ++s) {
-      if (!settled(s)) continue;
+  detail::parallel_for(words, settled_parts, [&](std::size_t b, std::size_t e, int) {
+    for_settled(b, e, [&](std::size_t s) {
       bool claimed = false;
       near_anchors(s, [&](std::uint32_t c) { claimed |= w.claims[c] != 0; });
       if (claimed) w.state[w.walk_of[s]] = kDead;
-    }
+    });
   });
   const Point* q = w.points.data();
 
