@@ -24,7 +24,7 @@ struct Point {
 };
 
 enum : std::uint8_t { kLive = 0, kSettled = 1, kDead = 2 };  // a settled point is live and can never be marked
-enum : std::uint8_t { kUnmarked = 1, kMarked = 2 };          // what a count found for a point
+enum : std::uint8_t { kUnmarked = 1, kMarked = 2, kAmbiguous = 3 };  // what a count found for a point
 
 // Candidate neighbours: the points that were live at the last compaction, per cube in sorted order, padded
 // with kPad entries that are never within r (x = NaN), so that counts can read whole blocks of kBlock.
@@ -114,6 +114,23 @@ struct LiveOther {  // live (bit set) and not the point itself
 #endif
 };
 
+// Two counts at once for the walk (see there): live neighbours that are safe (anchors, later in the walk, or
+// settled before `cursor`, a batch boundary), and all live neighbours.
+struct SafeAndLive {
+  const std::uint64_t* live;
+  std::uint32_t me, cursor;
+  void operator()(std::uint32_t other, bool* safe, bool* any) const {
+    *any = bit(live, other) & (other != me);
+    *safe = *any & ((other > me) | (other < cursor));
+  }
+#if STVL_CSNB_X86
+  STVL_AVX2 void mask(__m256i ids, __m256i* safe, __m256i* any) const {
+    *any = LiveOther{live, me}.mask(ids);
+    *safe = _mm256_and_si256(*any, LaterOrPassed{me, cursor}.mask(ids));
+  }
+#endif
+};
+
 // Neighbour counts over the candidates, with early exit after every block of kBlock, the centre row (the
 // point's own cube and its x-neighbours) first.
 struct Counter {
@@ -129,27 +146,32 @@ struct Counter {
   // `cube`; gives up (false) once `budget` candidates have been tested. Block::count counts one block.
   template <class Block, class Accept>
   bool exceeds(float px, float py, float pz, std::uint32_t cube, std::size_t budget, const Accept& accept) const {
-    const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
     int k = 0;
     std::size_t tested = 0;
-    auto count = [&](std::uint32_t j, std::uint32_t e) {
-      for (; j < e; j += kBlock) {
-        const std::uint32_t n = std::min(kBlock, e - j);
-        k += Block::count(*this, j, n, px, py, pz, accept);
-        tested += n;
-        if (k > threshold) return 1;
-        if (tested >= budget) return -1;
+    return for_blocks(cube, [&](std::uint32_t j, std::uint32_t n) {
+             k += Block::count(*this, j, n, px, py, pz, accept);
+             tested += n;
+             return k > threshold ? 1 : tested >= budget ? -1 : 0;
+           }) == 1;
+  }
+  // Calls step(first, n) on the blocks of the candidates near `cube` until it returns non-zero; returns that.
+  template <class Step>
+  int for_blocks(std::uint32_t cube, Step&& step) const {
+    const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
+    auto range = [&](std::uint32_t j, std::uint32_t e) {
+      for (int verdict = 0; j < e; j += kBlock) {
+        if ((verdict = step(j, std::min(kBlock, e - j))) != 0) return verdict;
       }
       return 0;
     };
     const std::uint32_t own_begin = start[cube], own_end = start[cube + 1];
-    int verdict = count(own_begin, own_end);
-    if (verdict == 0) verdict = count(start[span[2 * centre_row]], own_begin);
-    if (verdict == 0) verdict = count(own_end, start[span[2 * centre_row + 1]]);
+    int verdict = range(own_begin, own_end);
+    if (verdict == 0) verdict = range(start[span[2 * centre_row]], own_begin);
+    if (verdict == 0) verdict = range(own_end, start[span[2 * centre_row + 1]]);
     for (int r = 0; r < rows && verdict == 0; ++r) {
-      if (r != centre_row) verdict = count(start[span[2 * r]], start[span[2 * r + 1]]);
+      if (r != centre_row) verdict = range(start[span[2 * r]], start[span[2 * r + 1]]);
     }
-    return verdict == 1;
+    return verdict;
   }
   void prefetch(std::uint32_t cube) const {
     const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
@@ -177,6 +199,17 @@ struct PlainBlock {
     }
     return k;
   }
+  static void count2(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
+                     const SafeAndLive& accept, int* safe, int* any) {
+    for (std::uint32_t l = 0; l < n; ++l) {
+      const Candidate& o = c.candidates[j + l];
+      bool s, a;
+      accept(o.id, &s, &a);
+      const bool near = detail::sq_dist(px, py, pz, o.x, o.y, o.z) < c.r2;
+      *safe += near & s;
+      *any += near & a;
+    }
+  }
 };
 #if STVL_CSNB_X86
 struct Avx2Block {
@@ -185,6 +218,23 @@ struct Avx2Block {
   template <class Accept>
   STVL_AVX2 static int count(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
                              const Accept& accept) {
+    __m256 near;
+    __m256i ids;
+    load(c, j, px, py, pz, &near, &ids);
+    const __m256 taken = _mm256_and_ps(near, _mm256_castsi256_ps(accept.mask(ids)));
+    return __builtin_popcount(unsigned(_mm256_movemask_ps(taken)) & kFirstLanes[n]);
+  }
+  STVL_AVX2 static void count2(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
+                               const SafeAndLive& accept, int* safe, int* any) {
+    __m256 near;
+    __m256i ids, s, a;
+    load(c, j, px, py, pz, &near, &ids);
+    accept.mask(ids, &s, &a);
+    *safe += __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(s)))) & kFirstLanes[n]);
+    *any += __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(a)))) & kFirstLanes[n]);
+  }
+  // Lanes within r of (px, py, pz), and the walk ids, of candidates j .. j + 7 (in kLaneCandidate order).
+  STVL_AVX2 static void load(const Counter& c, std::size_t j, float px, float py, float pz, __m256* near, __m256i* ids) {
     // Two candidates per load; transposed, lane l holds candidate kLaneCandidate[l] (0 2 4 6 1 3 5 7).
     const float* f = reinterpret_cast<const float*>(c.candidates + j);
     const __m256 a0 = _mm256_loadu_ps(f), a1 = _mm256_loadu_ps(f + 8), a2 = _mm256_loadu_ps(f + 16),
@@ -194,14 +244,12 @@ struct Avx2Block {
     const __m256 xs = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
     const __m256 ys = _mm256_castpd_ps(_mm256_unpackhi_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
     const __m256 zs = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
-    const __m256i ids = _mm256_castpd_si256(_mm256_unpackhi_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
+    *ids = _mm256_castpd_si256(_mm256_unpackhi_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
     const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(px), xs);
     const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(py), ys);
     const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(pz), zs);
     const __m256 d2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
-    const __m256 near = _mm256_cmp_ps(d2, _mm256_set1_ps(c.r2), _CMP_LT_OQ);  // false for the NaN padding
-    const __m256 taken = _mm256_and_ps(near, _mm256_castsi256_ps(accept.mask(ids)));
-    return __builtin_popcount(unsigned(_mm256_movemask_ps(taken)) & kFirstLanes[n]);
+    *near = _mm256_cmp_ps(d2, _mm256_set1_ps(c.r2), _CMP_LT_OQ);  // false for the NaN padding
   }
 };
 #endif
@@ -212,6 +260,7 @@ struct Avx2Block {
 // cube order, where the neighbour rows stay in cache, testing at most kSureBudget candidates per point: a
 // point not shown sure here is counted exactly when the walk reaches it. Needs every candidate live.
 constexpr std::size_t kSureBudget = 64;
+constexpr std::size_t kWindowBatches = 8;  // batches per window of the walk
 
 // The counting loops, over plain or AVX2 blocks. The AVX2 entry points are compiled for AVX2 with everything
 // they call inlined (flatten), and called only where the CPU has it.
@@ -243,20 +292,31 @@ void anchors_over(const Counter& anchors, const std::uint32_t* settled_near, std
   }
 }
 
-// Marked or not, for the walk ids ids[b, e), on the live set.
+// For the walk ids ids[b, e), on the live set at `cursor` (a batch boundary): kMarked when more than
+// `threshold` safe neighbours (SafeAndLive), kUnmarked when no more than `threshold` live ones, else kAmbiguous.
 template <class Block>
-void count_live(const Counter& c, const Point* points, const std::uint64_t* live, const std::uint32_t* ids,
-                std::size_t b, std::size_t e, std::uint8_t* result) {
+void classify(const Counter& c, const Point* points, const std::uint64_t* live, std::uint32_t cursor,
+              const std::uint32_t* ids, std::size_t b, std::size_t e, std::uint8_t* result) {
   for (std::size_t k = b; k < e; ++k) {
     if (k + 16 < e) __builtin_prefetch(&points[ids[k + 16]]);
     if (k + 8 < e) c.prefetch(points[ids[k + 8]].cube);
     if (k + 4 < e) c.prefetch_own(points[ids[k + 4]].cube);
     const std::uint32_t me = ids[k];
     const Point p = points[me];
-    const bool marked =
-        c.exceeds<Block>(p.x, p.y, p.z, p.cube, std::numeric_limits<std::size_t>::max(), LiveOther{live, me});
-    result[me] = marked ? kMarked : kUnmarked;
+    int safe = 0, any = 0;
+    const SafeAndLive accept{live, me, cursor};
+    const bool marked = c.for_blocks(p.cube, [&](std::uint32_t j, std::uint32_t n) {
+      Block::count2(c, j, n, p.x, p.y, p.z, accept, &safe, &any);
+      return safe > c.threshold ? 1 : 0;
+    }) == 1;
+    result[me] = marked ? kMarked : any > c.threshold ? kAmbiguous : kUnmarked;
   }
+}
+
+// Marked or not, for walk id `me`, on the live set.
+template <class Block>
+bool marked_now(const Counter& c, const Point& p, const std::uint64_t* live, std::uint32_t me) {
+  return c.exceeds<Block>(p.x, p.y, p.z, p.cube, std::numeric_limits<std::size_t>::max(), LiveOther{live, me});
 }
 
 #if STVL_CSNB_X86
@@ -270,8 +330,19 @@ STVL_AVX2_ENTRY(sure_part, (const Counter& c, std::size_t b, std::size_t e, std:
                             std::uint64_t* bits), (c, b, e, o, u, bits))
 STVL_AVX2_ENTRY(anchors_over, (const Counter& c, const std::uint32_t* near, std::size_t b, std::size_t e,
                                std::uint8_t* over), (c, near, b, e, over))
-STVL_AVX2_ENTRY(count_live, (const Counter& c, const Point* p, const std::uint64_t* l, const std::uint32_t* ids,
-                             std::size_t b, std::size_t e, std::uint8_t* result), (c, p, l, ids, b, e, result))
+STVL_AVX2_ENTRY(classify, (const Counter& c, const Point* p, const std::uint64_t* l, std::uint32_t u,
+                           const std::uint32_t* ids, std::size_t b, std::size_t e, std::uint8_t* result),
+                (c, p, l, u, ids, b, e, result))
+#if STVL_CSNB_X86
+STVL_AVX2 __attribute__((flatten)) bool marked_now_avx2(const Counter& c, const Point& p, const std::uint64_t* l,
+                                                        std::uint32_t me) {
+  return marked_now<Avx2Block>(c, p, l, me);
+}
+#else
+bool marked_now_avx2(const Counter& c, const Point& p, const std::uint64_t* l, std::uint32_t me) {
+  return marked_now<PlainBlock>(c, p, l, me);
+}
+#endif
 #undef STVL_AVX2_ENTRY
 
 void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uint32_t order_size,
@@ -562,65 +633,80 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   };
   find_sure(w, counter, cubes, std::uint32_t(order_size), 0, avx2, threads);
 
-  // The walk is evaluated ahead in windows: within a batch the live set does not change, so every mark in
-  // the window is the one the sequential walk would count. Points not sure to be marked are counted (live
-  // neighbours, exactly), in parallel when there are enough of them. Marked points past the (K+1)-th are
-  // counted again later; unmarked ones are settled at once (they would be found unmarked later too).
+  // The walk, in windows that start at batch boundaries and span several batches. Points not sure to be
+  // marked are first classified in parallel on the live set at the window's start (classify): with more
+  // than max_neighbours safe neighbours (anchors, later in the walk, or settled: none can be deleted before
+  // the walk reaches the point) they are marked whenever reached; with no more than that many live ones they
+  // are unmarked then (counts only fall) and settled; the rest (ambiguous, and any point reached past the
+  // window) are counted exactly when the walk reaches them, on the live set of that moment.
   const std::size_t K = static_cast<std::size_t>(config.batch_size);
   w.result.resize(order_size);
-  std::size_t alive = m, dead_since = 0, window = K + 1;
+  std::size_t alive = m, dead_since = 0, window_end = 0;
   const std::uint64_t* sure = w.sure.data();
   const std::uint64_t* live = w.live.data();
-  auto evaluate = [&](std::size_t b, std::size_t e) {
-    if (avx2)
-      count_live_avx2(counter, w.walk_points.data(), live, w.unsure.data(), b, e, w.result.data());
-    else
-      count_live<PlainBlock>(counter, w.walk_points.data(), live, w.unsure.data(), b, e, w.result.data());
+  auto marked_exactly = [&](std::size_t j) {
+    const Point& p = w.walk_points[j];
+    return avx2 ? marked_now_avx2(counter, p, live, std::uint32_t(j))
+                : marked_now<PlainBlock>(counter, p, live, std::uint32_t(j));
   };
-  for (std::size_t cursor = 0;;) {
-    w.batch.clear();
-    std::size_t i = cursor, next = order_size;
-    while (i < order_size && next == order_size) {
-      const std::size_t end = std::min(order_size, i + window);
-      w.unsure.clear();
-      for (std::size_t j = i; j < end; ++j) {
-        if (w.state[j] == kLive && !bit(sure, std::uint32_t(j))) w.unsure.push_back(static_cast<std::uint32_t>(j));
-      }
-      const std::size_t u = w.unsure.size();
-      detail::parallel_for(u, detail::parts_for(u, threads, 128), [&](std::size_t b, std::size_t e, int) { evaluate(b, e); });
-      for (std::size_t j = i; j < end; ++j) {
-        if (w.state[j] != kLive) continue;
-        if (!bit(sure, std::uint32_t(j)) && w.result[j] == kUnmarked) {
-          w.state[j] = kSettled;
-        } else if (next == order_size) {
-          if (w.batch.size() == K)
-            next = j;
-          else
-            w.batch.push_back(static_cast<std::uint32_t>(j));
-        }
-      }
-      // Next window: enough positions for the marks still wanted (the rest of this batch, or all K + 1 of
-      // the next one) at the rate seen so far, plus a margin.
-      const std::size_t wanted_marks = next != order_size ? K + 1 : K + 1 - w.batch.size();
-      const double rate = double(w.batch.size() + 1) / double((next != order_size ? next : end) - cursor);
-      const double wanted = 1.2 * double(wanted_marks) / rate;
-      window = std::max<std::size_t>(256, static_cast<std::size_t>(wanted));
-      i = end;
+  auto open_window = [&](std::size_t cursor) {
+    // About kWindowBatches batches at the rate of marks seen so far.
+    const double rate = cursor == 0 ? 1.0 : double(m - alive) / double(cursor);  // deleted = marked
+    const std::size_t span = static_cast<std::size_t>(double(kWindowBatches * (K + 1)) / std::max(rate, 1e-3));
+    window_end = std::min(order_size, cursor + std::max<std::size_t>(span, 4096));
+    w.unsure.clear();
+    for (std::size_t j = cursor; j < window_end; ++j) {
+      if (w.state[j] == kLive && !bit(sure, std::uint32_t(j))) w.unsure.push_back(static_cast<std::uint32_t>(j));
     }
-    for (std::uint32_t id : w.batch) {  // the last batch (K or fewer marked) deletes all still marked
+    const std::size_t u = w.unsure.size();
+    detail::parallel_for(u, detail::parts_for(u, threads, 128), [&](std::size_t b, std::size_t e, int) {
+      if (avx2)
+        classify_avx2(counter, w.walk_points.data(), live, std::uint32_t(cursor), w.unsure.data(), b, e,
+                      w.result.data());
+      else
+        classify<PlainBlock>(counter, w.walk_points.data(), live, std::uint32_t(cursor), w.unsure.data(), b, e,
+                             w.result.data());
+    });
+  };
+  auto delete_batch = [&] {  // the last batch (K or fewer marked) deletes all still marked
+    for (std::uint32_t id : w.batch) {
       w.state[id] = kDead;
       w.live[id / 64] &= ~(std::uint64_t{1} << (id % 64));
     }
     alive -= w.batch.size();
     dead_since += w.batch.size();
-    if (next == order_size) break;
-    if (dead_since * 2 > alive) {
-      recompact(w, cubes, threads);
-      refresh();
-      dead_since = 0;
+    w.batch.clear();
+  };
+  open_window(0);
+  for (std::size_t j = 0; j < order_size; ++j) {
+    if (w.state[j] != kLive) continue;
+    // Marked on the live set of now? The window's verdicts hold whatever was deleted since it opened.
+    const std::uint8_t verdict = bit(sure, std::uint32_t(j)) ? std::uint8_t{kMarked} : j < window_end ? w.result[j] : std::uint8_t{kAmbiguous};
+    bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(j));
+    if (!marked) {
+      w.state[j] = kSettled;
+      continue;
     }
-    cursor = next;
+    if (w.batch.size() == K) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
+      delete_batch();
+      if (dead_since * 2 > alive) {
+        recompact(w, cubes, threads);
+        refresh();
+        dead_since = 0;
+      }
+      if (j >= window_end) open_window(j);
+      if (verdict != kMarked && !(j < window_end && w.result[j] == kMarked)) {
+        const std::uint8_t again = j < window_end ? w.result[j] : std::uint8_t{kAmbiguous};
+        marked = again == kMarked || (again == kAmbiguous && marked_exactly(j));
+      }
+      if (!marked) {
+        w.state[j] = kSettled;
+        continue;
+      }
+    }
+    w.batch.push_back(static_cast<std::uint32_t>(j));
   }
+  delete_batch();
 
   // Anchors still over the threshold (on the final live set) take their non-anchor neighbours with them. All
   // live points are now anchors or settled: an anchor's count is the anchors near it, counted over the
