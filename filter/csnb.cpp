@@ -50,6 +50,7 @@ struct Workspace {
   std::vector<std::uint32_t> cube_index;
   std::vector<std::vector<std::uint32_t>> settled_near;  // per part: settled points near each anchor
   std::vector<std::uint64_t> settled_bits;
+  std::vector<std::uint32_t> settled;  // sorted positions
 };
 
 inline bool bit(const std::uint64_t* bits, std::uint32_t i) { return (bits[i / 64] >> (i % 64)) & 1; }
@@ -144,18 +145,18 @@ struct Counter {
 
   // True when more than `threshold` candidates that `accept` takes lie closer than r to (px, py, pz) in
   // `cube`; gives up (false) once `budget` candidates have been tested. Block::count counts one block.
-  template <class Block, class Accept>
+  template <class Block, bool kOwnFirst = true, class Accept>
   bool exceeds(float px, float py, float pz, std::uint32_t cube, std::size_t budget, const Accept& accept) const {
     int k = 0;
     std::size_t tested = 0;
-    return for_blocks(cube, [&](std::uint32_t j, std::uint32_t n) {
+    return for_blocks<kOwnFirst>(cube, [&](std::uint32_t j, std::uint32_t n) {
              k += Block::count(*this, j, n, px, py, pz, accept);
              tested += n;
              return k > threshold ? 1 : tested >= budget ? -1 : 0;
            }) == 1;
   }
   // Calls step(first, n) on the blocks of the candidates near `cube` until it returns non-zero; returns that.
-  template <class Step>
+  template <bool kOwnFirst = true, class Step>
   int for_blocks(std::uint32_t cube, Step&& step) const {
     const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
     auto range = [&](std::uint32_t j, std::uint32_t e) {
@@ -164,12 +165,15 @@ struct Counter {
       }
       return 0;
     };
-    const std::uint32_t own_begin = start[cube], own_end = start[cube + 1];
-    int verdict = range(own_begin, own_end);
-    if (verdict == 0) verdict = range(start[span[2 * centre_row]], own_begin);
-    if (verdict == 0) verdict = range(own_end, start[span[2 * centre_row + 1]]);
+    int verdict = 0;
+    if (kOwnFirst) {  // most counts that stop early stop here
+      const std::uint32_t own_begin = start[cube], own_end = start[cube + 1];
+      verdict = range(own_begin, own_end);
+      if (verdict == 0) verdict = range(start[span[2 * centre_row]], own_begin);
+      if (verdict == 0) verdict = range(own_end, start[span[2 * centre_row + 1]]);
+    }
     for (int r = 0; r < rows && verdict == 0; ++r) {
-      if (r != centre_row) verdict = range(start[span[2 * r]], start[span[2 * r + 1]]);
+      if (!kOwnFirst || r != centre_row) verdict = range(start[span[2 * r]], start[span[2 * r + 1]]);
     }
     return verdict;
   }
@@ -183,6 +187,18 @@ struct Counter {
     const std::uint32_t first = start[cube];
     __builtin_prefetch(candidates + first);
     __builtin_prefetch(candidates + first + 4);
+  }
+  // A point's neighbourhood in three steps, a few points apart, each reading what the one before brought in:
+  // its spans, then their starts, then the first candidates of every row.
+  void prefetch_spans(std::uint32_t cube) const { prefetch(cube); }
+  void prefetch_starts(std::uint32_t cube) const {
+    const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
+    for (int r = 0; r < rows; ++r) __builtin_prefetch(&start[span[2 * r]]);
+  }
+  void prefetch_rows(std::uint32_t cube) const {
+    const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
+    for (int r = 0; r < rows; ++r) __builtin_prefetch(candidates + start[span[2 * r]]);
+    __builtin_prefetch(candidates + start[cube]);
   }
 };
 
@@ -287,8 +303,9 @@ void anchors_over(const Counter& anchors, const std::uint32_t* settled_near, std
   for (std::size_t cube = b; cube < e; ++cube) {
     const Candidate& a = anchors.candidates[cube];
     rest.threshold = anchors.threshold - int(std::min<std::uint32_t>(settled_near[cube], 1u << 30));
-    over[cube] = rest.threshold < 0 || rest.exceeds<Block>(a.x, a.y, a.z, std::uint32_t(cube),
-                                                           std::numeric_limits<std::size_t>::max(), Other{a.id});
+    // Rows only: the anchor is alone in its cube.
+    over[cube] = rest.threshold < 0 || rest.exceeds<Block, false>(a.x, a.y, a.z, std::uint32_t(cube),
+                                                                  std::numeric_limits<std::size_t>::max(), Other{a.id});
   }
 }
 
@@ -299,8 +316,9 @@ void classify(const Counter& c, const Point* points, const std::uint64_t* live, 
               const std::uint32_t* ids, std::size_t b, std::size_t e, std::uint8_t* result) {
   for (std::size_t k = b; k < e; ++k) {
     if (k + 16 < e) __builtin_prefetch(&points[ids[k + 16]]);
-    if (k + 8 < e) c.prefetch(points[ids[k + 8]].cube);
-    if (k + 4 < e) c.prefetch_own(points[ids[k + 4]].cube);
+    if (k + 12 < e) c.prefetch_spans(points[ids[k + 12]].cube);
+    if (k + 8 < e) c.prefetch_starts(points[ids[k + 8]].cube);
+    if (k + 4 < e) c.prefetch_rows(points[ids[k + 4]].cube);
     const std::uint32_t me = ids[k];
     const Point p = points[me];
     int safe = 0, any = 0;
@@ -445,37 +463,51 @@ void cube_keys_avx2(const float* p, std::size_t n, const CsnbLayout& l, std::uin
 #endif
 
 // spans[(c * rows + r) * 2 + {0, 1}]: the occupied cubes [first, end) in row r (detail::csnb_row) of cube c,
-// for the cubes c in [b, e) of the sorted `keys`. A row's key range moves up with the cube's key, so per row
+// for the cubes c in [b, e) of the sorted `keys` (keys[cubes] = UINT32_MAX). A row's key range moves up with the cube's key, so per row
 // one pair of pointers walks the table (after a binary search at b).
 void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cubes, std::size_t b, std::size_t e,
                 std::uint32_t* spans) {
   const int rows = detail::csnb_rows(l), side = 2 * l.reach + 1, bits = l.grid_exponent, top = (1 << bits) - 1;
   const std::uint32_t count = static_cast<std::uint32_t>(cubes);
+  // detail::csnb_row with each row's offsets worked out once (it divides by `side` per call); per row, the
+  // pointer pair and whether it was placed yet.
+  std::vector<int> dy(rows), dz(rows);
+  std::vector<std::uint32_t> first(rows, 0), end(rows, 0);
+  std::vector<char> placed(rows, 0);
   for (int r = 0; r < rows; ++r) {
-    // detail::csnb_row with this row's offsets worked out once (it divides by `side` per call).
-    const int dy = r % side - l.reach, dz = r / side - l.reach;
-    std::uint32_t c0 = 0, c1 = 0;
-    bool searched = false;
-    for (std::size_t c = b; c < e; ++c) {
-      std::uint32_t* span = spans + (c * rows + r) * 2;
-      const int key = int(keys[c]), x = key & top, y = ((key >> bits) & top) + dy, z = ((key >> (2 * bits)) & top) + dz;
-      if (y < 0 || y > top || z < 0 || z > top) {
-        span[0] = span[1] = 0;
+    dy[r] = r % side - l.reach;
+    dz[r] = r / side - l.reach;
+  }
+  for (std::size_t c = b; c < e; ++c) {
+    const int key = int(keys[c]), x = key & top, y = (key >> bits) & top, z = (key >> (2 * bits)) & top;
+    const std::uint32_t x0 = std::uint32_t(std::max(x - l.reach, 0)), x1 = std::uint32_t(std::min(x + l.reach, top));
+    std::uint32_t* span = spans + c * rows * 2;
+    for (int r = 0; r < rows; ++r) {
+      const int ry = y + dy[r], rz = z + dz[r];
+      if (ry < 0 || ry > top || rz < 0 || rz > top) {
+        span[2 * r] = span[2 * r + 1] = 0;
         continue;
       }
-      const std::uint32_t base = std::uint32_t(y << bits) | std::uint32_t(z << (2 * bits));
-      const std::uint32_t lo = base | std::uint32_t(std::max(x - l.reach, 0));
-      const std::uint32_t hi = base | std::uint32_t(std::min(x + l.reach, top));
-      if (!searched) {
+      const std::uint32_t base = std::uint32_t(ry << bits) | std::uint32_t(rz << (2 * bits));
+      const std::uint32_t lo = base | x0, hi = base | x1;
+      std::uint32_t c0 = first[r], c1 = end[r];
+      if (!placed[r]) {
         c0 = detail::search_keys(keys, count, lo, false);
         c1 = detail::search_keys(keys, count, hi, true);
-        searched = true;
+        placed[r] = 1;
       }
-      while (c0 < count && keys[c0] < lo) ++c0;
-      if (c1 < c0) c1 = c0;
-      while (c1 < count && keys[c1] <= hi) ++c1;
-      span[0] = c0;
-      span[1] = c1;
+      // keys[count] is a sentinel above every key. The pointers mostly move by 0 to 3: steps without branches
+      // first (a loop's exit would mispredict on almost every cube), a loop for the rest.
+      c0 += keys[c0] < lo;
+      c0 += keys[c0] < lo;
+      while (keys[c0] < lo) ++c0;
+      c1 = std::max(c1, c0);
+      c1 += keys[c1] <= hi;
+      c1 += keys[c1] <= hi;
+      c1 += keys[c1] <= hi;
+      while (keys[c1] <= hi) ++c1;
+      first[r] = span[2 * r] = c0;
+      end[r] = span[2 * r + 1] = c1;
     }
   }
 }
@@ -541,7 +573,8 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   const std::size_t cubes = cube_offset[point_parts];
   w.points.resize(m);
   w.column.resize(m);
-  w.cube_key.resize(cubes);
+  w.cube_key.resize(cubes + 1);
+  w.cube_key[cubes] = std::numeric_limits<std::uint32_t>::max();  // a sentinel for find_spans
   w.cube_begin.resize(cubes + 1);
   detail::parallel_for(m, point_parts, [&](std::size_t b, std::size_t e, int t) {
     std::size_t c = cube_offset[t];
@@ -744,17 +777,22 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     const std::uint32_t s = static_cast<std::uint32_t>(w.order[i]);
     w.settled_bits[s / 64] |= std::uint64_t{1} << (s % 64);
   }
-  auto for_settled = [&](std::size_t b, std::size_t e, auto&& visit) {  // sorted positions in words [b, e)
-    for (std::size_t k = b; k < e; ++k) {
-      for (std::uint64_t bits = w.settled_bits[k]; bits != 0; bits &= bits - 1) visit(k * 64 + __builtin_ctzll(bits));
-    }
-  };
-  const int settled_parts = detail::parts_for(words, threads, 256);
+  w.settled.clear();
+  for (std::size_t k = 0; k < words; ++k) {
+    for (std::uint64_t bits = w.settled_bits[k]; bits != 0; bits &= bits - 1)
+      w.settled.push_back(static_cast<std::uint32_t>(k * 64 + __builtin_ctzll(bits)));
+  }
+  const std::size_t settled_count = w.settled.size();
+  const int settled_parts = detail::parts_for(settled_count, threads, 2048);
   w.settled_near.resize(settled_parts);
-  detail::parallel_for(words, settled_parts, [&](std::size_t b, std::size_t e, int t) {
+  detail::parallel_for(settled_count, settled_parts, [&](std::size_t b, std::size_t e, int t) {
     std::vector<std::uint32_t>& near = w.settled_near[t];  // per part: no shared counters
     near.assign(cubes, 0);
-    for_settled(b, e, [&](std::size_t s) { near_anchors(s, [&](std::uint32_t c) { ++near[c]; }); });
+    for (std::size_t k = b; k < e; ++k) {
+      if (k + 8 < e) anchors.prefetch_spans(w.points[w.settled[k + 8]].cube);
+      if (k + 4 < e) anchors.prefetch_rows(w.points[w.settled[k + 4]].cube);
+      near_anchors(w.settled[k], [&](std::uint32_t c) { ++near[c]; });
+    }
   });
   for (int t = 1; t < settled_parts; ++t)
     for (std::size_t c = 0; c < cubes; ++c) w.settled_near[0][c] += w.settled_near[t][c];
@@ -765,12 +803,12 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     else
       anchors_over<PlainBlock>(anchors, w.settled_near[0].data(), b, e, w.claims.data());
   });
-  detail::parallel_for(words, settled_parts, [&](std::size_t b, std::size_t e, int) {
-    for_settled(b, e, [&](std::size_t s) {
+  detail::parallel_for(settled_count, settled_parts, [&](std::size_t b, std::size_t e, int) {
+    for (std::size_t k = b; k < e; ++k) {
       bool claimed = false;
-      near_anchors(s, [&](std::uint32_t c) { claimed |= w.claims[c] != 0; });
-      if (claimed) w.state[w.walk_of[s]] = kDead;
-    });
+      near_anchors(w.settled[k], [&](std::uint32_t c) { claimed |= w.claims[c] != 0; });
+      if (claimed) w.state[w.walk_of[w.settled[k]]] = kDead;
+    }
   });
   const Point* q = w.points.data();
 
