@@ -275,7 +275,7 @@ struct Avx2Block {
 // walk has passed and anchors never, so all of these are live when the walk reaches the point. Counted in
 // cube order, where the neighbour rows stay in cache, testing at most kSureBudget candidates per point: a
 // point not shown sure here is counted exactly when the walk reaches it. Needs every candidate live.
-constexpr std::size_t kSureBudget = 64;
+constexpr std::size_t kSureBudget = 128;
 constexpr std::size_t kWindowBatches = 8;  // batches per window of the walk
 
 // The counting loops, over plain or AVX2 blocks. The AVX2 entry points are compiled for AVX2 with everything
@@ -686,7 +686,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     // About kWindowBatches batches at the rate of marks seen so far.
     const double rate = cursor == 0 ? 1.0 : double(m - alive) / double(cursor);  // deleted = marked
     const std::size_t span = static_cast<std::size_t>(double(kWindowBatches * (K + 1)) / std::max(rate, 1e-3));
-    window_end = std::min(order_size, cursor + std::max<std::size_t>(span, 4096));
+    window_end = std::min(order_size, cursor + std::max<std::size_t>(span, 256));
     w.unsure.clear();
     for (std::size_t j = cursor; j < window_end; ++j) {
       if (w.state[j] == kLive && !bit(sure, std::uint32_t(j))) w.unsure.push_back(static_cast<std::uint32_t>(j));
