@@ -170,6 +170,13 @@ int bit_width(std::uint64_t value) {
   return bits;
 }
 
+namespace {
+std::atomic<bool> g_simd_enabled{true};
+}  // namespace
+
+void set_simd_enabled(bool enabled) { g_simd_enabled = enabled; }
+bool simd_enabled() { return g_simd_enabled; }
+
 int resolve_threads(int threads) {
   if (threads > 0) return threads;
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

@@ -51,10 +51,10 @@ bool make_keys32(const detail::VoxelLayout& l, Keys32& k) {
 
 #if defined(__x86_64__) || defined(__i386__)
 #define STVL_KEYS32_TARGET __attribute__((target("avx2")))
-bool keys32_supported() { return __builtin_cpu_supports("avx2"); }
+bool keys32_supported() { return __builtin_cpu_supports("avx2") && detail::simd_enabled(); }
 #else
 #define STVL_KEYS32_TARGET
-bool keys32_supported() { return true; }
+bool keys32_supported() { return detail::simd_enabled(); }
 #endif
 
 STVL_KEYS32_TARGET void keys32(const float* p, std::size_t n, const Keys32 l, std::uint32_t* keys) {

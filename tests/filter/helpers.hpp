@@ -3,6 +3,7 @@
 
 #include <cstdint>
 
+#include "filter/detail/common.hpp"
 #include "filter/detail/shared.hpp"
 
 namespace stvl::filter::test {
@@ -18,5 +19,13 @@ inline Eigen::Matrix3Xf random_cloud(std::uint64_t seed, Eigen::Index n, float l
   }
   return points;
 }
+
+// Turns the filters' AVX2 paths off for its lifetime (they are on by default wherever the CPU has AVX2).
+struct WithoutSimd {
+  WithoutSimd() { detail::set_simd_enabled(false); }
+  ~WithoutSimd() { detail::set_simd_enabled(true); }
+  WithoutSimd(const WithoutSimd&) = delete;
+  WithoutSimd& operator=(const WithoutSimd&) = delete;
+};
 
 }  // namespace stvl::filter::test

@@ -164,6 +164,32 @@ TEST(Csnb, EqualsTheLiteralAlgorithm) {
   }
 }
 
+// The plain counting loops (CPUs without AVX2, or the switch off) give the same output as the AVX2 ones, on
+// a cloud large enough for many windows of the walk, and the literal algorithm agrees on a smaller one.
+TEST(Csnb, SameOutputWithoutSimd) {
+  const Eigen::Matrix3Xf corridor = make_corridor_cloud(2, 320, 180);
+  for (double voxel : {0.02, 0.05}) {
+    CsnbConfig config;
+    config.voxel_size_m = voxel;
+    config.batch_size = 200;
+    const Eigen::Matrix3Xf simd = csnb(corridor, config, 2);
+    test::WithoutSimd plain;
+    const Eigen::Matrix3Xf out = csnb(corridor, config, 2);
+    ASSERT_EQ(out.cols(), simd.cols()) << "voxel " << voxel;
+    EXPECT_TRUE(out == simd) << "voxel " << voxel;
+  }
+  const Eigen::Matrix3Xf random = test::random_cloud(31, 3000, -0.3f, 0.4f);
+  CsnbConfig config;
+  config.voxel_size_m = 0.08;
+  config.max_neighbours = 3;
+  config.batch_size = 5;
+  test::WithoutSimd plain;
+  const Eigen::Matrix3Xf out = csnb(random, config, 2);
+  const Eigen::Matrix3Xf expected = reference_csnb(random, config);
+  ASSERT_EQ(out.cols(), expected.cols());
+  EXPECT_TRUE(out == expected);
+}
+
 TEST(Csnb, DensityBoundAndNoCubeLostOnRandomClouds) {
   for (int threshold : {0, 2, 5, 26}) {
     CsnbConfig config;

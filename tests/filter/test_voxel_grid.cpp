@@ -54,6 +54,19 @@ TEST(VoxelGrid, MatchesReferenceOnRandomClouds) {
   }
 }
 
+// The plain key loop (CPUs without AVX2, or the switch off) gives the same output as the AVX2 one.
+TEST(VoxelGrid, SameOutputWithoutSimd) {
+  const Eigen::Matrix3Xf cloud = test::random_cloud(8, 50000, -3.f, 2.f);
+  for (double voxel : {0.02, 0.1}) {
+    const Eigen::Matrix3Xf simd = voxel_grid(cloud, {voxel, 1}, 2);
+    test::WithoutSimd plain;
+    const Eigen::Matrix3Xf out = voxel_grid(cloud, {voxel, 1}, 2);
+    ASSERT_EQ(out.cols(), simd.cols());
+    EXPECT_TRUE(out == simd) << "voxel " << voxel;
+    expect_same(out, reference_voxel_grid(cloud, voxel, 1));
+  }
+}
+
 TEST(VoxelGrid, MatchesReferenceOnBoundariesAndNegativeCoordinates) {
   Eigen::Matrix3Xf cloud(3, 0);
   for (int i = -20; i <= 20; ++i) {
