@@ -368,7 +368,14 @@ void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uin
   const std::size_t words = (std::size_t(order_size) + 63) / 64;
   const int parts = detail::parts_for(cubes, threads, 1024);
   w.sure_parts.resize(parts);
-  detail::parallel_for(cubes, parts, [&](std::size_t b, std::size_t e, int t) {
+  // Parts of about equal points, not cubes (dense cubes cost more).
+  const std::uint32_t points = counter.start[cubes];
+  auto cube_at = [&](int t) {
+    const std::uint32_t target = static_cast<std::uint32_t>(std::uint64_t(points) * std::uint64_t(t) / std::uint64_t(parts));
+    return t == parts ? cubes : std::size_t(std::lower_bound(counter.start, counter.start + cubes, target) - counter.start);
+  };
+  detail::parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
+    const std::size_t b = cube_at(t), e = cube_at(t + 1);
     std::vector<std::uint64_t>& bits = w.sure_parts[t];  // one bitmap per part: no shared cache lines
     bits.assign(words, 0);
     if (avx2)
