@@ -51,6 +51,7 @@ struct Workspace {
   std::vector<std::vector<std::uint32_t>> settled_near;  // per part: settled points near each anchor
   std::vector<std::uint64_t> settled_bits;
   std::vector<std::uint32_t> settled;  // sorted positions
+  std::vector<std::vector<std::uint64_t>> near_pairs;
 };
 
 inline bool bit(const std::uint64_t* bits, std::uint32_t i) { return (bits[i / 64] >> (i % 64)) & 1; }
@@ -363,19 +364,25 @@ bool marked_now_avx2(const Counter& c, const Point& p, const std::uint64_t* l, s
 #endif
 #undef STVL_AVX2_ENTRY
 
+// Cube boundaries of `parts` parts with about equal candidates (start: each cube's first), rather than equal
+// cubes: dense cubes cost more.
+std::vector<std::size_t> split_cubes(const std::uint32_t* start, std::size_t cubes, int parts) {
+  std::vector<std::size_t> part(parts + 1, cubes);
+  for (int t = 0; t < parts; ++t) {
+    const std::uint64_t target = std::uint64_t(start[cubes]) * std::uint64_t(t) / std::uint64_t(parts);
+    part[t] = static_cast<std::size_t>(std::lower_bound(start, start + cubes, target) - start);
+  }
+  return part;
+}
+
 void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uint32_t order_size,
                std::uint32_t cursor, bool avx2, int threads) {
   const std::size_t words = (std::size_t(order_size) + 63) / 64;
   const int parts = detail::parts_for(cubes, threads, 1024);
   w.sure_parts.resize(parts);
-  // Parts of about equal points, not cubes (dense cubes cost more).
-  const std::uint32_t points = counter.start[cubes];
-  auto cube_at = [&](int t) {
-    const std::uint32_t target = static_cast<std::uint32_t>(std::uint64_t(points) * std::uint64_t(t) / std::uint64_t(parts));
-    return t == parts ? cubes : std::size_t(std::lower_bound(counter.start, counter.start + cubes, target) - counter.start);
-  };
+  const std::vector<std::size_t> part = split_cubes(counter.start, cubes, parts);
   detail::parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
-    const std::size_t b = cube_at(t), e = cube_at(t + 1);
+    const std::size_t b = part[t], e = part[t + 1];
     std::vector<std::uint64_t>& bits = w.sure_parts[t];  // one bitmap per part: no shared cache lines
     bits.assign(words, 0);
     if (avx2)
@@ -414,32 +421,33 @@ void recompact(Workspace& w, std::size_t cubes, int threads) {
   w.next_start.resize(cubes + 1);
   const std::uint32_t* start = w.start.data();
   const std::uint64_t* live = w.live.data();
-  const std::size_t total = parallel_compact(
-      cubes, threads, 2048,
-      [&](std::size_t b, std::size_t e) {
-        std::size_t count = 0;
-        for (std::uint32_t j = start[b]; j < start[e]; ++j) count += bit(live, w.candidates[j].id);
-        return count;
-      },
-      [](std::size_t) {},
-      [&](std::size_t b, std::size_t e, std::size_t first) {
-        // Every candidate is written and the next one overwrites it when it was deleted (half of them are:
-        // a branch would mispredict), except the part's last, whose slot may be the next part's first.
-        std::uint32_t o = static_cast<std::uint32_t>(first);
-        const std::uint32_t last = start[e] - 1;
-        for (std::size_t c = b; c < e; ++c) {
-          w.next_start[c] = o;
-          for (std::uint32_t j = start[c]; j < start[c + 1]; ++j) {
-            const bool keep = bit(live, w.candidates[j].id);
-            if (j != last || keep) w.next_candidates[o] = w.candidates[j];
-            o += keep;
-          }
-        }
-      });
-  w.next_start[cubes] = static_cast<std::uint32_t>(total);
+  const int parts = detail::parts_for(start[cubes], threads, 16384);
+  const std::vector<std::size_t> part = split_cubes(start, cubes, parts);
+  std::vector<std::size_t> offset(parts + 1, 0);
+  detail::parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
+    std::size_t count = 0;
+    for (std::uint32_t j = start[part[t]]; j < start[part[t + 1]]; ++j) count += bit(live, w.candidates[j].id);
+    offset[t + 1] = count;
+  });
+  for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
+  detail::parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
+    // Every candidate is written and the next one overwrites it when it was deleted (half of them are: a
+    // branch would mispredict), except the part's last, whose slot may be the next part's first.
+    std::uint32_t o = static_cast<std::uint32_t>(offset[t]);
+    const std::uint32_t last = start[part[t + 1]] - 1;
+    for (std::size_t c = part[t]; c < part[t + 1]; ++c) {
+      w.next_start[c] = o;
+      for (std::uint32_t j = start[c]; j < start[c + 1]; ++j) {
+        const bool keep = bit(live, w.candidates[j].id);
+        if (j != last || keep) w.next_candidates[o] = w.candidates[j];
+        o += keep;
+      }
+    }
+  });
+  w.next_start[cubes] = static_cast<std::uint32_t>(offset[parts]);
   w.candidates.swap(w.next_candidates);
   w.start.swap(w.next_start);
-  pad(w, total);
+  pad(w, offset[parts]);
 }
 
 // detail::cube_key of n all-finite points inside the layout's box (so the quotients are in [0, 2^9] and fit
@@ -792,13 +800,19 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   const std::size_t settled_count = w.settled.size();
   const int settled_parts = detail::parts_for(settled_count, threads, 2048);
   w.settled_near.resize(settled_parts);
+  w.near_pairs.resize(settled_parts);
   detail::parallel_for(settled_count, settled_parts, [&](std::size_t b, std::size_t e, int t) {
     std::vector<std::uint32_t>& near = w.settled_near[t];  // per part: no shared counters
+    std::vector<std::uint64_t>& pairs = w.near_pairs[t];   // (settled point, anchor), for the claims below
     near.assign(cubes, 0);
+    pairs.clear();
     for (std::size_t k = b; k < e; ++k) {
       if (k + 8 < e) anchors.prefetch_spans(w.points[w.settled[k + 8]].cube);
       if (k + 4 < e) anchors.prefetch_rows(w.points[w.settled[k + 4]].cube);
-      near_anchors(w.settled[k], [&](std::uint32_t c) { ++near[c]; });
+      near_anchors(w.settled[k], [&](std::uint32_t c) {
+        ++near[c];
+        pairs.push_back(std::uint64_t{w.settled[k]} << 32 | c);
+      });
     }
   });
   for (int t = 1; t < settled_parts; ++t)
@@ -810,11 +824,9 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     else
       anchors_over<PlainBlock>(anchors, w.settled_near[0].data(), b, e, w.claims.data());
   });
-  detail::parallel_for(settled_count, settled_parts, [&](std::size_t b, std::size_t e, int) {
-    for (std::size_t k = b; k < e; ++k) {
-      bool claimed = false;
-      near_anchors(w.settled[k], [&](std::uint32_t c) { claimed |= w.claims[c] != 0; });
-      if (claimed) w.state[w.walk_of[w.settled[k]]] = kDead;
+  detail::parallel_for(std::size_t(settled_parts), settled_parts, [&](std::size_t, std::size_t, int t) {
+    for (const std::uint64_t pair : w.near_pairs[t]) {  // a settled point is in one part only
+      if (w.claims[std::uint32_t(pair)]) w.state[w.walk_of[pair >> 32]] = kDead;
     }
   });
   const Point* q = w.points.data();
