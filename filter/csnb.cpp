@@ -38,7 +38,7 @@ constexpr std::uint32_t kPad = kBlock;
 // Buffers kept per calling thread (see voxel_grid.cpp): fresh ones would page-fault on every frame.
 struct Workspace {
   std::vector<std::uint64_t> items, scratch, order;
-  std::vector<std::uint32_t> run_end, column, cube_key, cube_begin, spans, anchor, batch, unsure, walk_of;
+  std::vector<std::uint32_t> column, cube_key, cube_begin, spans, anchor, batch, unsure, walk_of;
   std::vector<Point> points, walk_points;
   std::vector<Candidate> candidates, next_candidates;
   std::vector<std::uint32_t> start, next_start;
@@ -178,20 +178,14 @@ struct Counter {
     }
     return verdict;
   }
-  void prefetch(std::uint32_t cube) const {
+  // A point's neighbourhood in three steps, a few points apart, each reading what the one before brought in:
+  // its spans, then their starts, then the first candidates of every row.
+  void prefetch_spans(std::uint32_t cube) const {
     const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
     __builtin_prefetch(span);
     __builtin_prefetch(span + 16);
     __builtin_prefetch(&start[cube]);
   }
-  void prefetch_own(std::uint32_t cube) const {  // after prefetch(cube) has brought start[cube] in
-    const std::uint32_t first = start[cube];
-    __builtin_prefetch(candidates + first);
-    __builtin_prefetch(candidates + first + 4);
-  }
-  // A point's neighbourhood in three steps, a few points apart, each reading what the one before brought in:
-  // its spans, then their starts, then the first candidates of every row.
-  void prefetch_spans(std::uint32_t cube) const { prefetch(cube); }
   void prefetch_starts(std::uint32_t cube) const {
     const std::uint32_t* span = spans + std::size_t(cube) * rows * 2;
     for (int r = 0; r < rows; ++r) __builtin_prefetch(&start[span[2 * r]]);
@@ -250,9 +244,10 @@ struct Avx2Block {
     *safe += __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(s)))) & kFirstLanes[n]);
     *any += __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(a)))) & kFirstLanes[n]);
   }
-  // Lanes within r of (px, py, pz), and the walk ids, of candidates j .. j + 7 (in kLaneCandidate order).
+  // Lanes within r of (px, py, pz), and the walk ids, of candidates j .. j + 7 (reads 8 even when the block
+  // holds fewer: the padding keeps that inside the array, kFirstLanes masks them out).
   STVL_AVX2 static void load(const Counter& c, std::size_t j, float px, float py, float pz, __m256* near, __m256i* ids) {
-    // Two candidates per load; transposed, lane l holds candidate kLaneCandidate[l] (0 2 4 6 1 3 5 7).
+    // Two candidates per load; transposed, lanes 0..7 hold candidates 0 2 4 6 1 3 5 7.
     const float* f = reinterpret_cast<const float*>(c.candidates + j);
     const __m256 a0 = _mm256_loadu_ps(f), a1 = _mm256_loadu_ps(f + 8), a2 = _mm256_loadu_ps(f + 16),
                  a3 = _mm256_loadu_ps(f + 24);
@@ -275,21 +270,20 @@ struct Avx2Block {
 // neighbours that are anchors or come later in the walk (a larger walk id). Batches delete only points the
 // walk has passed and anchors never, so all of these are live when the walk reaches the point. Counted in
 // cube order, where the neighbour rows stay in cache, testing at most kSureBudget candidates per point: a
-// point not shown sure here is counted exactly when the walk reaches it. Needs every candidate live.
+// point not shown sure here is classified by the walk's windows. Needs every candidate live.
 constexpr std::size_t kSureBudget = 128;
 constexpr std::size_t kWindowBatches = 8;  // batches per window of the walk
 
 // The counting loops, over plain or AVX2 blocks. The AVX2 entry points are compiled for AVX2 with everything
 // they call inlined (flatten), and called only where the CPU has it.
 template <class Block>
-void sure_part(const Counter& c, std::size_t b, std::size_t e, std::uint32_t order_size, std::uint32_t cursor,
-               std::uint64_t* bits) {
+void sure_part(const Counter& c, std::size_t b, std::size_t e, std::uint32_t order_size, std::uint64_t* bits) {
   for (std::size_t cube = b; cube < e; ++cube) {
     for (std::uint32_t s = c.start[cube]; s < c.start[cube + 1]; ++s) {
       const Candidate& p = c.candidates[s];
       const std::uint32_t me = p.id;
-      if (me >= order_size || me < cursor) continue;  // an anchor, or passed
-      if (c.exceeds<Block>(p.x, p.y, p.z, std::uint32_t(cube), kSureBudget, LaterOrPassed{me, cursor}))
+      if (me >= order_size) continue;  // an anchor
+      if (c.exceeds<Block>(p.x, p.y, p.z, std::uint32_t(cube), kSureBudget, LaterOrPassed{me, 0}))
         bits[me / 64] |= std::uint64_t{1} << (me % 64);
     }
   }
@@ -345,8 +339,8 @@ bool marked_now(const Counter& c, const Point& p, const std::uint64_t* live, std
 #define STVL_AVX2_ENTRY(name, params, args) \
   void name##_avx2 params { name<PlainBlock> args; }
 #endif
-STVL_AVX2_ENTRY(sure_part, (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint32_t u,
-                            std::uint64_t* bits), (c, b, e, o, u, bits))
+STVL_AVX2_ENTRY(sure_part, (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint64_t* bits),
+                (c, b, e, o, bits))
 STVL_AVX2_ENTRY(anchors_over, (const Counter& c, const std::uint32_t* near, std::size_t b, std::size_t e,
                                std::uint8_t* over), (c, near, b, e, over))
 STVL_AVX2_ENTRY(classify, (const Counter& c, const Point* p, const std::uint64_t* l, std::uint32_t u,
@@ -375,8 +369,8 @@ std::vector<std::size_t> split_cubes(const std::uint32_t* start, std::size_t cub
   return part;
 }
 
-void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uint32_t order_size,
-               std::uint32_t cursor, bool avx2, int threads) {
+void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uint32_t order_size, bool avx2,
+               int threads) {
   const std::size_t words = (std::size_t(order_size) + 63) / 64;
   const int parts = detail::parts_for(cubes, threads, 1024);
   w.sure_parts.resize(parts);
@@ -386,9 +380,9 @@ void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uin
     std::vector<std::uint64_t>& bits = w.sure_parts[t];  // one bitmap per part: no shared cache lines
     bits.assign(words, 0);
     if (avx2)
-      sure_part_avx2(counter, b, e, order_size, cursor, bits.data());
+      sure_part_avx2(counter, b, e, order_size, bits.data());
     else
-      sure_part<PlainBlock>(counter, b, e, order_size, cursor, bits.data());
+      sure_part<PlainBlock>(counter, b, e, order_size, bits.data());
   });
   w.sure.assign(words, 0);
   detail::parallel_for(words, detail::parts_for(words, threads, 4096), [&](std::size_t b, std::size_t e, int) {
@@ -403,7 +397,7 @@ void pad(Workspace& w, std::size_t n) {
   std::fill(w.candidates.begin() + n, w.candidates.end(), Candidate{nan, nan, nan, 0});
 }
 
-// The first candidates: every point (all are live), per cube in sorted order, and each row's candidate range.
+// The first candidates: every point (all are live), per cube in sorted order.
 void init_candidates(Workspace& w, std::size_t cubes, int threads) {
   const std::size_t m = w.points.size();
   pad(w, m);
@@ -679,7 +673,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     counter.candidates = w.candidates.data();
     counter.start = w.start.data();
   };
-  find_sure(w, counter, cubes, std::uint32_t(order_size), 0, avx2, threads);
+  find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
 
   // The walk, in windows that start at batch boundaries and span several batches. Points not sure to be
   // marked are first classified in parallel on the live set at the window's start (classify): with more
