@@ -710,6 +710,12 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
                              w.result.data());
     });
   };
+  w.settled_bits.assign((m + 63) / 64, 0);
+  auto settle = [&](std::size_t j) {
+    w.state[j] = kSettled;
+    const std::uint32_t s = static_cast<std::uint32_t>(w.order[j]);  // its sorted position
+    w.settled_bits[s / 64] |= std::uint64_t{1} << (s % 64);
+  };
   auto delete_batch = [&] {  // the last batch (K or fewer marked) deletes all still marked
     for (std::uint32_t id : w.batch) {
       w.state[id] = kDead;
@@ -726,7 +732,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     const std::uint8_t verdict = bit(sure, std::uint32_t(j)) ? std::uint8_t{kMarked} : j < window_end ? w.result[j] : std::uint8_t{kAmbiguous};
     bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(j));
     if (!marked) {
-      w.state[j] = kSettled;
+      settle(j);
       continue;
     }
     if (w.batch.size() == K) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
@@ -742,7 +748,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
         marked = again == kMarked || (again == kAmbiguous && marked_exactly(j));
       }
       if (!marked) {
-        w.state[j] = kSettled;
+        settle(j);
         continue;
       }
     }
@@ -778,14 +784,8 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
       }
     }
   };
-  // The settled points as bits by sorted position (visited in cube order below).
+  // The settled points (set by the walk as bits by sorted position), listed in cube order.
   const std::size_t words = (m + 63) / 64;
-  w.settled_bits.assign(words, 0);
-  for (std::size_t i = 0; i < order_size; ++i) {
-    if (w.state[i] != kSettled) continue;
-    const std::uint32_t s = static_cast<std::uint32_t>(w.order[i]);
-    w.settled_bits[s / 64] |= std::uint64_t{1} << (s % 64);
-  }
   w.settled.clear();
   for (std::size_t k = 0; k < words; ++k) {
     for (std::uint64_t bits = w.settled_bits[k]; bits != 0; bits &= bits - 1)
@@ -832,7 +832,10 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
       m, threads, 16384,
       [&](std::size_t b, std::size_t e) {
         std::size_t kept = 0;
-        for (std::size_t s = b; s < e; ++s) kept += w.result[s] = w.state[w.walk_of[s]] != kDead;
+        for (std::size_t s = b; s < e; ++s) {  // the anchors, and the settled points no claim deleted
+          w.result[s] = w.is_anchor[s] || (bit(w.settled_bits.data(), std::uint32_t(s)) && w.state[w.walk_of[s]] != kDead);
+          kept += w.result[s];
+        }
         return kept;
       },
       [&](std::size_t kept) { out.resize(3, static_cast<Eigen::Index>(kept)); },
