@@ -426,14 +426,15 @@ void recompact(Workspace& w, std::size_t cubes, int threads) {
   for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
   detail::parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
     // Every candidate is written and the next one overwrites it when it was deleted (half of them are: a
-    // branch would mispredict), except the part's last, whose slot may be the next part's first.
+    // branch would mispredict), until the part's slots are full: what follows its last live candidate is
+    // deleted, and the slot after the part's is the next part's first.
     std::uint32_t o = static_cast<std::uint32_t>(offset[t]);
-    const std::uint32_t last = start[part[t + 1]] - 1;
+    const std::uint32_t full = static_cast<std::uint32_t>(offset[t + 1]);
     for (std::size_t c = part[t]; c < part[t + 1]; ++c) {
       w.next_start[c] = o;
       for (std::uint32_t j = start[c]; j < start[c + 1]; ++j) {
         const bool keep = bit(live, w.candidates[j].id);
-        if (j != last || keep) w.next_candidates[o] = w.candidates[j];
+        if (o < full) w.next_candidates[o] = w.candidates[j];
         o += keep;
       }
     }
