@@ -676,12 +676,12 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   };
   find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
 
-  // The walk, in windows that start at batch boundaries and span several batches. Points not sure to be
-  // marked are first classified in parallel on the live set at the window's start (classify): with more
-  // than max_neighbours safe neighbours (anchors, later in the walk, or settled: none can be deleted before
+  // The walk, in windows of about kWindowBatches batches. Points not sure to be marked are first classified
+  // in parallel on the live set when the window opens (classify): with more than max_neighbours safe
+  // neighbours (anchors, later in the walk, or settled before the current batch: none can be deleted before
   // the walk reaches the point) they are marked whenever reached; with no more than that many live ones they
-  // are unmarked then (counts only fall) and settled; the rest (ambiguous, and any point reached past the
-  // window) are counted exactly when the walk reaches them, on the live set of that moment.
+  // are unmarked then (counts only fall) and settled; the rest (ambiguous) are counted exactly when the walk
+  // reaches them, on the live set of that moment.
   const std::size_t K = static_cast<std::size_t>(config.batch_size);
   w.result.resize(order_size);
   std::size_t alive = m, dead_since = 0, window_end = 0;
@@ -692,13 +692,16 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     return avx2 ? marked_now_avx2(counter, p, live, std::uint32_t(j))
                 : marked_now<PlainBlock>(counter, p, live, std::uint32_t(j));
   };
-  auto open_window = [&](std::size_t cursor) {
+  // A window of positions from `from`, classified on the live set of now, which is that of `cursor`: the
+  // start of the current batch (nothing has been deleted since), before which every point is deleted or
+  // settled.
+  auto open_window = [&](std::size_t from, std::size_t cursor) {
     // About kWindowBatches batches at the rate of marks seen so far.
-    const double rate = cursor == 0 ? 1.0 : double(m - alive) / double(cursor);  // deleted = marked
+    const double rate = from == 0 ? 1.0 : double(m - alive + w.batch.size()) / double(from);  // marks so far
     const std::size_t span = static_cast<std::size_t>(double(kWindowBatches * (K + 1)) / std::max(rate, 1e-3));
-    window_end = std::min(order_size, cursor + std::max<std::size_t>(span, 256));
+    window_end = std::min(order_size, from + std::max<std::size_t>(span, 256));
     w.unsure.clear();
-    for (std::size_t j = cursor; j < window_end; ++j) {
+    for (std::size_t j = from; j < window_end; ++j) {
       if (w.state[j] == kLive && !bit(sure, std::uint32_t(j))) w.unsure.push_back(static_cast<std::uint32_t>(j));
     }
     const std::size_t u = w.unsure.size();
@@ -726,11 +729,12 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     dead_since += w.batch.size();
     w.batch.clear();
   };
-  open_window(0);
+  std::size_t batch_start = 0;
   for (std::size_t j = 0; j < order_size; ++j) {
     if (w.state[j] != kLive) continue;
+    if (j >= window_end) open_window(j, batch_start);
     // Marked on the live set of now? The window's verdicts hold whatever was deleted since it opened.
-    const std::uint8_t verdict = bit(sure, std::uint32_t(j)) ? std::uint8_t{kMarked} : j < window_end ? w.result[j] : std::uint8_t{kAmbiguous};
+    const std::uint8_t verdict = bit(sure, std::uint32_t(j)) ? std::uint8_t{kMarked} : w.result[j];
     bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(j));
     if (!marked) {
       settle(j);
@@ -738,17 +742,13 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     }
     if (w.batch.size() == K) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
       delete_batch();
+      batch_start = j;
       if (dead_since * 2 > alive) {
         recompact(w, cubes, threads);
         refresh();
         dead_since = 0;
       }
-      if (j >= window_end) open_window(j);
-      if (verdict != kMarked && !(j < window_end && w.result[j] == kMarked)) {
-        const std::uint8_t again = j < window_end ? w.result[j] : std::uint8_t{kAmbiguous};
-        marked = again == kMarked || (again == kAmbiguous && marked_exactly(j));
-      }
-      if (!marked) {
+      if (verdict == kAmbiguous && !marked_exactly(j)) {
         settle(j);
         continue;
       }
