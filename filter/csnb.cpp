@@ -43,7 +43,8 @@ struct Workspace {
   std::vector<Candidate> candidates, next_candidates;
   std::vector<std::uint32_t> start, next_start;
   std::vector<std::uint64_t> live;  // bit per walk id: not deleted
-  std::vector<std::uint64_t> sure;  // bit per walk id: marked whenever reached (find_sure)
+  std::vector<std::uint64_t> sure;    // bit per walk id: marked whenever reached (find_sure)
+  std::vector<std::uint64_t> sparse;  // bit per walk id: no more than max_neighbours neighbours at all
   std::vector<std::vector<std::uint64_t>> sure_parts;
   std::vector<std::uint8_t> state, is_anchor, result, claims;
   std::vector<Candidate> anchor_candidates;  // by cube, for the final claims
@@ -133,6 +134,21 @@ struct SafeAndLive {
 #endif
 };
 
+// The same two counts before the walk, when every point is live: later in the walk (or an anchor), and any.
+struct LaterAndOther {
+  std::uint32_t me;
+  void operator()(std::uint32_t other, bool* later, bool* any) const {
+    *any = other != me;
+    *later = other > me;
+  }
+#if STVL_CSNB_X86
+  STVL_AVX2 void mask(__m256i ids, __m256i* later, __m256i* any) const {
+    *any = Other{me}.mask(ids);
+    *later = LaterOrPassed{me, 0}.mask(ids);
+  }
+#endif
+};
+
 // Neighbour counts over the candidates, with early exit after every block of kBlock, the centre row (the
 // point's own cube and its x-neighbours) first.
 struct Counter {
@@ -210,8 +226,9 @@ struct PlainBlock {
     }
     return k;
   }
+  template <class Accept2>
   static void count2(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
-                     const SafeAndLive& accept, int* safe, int* any) {
+                     const Accept2& accept, int* safe, int* any) {
     for (std::uint32_t l = 0; l < n; ++l) {
       const Candidate& o = c.candidates[j + l];
       bool s, a;
@@ -235,8 +252,9 @@ struct Avx2Block {
     const __m256 taken = _mm256_and_ps(near, _mm256_castsi256_ps(accept.mask(ids)));
     return __builtin_popcount(unsigned(_mm256_movemask_ps(taken)) & kFirstLanes[n]);
   }
+  template <class Accept2>
   STVL_AVX2 static void count2(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
-                               const SafeAndLive& accept, int* safe, int* any) {
+                               const Accept2& accept, int* safe, int* any) {
     __m256 near;
     __m256i ids, s, a;
     load(c, j, px, py, pz, &near, &ids);
@@ -270,21 +288,31 @@ struct Avx2Block {
 // neighbours that are anchors or come later in the walk (a larger walk id). Batches delete only points the
 // walk has passed and anchors never, so all of these are live when the walk reaches the point. Counted in
 // cube order, where the neighbour rows stay in cache, testing at most kSureBudget candidates per point: a
-// point not shown sure here is classified by the walk's windows. Needs every candidate live.
+// point not shown sure here is classified by the walk's windows. The same pass finds the sparse points, with
+// no more than `threshold` neighbours at all: never marked, so settled from the start. Needs every
+// candidate live.
 constexpr std::size_t kSureBudget = 128;
 constexpr std::size_t kWindowBatches = 8;  // batches per window of the walk
 
 // The counting loops, over plain or AVX2 blocks. The AVX2 entry points are compiled for AVX2 with everything
 // they call inlined (flatten), and called only where the CPU has it.
 template <class Block>
-void sure_part(const Counter& c, std::size_t b, std::size_t e, std::uint32_t order_size, std::uint64_t* bits) {
+void sure_part(const Counter& c, std::size_t b, std::size_t e, std::uint32_t order_size, std::uint64_t* sure,
+               std::uint64_t* sparse) {
   for (std::size_t cube = b; cube < e; ++cube) {
     for (std::uint32_t s = c.start[cube]; s < c.start[cube + 1]; ++s) {
       const Candidate& p = c.candidates[s];
       const std::uint32_t me = p.id;
       if (me >= order_size) continue;  // an anchor
-      if (c.exceeds<Block>(p.x, p.y, p.z, std::uint32_t(cube), kSureBudget, LaterOrPassed{me, 0}))
-        bits[me / 64] |= std::uint64_t{1} << (me % 64);
+      int later = 0, any = 0;
+      std::size_t tested = 0;
+      const int verdict = c.for_blocks(std::uint32_t(cube), [&](std::uint32_t j, std::uint32_t n) {
+        Block::count2(c, j, n, p.x, p.y, p.z, LaterAndOther{me}, &later, &any);
+        tested += n;
+        return later > c.threshold ? 1 : tested >= kSureBudget ? -1 : 0;
+      });
+      if (verdict == 1) sure[me / 64] |= std::uint64_t{1} << (me % 64);
+      if (verdict == 0 && any <= c.threshold) sparse[me / 64] |= std::uint64_t{1} << (me % 64);
     }
   }
 }
@@ -339,8 +367,8 @@ bool marked_now(const Counter& c, const Point& p, const std::uint64_t* live, std
 #define STVL_AVX2_ENTRY(name, params, args) \
   void name##_avx2 params { name<PlainBlock> args; }
 #endif
-STVL_AVX2_ENTRY(sure_part, (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint64_t* bits),
-                (c, b, e, o, bits))
+STVL_AVX2_ENTRY(sure_part, (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint64_t* sure,
+                            std::uint64_t* sparse), (c, b, e, o, sure, sparse))
 STVL_AVX2_ENTRY(anchors_over, (const Counter& c, const std::uint32_t* near, std::size_t b, std::size_t e,
                                std::uint8_t* over), (c, near, b, e, over))
 STVL_AVX2_ENTRY(classify, (const Counter& c, const Point* p, const std::uint64_t* l, std::uint32_t u,
@@ -373,21 +401,28 @@ void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uin
                int threads) {
   const std::size_t words = (std::size_t(order_size) + 63) / 64;
   const int parts = detail::parts_for(cubes, threads, 1024);
-  w.sure_parts.resize(parts);
+  w.sure_parts.resize(2 * parts);
   const std::vector<std::size_t> part = split_cubes(counter.start, cubes, parts);
   detail::parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
     const std::size_t b = part[t], e = part[t + 1];
-    std::vector<std::uint64_t>& bits = w.sure_parts[t];  // one bitmap per part: no shared cache lines
-    bits.assign(words, 0);
+    std::vector<std::uint64_t>& sure = w.sure_parts[2 * t];  // bitmaps per part: no shared cache lines
+    std::vector<std::uint64_t>& sparse = w.sure_parts[2 * t + 1];
+    sure.assign(words, 0);
+    sparse.assign(words, 0);
     if (avx2)
-      sure_part_avx2(counter, b, e, order_size, bits.data());
+      sure_part_avx2(counter, b, e, order_size, sure.data(), sparse.data());
     else
-      sure_part<PlainBlock>(counter, b, e, order_size, bits.data());
+      sure_part<PlainBlock>(counter, b, e, order_size, sure.data(), sparse.data());
   });
   w.sure.assign(words, 0);
+  w.sparse.assign(words, 0);
   detail::parallel_for(words, detail::parts_for(words, threads, 4096), [&](std::size_t b, std::size_t e, int) {
-    for (const auto& bits : w.sure_parts)
-      for (std::size_t i = b; i < e; ++i) w.sure[i] |= bits[i];
+    for (int t = 0; t < parts; ++t) {
+      for (std::size_t i = b; i < e; ++i) {
+        w.sure[i] |= w.sure_parts[2 * t][i];
+        w.sparse[i] |= w.sure_parts[2 * t + 1][i];
+      }
+    }
   });
 }
 
@@ -729,6 +764,9 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     dead_since += w.batch.size();
     w.batch.clear();
   };
+  for (std::size_t k = 0; k < w.sparse.size(); ++k) {
+    for (std::uint64_t bits = w.sparse[k]; bits != 0; bits &= bits - 1) settle(k * 64 + __builtin_ctzll(bits));
+  }
   std::size_t batch_start = 0;
   for (std::size_t j = 0; j < order_size; ++j) {
     if (w.state[j] != kLive) continue;
