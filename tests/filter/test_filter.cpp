@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -106,6 +107,43 @@ INSTANTIATE_TEST_SUITE_P(MemoryModes, CpuVsCuda,
                          ::testing::Values(MemoryMode::kCopy, MemoryMode::kPinned, MemoryMode::kMapped,
                                            MemoryMode::kManaged),
                          [](const auto& info) { return std::string(to_string(info.param)); });
+
+// The sort both CSNB orders rest on: stable on the chosen bits, from several segments, for narrow and wide bit
+// ranges (one to three passes), with heavy digits and many ties.
+TEST(RadixSort, EqualsStableSortOnTheChosenBits) {
+  struct Range {
+    int low, high;
+  };
+  for (const Range r : {Range{0, 5}, Range{0, 8}, Range{4, 13}, Range{32, 59}, Range{32, 64}, Range{7, 40}}) {
+    for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{1000}, std::size_t{70000}}) {
+      std::vector<std::uint64_t> input(n);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint64_t h = detail::hash3(5, i, std::uint64_t(r.low));
+        input[i] = i % 3 == 0 ? (h & 0xFFFF) : h;  // a third share a few keys: heavy buckets and ties
+      }
+      const std::uint64_t mask = r.high - r.low == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (r.high - r.low)) - 1);
+      auto key_of = [&](std::uint64_t v) { return (v >> r.low) & mask; };
+      std::vector<std::uint64_t> expected = input;
+      std::stable_sort(expected.begin(), expected.end(),
+                       [&](std::uint64_t x, std::uint64_t y) { return key_of(x) < key_of(y); });
+      for (int threads : {1, 3}) {
+        // Segments as a filter makes them: parts of the buffer, each a prefix of its part.
+        std::vector<std::uint64_t> a(n), b(n);
+        std::copy(input.begin(), input.end(), a.begin());
+        std::vector<detail::Segment<std::uint64_t>> segments;
+        const std::size_t parts = 3;
+        for (std::size_t t = 0; t < parts; ++t) {
+          const std::size_t lo = n * t / parts, hi = n * (t + 1) / parts;
+          segments.push_back({a.data() + lo, hi - lo});
+        }
+        const std::uint64_t* out = detail::radix_sort_segments(
+            segments, a.data(), b.data(), r.low, r.high, [](std::uint64_t v) { return v; }, threads);
+        ASSERT_TRUE(std::equal(expected.begin(), expected.end(), out))
+            << "bits [" << r.low << ", " << r.high << "), n " << n << ", threads " << threads;
+      }
+    }
+  }
+}
 
 TEST(CloudIo, RoundTripAndBadFiles) {
   const std::string path = ::testing::TempDir() + "stvl_filter_cloud.bin";
