@@ -642,6 +642,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   const int side = 2 * layout.reach + 1;
   w.spans.resize(cubes * rows * 2);
   w.anchor.resize(cubes);
+  w.is_anchor.assign(m, 0);
   const int cube_parts = detail::parts_for(cubes, threads, 1024);
   detail::parallel_for(cubes, cube_parts, [&](std::size_t b, std::size_t e, int) {
     find_spans(layout, w.cube_key.data(), cubes, b, e, w.spans.data());
@@ -657,11 +658,9 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
         }
       }
       w.anchor[c] = best;
+      w.is_anchor[best] = 1;
     }
   });
-
-  w.is_anchor.assign(m, 0);
-  for (std::size_t c = 0; c < cubes; ++c) w.is_anchor[w.anchor[c]] = 1;
 
   // Batches follow one random order of the non-anchor points, fixed by the seed. A point that is not marked
   // can never be marked again (counts only fall), and deleted points never return, so the points the walk
