@@ -557,6 +557,166 @@ void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cube
   }
 }
 
+// The walk, in windows of about kWindowBatches batches. Points not sure to be marked are first classified
+// in parallel on the live set when the window opens (classify): with more than max_neighbours safe
+// neighbours (anchors, later in the walk, or settled before the current batch: none can be deleted before
+// the walk reaches the point) they are marked whenever reached; with no more than that many live ones they
+// are unmarked then (counts only fall) and settled; the rest (ambiguous) are counted exactly when the walk
+// reaches them, on the live set of that moment.
+void walk(Workspace& w, Counter& counter, std::size_t m, std::size_t cubes, std::size_t order_size, std::size_t K,
+          bool avx2, int threads) {
+  w.result.resize(order_size);
+  std::size_t alive = m, dead_since = 0, window_end = 0;
+  const std::uint64_t* sure = w.sure.data();
+  const std::uint64_t* live = w.live.data();
+  auto marked_exactly = [&](std::size_t j) {
+    const Point& p = w.walk_points[j];
+    return avx2 ? marked_now_avx2(counter, p, live, std::uint32_t(j))
+                : marked_now<PlainBlock>(counter, p, live, std::uint32_t(j));
+  };
+  // A window of positions from `from`, classified on the live set of now, which is that of `cursor`: the
+  // start of the current batch (nothing has been deleted since), before which every point is deleted or
+  // settled.
+  auto open_window = [&](std::size_t from, std::size_t cursor) {
+    // About kWindowBatches batches at the rate of marks seen so far.
+    const double rate = from == 0 ? 1.0 : double(m - alive + w.batch.size()) / double(from);  // marks so far
+    const std::size_t span = static_cast<std::size_t>(double(kWindowBatches * (K + 1)) / std::max(rate, 1e-3));
+    window_end = std::min(order_size, from + std::max<std::size_t>(span, 256));
+    w.unsure.clear();
+    for (std::size_t j = from; j < window_end; ++j) {
+      if (w.state[j] == kLive && !bit(sure, std::uint32_t(j))) w.unsure.push_back(static_cast<std::uint32_t>(j));
+    }
+    const std::size_t u = w.unsure.size();
+    detail::parallel_for(u, detail::parts_for(u, threads, 128), [&](std::size_t b, std::size_t e, int) {
+      if (avx2)
+        classify_avx2(counter, w.walk_points.data(), live, std::uint32_t(cursor), w.unsure.data(), b, e,
+                      w.result.data());
+      else
+        classify<PlainBlock>(counter, w.walk_points.data(), live, std::uint32_t(cursor), w.unsure.data(), b, e,
+                             w.result.data());
+    });
+  };
+  w.settled_bits.assign((m + 63) / 64, 0);
+  auto settle = [&](std::size_t j) {
+    w.state[j] = kSettled;
+    const std::uint32_t s = static_cast<std::uint32_t>(w.order[j]);  // its sorted position
+    w.settled_bits[s / 64] |= std::uint64_t{1} << (s % 64);
+  };
+  auto delete_batch = [&] {  // the last batch (K or fewer marked) deletes all still marked
+    for (std::uint32_t id : w.batch) {
+      w.state[id] = kDead;
+      w.live[id / 64] &= ~(std::uint64_t{1} << (id % 64));
+    }
+    alive -= w.batch.size();
+    dead_since += w.batch.size();
+    w.batch.clear();
+  };
+  for (std::size_t k = 0; k < w.sparse.size(); ++k) {
+    for (std::uint64_t bits = w.sparse[k]; bits != 0; bits &= bits - 1) settle(k * 64 + __builtin_ctzll(bits));
+  }
+  std::size_t batch_start = 0;
+  for (std::size_t j = 0; j < order_size; ++j) {
+    if (w.state[j] != kLive) continue;
+    if (j >= window_end) open_window(j, batch_start);
+    // Marked on the live set of now? The window's verdicts hold whatever was deleted since it opened.
+    const std::uint8_t verdict = bit(sure, std::uint32_t(j)) ? std::uint8_t{kMarked} : w.result[j];
+    bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(j));
+    if (!marked) {
+      settle(j);
+      continue;
+    }
+    if (w.batch.size() == K) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
+      delete_batch();
+      batch_start = j;
+      if (dead_since * 2 > alive) {
+        recompact(w, cubes, threads);
+        counter.candidates = w.candidates.data();
+        counter.start = w.start.data();
+        dead_since = 0;
+      }
+      if (verdict == kAmbiguous && !marked_exactly(j)) {
+        settle(j);
+        continue;
+      }
+    }
+    w.batch.push_back(static_cast<std::uint32_t>(j));
+  }
+  delete_batch();
+}
+
+// Anchors still over the threshold (on the final live set) take their non-anchor neighbours with them. All
+// live points are now anchors or settled: an anchor's count is the anchors near it, counted over the
+// anchors alone (one per cube, so cube ranges are anchor ranges), plus the settled points near it.
+void claim(Workspace& w, const Counter& counter, std::size_t m, std::size_t cubes, std::size_t order_size, bool avx2,
+           int threads) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const int cube_parts = detail::parts_for(cubes, threads, 1024);
+  w.anchor_candidates.resize(cubes + kPad);
+  w.cube_index.resize(cubes + 1);
+  detail::parallel_for(cubes + 1, cube_parts, [&](std::size_t b, std::size_t e, int) {
+    for (std::size_t c = b; c < e; ++c) {
+      w.cube_index[c] = static_cast<std::uint32_t>(c);
+      if (c == cubes) break;
+      const Point& a = w.walk_points[order_size + c];
+      w.anchor_candidates[c] = {a.x, a.y, a.z, static_cast<std::uint32_t>(order_size + c)};
+    }
+  });
+  std::fill(w.anchor_candidates.begin() + cubes, w.anchor_candidates.end(), Candidate{nan, nan, nan, 0});
+  const int rows = counter.rows;
+  const Counter anchors{w.anchor_candidates.data(), w.cube_index.data(), w.spans.data(), rows, counter.centre_row,
+                        counter.r2, counter.threshold};
+  // The anchors near a settled point (sorted position s).
+  auto near_anchors = [&](std::size_t s, auto&& visit) {
+    const Point& q = w.points[s];
+    const std::uint32_t* span = &w.spans[std::size_t(q.cube) * rows * 2];
+    for (int r = 0; r < rows; ++r) {
+      for (std::uint32_t c = span[2 * r]; c < span[2 * r + 1]; ++c) {
+        const Candidate& a = w.anchor_candidates[c];
+        if (detail::sq_dist(q.x, q.y, q.z, a.x, a.y, a.z) < counter.r2) visit(c);
+      }
+    }
+  };
+  // The settled points (set by the walk as bits by sorted position), listed in cube order.
+  const std::size_t words = (m + 63) / 64;
+  w.settled.clear();
+  for (std::size_t k = 0; k < words; ++k) {
+    for (std::uint64_t bits = w.settled_bits[k]; bits != 0; bits &= bits - 1)
+      w.settled.push_back(static_cast<std::uint32_t>(k * 64 + __builtin_ctzll(bits)));
+  }
+  const std::size_t settled_count = w.settled.size();
+  const int settled_parts = detail::parts_for(settled_count, threads, 2048);
+  w.settled_near.resize(settled_parts);
+  w.near_pairs.resize(settled_parts);
+  detail::parallel_for(settled_count, settled_parts, [&](std::size_t b, std::size_t e, int t) {
+    std::vector<std::uint32_t>& near = w.settled_near[t];  // per part: no shared counters
+    std::vector<std::uint64_t>& pairs = w.near_pairs[t];   // (settled point, anchor), for the claims below
+    near.assign(cubes, 0);
+    pairs.clear();
+    for (std::size_t k = b; k < e; ++k) {
+      if (k + 8 < e) anchors.prefetch_spans(w.points[w.settled[k + 8]].cube);
+      if (k + 4 < e) anchors.prefetch_rows(w.points[w.settled[k + 4]].cube);
+      near_anchors(w.settled[k], [&](std::uint32_t c) {
+        ++near[c];
+        pairs.push_back(std::uint64_t{w.settled[k]} << 32 | c);
+      });
+    }
+  });
+  for (int t = 1; t < settled_parts; ++t)
+    for (std::size_t c = 0; c < cubes; ++c) w.settled_near[0][c] += w.settled_near[t][c];
+  w.claims.resize(cubes);
+  detail::parallel_for(cubes, cube_parts, [&](std::size_t b, std::size_t e, int) {
+    if (avx2)
+      anchors_over_avx2(anchors, w.settled_near[0].data(), b, e, w.claims.data());
+    else
+      anchors_over<PlainBlock>(anchors, w.settled_near[0].data(), b, e, w.claims.data());
+  });
+  detail::parallel_for(std::size_t(settled_parts), settled_parts, [&](std::size_t, std::size_t, int t) {
+    for (const std::uint64_t pair : w.near_pairs[t]) {  // a settled point is in one part only
+      if (w.claims[std::uint32_t(pair)]) w.state[w.walk_of[pair >> 32]] = kDead;
+    }
+  });
+}
+
 }  // namespace
 
 Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, int threads) {
@@ -704,163 +864,11 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   init_candidates(w, cubes, threads);
   Counter counter{w.candidates.data(), w.start.data(), w.spans.data(),
                   rows, layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
-  auto refresh = [&] {  // after the candidates were rebuilt
-    counter.candidates = w.candidates.data();
-    counter.start = w.start.data();
-  };
   find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
 
-  // The walk, in windows of about kWindowBatches batches. Points not sure to be marked are first classified
-  // in parallel on the live set when the window opens (classify): with more than max_neighbours safe
-  // neighbours (anchors, later in the walk, or settled before the current batch: none can be deleted before
-  // the walk reaches the point) they are marked whenever reached; with no more than that many live ones they
-  // are unmarked then (counts only fall) and settled; the rest (ambiguous) are counted exactly when the walk
-  // reaches them, on the live set of that moment.
-  const std::size_t K = static_cast<std::size_t>(config.batch_size);
-  w.result.resize(order_size);
-  std::size_t alive = m, dead_since = 0, window_end = 0;
-  const std::uint64_t* sure = w.sure.data();
-  const std::uint64_t* live = w.live.data();
-  auto marked_exactly = [&](std::size_t j) {
-    const Point& p = w.walk_points[j];
-    return avx2 ? marked_now_avx2(counter, p, live, std::uint32_t(j))
-                : marked_now<PlainBlock>(counter, p, live, std::uint32_t(j));
-  };
-  // A window of positions from `from`, classified on the live set of now, which is that of `cursor`: the
-  // start of the current batch (nothing has been deleted since), before which every point is deleted or
-  // settled.
-  auto open_window = [&](std::size_t from, std::size_t cursor) {
-    // About kWindowBatches batches at the rate of marks seen so far.
-    const double rate = from == 0 ? 1.0 : double(m - alive + w.batch.size()) / double(from);  // marks so far
-    const std::size_t span = static_cast<std::size_t>(double(kWindowBatches * (K + 1)) / std::max(rate, 1e-3));
-    window_end = std::min(order_size, from + std::max<std::size_t>(span, 256));
-    w.unsure.clear();
-    for (std::size_t j = from; j < window_end; ++j) {
-      if (w.state[j] == kLive && !bit(sure, std::uint32_t(j))) w.unsure.push_back(static_cast<std::uint32_t>(j));
-    }
-    const std::size_t u = w.unsure.size();
-    detail::parallel_for(u, detail::parts_for(u, threads, 128), [&](std::size_t b, std::size_t e, int) {
-      if (avx2)
-        classify_avx2(counter, w.walk_points.data(), live, std::uint32_t(cursor), w.unsure.data(), b, e,
-                      w.result.data());
-      else
-        classify<PlainBlock>(counter, w.walk_points.data(), live, std::uint32_t(cursor), w.unsure.data(), b, e,
-                             w.result.data());
-    });
-  };
-  w.settled_bits.assign((m + 63) / 64, 0);
-  auto settle = [&](std::size_t j) {
-    w.state[j] = kSettled;
-    const std::uint32_t s = static_cast<std::uint32_t>(w.order[j]);  // its sorted position
-    w.settled_bits[s / 64] |= std::uint64_t{1} << (s % 64);
-  };
-  auto delete_batch = [&] {  // the last batch (K or fewer marked) deletes all still marked
-    for (std::uint32_t id : w.batch) {
-      w.state[id] = kDead;
-      w.live[id / 64] &= ~(std::uint64_t{1} << (id % 64));
-    }
-    alive -= w.batch.size();
-    dead_since += w.batch.size();
-    w.batch.clear();
-  };
-  for (std::size_t k = 0; k < w.sparse.size(); ++k) {
-    for (std::uint64_t bits = w.sparse[k]; bits != 0; bits &= bits - 1) settle(k * 64 + __builtin_ctzll(bits));
-  }
-  std::size_t batch_start = 0;
-  for (std::size_t j = 0; j < order_size; ++j) {
-    if (w.state[j] != kLive) continue;
-    if (j >= window_end) open_window(j, batch_start);
-    // Marked on the live set of now? The window's verdicts hold whatever was deleted since it opened.
-    const std::uint8_t verdict = bit(sure, std::uint32_t(j)) ? std::uint8_t{kMarked} : w.result[j];
-    bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(j));
-    if (!marked) {
-      settle(j);
-      continue;
-    }
-    if (w.batch.size() == K) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
-      delete_batch();
-      batch_start = j;
-      if (dead_since * 2 > alive) {
-        recompact(w, cubes, threads);
-        refresh();
-        dead_since = 0;
-      }
-      if (verdict == kAmbiguous && !marked_exactly(j)) {
-        settle(j);
-        continue;
-      }
-    }
-    w.batch.push_back(static_cast<std::uint32_t>(j));
-  }
-  delete_batch();
+  walk(w, counter, m, cubes, order_size, static_cast<std::size_t>(config.batch_size), avx2, threads);
+  claim(w, counter, m, cubes, order_size, avx2, threads);
 
-  // Anchors still over the threshold (on the final live set) take their non-anchor neighbours with them. All
-  // live points are now anchors or settled: an anchor's count is the anchors near it, counted over the
-  // anchors alone (one per cube, so cube ranges are anchor ranges), plus the settled points near it.
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  w.anchor_candidates.resize(cubes + kPad);
-  w.cube_index.resize(cubes + 1);
-  detail::parallel_for(cubes + 1, cube_parts, [&](std::size_t b, std::size_t e, int) {
-    for (std::size_t c = b; c < e; ++c) {
-      w.cube_index[c] = static_cast<std::uint32_t>(c);
-      if (c == cubes) break;
-      const Point& a = w.walk_points[order_size + c];
-      w.anchor_candidates[c] = {a.x, a.y, a.z, static_cast<std::uint32_t>(order_size + c)};
-    }
-  });
-  std::fill(w.anchor_candidates.begin() + cubes, w.anchor_candidates.end(), Candidate{nan, nan, nan, 0});
-  const Counter anchors{w.anchor_candidates.data(), w.cube_index.data(), w.spans.data(), rows, counter.centre_row,
-                        layout.radius_sq, config.max_neighbours};
-  // The anchors near a settled point (sorted position s).
-  auto near_anchors = [&](std::size_t s, auto&& visit) {
-    const Point& q = w.points[s];
-    const std::uint32_t* span = &w.spans[std::size_t(q.cube) * rows * 2];
-    for (int r = 0; r < rows; ++r) {
-      for (std::uint32_t c = span[2 * r]; c < span[2 * r + 1]; ++c) {
-        const Candidate& a = w.anchor_candidates[c];
-        if (detail::sq_dist(q.x, q.y, q.z, a.x, a.y, a.z) < layout.radius_sq) visit(c);
-      }
-    }
-  };
-  // The settled points (set by the walk as bits by sorted position), listed in cube order.
-  const std::size_t words = (m + 63) / 64;
-  w.settled.clear();
-  for (std::size_t k = 0; k < words; ++k) {
-    for (std::uint64_t bits = w.settled_bits[k]; bits != 0; bits &= bits - 1)
-      w.settled.push_back(static_cast<std::uint32_t>(k * 64 + __builtin_ctzll(bits)));
-  }
-  const std::size_t settled_count = w.settled.size();
-  const int settled_parts = detail::parts_for(settled_count, threads, 2048);
-  w.settled_near.resize(settled_parts);
-  w.near_pairs.resize(settled_parts);
-  detail::parallel_for(settled_count, settled_parts, [&](std::size_t b, std::size_t e, int t) {
-    std::vector<std::uint32_t>& near = w.settled_near[t];  // per part: no shared counters
-    std::vector<std::uint64_t>& pairs = w.near_pairs[t];   // (settled point, anchor), for the claims below
-    near.assign(cubes, 0);
-    pairs.clear();
-    for (std::size_t k = b; k < e; ++k) {
-      if (k + 8 < e) anchors.prefetch_spans(w.points[w.settled[k + 8]].cube);
-      if (k + 4 < e) anchors.prefetch_rows(w.points[w.settled[k + 4]].cube);
-      near_anchors(w.settled[k], [&](std::uint32_t c) {
-        ++near[c];
-        pairs.push_back(std::uint64_t{w.settled[k]} << 32 | c);
-      });
-    }
-  });
-  for (int t = 1; t < settled_parts; ++t)
-    for (std::size_t c = 0; c < cubes; ++c) w.settled_near[0][c] += w.settled_near[t][c];
-  w.claims.resize(cubes);
-  detail::parallel_for(cubes, cube_parts, [&](std::size_t b, std::size_t e, int) {
-    if (avx2)
-      anchors_over_avx2(anchors, w.settled_near[0].data(), b, e, w.claims.data());
-    else
-      anchors_over<PlainBlock>(anchors, w.settled_near[0].data(), b, e, w.claims.data());
-  });
-  detail::parallel_for(std::size_t(settled_parts), settled_parts, [&](std::size_t, std::size_t, int t) {
-    for (const std::uint64_t pair : w.near_pairs[t]) {  // a settled point is in one part only
-      if (w.claims[std::uint32_t(pair)]) w.state[w.walk_of[pair >> 32]] = kDead;
-    }
-  });
   const Point* q = w.points.data();
 
   // Kept points in sorted order.
