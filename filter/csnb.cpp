@@ -45,7 +45,7 @@ struct Workspace {
   std::vector<std::uint64_t> live;  // bit per walk id: not deleted
   std::vector<std::uint64_t> sure;    // bit per walk id: marked whenever reached (find_sure)
   std::vector<std::uint64_t> sparse;  // bit per walk id: no more than max_neighbours neighbours at all
-  std::vector<std::vector<std::uint64_t>> sure_parts;
+  std::vector<std::vector<std::uint64_t>> sure_parts;  // per part of find_sure: sure, sparse, sure, ...
   std::vector<std::uint8_t> state, is_anchor, result, claims;
   std::vector<Candidate> anchor_candidates;  // by cube, for the final claims
   std::vector<std::uint32_t> cube_index;
@@ -56,6 +56,15 @@ struct Workspace {
 };
 
 inline bool bit(const std::uint64_t* bits, std::uint32_t i) { return (bits[i / 64] >> (i % 64)) & 1; }
+inline void set_bit(std::uint64_t* bits, std::uint32_t i) { bits[i / 64] |= std::uint64_t{1} << (i % 64); }
+// visit(i) for every set bit i of bits, in increasing order.
+template <class Visit>
+void for_each_bit(const std::vector<std::uint64_t>& bits, Visit&& visit) {
+  for (std::size_t k = 0; k < bits.size(); ++k) {
+    for (std::uint64_t word = bits[k]; word != 0; word &= word - 1)
+      visit(static_cast<std::uint32_t>(k * 64 + __builtin_ctzll(word)));
+  }
+}
 
 // Two-pass parallel fill: count(b, e) says how many outputs the part [b, e) makes, prepare(total) makes room,
 // write(b, e, first) writes them from `first`; returns the total. Parts are contiguous ranges of [0, n), so
@@ -161,15 +170,13 @@ struct Counter {
   int threshold;
 
   // True when more than `threshold` candidates that `accept` takes lie closer than r to (px, py, pz) in
-  // `cube`; gives up (false) once `budget` candidates have been tested. Block::count counts one block.
+  // `cube`. Block::count counts one block.
   template <class Block, bool kOwnFirst = true, class Accept>
-  bool exceeds(float px, float py, float pz, std::uint32_t cube, std::size_t budget, const Accept& accept) const {
+  bool exceeds(float px, float py, float pz, std::uint32_t cube, const Accept& accept) const {
     int k = 0;
-    std::size_t tested = 0;
     return for_blocks<kOwnFirst>(cube, [&](std::uint32_t j, std::uint32_t n) {
              k += Block::count(*this, j, n, px, py, pz, accept);
-             tested += n;
-             return k > threshold ? 1 : tested >= budget ? -1 : 0;
+             return k > threshold ? 1 : 0;
            }) == 1;
   }
   // Calls step(first, n) on the blocks of the candidates near `cube` until it returns non-zero; returns that.
@@ -311,8 +318,8 @@ void sure_part(const Counter& c, std::size_t b, std::size_t e, std::uint32_t ord
         tested += n;
         return later > c.threshold ? 1 : tested >= kSureBudget ? -1 : 0;
       });
-      if (verdict == 1) sure[me / 64] |= std::uint64_t{1} << (me % 64);
-      if (verdict == 0 && any <= c.threshold) sparse[me / 64] |= std::uint64_t{1} << (me % 64);
+      if (verdict == 1) set_bit(sure, me);
+      if (verdict == 0 && any <= c.threshold) set_bit(sparse, me);
     }
   }
 }
@@ -327,8 +334,7 @@ void anchors_over(const Counter& anchors, const std::uint32_t* settled_near, std
     const Candidate& a = anchors.candidates[cube];
     rest.threshold = anchors.threshold - int(std::min<std::uint32_t>(settled_near[cube], 1u << 30));
     // Rows only: the anchor is alone in its cube.
-    over[cube] = rest.threshold < 0 || rest.exceeds<Block, false>(a.x, a.y, a.z, std::uint32_t(cube),
-                                                                  std::numeric_limits<std::size_t>::max(), Other{a.id});
+    over[cube] = rest.threshold < 0 || rest.exceeds<Block, false>(a.x, a.y, a.z, std::uint32_t(cube), Other{a.id});
   }
 }
 
@@ -357,33 +363,25 @@ void classify(const Counter& c, const Point* points, const std::uint64_t* live, 
 // Marked or not, for walk id `me`, on the live set.
 template <class Block>
 bool marked_now(const Counter& c, const Point& p, const std::uint64_t* live, std::uint32_t me) {
-  return c.exceeds<Block>(p.x, p.y, p.z, p.cube, std::numeric_limits<std::size_t>::max(), LiveOther{live, me});
+  return c.exceeds<Block>(p.x, p.y, p.z, p.cube, LiveOther{live, me});
 }
 
 #if STVL_CSNB_X86
-#define STVL_AVX2_ENTRY(name, params, args)                                               \
-  STVL_AVX2 __attribute__((flatten)) void name##_avx2 params { name<Avx2Block> args; }
+#define STVL_AVX2_ENTRY(result, name, params, args) \
+  STVL_AVX2 __attribute__((flatten)) result name##_avx2 params { return name<Avx2Block> args; }
 #else
-#define STVL_AVX2_ENTRY(name, params, args) \
-  void name##_avx2 params { name<PlainBlock> args; }
+#define STVL_AVX2_ENTRY(result, name, params, args) \
+  result name##_avx2 params { return name<PlainBlock> args; }
 #endif
-STVL_AVX2_ENTRY(sure_part, (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint64_t* sure,
+STVL_AVX2_ENTRY(void, sure_part, (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint64_t* sure,
                             std::uint64_t* sparse), (c, b, e, o, sure, sparse))
-STVL_AVX2_ENTRY(anchors_over, (const Counter& c, const std::uint32_t* near, std::size_t b, std::size_t e,
+STVL_AVX2_ENTRY(void, anchors_over, (const Counter& c, const std::uint32_t* near, std::size_t b, std::size_t e,
                                std::uint8_t* over), (c, near, b, e, over))
-STVL_AVX2_ENTRY(classify, (const Counter& c, const Point* p, const std::uint64_t* l, std::uint32_t u,
+STVL_AVX2_ENTRY(void, classify, (const Counter& c, const Point* p, const std::uint64_t* l, std::uint32_t u,
                            const std::uint32_t* ids, std::size_t b, std::size_t e, std::uint8_t* result),
                 (c, p, l, u, ids, b, e, result))
-#if STVL_CSNB_X86
-STVL_AVX2 __attribute__((flatten)) bool marked_now_avx2(const Counter& c, const Point& p, const std::uint64_t* l,
-                                                        std::uint32_t me) {
-  return marked_now<Avx2Block>(c, p, l, me);
-}
-#else
-bool marked_now_avx2(const Counter& c, const Point& p, const std::uint64_t* l, std::uint32_t me) {
-  return marked_now<PlainBlock>(c, p, l, me);
-}
-#endif
+STVL_AVX2_ENTRY(bool, marked_now, (const Counter& c, const Point& p, const std::uint64_t* l, std::uint32_t me),
+                (c, p, l, me))
 #undef STVL_AVX2_ENTRY
 
 // Cube boundaries of `parts` parts with about equal candidates (start: each cube's first), rather than equal
@@ -426,16 +424,17 @@ void find_sure(Workspace& w, const Counter& counter, std::size_t cubes, std::uin
   });
 }
 
-void pad(Workspace& w, std::size_t n) {
+// Sizes `candidates` to n followed by kPad entries never within r.
+void pad(std::vector<Candidate>& candidates, std::size_t n) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
-  w.candidates.resize(n + kPad);
-  std::fill(w.candidates.begin() + n, w.candidates.end(), Candidate{nan, nan, nan, 0});
+  candidates.resize(n + kPad);
+  std::fill(candidates.begin() + n, candidates.end(), Candidate{nan, nan, nan, 0});
 }
 
 // The first candidates: every point (all are live), per cube in sorted order.
 void init_candidates(Workspace& w, std::size_t cubes, int threads) {
   const std::size_t m = w.points.size();
-  pad(w, m);
+  pad(w.candidates, m);
   w.start.assign(w.cube_begin.begin(), w.cube_begin.begin() + cubes + 1);
   detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
     for (std::size_t s = b; s < e; ++s) {
@@ -477,7 +476,7 @@ void recompact(Workspace& w, std::size_t cubes, int threads) {
   w.next_start[cubes] = static_cast<std::uint32_t>(offset[parts]);
   w.candidates.swap(w.next_candidates);
   w.start.swap(w.next_start);
-  pad(w, offset[parts]);
+  pad(w.candidates, offset[parts]);
 }
 
 // detail::cube_key of n all-finite points inside the layout's box (so the quotients are in [0, 2^9] and fit
@@ -508,8 +507,8 @@ void cube_keys_avx2(const float* p, std::size_t n, const CsnbLayout& l, std::uin
 #endif
 
 // spans[(c * rows + r) * 2 + {0, 1}]: the occupied cubes [first, end) in row r (detail::csnb_row) of cube c,
-// for the cubes c in [b, e) of the sorted `keys` (keys[cubes] = UINT32_MAX). A row's key range moves up with the cube's key, so per row
-// one pair of pointers walks the table (after a binary search at b).
+// for the cubes c in [b, e) of the sorted `keys` (keys[cubes] = UINT32_MAX). A row's key range moves up with
+// the cube's key, so per row one pair of pointers walks the table (after a binary search at b).
 void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cubes, std::size_t b, std::size_t e,
                 std::uint32_t* spans) {
   const int rows = detail::csnb_rows(l), side = 2 * l.reach + 1, bits = l.grid_exponent, top = (1 << bits) - 1;
@@ -600,7 +599,7 @@ void walk(Workspace& w, Counter& counter, std::size_t m, std::size_t cubes, std:
   auto settle = [&](std::size_t j) {
     w.state[j] = kSettled;
     const std::uint32_t s = static_cast<std::uint32_t>(w.order[j]);  // its sorted position
-    w.settled_bits[s / 64] |= std::uint64_t{1} << (s % 64);
+    set_bit(w.settled_bits.data(), s);
   };
   auto delete_batch = [&] {  // the last batch (K or fewer marked) deletes all still marked
     for (std::uint32_t id : w.batch) {
@@ -611,9 +610,7 @@ void walk(Workspace& w, Counter& counter, std::size_t m, std::size_t cubes, std:
     dead_since += w.batch.size();
     w.batch.clear();
   };
-  for (std::size_t k = 0; k < w.sparse.size(); ++k) {
-    for (std::uint64_t bits = w.sparse[k]; bits != 0; bits &= bits - 1) settle(k * 64 + __builtin_ctzll(bits));
-  }
+  for_each_bit(w.sparse, settle);
   std::size_t batch_start = 0;
   for (std::size_t j = 0; j < order_size; ++j) {
     if (w.state[j] != kLive) continue;
@@ -647,11 +644,10 @@ void walk(Workspace& w, Counter& counter, std::size_t m, std::size_t cubes, std:
 // Anchors still over the threshold (on the final live set) take their non-anchor neighbours with them. All
 // live points are now anchors or settled: an anchor's count is the anchors near it, counted over the
 // anchors alone (one per cube, so cube ranges are anchor ranges), plus the settled points near it.
-void claim(Workspace& w, const Counter& counter, std::size_t m, std::size_t cubes, std::size_t order_size, bool avx2,
+void claim(Workspace& w, const Counter& counter, std::size_t cubes, std::size_t order_size, bool avx2,
            int threads) {
-  const float nan = std::numeric_limits<float>::quiet_NaN();
   const int cube_parts = detail::parts_for(cubes, threads, 1024);
-  w.anchor_candidates.resize(cubes + kPad);
+  pad(w.anchor_candidates, cubes);
   w.cube_index.resize(cubes + 1);
   detail::parallel_for(cubes + 1, cube_parts, [&](std::size_t b, std::size_t e, int) {
     for (std::size_t c = b; c < e; ++c) {
@@ -661,7 +657,6 @@ void claim(Workspace& w, const Counter& counter, std::size_t m, std::size_t cube
       w.anchor_candidates[c] = {a.x, a.y, a.z, static_cast<std::uint32_t>(order_size + c)};
     }
   });
-  std::fill(w.anchor_candidates.begin() + cubes, w.anchor_candidates.end(), Candidate{nan, nan, nan, 0});
   const int rows = counter.rows;
   const Counter anchors{w.anchor_candidates.data(), w.cube_index.data(), w.spans.data(), rows, counter.centre_row,
                         counter.r2, counter.threshold};
@@ -677,12 +672,8 @@ void claim(Workspace& w, const Counter& counter, std::size_t m, std::size_t cube
     }
   };
   // The settled points (set by the walk as bits by sorted position), listed in cube order.
-  const std::size_t words = (m + 63) / 64;
   w.settled.clear();
-  for (std::size_t k = 0; k < words; ++k) {
-    for (std::uint64_t bits = w.settled_bits[k]; bits != 0; bits &= bits - 1)
-      w.settled.push_back(static_cast<std::uint32_t>(k * 64 + __builtin_ctzll(bits)));
-  }
+  for_each_bit(w.settled_bits, [&](std::uint32_t s) { w.settled.push_back(s); });
   const std::size_t settled_count = w.settled.size();
   const int settled_parts = detail::parts_for(settled_count, threads, 2048);
   w.settled_near.resize(settled_parts);
@@ -867,7 +858,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
 
   walk(w, counter, m, cubes, order_size, static_cast<std::size_t>(config.batch_size), avx2, threads);
-  claim(w, counter, m, cubes, order_size, avx2, threads);
+  claim(w, counter, cubes, order_size, avx2, threads);
 
   const Point* q = w.points.data();
 
