@@ -23,15 +23,17 @@ struct Point {
   std::uint32_t cube;
 };
 
-enum : std::uint8_t { kLive = 0, kSettled = 1, kDead = 2 };  // a settled point is live and can never be marked
 enum : std::uint8_t { kUnmarked = 1, kMarked = 2, kAmbiguous = 3 };  // what a count found for a point
 
-// Candidate neighbours: the points that were live at the last compaction, per cube in sorted order, padded
-// with kPad entries that are never within r (x = NaN), so that counts can read whole blocks of kBlock.
+// Candidate neighbours: every point, in sorted order (so per cube), padded with kPad entries that are never
+// within r (x = NaN), so that counts can read whole blocks of kBlock. A candidate is live while the current
+// batch starts at or before its key: the point's walk id while it may still be marked and deleted (batches
+// delete only marked points the walk has passed), kNever once it cannot be (anchors, settled points).
 struct Candidate {
   float x, y, z;
-  std::uint32_t id;  // walk id
+  std::uint32_t key;
 };
+constexpr std::uint32_t kNever = 0x7FFFFFFF;  // above every walk id (compared as signed 32-bit with AVX2)
 constexpr std::uint32_t kBlock = 8;
 constexpr std::uint32_t kPad = kBlock;
 
@@ -40,13 +42,11 @@ struct Workspace {
   std::vector<std::uint64_t> items, scratch, order;
   std::vector<std::uint32_t> column, cube_key, cube_begin, spans, anchor, batch, unsure, walk_of;
   std::vector<Point> points, walk_points;
-  std::vector<Candidate> candidates, next_candidates;
-  std::vector<std::uint32_t> start, next_start;
-  std::vector<std::uint64_t> live;  // bit per walk id: not deleted
+  std::vector<Candidate> candidates;
   std::vector<std::uint64_t> sure;    // bit per walk id: marked whenever reached (find_sure)
   std::vector<std::uint64_t> sparse;  // bit per walk id: no more than max_neighbours neighbours at all
   std::vector<std::vector<std::uint64_t>> sure_parts;  // per part of find_sure: sure, sparse, sure, ...
-  std::vector<std::uint8_t> state, is_anchor, result, claims;
+  std::vector<std::uint8_t> is_anchor, result, claims, claimed;
   std::vector<Candidate> anchor_candidates;  // by cube, for the final claims
   std::vector<std::uint32_t> cube_index;
   std::vector<std::vector<std::uint32_t>> settled_near;  // per part: settled points near each anchor
@@ -91,69 +91,41 @@ bool avx2_supported() { return __builtin_cpu_supports("avx2") && detail::simd_en
 bool avx2_supported() { return false; }
 #endif
 
-// Which candidates a count takes, by walk id; per id, and per 8 ids for AVX2 (ids < 2^31 there).
-struct LaterOrPassed {  // a later walk id (or an anchor), or one before the cursor (settled)
-  std::uint32_t me, cursor;
-  bool operator()(std::uint32_t other) const { return (other > me) | (other < cursor); }
-#if STVL_CSNB_X86
-  STVL_AVX2 __m256i mask(__m256i ids) const {
-    return _mm256_or_si256(_mm256_cmpgt_epi32(ids, _mm256_set1_epi32(int(me))),
-                           _mm256_cmpgt_epi32(_mm256_set1_epi32(int(cursor)), ids));
-  }
-#endif
-};
+// Which candidates a count takes, by their keys (walk ids or kNever; the point's own key is `me`), per key and
+// per 8 keys for AVX2 (keys < 2^31 there).
 struct Other {  // anything but the point itself
   std::uint32_t me;
-  bool operator()(std::uint32_t other) const { return other != me; }
+  bool operator()(std::uint32_t key) const { return key != me; }
 #if STVL_CSNB_X86
-  STVL_AVX2 __m256i mask(__m256i ids) const {
-    return _mm256_xor_si256(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(int(me))), _mm256_set1_epi32(-1));
+  STVL_AVX2 __m256i mask(__m256i keys) const {
+    return _mm256_xor_si256(_mm256_cmpeq_epi32(keys, _mm256_set1_epi32(int(me))), _mm256_set1_epi32(-1));
   }
 #endif
 };
-struct LiveOther {  // live (bit set) and not the point itself
-  const std::uint64_t* live;
-  std::uint32_t me;
-  bool operator()(std::uint32_t other) const { return bit(live, other) & (other != me); }
+struct LiveOther {  // live in the batch that starts at walk id `start`, and not the point itself
+  std::uint32_t me, start;
+  bool operator()(std::uint32_t key) const { return (key >= start) & (key != me); }
 #if STVL_CSNB_X86
-  STVL_AVX2 __m256i mask(__m256i ids) const {
-    // Little-endian: bit i of the 64-bit words is bit i % 32 of 32-bit word i / 32.
-    const __m256i words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(live), _mm256_srli_epi32(ids, 5), 4);
-    const __m256i bits = _mm256_srlv_epi32(words, _mm256_and_si256(ids, _mm256_set1_epi32(31)));
-    const __m256i set = _mm256_cmpeq_epi32(_mm256_and_si256(bits, _mm256_set1_epi32(1)), _mm256_set1_epi32(1));
-    return _mm256_andnot_si256(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(int(me))), set);
+  STVL_AVX2 __m256i mask(__m256i keys) const {
+    return _mm256_andnot_si256(_mm256_cmpeq_epi32(keys, _mm256_set1_epi32(int(me))),
+                               _mm256_cmpgt_epi32(keys, _mm256_set1_epi32(int(start) - 1)));
   }
 #endif
 };
 
-// Two counts at once for the walk (see there): live neighbours that are safe (anchors, later in the walk, or
-// settled before `cursor`, a batch boundary), and all live neighbours.
+// Two counts at once for a point not yet reached by the walk (walk id `me`) while the batch that starts at
+// `start` is gathered: safe neighbours, which are live whenever the walk reaches the point (anchors, settled
+// points, and points later in the walk: all have larger keys), and all live neighbours.
 struct SafeAndLive {
-  const std::uint64_t* live;
-  std::uint32_t me, cursor;
-  void operator()(std::uint32_t other, bool* safe, bool* any) const {
-    *any = bit(live, other) & (other != me);
-    *safe = *any & ((other > me) | (other < cursor));
+  std::uint32_t me, start;
+  void operator()(std::uint32_t key, bool* safe, bool* any) const {
+    *any = LiveOther{me, start}(key);
+    *safe = key > me;
   }
 #if STVL_CSNB_X86
-  STVL_AVX2 void mask(__m256i ids, __m256i* safe, __m256i* any) const {
-    *any = LiveOther{live, me}.mask(ids);
-    *safe = _mm256_and_si256(*any, LaterOrPassed{me, cursor}.mask(ids));
-  }
-#endif
-};
-
-// The same two counts before the walk, when every point is live: later in the walk (or an anchor), and any.
-struct LaterAndOther {
-  std::uint32_t me;
-  void operator()(std::uint32_t other, bool* later, bool* any) const {
-    *any = other != me;
-    *later = other > me;
-  }
-#if STVL_CSNB_X86
-  STVL_AVX2 void mask(__m256i ids, __m256i* later, __m256i* any) const {
-    *any = Other{me}.mask(ids);
-    *later = LaterOrPassed{me, 0}.mask(ids);
+  STVL_AVX2 void mask(__m256i keys, __m256i* safe, __m256i* any) const {
+    *any = LiveOther{me, start}.mask(keys);
+    *safe = _mm256_cmpgt_epi32(keys, _mm256_set1_epi32(int(me)));
   }
 #endif
 };
@@ -229,7 +201,7 @@ struct PlainBlock {
     int k = 0;
     for (std::uint32_t l = 0; l < n; ++l) {
       const Candidate& o = c.candidates[j + l];
-      k += (detail::sq_dist(px, py, pz, o.x, o.y, o.z) < c.r2) & accept(o.id);
+      k += (detail::sq_dist(px, py, pz, o.x, o.y, o.z) < c.r2) & accept(o.key);
     }
     return k;
   }
@@ -239,7 +211,7 @@ struct PlainBlock {
     for (std::uint32_t l = 0; l < n; ++l) {
       const Candidate& o = c.candidates[j + l];
       bool s, a;
-      accept(o.id, &s, &a);
+      accept(o.key, &s, &a);
       const bool near = detail::sq_dist(px, py, pz, o.x, o.y, o.z) < c.r2;
       *safe += near & s;
       *any += near & a;
@@ -309,12 +281,12 @@ void sure_part(const Counter& c, std::size_t b, std::size_t e, std::uint32_t ord
   for (std::size_t cube = b; cube < e; ++cube) {
     for (std::uint32_t s = c.start[cube]; s < c.start[cube + 1]; ++s) {
       const Candidate& p = c.candidates[s];
-      const std::uint32_t me = p.id;
+      const std::uint32_t me = p.key;
       if (me >= order_size) continue;  // an anchor
       int later = 0, any = 0;
       std::size_t tested = 0;
       const int verdict = c.for_blocks(std::uint32_t(cube), [&](std::uint32_t j, std::uint32_t n) {
-        Block::count2(c, j, n, p.x, p.y, p.z, LaterAndOther{me}, &later, &any);
+        Block::count2(c, j, n, p.x, p.y, p.z, SafeAndLive{me, 0}, &later, &any);
         tested += n;
         return later > c.threshold ? 1 : tested >= kSureBudget ? -1 : 0;
       });
@@ -334,15 +306,16 @@ void anchors_over(const Counter& anchors, const std::uint32_t* settled_near, std
     const Candidate& a = anchors.candidates[cube];
     rest.threshold = anchors.threshold - int(std::min<std::uint32_t>(settled_near[cube], 1u << 30));
     // Rows only: the anchor is alone in its cube.
-    over[cube] = rest.threshold < 0 || rest.exceeds<Block, false>(a.x, a.y, a.z, std::uint32_t(cube), Other{a.id});
+    over[cube] = rest.threshold < 0 || rest.exceeds<Block, false>(a.x, a.y, a.z, std::uint32_t(cube), Other{a.key});
   }
 }
 
-// For the walk ids ids[b, e), on the live set at `cursor` (a batch boundary): kMarked when more than
-// `threshold` safe neighbours (SafeAndLive), kUnmarked when no more than `threshold` live ones, else kAmbiguous.
+// For the walk ids ids[b, e), while the batch that starts at walk id `start` is gathered: result[k] is
+// kMarked when more than `threshold` safe neighbours (SafeAndLive), kUnmarked when no more than `threshold`
+// live ones, else kAmbiguous.
 template <class Block>
-void classify(const Counter& c, const Point* points, const std::uint64_t* live, std::uint32_t cursor,
-              const std::uint32_t* ids, std::size_t b, std::size_t e, std::uint8_t* result) {
+void classify(const Counter& c, const Point* points, std::uint32_t start, const std::uint32_t* ids, std::size_t b,
+              std::size_t e, std::uint8_t* result) {
   for (std::size_t k = b; k < e; ++k) {
     if (k + 16 < e) __builtin_prefetch(&points[ids[k + 16]]);
     if (k + 12 < e) c.prefetch_spans(points[ids[k + 12]].cube);
@@ -351,19 +324,19 @@ void classify(const Counter& c, const Point* points, const std::uint64_t* live, 
     const std::uint32_t me = ids[k];
     const Point p = points[me];
     int safe = 0, any = 0;
-    const SafeAndLive accept{live, me, cursor};
+    const SafeAndLive accept{me, start};
     const bool marked = c.for_blocks(p.cube, [&](std::uint32_t j, std::uint32_t n) {
       Block::count2(c, j, n, p.x, p.y, p.z, accept, &safe, &any);
       return safe > c.threshold ? 1 : 0;
     }) == 1;
-    result[me] = marked ? kMarked : any > c.threshold ? kAmbiguous : kUnmarked;
+    result[k] = marked ? kMarked : any > c.threshold ? kAmbiguous : kUnmarked;
   }
 }
 
-// Marked or not, for walk id `me`, on the live set.
+// Marked or not, for walk id `me`, while the batch that starts at walk id `start` is gathered.
 template <class Block>
-bool marked_now(const Counter& c, const Point& p, const std::uint64_t* live, std::uint32_t me) {
-  return c.exceeds<Block>(p.x, p.y, p.z, p.cube, LiveOther{live, me});
+bool marked_now(const Counter& c, const Point& p, std::uint32_t start, std::uint32_t me) {
+  return c.exceeds<Block>(p.x, p.y, p.z, p.cube, LiveOther{me, start});
 }
 
 #if STVL_CSNB_X86
@@ -377,11 +350,11 @@ STVL_AVX2_ENTRY(void, sure_part, (const Counter& c, std::size_t b, std::size_t e
                             std::uint64_t* sparse), (c, b, e, o, sure, sparse))
 STVL_AVX2_ENTRY(void, anchors_over, (const Counter& c, const std::uint32_t* near, std::size_t b, std::size_t e,
                                std::uint8_t* over), (c, near, b, e, over))
-STVL_AVX2_ENTRY(void, classify, (const Counter& c, const Point* p, const std::uint64_t* l, std::uint32_t u,
-                           const std::uint32_t* ids, std::size_t b, std::size_t e, std::uint8_t* result),
-                (c, p, l, u, ids, b, e, result))
-STVL_AVX2_ENTRY(bool, marked_now, (const Counter& c, const Point& p, const std::uint64_t* l, std::uint32_t me),
-                (c, p, l, me))
+STVL_AVX2_ENTRY(void, classify, (const Counter& c, const Point* p, std::uint32_t start, const std::uint32_t* ids,
+                                  std::size_t b, std::size_t e, std::uint8_t* result),
+                (c, p, start, ids, b, e, result))
+STVL_AVX2_ENTRY(bool, marked_now, (const Counter& c, const Point& p, std::uint32_t start, std::uint32_t me),
+                (c, p, start, me))
 #undef STVL_AVX2_ENTRY
 
 // Cube boundaries of `parts` parts with about equal candidates (start: each cube's first), rather than equal
@@ -431,52 +404,15 @@ void pad(std::vector<Candidate>& candidates, std::size_t n) {
   std::fill(candidates.begin() + n, candidates.end(), Candidate{nan, nan, nan, 0});
 }
 
-// The first candidates: every point (all are live), per cube in sorted order.
-void init_candidates(Workspace& w, std::size_t cubes, int threads) {
+// The candidates: every point, keyed by its walk id (kNever for anchors).
+void init_candidates(Workspace& w, int threads) {
   const std::size_t m = w.points.size();
   pad(w.candidates, m);
-  w.start.assign(w.cube_begin.begin(), w.cube_begin.begin() + cubes + 1);
   detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
     for (std::size_t s = b; s < e; ++s) {
       w.candidates[s] = {w.points[s].x, w.points[s].y, w.points[s].z, w.walk_of[s]};
     }
   });
-}
-
-// Only the live candidates.
-void recompact(Workspace& w, std::size_t cubes, int threads) {
-  w.next_candidates.resize(w.candidates.size());
-  w.next_start.resize(cubes + 1);
-  const std::uint32_t* start = w.start.data();
-  const std::uint64_t* live = w.live.data();
-  const int parts = detail::parts_for(start[cubes], threads, 16384);
-  const std::vector<std::size_t> part = split_cubes(start, cubes, parts);
-  std::vector<std::size_t> offset(parts + 1, 0);
-  detail::parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
-    std::size_t count = 0;
-    for (std::uint32_t j = start[part[t]]; j < start[part[t + 1]]; ++j) count += bit(live, w.candidates[j].id);
-    offset[t + 1] = count;
-  });
-  for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
-  detail::parallel_for(std::size_t(parts), parts, [&](std::size_t, std::size_t, int t) {
-    // Every candidate is written and the next one overwrites it when it was deleted (half of them are: a
-    // branch would mispredict), until the part's slots are full: what follows its last live candidate is
-    // deleted, and the slot after the part's is the next part's first.
-    std::uint32_t o = static_cast<std::uint32_t>(offset[t]);
-    const std::uint32_t full = static_cast<std::uint32_t>(offset[t + 1]);
-    for (std::size_t c = part[t]; c < part[t + 1]; ++c) {
-      w.next_start[c] = o;
-      for (std::uint32_t j = start[c]; j < start[c + 1]; ++j) {
-        const bool keep = bit(live, w.candidates[j].id);
-        if (o < full) w.next_candidates[o] = w.candidates[j];
-        o += keep;
-      }
-    }
-  });
-  w.next_start[cubes] = static_cast<std::uint32_t>(offset[parts]);
-  w.candidates.swap(w.next_candidates);
-  w.start.swap(w.next_start);
-  pad(w.candidates, offset[parts]);
 }
 
 // detail::cube_key of n all-finite points inside the layout's box (so the quotients are in [0, 2^9] and fit
@@ -556,96 +492,104 @@ void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cube
   }
 }
 
-// The walk, in windows of about kWindowBatches batches. Points not sure to be marked are first classified
-// in parallel on the live set when the window opens (classify): with more than max_neighbours safe
-// neighbours (anchors, later in the walk, or settled before the current batch: none can be deleted before
-// the walk reaches the point) they are marked whenever reached; with no more than that many live ones they
-// are unmarked then (counts only fall) and settled; the rest (ambiguous) are counted exactly when the walk
-// reaches them, on the live set of that moment.
-void walk(Workspace& w, Counter& counter, std::size_t m, std::size_t cubes, std::size_t order_size, std::size_t K,
-          bool avx2, int threads) {
-  w.result.resize(order_size);
-  std::size_t alive = m, dead_since = 0, window_end = 0;
+// Set bits of `bits` in [from, to).
+std::size_t count_bits(const std::uint64_t* bits, std::size_t from, std::size_t to) {
+  if (from >= to) return 0;
+  const std::size_t first = from / 64, last = (to - 1) / 64;
+  const std::uint64_t head = ~std::uint64_t{0} << (from % 64), tail = ~std::uint64_t{0} >> (63 - (to - 1) % 64);
+  if (first == last) return std::size_t(__builtin_popcountll(bits[first] & head & tail));
+  std::size_t n = std::size_t(__builtin_popcountll(bits[first] & head)) + std::size_t(__builtin_popcountll(bits[last] & tail));
+  for (std::size_t k = first + 1; k < last; ++k) n += std::size_t(__builtin_popcountll(bits[k]));
+  return n;
+}
+// The position of the k-th (from 1) set bit at or after `from` (there must be one).
+std::size_t select_bit(const std::uint64_t* bits, std::size_t from, std::size_t k) {
+  std::size_t word = from / 64;
+  std::uint64_t v = bits[word] & (~std::uint64_t{0} << (from % 64));
+  for (std::size_t c; (c = std::size_t(__builtin_popcountll(v))) < k; v = bits[++word]) k -= c;
+  for (; k > 1; --k) v &= v - 1;
+  return word * 64 + std::size_t(__builtin_ctzll(v));
+}
+
+// The walk, over the points neither sure nor sparse (w.unsure, by walk id) in windows of about
+// kWindowBatches batches; the sure points in between are counted from their bits, as marks that fill the
+// batches. Points of a window are first classified in parallel when it opens (classify): with more than
+// max_neighbours safe neighbours (anchors, settled, later in the walk: none can be deleted before the walk
+// reaches the point) they are marked whenever reached; with no more than that many live ones they are
+// unmarked then (counts only fall) and settled; the rest (ambiguous) are counted exactly when the walk
+// reaches them, in the batch of that moment. A batch is deleted when the mark after its K-th arrives, which
+// starts the next: nothing needs doing then but moving `start`, since the candidates' keys say who is live.
+void walk(Workspace& w, Counter& counter, std::size_t order_size, std::size_t K, bool avx2, int threads) {
   const std::uint64_t* sure = w.sure.data();
-  const std::uint64_t* live = w.live.data();
-  auto marked_exactly = [&](std::size_t j) {
+  const std::size_t unsure = w.unsure.size();
+  w.result.resize(unsure);
+  std::uint32_t start = 0;     // walk id where the current batch starts
+  std::size_t in_batch = 0;    // marks in it
+  std::size_t marks = 0;       // marks so far
+  std::size_t window_end = 0;  // index into w.unsure
+  auto marked_exactly = [&](std::uint32_t j) {
     const Point& p = w.walk_points[j];
-    return avx2 ? marked_now_avx2(counter, p, live, std::uint32_t(j))
-                : marked_now<PlainBlock>(counter, p, live, std::uint32_t(j));
+    return avx2 ? marked_now_avx2(counter, p, start, j) : marked_now<PlainBlock>(counter, p, start, j);
   };
-  // A window of positions from `from`, classified on the live set of now, which is that of `cursor`: the
-  // start of the current batch (nothing has been deleted since), before which every point is deleted or
-  // settled.
-  auto open_window = [&](std::size_t from, std::size_t cursor) {
-    // About kWindowBatches batches at the rate of marks seen so far.
-    const double rate = from == 0 ? 1.0 : double(m - alive + w.batch.size()) / double(from);  // marks so far
-    const std::size_t span = static_cast<std::size_t>(double(kWindowBatches * (K + 1)) / std::max(rate, 1e-3));
-    window_end = std::min(order_size, from + std::max<std::size_t>(span, 256));
-    w.unsure.clear();
-    for (std::size_t j = from; j < window_end; ++j) {
-      if (w.state[j] == kLive && !bit(sure, std::uint32_t(j))) w.unsure.push_back(static_cast<std::uint32_t>(j));
-    }
-    const std::size_t u = w.unsure.size();
-    detail::parallel_for(u, detail::parts_for(u, threads, 128), [&](std::size_t b, std::size_t e, int) {
+  // The unsure points from index `from` of w.unsure that lie within about kWindowBatches batches.
+  auto open_window = [&](std::size_t from) {
+    const std::uint32_t first = w.unsure[from];
+    const double rate = first == 0 ? 1.0 : double(marks) / double(first);  // marks per walk position so far
+    const double span = double(kWindowBatches * (K + 1)) / std::max(rate, 1e-3);
+    const double last = std::min(double(order_size), double(first) + std::max(span, 256.0));
+    window_end = from;
+    while (window_end < unsure && double(w.unsure[window_end]) < last) ++window_end;
+    const std::size_t n = window_end - from;
+    detail::parallel_for(n, detail::parts_for(n, threads, 128), [&](std::size_t b, std::size_t e, int) {
       if (avx2)
-        classify_avx2(counter, w.walk_points.data(), live, std::uint32_t(cursor), w.unsure.data(), b, e,
-                      w.result.data());
+        classify_avx2(counter, w.walk_points.data(), start, w.unsure.data() + from, b, e, w.result.data() + from);
       else
-        classify<PlainBlock>(counter, w.walk_points.data(), live, std::uint32_t(cursor), w.unsure.data(), b, e,
-                             w.result.data());
+        classify<PlainBlock>(counter, w.walk_points.data(), start, w.unsure.data() + from, b, e,
+                             w.result.data() + from);
     });
   };
-  w.settled_bits.assign((m + 63) / 64, 0);
-  auto settle = [&](std::size_t j) {
-    w.state[j] = kSettled;
-    const std::uint32_t s = static_cast<std::uint32_t>(w.order[j]);  // its sorted position
-    set_bit(w.settled_bits.data(), s);
-  };
-  auto delete_batch = [&] {  // the last batch (K or fewer marked) deletes all still marked
-    for (std::uint32_t id : w.batch) {
-      w.state[id] = kDead;
-      w.live[id / 64] &= ~(std::uint64_t{1} << (id % 64));
+  // n more marks, the sure points at walk ids [from, to): where the last batch they start begins.
+  auto sure_marks = [&](std::size_t from, std::size_t to) {
+    const std::size_t n = count_bits(sure, from, to);
+    marks += n;
+    if (in_batch + n <= K) {
+      in_batch += n;
+      return;
     }
-    alive -= w.batch.size();
-    dead_since += w.batch.size();
-    w.batch.clear();
+    const std::size_t first = K - in_batch + 1;  // the first of them that starts a batch (from 1), then every K
+    const std::size_t last = first + (n - first) / K * K;
+    start = static_cast<std::uint32_t>(select_bit(sure, from, last));
+    in_batch = n - last + 1;
   };
-  for_each_bit(w.sparse, settle);
-  std::size_t batch_start = 0;
-  for (std::size_t j = 0; j < order_size; ++j) {
-    if (w.state[j] != kLive) continue;
-    if (j >= window_end) open_window(j, batch_start);
-    // Marked on the live set of now? The window's verdicts hold whatever was deleted since it opened.
-    const std::uint8_t verdict = bit(sure, std::uint32_t(j)) ? std::uint8_t{kMarked} : w.result[j];
+  std::size_t previous = 0;  // walk id after the last unsure point
+  for (std::size_t k = 0; k < unsure; ++k) {
+    const std::uint32_t j = w.unsure[k];
+    sure_marks(previous, j);
+    previous = std::size_t(j) + 1;
+    if (k >= window_end) open_window(k);
+    // Marked in the current batch? The window's verdicts hold whatever was deleted since it opened.
+    const std::uint8_t verdict = w.result[k];
     bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(j));
-    if (!marked) {
-      settle(j);
+    if (marked && in_batch == K) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
+      start = j;
+      in_batch = 0;
+      marked = verdict == kMarked || marked_exactly(j);
+    }
+    if (marked) {
+      ++in_batch;
+      ++marks;
       continue;
     }
-    if (w.batch.size() == K) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
-      delete_batch();
-      batch_start = j;
-      if (dead_since * 2 > alive) {
-        recompact(w, cubes, threads);
-        counter.candidates = w.candidates.data();
-        counter.start = w.start.data();
-        dead_since = 0;
-      }
-      if (verdict == kAmbiguous && !marked_exactly(j)) {
-        settle(j);
-        continue;
-      }
-    }
-    w.batch.push_back(static_cast<std::uint32_t>(j));
+    const std::uint32_t s = static_cast<std::uint32_t>(w.order[j]);  // settled: live to the end
+    w.candidates[s].key = kNever;
+    set_bit(w.settled_bits.data(), s);
   }
-  delete_batch();
 }
 
 // Anchors still over the threshold (on the final live set) take their non-anchor neighbours with them. All
 // live points are now anchors or settled: an anchor's count is the anchors near it, counted over the
 // anchors alone (one per cube, so cube ranges are anchor ranges), plus the settled points near it.
-void claim(Workspace& w, const Counter& counter, std::size_t cubes, std::size_t order_size, bool avx2,
-           int threads) {
+void claim(Workspace& w, const Counter& counter, std::size_t cubes, bool avx2, int threads) {
   const int cube_parts = detail::parts_for(cubes, threads, 1024);
   pad(w.anchor_candidates, cubes);
   w.cube_index.resize(cubes + 1);
@@ -653,8 +597,8 @@ void claim(Workspace& w, const Counter& counter, std::size_t cubes, std::size_t 
     for (std::size_t c = b; c < e; ++c) {
       w.cube_index[c] = static_cast<std::uint32_t>(c);
       if (c == cubes) break;
-      const Point& a = w.walk_points[order_size + c];
-      w.anchor_candidates[c] = {a.x, a.y, a.z, static_cast<std::uint32_t>(order_size + c)};
+      const Point& a = w.points[w.anchor[c]];
+      w.anchor_candidates[c] = {a.x, a.y, a.z, static_cast<std::uint32_t>(c)};
     }
   });
   const int rows = counter.rows;
@@ -701,9 +645,10 @@ void claim(Workspace& w, const Counter& counter, std::size_t cubes, std::size_t 
     else
       anchors_over<PlainBlock>(anchors, w.settled_near[0].data(), b, e, w.claims.data());
   });
+  w.claimed.assign(w.points.size(), 0);
   detail::parallel_for(std::size_t(settled_parts), settled_parts, [&](std::size_t, std::size_t, int t) {
     for (const std::uint64_t pair : w.near_pairs[t]) {  // a settled point is in one part only
-      if (w.claims[std::uint32_t(pair)]) w.state[w.walk_of[pair >> 32]] = kDead;
+      if (w.claims[std::uint32_t(pair)]) w.claimed[pair >> 32] = 1;
     }
   });
 }
@@ -846,19 +791,31 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
         __builtin_prefetch(&w.walk_of[ahead], 1);
       }
       const std::uint32_t s = i < order_size ? static_cast<std::uint32_t>(w.order[i]) : w.anchor[i - order_size];
-      w.walk_of[s] = static_cast<std::uint32_t>(i);
+      w.walk_of[s] = i < order_size ? static_cast<std::uint32_t>(i) : kNever;
       w.walk_points[i] = w.points[s];
     }
   });
-  w.state.assign(m, kLive);
-  w.live.assign((m + 63) / 64, ~std::uint64_t{0});
-  init_candidates(w, cubes, threads);
-  Counter counter{w.candidates.data(), w.start.data(), w.spans.data(),
+  init_candidates(w, threads);
+  Counter counter{w.candidates.data(), w.cube_begin.data(), w.spans.data(),
                   rows, layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
   find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
 
-  walk(w, counter, m, cubes, order_size, static_cast<std::size_t>(config.batch_size), avx2, threads);
-  claim(w, counter, cubes, order_size, avx2, threads);
+  // Sparse points are settled from the start; the rest that are not sure go through the walk.
+  w.settled_bits.assign((m + 63) / 64, 0);
+  w.unsure.clear();
+  for (std::size_t k = 0; k < w.sure.size(); ++k) {
+    for (std::uint64_t word = w.sparse[k]; word != 0; word &= word - 1) {
+      const std::uint32_t s = static_cast<std::uint32_t>(w.order[k * 64 + std::size_t(__builtin_ctzll(word))]);
+      w.candidates[s].key = kNever;
+      set_bit(w.settled_bits.data(), s);
+    }
+    const std::uint64_t valid = k + 1 < w.sure.size() || order_size % 64 == 0 ? ~std::uint64_t{0}
+                                                                               : (std::uint64_t{1} << (order_size % 64)) - 1;
+    for (std::uint64_t word = ~(w.sure[k] | w.sparse[k]) & valid; word != 0; word &= word - 1)
+      w.unsure.push_back(static_cast<std::uint32_t>(k * 64 + std::size_t(__builtin_ctzll(word))));
+  }
+  walk(w, counter, order_size, static_cast<std::size_t>(config.batch_size), avx2, threads);
+  claim(w, counter, cubes, avx2, threads);
 
   const Point* q = w.points.data();
 
@@ -870,7 +827,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
       [&](std::size_t b, std::size_t e) {
         std::size_t kept = 0;
         for (std::size_t s = b; s < e; ++s) {  // the anchors, and the settled points no claim deleted
-          w.result[s] = w.is_anchor[s] || (bit(w.settled_bits.data(), std::uint32_t(s)) && w.state[w.walk_of[s]] != kDead);
+          w.result[s] = w.is_anchor[s] || (bit(w.settled_bits.data(), std::uint32_t(s)) && !w.claimed[s]);
           kept += w.result[s];
         }
         return kept;
