@@ -40,8 +40,8 @@ constexpr std::uint32_t kPad = kBlock;
 // Buffers kept per calling thread (see voxel_grid.cpp): fresh ones would page-fault on every frame.
 struct Workspace {
   std::vector<std::uint64_t> items, scratch, order;
-  std::vector<std::uint32_t> column, cube_key, cube_begin, spans, anchor, batch, unsure, walk_of;
-  std::vector<Point> points, walk_points;
+  std::vector<std::uint32_t> column, cube_key, cube_begin, spans, anchor, unsure;
+  std::vector<Point> points, unsure_points;
   std::vector<Candidate> candidates;
   std::vector<std::uint64_t> sure;    // bit per walk id: marked whenever reached (find_sure)
   std::vector<std::uint64_t> sparse;  // bit per walk id: no more than max_neighbours neighbours at all
@@ -310,19 +310,19 @@ void anchors_over(const Counter& anchors, const std::uint32_t* settled_near, std
   }
 }
 
-// For the walk ids ids[b, e), while the batch that starts at walk id `start` is gathered: result[k] is
+// For the walk ids ids[b, e) (points[k]: the point of ids[k]), while the batch that starts at walk id `start` is
+// gathered: result[k] is
 // kMarked when more than `threshold` safe neighbours (SafeAndLive), kUnmarked when no more than `threshold`
 // live ones, else kAmbiguous.
 template <class Block>
 void classify(const Counter& c, const Point* points, std::uint32_t start, const std::uint32_t* ids, std::size_t b,
               std::size_t e, std::uint8_t* result) {
   for (std::size_t k = b; k < e; ++k) {
-    if (k + 16 < e) __builtin_prefetch(&points[ids[k + 16]]);
-    if (k + 12 < e) c.prefetch_spans(points[ids[k + 12]].cube);
-    if (k + 8 < e) c.prefetch_starts(points[ids[k + 8]].cube);
-    if (k + 4 < e) c.prefetch_rows(points[ids[k + 4]].cube);
+    if (k + 12 < e) c.prefetch_spans(points[k + 12].cube);
+    if (k + 8 < e) c.prefetch_starts(points[k + 8].cube);
+    if (k + 4 < e) c.prefetch_rows(points[k + 4].cube);
     const std::uint32_t me = ids[k];
-    const Point p = points[me];
+    const Point p = points[k];
     int safe = 0, any = 0;
     const SafeAndLive accept{me, start};
     const bool marked = c.for_blocks(p.cube, [&](std::uint32_t j, std::uint32_t n) {
@@ -405,12 +405,16 @@ void pad(std::vector<Candidate>& candidates, std::size_t n) {
 }
 
 // The candidates: every point, keyed by its walk id (kNever for anchors).
-void init_candidates(Workspace& w, int threads) {
+void init_candidates(Workspace& w, std::size_t order_size, int threads) {
   const std::size_t m = w.points.size();
   pad(w.candidates, m);
   detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
-    for (std::size_t s = b; s < e; ++s) {
-      w.candidates[s] = {w.points[s].x, w.points[s].y, w.points[s].z, w.walk_of[s]};
+    for (std::size_t s = b; s < e; ++s) w.candidates[s] = {w.points[s].x, w.points[s].y, w.points[s].z, kNever};
+  });
+  detail::parallel_for(order_size, detail::parts_for(order_size, threads, 16384), [&](std::size_t b, std::size_t e, int) {
+    for (std::size_t i = b; i < e; ++i) {
+      if (i + 16 < e) __builtin_prefetch(&w.candidates[std::uint32_t(w.order[i + 16])], 1);  // a scatter
+      w.candidates[std::uint32_t(w.order[i])].key = static_cast<std::uint32_t>(i);
     }
   });
 }
@@ -527,8 +531,9 @@ void walk(Workspace& w, Counter& counter, std::size_t order_size, std::size_t K,
   std::size_t in_batch = 0;    // marks in it
   std::size_t marks = 0;       // marks so far
   std::size_t window_end = 0;  // index into w.unsure
-  auto marked_exactly = [&](std::uint32_t j) {
-    const Point& p = w.walk_points[j];
+  auto marked_exactly = [&](std::size_t k) {
+    const std::uint32_t j = w.unsure[k];
+    const Point& p = w.unsure_points[k];
     return avx2 ? marked_now_avx2(counter, p, start, j) : marked_now<PlainBlock>(counter, p, start, j);
   };
   // The unsure points from index `from` of w.unsure that lie within about kWindowBatches batches.
@@ -542,9 +547,10 @@ void walk(Workspace& w, Counter& counter, std::size_t order_size, std::size_t K,
     const std::size_t n = window_end - from;
     detail::parallel_for(n, detail::parts_for(n, threads, 128), [&](std::size_t b, std::size_t e, int) {
       if (avx2)
-        classify_avx2(counter, w.walk_points.data(), start, w.unsure.data() + from, b, e, w.result.data() + from);
+        classify_avx2(counter, w.unsure_points.data() + from, start, w.unsure.data() + from, b, e,
+                      w.result.data() + from);
       else
-        classify<PlainBlock>(counter, w.walk_points.data(), start, w.unsure.data() + from, b, e,
+        classify<PlainBlock>(counter, w.unsure_points.data() + from, start, w.unsure.data() + from, b, e,
                              w.result.data() + from);
     });
   };
@@ -569,11 +575,11 @@ void walk(Workspace& w, Counter& counter, std::size_t order_size, std::size_t K,
     if (k >= window_end) open_window(k);
     // Marked in the current batch? The window's verdicts hold whatever was deleted since it opened.
     const std::uint8_t verdict = w.result[k];
-    bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(j));
+    bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(k));
     if (marked && in_batch == K) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
       start = j;
       in_batch = 0;
-      marked = verdict == kMarked || marked_exactly(j);
+      marked = verdict == kMarked || marked_exactly(k);
     }
     if (marked) {
       ++in_batch;
@@ -781,21 +787,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
       });
   w.order.assign(w.items.begin(), w.items.begin() + order_size);
   detail::radix_sort(w.order, w.scratch, 32, 64, [](std::uint64_t v) { return v; }, threads);
-  w.walk_of.resize(m);
-  w.walk_points.resize(m);
-  detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
-    for (std::size_t i = b; i < e; ++i) {
-      if (i + 16 < std::min(e, order_size)) {  // a gather and a scatter
-        const std::uint32_t ahead = static_cast<std::uint32_t>(w.order[i + 16]);
-        __builtin_prefetch(&w.points[ahead]);
-        __builtin_prefetch(&w.walk_of[ahead], 1);
-      }
-      const std::uint32_t s = i < order_size ? static_cast<std::uint32_t>(w.order[i]) : w.anchor[i - order_size];
-      w.walk_of[s] = i < order_size ? static_cast<std::uint32_t>(i) : kNever;
-      w.walk_points[i] = w.points[s];
-    }
-  });
-  init_candidates(w, threads);
+  init_candidates(w, order_size, threads);
   Counter counter{w.candidates.data(), w.cube_begin.data(), w.spans.data(),
                   rows, layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
   find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
@@ -814,6 +806,8 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     for (std::uint64_t word = ~(w.sure[k] | w.sparse[k]) & valid; word != 0; word &= word - 1)
       w.unsure.push_back(static_cast<std::uint32_t>(k * 64 + std::size_t(__builtin_ctzll(word))));
   }
+  w.unsure_points.resize(w.unsure.size());
+  for (std::size_t k = 0; k < w.unsure.size(); ++k) w.unsure_points[k] = w.points[std::uint32_t(w.order[w.unsure[k]])];
   walk(w, counter, order_size, static_cast<std::size_t>(config.batch_size), avx2, threads);
   claim(w, counter, cubes, avx2, threads);
 
