@@ -28,12 +28,14 @@ enum : std::uint8_t { kUnmarked = 1, kMarked = 2, kAmbiguous = 3 };  // what a c
 // Candidate neighbours: every point, in sorted order (so per cube), padded with kPad entries that are never
 // within r (x = NaN), so that counts can read whole blocks of kBlock. A candidate is live while the current
 // batch starts at or before its key: the point's walk id while it may still be marked and deleted (batches
-// delete only marked points the walk has passed), kNever once it cannot be (anchors, settled points).
+// delete only marked points the walk has passed), `never` once it cannot be (anchors, settled points).
 struct Candidate {
   float x, y, z;
   std::uint32_t key;
 };
-constexpr std::uint32_t kNever = 0x7FFFFFFF;  // above every walk id (compared as signed 32-bit with AVX2)
+// `never`: above every walk id, as the counts compare keys: signed 32-bit with AVX2 (clouds of fewer than 2^31
+// points), unsigned without.
+constexpr std::uint32_t kNeverAvx2 = 0x7FFFFFFF, kNeverPlain = 0xFFFFFFFF;
 constexpr std::uint32_t kBlock = 8;
 constexpr std::uint32_t kPad = kBlock;
 
@@ -91,7 +93,7 @@ bool avx2_supported() { return __builtin_cpu_supports("avx2") && detail::simd_en
 bool avx2_supported() { return false; }
 #endif
 
-// Which candidates a count takes, by their keys (walk ids or kNever; the point's own key is `me`), per key and
+// Which candidates a count takes, by their keys (walk ids or never; the point's own key is `me`), per key and
 // per 8 keys for AVX2 (keys < 2^31 there).
 struct Other {  // anything but the point itself
   std::uint32_t me;
@@ -404,12 +406,12 @@ void pad(std::vector<Candidate>& candidates, std::size_t n) {
   std::fill(candidates.begin() + n, candidates.end(), Candidate{nan, nan, nan, 0});
 }
 
-// The candidates: every point, keyed by its walk id (kNever for anchors).
-void init_candidates(Workspace& w, std::size_t order_size, int threads) {
+// The candidates: every point, keyed by its walk id (never for anchors).
+void init_candidates(Workspace& w, std::size_t order_size, std::uint32_t never, int threads) {
   const std::size_t m = w.points.size();
   pad(w.candidates, m);
   detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
-    for (std::size_t s = b; s < e; ++s) w.candidates[s] = {w.points[s].x, w.points[s].y, w.points[s].z, kNever};
+    for (std::size_t s = b; s < e; ++s) w.candidates[s] = {w.points[s].x, w.points[s].y, w.points[s].z, never};
   });
   detail::parallel_for(order_size, detail::parts_for(order_size, threads, 16384), [&](std::size_t b, std::size_t e, int) {
     for (std::size_t i = b; i < e; ++i) {
@@ -523,7 +525,8 @@ std::size_t select_bit(const std::uint64_t* bits, std::size_t from, std::size_t 
 // unmarked then (counts only fall) and settled; the rest (ambiguous) are counted exactly when the walk
 // reaches them, in the batch of that moment. A batch is deleted when the mark after its K-th arrives, which
 // starts the next: nothing needs doing then but moving `start`, since the candidates' keys say who is live.
-void walk(Workspace& w, Counter& counter, std::size_t order_size, std::size_t K, bool avx2, int threads) {
+void walk(Workspace& w, Counter& counter, std::size_t order_size, std::size_t K, std::uint32_t never, bool avx2,
+          int threads) {
   const std::uint64_t* sure = w.sure.data();
   const std::size_t unsure = w.unsure.size();
   w.result.resize(unsure);
@@ -587,7 +590,7 @@ void walk(Workspace& w, Counter& counter, std::size_t order_size, std::size_t K,
       continue;
     }
     const std::uint32_t s = static_cast<std::uint32_t>(w.order[j]);  // settled: live to the end
-    w.candidates[s].key = kNever;
+    w.candidates[s].key = never;
     set_bit(w.settled_bits.data(), s);
   }
 }
@@ -787,7 +790,8 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
       });
   w.order.assign(w.items.begin(), w.items.begin() + order_size);
   detail::radix_sort(w.order, w.scratch, 32, 64, [](std::uint64_t v) { return v; }, threads);
-  init_candidates(w, order_size, threads);
+  const std::uint32_t never = avx2 ? kNeverAvx2 : kNeverPlain;
+  init_candidates(w, order_size, never, threads);
   Counter counter{w.candidates.data(), w.cube_begin.data(), w.spans.data(),
                   rows, layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
   find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
@@ -798,7 +802,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   for (std::size_t k = 0; k < w.sure.size(); ++k) {
     for (std::uint64_t word = w.sparse[k]; word != 0; word &= word - 1) {
       const std::uint32_t s = static_cast<std::uint32_t>(w.order[k * 64 + std::size_t(__builtin_ctzll(word))]);
-      w.candidates[s].key = kNever;
+      w.candidates[s].key = never;
       set_bit(w.settled_bits.data(), s);
     }
     const std::uint64_t valid = k + 1 < w.sure.size() || order_size % 64 == 0 ? ~std::uint64_t{0}
@@ -808,7 +812,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   }
   w.unsure_points.resize(w.unsure.size());
   for (std::size_t k = 0; k < w.unsure.size(); ++k) w.unsure_points[k] = w.points[std::uint32_t(w.order[w.unsure[k]])];
-  walk(w, counter, order_size, static_cast<std::size_t>(config.batch_size), avx2, threads);
+  walk(w, counter, order_size, static_cast<std::size_t>(config.batch_size), never, avx2, threads);
   claim(w, counter, cubes, avx2, threads);
 
   const Point* q = w.points.data();
