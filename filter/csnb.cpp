@@ -15,9 +15,7 @@ namespace {
 
 using detail::CsnbLayout;
 
-// A point of the walk (cube = index into the occupied-cube table). The walk visits points in a random
-// order, so everything it reads per point is stored by walk id (the position in that order; anchors follow,
-// by cube) and read sequentially; only neighbours are random.
+// A point, in sorted order (cube = index into the occupied-cube table).
 struct Point {
   float x, y, z;
   std::uint32_t cube;
