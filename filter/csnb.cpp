@@ -466,6 +466,25 @@ void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cube
     const int key = int(keys[c]), x = key & top, y = (key >> bits) & top, z = (key >> (2 * bits)) & top;
     const std::uint32_t x0 = std::uint32_t(std::max(x - l.reach, 0)), x1 = std::uint32_t(std::min(x + l.reach, top));
     std::uint32_t* span = spans + c * rows * 2;
+    if (c > b && x != 0 && keys[c - 1] == std::uint32_t(key - 1)) {
+      // The next cube in the same row: every row's bounds rise by at most 1, and keys are distinct, so each
+      // pointer moves by at most one cube (the rows outside the grid stay so).
+      for (int r = 0; r < rows; ++r) {
+        const int ry = y + dy[r], rz = z + dz[r];
+        if (ry < 0 || ry > top || rz < 0 || rz > top) {
+          span[2 * r] = span[2 * r + 1] = 0;
+          continue;
+        }
+        const std::uint32_t base = std::uint32_t(ry << bits) | std::uint32_t(rz << (2 * bits));
+        std::uint32_t c0 = first[r], c1 = end[r];
+        c0 += keys[c0] < (base | x0);
+        c1 = std::max(c1, c0);
+        c1 += keys[c1] <= (base | x1);
+        first[r] = span[2 * r] = c0;
+        end[r] = span[2 * r + 1] = c1;
+      }
+      continue;
+    }
     for (int r = 0; r < rows; ++r) {
       const int ry = y + dy[r], rz = z + dz[r];
       if (ry < 0 || ry > top || rz < 0 || rz > top) {
