@@ -310,10 +310,9 @@ void anchors_over(const Counter& anchors, const std::uint32_t* settled_near, std
   }
 }
 
-// For the walk ids ids[b, e) (points[k]: the point of ids[k]), while the batch that starts at walk id `start` is
-// gathered: result[k] is
-// kMarked when more than `threshold` safe neighbours (SafeAndLive), kUnmarked when no more than `threshold`
-// live ones, else kAmbiguous.
+// For the walk ids ids[b, e) (points[k]: the point of ids[k]), while the batch that starts at walk id `start`
+// is gathered: result[k] is kMarked when more than `threshold` safe neighbours (SafeAndLive), kUnmarked when
+// no more than `threshold` live ones, else kAmbiguous.
 template <class Block>
 void classify(const Counter& c, const Point* points, std::uint32_t start, const std::uint32_t* ids, std::size_t b,
               std::size_t e, std::uint8_t* result) {
@@ -466,25 +465,9 @@ void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cube
     const int key = int(keys[c]), x = key & top, y = (key >> bits) & top, z = (key >> (2 * bits)) & top;
     const std::uint32_t x0 = std::uint32_t(std::max(x - l.reach, 0)), x1 = std::uint32_t(std::min(x + l.reach, top));
     std::uint32_t* span = spans + c * rows * 2;
-    if (c > b && x != 0 && keys[c - 1] == std::uint32_t(key - 1)) {
-      // The next cube in the same row: every row's bounds rise by at most 1, and keys are distinct, so each
-      // pointer moves by at most one cube (the rows outside the grid stay so).
-      for (int r = 0; r < rows; ++r) {
-        const int ry = y + dy[r], rz = z + dz[r];
-        if (ry < 0 || ry > top || rz < 0 || rz > top) {
-          span[2 * r] = span[2 * r + 1] = 0;
-          continue;
-        }
-        const std::uint32_t base = std::uint32_t(ry << bits) | std::uint32_t(rz << (2 * bits));
-        std::uint32_t c0 = first[r], c1 = end[r];
-        c0 += keys[c0] < (base | x0);
-        c1 = std::max(c1, c0);
-        c1 += keys[c1] <= (base | x1);
-        first[r] = span[2 * r] = c0;
-        end[r] = span[2 * r + 1] = c1;
-      }
-      continue;
-    }
+    // The next cube of the same row as the last: every row's bounds rise by at most 1 and keys are distinct,
+    // so each pointer moves by at most one cube.
+    const bool next_in_row = c > b && x != 0 && keys[c - 1] == std::uint32_t(key - 1);
     for (int r = 0; r < rows; ++r) {
       const int ry = y + dy[r], rz = z + dz[r];
       if (ry < 0 || ry > top || rz < 0 || rz > top) {
@@ -494,6 +477,14 @@ void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cube
       const std::uint32_t base = std::uint32_t(ry << bits) | std::uint32_t(rz << (2 * bits));
       const std::uint32_t lo = base | x0, hi = base | x1;
       std::uint32_t c0 = first[r], c1 = end[r];
+      if (next_in_row) {
+        c0 += keys[c0] < lo;
+        c1 = std::max(c1, c0);
+        c1 += keys[c1] <= hi;
+        first[r] = span[2 * r] = c0;
+        end[r] = span[2 * r + 1] = c1;
+        continue;
+      }
       if (!placed[r]) {
         c0 = detail::search_keys(keys, count, lo, false);
         c1 = detail::search_keys(keys, count, hi, true);
@@ -513,6 +504,13 @@ void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cube
       end[r] = span[2 * r + 1] = c1;
     }
   }
+}
+
+// Settles the point of walk id j: live to the end, never deleted.
+void settle(Workspace& w, std::uint32_t j, std::uint32_t never) {
+  const std::uint32_t s = static_cast<std::uint32_t>(w.order[j]);  // its sorted position
+  w.candidates[s].key = never;
+  set_bit(w.settled_bits.data(), s);
 }
 
 // Set bits of `bits` in [from, to).
@@ -606,9 +604,7 @@ void walk(Workspace& w, Counter& counter, std::size_t order_size, std::size_t K,
       ++marks;
       continue;
     }
-    const std::uint32_t s = static_cast<std::uint32_t>(w.order[j]);  // settled: live to the end
-    w.candidates[s].key = never;
-    set_bit(w.settled_bits.data(), s);
+    settle(w, j, never);
   }
 }
 
@@ -815,13 +811,9 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
 
   // Sparse points are settled from the start; the rest that are not sure go through the walk.
   w.settled_bits.assign((m + 63) / 64, 0);
+  for_each_bit(w.sparse, [&](std::uint32_t j) { settle(w, j, never); });
   w.unsure.clear();
   for (std::size_t k = 0; k < w.sure.size(); ++k) {
-    for (std::uint64_t word = w.sparse[k]; word != 0; word &= word - 1) {
-      const std::uint32_t s = static_cast<std::uint32_t>(w.order[k * 64 + std::size_t(__builtin_ctzll(word))]);
-      w.candidates[s].key = never;
-      set_bit(w.settled_bits.data(), s);
-    }
     const std::uint64_t valid = k + 1 < w.sure.size() || order_size % 64 == 0 ? ~std::uint64_t{0}
                                                                                : (std::uint64_t{1} << (order_size % 64)) - 1;
     for (std::uint64_t word = ~(w.sure[k] | w.sparse[k]) & valid; word != 0; word &= word - 1)
