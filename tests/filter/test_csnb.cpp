@@ -145,7 +145,9 @@ TEST(Csnb, EqualsTheLiteralAlgorithm) {
     double voxel_m;
     int threshold, batch, exponent;
   };
+  // Batches of 1 (a new batch at every mark, also inside a run of sure points) and one batch for everything.
   for (const Case& c : {Case{&random, 0.1, 4, 7, 0}, Case{&random, 0.05, 0, 1000, 0}, Case{&random, 0.08, 2, 3, 5},
+                        Case{&random, 0.08, 2, 1, 0}, Case{&random, 0.1, 3, 1000000, 0},
                         Case{&corridor, 0.05, 4, 11, 0}, Case{&corridor, 0.1, 8, 200, 0},
                         Case{&corridor, 0.2, 3, 5, 4}}) {
     CsnbConfig config;
