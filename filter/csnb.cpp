@@ -226,24 +226,24 @@ struct Avx2Block {
   STVL_AVX2 static int count(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
                              const Accept& accept) {
     __m256 near;
-    __m256i ids;
-    load(c, j, px, py, pz, &near, &ids);
-    const __m256 taken = _mm256_and_ps(near, _mm256_castsi256_ps(accept.mask(ids)));
+    __m256i keys;
+    load(c, j, px, py, pz, &near, &keys);
+    const __m256 taken = _mm256_and_ps(near, _mm256_castsi256_ps(accept.mask(keys)));
     return __builtin_popcount(unsigned(_mm256_movemask_ps(taken)) & kFirstLanes[n]);
   }
   template <class Accept2>
   STVL_AVX2 static void count2(const Counter& c, std::size_t j, std::uint32_t n, float px, float py, float pz,
                                const Accept2& accept, int* safe, int* any) {
     __m256 near;
-    __m256i ids, s, a;
-    load(c, j, px, py, pz, &near, &ids);
-    accept.mask(ids, &s, &a);
+    __m256i keys, s, a;
+    load(c, j, px, py, pz, &near, &keys);
+    accept.mask(keys, &s, &a);
     *safe += __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(s)))) & kFirstLanes[n]);
     *any += __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(a)))) & kFirstLanes[n]);
   }
-  // Lanes within r of (px, py, pz), and the walk ids, of candidates j .. j + 7 (reads 8 even when the block
+  // Lanes within r of (px, py, pz), and the keys, of candidates j .. j + 7 (reads 8 even when the block
   // holds fewer: the padding keeps that inside the array, kFirstLanes masks them out).
-  STVL_AVX2 static void load(const Counter& c, std::size_t j, float px, float py, float pz, __m256* near, __m256i* ids) {
+  STVL_AVX2 static void load(const Counter& c, std::size_t j, float px, float py, float pz, __m256* near, __m256i* keys) {
     // Two candidates per load; transposed, lanes 0..7 hold candidates 0 2 4 6 1 3 5 7.
     const float* f = reinterpret_cast<const float*>(c.candidates + j);
     const __m256 a0 = _mm256_loadu_ps(f), a1 = _mm256_loadu_ps(f + 8), a2 = _mm256_loadu_ps(f + 16),
@@ -253,7 +253,7 @@ struct Avx2Block {
     const __m256 xs = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
     const __m256 ys = _mm256_castpd_ps(_mm256_unpackhi_pd(_mm256_castps_pd(t0), _mm256_castps_pd(t2)));
     const __m256 zs = _mm256_castpd_ps(_mm256_unpacklo_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
-    *ids = _mm256_castpd_si256(_mm256_unpackhi_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
+    *keys = _mm256_castpd_si256(_mm256_unpackhi_pd(_mm256_castps_pd(t1), _mm256_castps_pd(t3)));
     const __m256 dx = _mm256_sub_ps(_mm256_set1_ps(px), xs);
     const __m256 dy = _mm256_sub_ps(_mm256_set1_ps(py), ys);
     const __m256 dz = _mm256_sub_ps(_mm256_set1_ps(pz), zs);
@@ -814,10 +814,11 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   for_each_bit(w.sparse, [&](std::uint32_t j) { settle(w, j, never); });
   w.unsure.clear();
   for (std::size_t k = 0; k < w.sure.size(); ++k) {
-    const std::uint64_t valid = k + 1 < w.sure.size() || order_size % 64 == 0 ? ~std::uint64_t{0}
-                                                                               : (std::uint64_t{1} << (order_size % 64)) - 1;
-    for (std::uint64_t word = ~(w.sure[k] | w.sparse[k]) & valid; word != 0; word &= word - 1)
-      w.unsure.push_back(static_cast<std::uint32_t>(k * 64 + std::size_t(__builtin_ctzll(word))));
+    for (std::uint64_t word = ~(w.sure[k] | w.sparse[k]); word != 0; word &= word - 1) {
+      const std::size_t j = k * 64 + std::size_t(__builtin_ctzll(word));
+      if (j >= order_size) break;  // the last word's unused bits
+      w.unsure.push_back(static_cast<std::uint32_t>(j));
+    }
   }
   w.unsure_points.resize(w.unsure.size());
   for (std::size_t k = 0; k < w.unsure.size(); ++k) w.unsure_points[k] = w.points[std::uint32_t(w.order[w.unsure[k]])];
