@@ -112,14 +112,14 @@ ObservationSource bench_source() {
   ObservationSource source;
   source.marking = true;
   source.clearing = true;
-  source.obstacle_range = kMaxRange;
-  source.min_obstacle_height = 0.05;
-  source.max_obstacle_height = 2.0;
-  source.horizontal_fov_angle = kHorizontalFov;
-  source.vertical_fov_angle = kVerticalFov;
-  source.min_z = kMinRange;
-  source.max_z = kMaxRange;
-  source.decay_acceleration = 1.0;
+  source.obstacle_range_m = kMaxRange;
+  source.min_obstacle_height_m = 0.05;
+  source.max_obstacle_height_m = 2.0;
+  source.horizontal_fov_rad = kHorizontalFov;
+  source.vertical_fov_rad = kVerticalFov;
+  source.min_z_m = kMinRange;
+  source.max_z_m = kMaxRange;
+  source.decay_acceleration_per_s3 = 1.0;
   return source;
 }
 
@@ -130,7 +130,7 @@ std::vector<Voxel> prefill(std::size_t count, double voxel_size) {
   const int x0 = static_cast<int>(std::floor(-20.0 / voxel_size));
   for (std::size_t i = 0; i < count; ++i) {
     const int ix = static_cast<int>(i % 100), iy = static_cast<int>((i / 100) % 100), iz = static_cast<int>(i / 10000);
-    voxels.push_back({Eigen::Vector3i(x0 + ix, iy - 50, iz), 0.0});
+    voxels.push_back({{x0 + ix, iy - 50, iz}, 0.0});
   }
   return voxels;
 }
@@ -139,7 +139,7 @@ std::vector<Voxel> prefill(std::size_t count, double voxel_size) {
 
 void MapBenchOptions::validate() const {
   StvlConfig config;
-  config.voxel_size = voxel_size;
+  config.voxel_size_m = voxel_size_m;
   config.validate();
   if (frames < 1 || frames > 100000) throw std::invalid_argument("frames = " + std::to_string(frames) + " must lie in [1, 100000]");
   if (sizes.empty()) throw std::invalid_argument("sizes is empty");
@@ -192,7 +192,7 @@ MapBenchResult run_map_bench(const MapBenchOptions& options) {
   std::vector<SyntheticFrame> frames;
   double total_points = 0.0;
   for (int f = 0; f < options.frames; ++f) {
-    frames.push_back(synthetic_corridor_frame(options.seed, f, options.voxel_size));
+    frames.push_back(synthetic_corridor_frame(options.seed, f, options.voxel_size_m));
     total_points += static_cast<double>(frames.back().points_W.cols());
   }
   result.points_per_frame = total_points / options.frames;
@@ -201,9 +201,9 @@ MapBenchResult run_map_bench(const MapBenchOptions& options) {
   for (std::size_t size : options.sizes) {
     MapBenchRow row;
     row.prefilled_voxels = size;
-    const std::vector<Voxel> fill = prefill(size, options.voxel_size);
+    const std::vector<Voxel> fill = prefill(size, options.voxel_size_m);
     StvlConfig config;
-    config.voxel_size = options.voxel_size;
+    config.voxel_size_m = options.voxel_size_m;
     VoxelMap ours(config);
     config.clearing_walk = ClearingWalk::kFullWalk;
     VoxelMap full(config);
@@ -214,7 +214,7 @@ MapBenchResult run_map_bench(const MapBenchOptions& options) {
     std::vector<double> mark, clear, full_clear, ray_clear, ray_mark, octomap_insert;
 #ifdef STVL_HAVE_OCTOMAP
     result.have_octomap = options.octomap;
-    octomap::OcTree octree(options.voxel_size);
+    octomap::OcTree octree(options.voxel_size_m);
 #endif
     for (const SyntheticFrame& frame : frames) {
       const std::vector<ClearingObservation> obs = {{frame.T_world_camera, source, &frame.points_W}};
@@ -255,7 +255,7 @@ MapBenchResult run_map_bench(const MapBenchOptions& options) {
 void print_map_bench(const MapBenchResult& r, std::ostream& out) {
   const auto flags = out.flags();
   out << std::fixed << std::setprecision(3);
-  out << "map-bench: voxel_size " << r.options.voxel_size << " m, " << r.options.frames << " frames, "
+  out << "map-bench: voxel_size " << r.options.voxel_size_m << " m, " << r.options.frames << " frames, "
       << std::setprecision(0) << r.points_per_frame << " points/frame (424x240 D435-like, voxel-filtered), seed "
       << r.options.seed << ", "
       << (r.options.threads > 0 ? std::to_string(r.options.threads) : std::string("all")) << " threads\n"

@@ -12,7 +12,7 @@
 namespace stvl::mapping {
 
 struct MapBenchOptions {
-  double voxel_size = 0.05;
+  double voxel_size_m = 0.05;
   int frames = 60;
   std::vector<std::size_t> sizes = {10'000, 100'000, 1'000'000};  // pre-filled voxels outside the view
   std::uint64_t seed = 1;
@@ -28,7 +28,7 @@ struct SyntheticFrame {
   Eigen::Isometry3d T_world_camera;  // optical frame
   double time_s = 0.0;
 };
-SyntheticFrame synthetic_corridor_frame(std::uint64_t seed, int frame, double voxel_size);
+SyntheticFrame synthetic_corridor_frame(std::uint64_t seed, int frame, double voxel_size_m);
 
 struct MapBenchRow {
   std::size_t prefilled_voxels = 0;

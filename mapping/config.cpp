@@ -53,10 +53,10 @@ ClearingWalk parse_clearing_walk(const std::string& text) {
 std::string to_string(ClearingWalk walk) { return walk == ClearingWalk::kBounded ? "bounded" : "full_walk"; }
 
 void StvlConfig::validate() const {
-  require_finite("voxel_size", voxel_size);
-  if (!(voxel_size >= 0.01 && voxel_size <= 1.0)) reject("voxel_size", voxel_size, "must lie in [0.01, 1.0] m");
-  require_finite("voxel_decay", voxel_decay);
-  if (voxel_decay < 0.0) reject("voxel_decay", voxel_decay, "must be >= 0 s");
+  require_finite("voxel_size", voxel_size_m);
+  if (!(voxel_size_m >= 0.01 && voxel_size_m <= 1.0)) reject("voxel_size", voxel_size_m, "must lie in [0.01, 1.0] m");
+  require_finite("voxel_decay", voxel_decay_s);
+  if (voxel_decay_s < 0.0) reject("voxel_decay", voxel_decay_s, "must be >= 0 s");
   const int model = static_cast<int>(decay_model);
   if (model != 0 && model != 1 && model != -1) reject("decay_model", model, "must be linear, exponential or persistent");
   if (mark_threshold < 0) reject("mark_threshold", mark_threshold, "must be >= 0");
@@ -69,26 +69,26 @@ void StvlConfig::validate() const {
 }
 
 void ObservationSource::validate() const {
-  require_finite("obstacle_range", obstacle_range);
-  if (obstacle_range <= 0.0) reject("obstacle_range", obstacle_range, "must be > 0 m");
-  require_finite("min_obstacle_height", min_obstacle_height);
-  require_finite("max_obstacle_height", max_obstacle_height);
-  if (min_obstacle_height > max_obstacle_height)
-    reject("min_obstacle_height", min_obstacle_height,
-           "must be <= max_obstacle_height = " + std::to_string(max_obstacle_height));
+  require_finite("obstacle_range", obstacle_range_m);
+  if (obstacle_range_m <= 0.0) reject("obstacle_range", obstacle_range_m, "must be > 0 m");
+  require_finite("min_obstacle_height", min_obstacle_height_m);
+  require_finite("max_obstacle_height", max_obstacle_height_m);
+  if (min_obstacle_height_m > max_obstacle_height_m)
+    reject("min_obstacle_height", min_obstacle_height_m,
+           "must be <= max_obstacle_height = " + std::to_string(max_obstacle_height_m));
   constexpr double kPi = 3.14159265358979323846;
-  require_finite("horizontal_fov_angle", horizontal_fov_angle);
-  if (!(horizontal_fov_angle > 0.0 && horizontal_fov_angle < kPi))
-    reject("horizontal_fov_angle", horizontal_fov_angle, "must lie in (0, pi) rad");
-  require_finite("vertical_fov_angle", vertical_fov_angle);
-  if (!(vertical_fov_angle > 0.0 && vertical_fov_angle < kPi))
-    reject("vertical_fov_angle", vertical_fov_angle, "must lie in (0, pi) rad");
-  require_finite("min_z", min_z);
-  require_finite("max_z", max_z);
-  if (min_z < 0.0) reject("min_z", min_z, "must be >= 0 m");
-  if (min_z >= max_z) reject("min_z", min_z, "must be < max_z = " + std::to_string(max_z));
-  require_finite("decay_acceleration", decay_acceleration);
-  if (decay_acceleration < 0.0) reject("decay_acceleration", decay_acceleration, "must be >= 0");
+  require_finite("horizontal_fov_angle", horizontal_fov_rad);
+  if (!(horizontal_fov_rad > 0.0 && horizontal_fov_rad < kPi))
+    reject("horizontal_fov_angle", horizontal_fov_rad, "must lie in (0, pi) rad");
+  require_finite("vertical_fov_angle", vertical_fov_rad);
+  if (!(vertical_fov_rad > 0.0 && vertical_fov_rad < kPi))
+    reject("vertical_fov_angle", vertical_fov_rad, "must lie in (0, pi) rad");
+  require_finite("min_z", min_z_m);
+  require_finite("max_z", max_z_m);
+  if (min_z_m < 0.0) reject("min_z", min_z_m, "must be >= 0 m");
+  if (min_z_m >= max_z_m) reject("min_z", min_z_m, "must be < max_z = " + std::to_string(max_z_m));
+  require_finite("decay_acceleration", decay_acceleration_per_s3);
+  if (decay_acceleration_per_s3 < 0.0) reject("decay_acceleration", decay_acceleration_per_s3, "must be >= 0");
 }
 
 }  // namespace stvl::mapping

@@ -32,10 +32,10 @@ std::string to_string(ClearingWalk walk);
 struct StvlConfig {
   // Accepted range [0.01, 1.0] m (STVL's usable range is 0.02..0.2): below 1 cm one 10 m frustum holds
   // over 10^9 voxels; above 1 m the map is useless for a ground robot.
-  double voxel_size = 0.05;
+  double voxel_size_m = 0.05;        // YAML voxel_size
   // STVL declares -1.0 (which makes linear voxels expire at once); negative values are rejected here and
   // the default is the 15 s used in STVL's example configuration.
-  double voxel_decay = 15.0;
+  double voxel_decay_s = 15.0;       // YAML voxel_decay
   DecayModel decay_model = DecayModel::kLinear;
   // A costmap cell is lethal where its column holds >= max(mark_threshold, 1) voxels (STVL compares
   // count >= mark_threshold over columns that hold at least one voxel, so 0 behaves like 1).
@@ -54,14 +54,15 @@ struct StvlConfig {
 struct ObservationSource {
   bool marking = true;
   bool clearing = false;
-  double obstacle_range = 2.5;         // points farther than this from the optical centre are not marked
-  double min_obstacle_height = 0.0;    // world z band for marking, inclusive
-  double max_obstacle_height = 3.0;
-  double horizontal_fov_angle = 1.04;  // full angle, (0, pi)
-  double vertical_fov_angle = 0.7;     // full angle, (0, pi)
-  double min_z = 0.0;                  // frustum near plane along the optical axis, >= 0
-  double max_z = 10.0;                 // frustum far plane (and the ray-cast clearing range)
-  double decay_acceleration = 0.0;     // >= 0, 1/s^3
+  // Field (YAML key): meaning.
+  double obstacle_range_m = 2.5;         // obstacle_range: points farther than this from the optical centre are not marked
+  double min_obstacle_height_m = 0.0;    // min_obstacle_height: world z band for marking, inclusive
+  double max_obstacle_height_m = 3.0;    // max_obstacle_height
+  double horizontal_fov_rad = 1.04;      // horizontal_fov_angle: full angle, (0, pi)
+  double vertical_fov_rad = 0.7;         // vertical_fov_angle: full angle, (0, pi)
+  double min_z_m = 0.0;                  // min_z: frustum near plane along the optical axis, >= 0
+  double max_z_m = 10.0;                 // max_z: frustum far plane (and the ray-cast clearing range)
+  double decay_acceleration_per_s3 = 0.0;  // decay_acceleration: >= 0, 1/s^3
 
   void validate() const;
 };

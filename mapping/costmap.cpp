@@ -4,13 +4,13 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "mapping/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 
 namespace stvl::mapping {
 
 std::optional<std::uint8_t> Costmap2D::at_world(double x, double y) const {
-  const double fx = std::floor((x - origin_x) / resolution);
-  const double fy = std::floor((y - origin_y) / resolution);
+  const double fx = std::floor((x - origin_m.x()) / resolution_m);
+  const double fy = std::floor((y - origin_m.y()) / resolution_m);
   if (!(fx >= 0 && fy >= 0 && fx < width && fy < height)) return std::nullopt;
   return at(static_cast<int>(fx), static_cast<int>(fy));
 }
@@ -38,8 +38,8 @@ void write_costmap(const Costmap2D& costmap, const std::string& base_path) {
   yaml.precision(17);
   yaml << "image: " << image_name << "\n"
        << "mode: trinary\n"
-       << "resolution: " << costmap.resolution << "\n"
-       << "origin: [" << costmap.origin_x << ", " << costmap.origin_y << ", 0.0]\n"
+       << "resolution: " << costmap.resolution_m << "\n"
+       << "origin: [" << costmap.origin_m.x() << ", " << costmap.origin_m.y() << ", 0.0]\n"
        << "negate: 0\n"
        << "occupied_thresh: 0.65\n"
        << "free_thresh: 0.196\n";

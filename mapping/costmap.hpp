@@ -16,21 +16,20 @@ constexpr std::uint8_t kCostLethal = 254;
 constexpr std::uint8_t kCostUnknown = 255;
 
 struct CostmapOptions {
-  double resolution = 0.0;                        // m per cell; 0 = the map's voxel_size
+  double resolution_m = 0.0;                      // per cell; 0 = the map's voxel size
   std::optional<Eigen::AlignedBox2d> bounds_W;    // x/y extent; default: the occupied voxels' extent
   // Voxels count toward a column when their centre z lies in this band (inclusive).
-  double min_obstacle_height = -std::numeric_limits<double>::infinity();
-  double max_obstacle_height = std::numeric_limits<double>::infinity();
+  double min_obstacle_height_m = -std::numeric_limits<double>::infinity();
+  double max_obstacle_height_m = std::numeric_limits<double>::infinity();
 };
 
-// Cell (ix, iy) covers [origin_x + ix*resolution, +resolution) x [origin_y + iy*resolution, +resolution);
+// Cell (ix, iy) covers [origin_m.x + ix*resolution_m, +resolution_m) x [origin_m.y + iy*resolution_m, +resolution_m);
 // cells are row-major with row 0 at the lowest y.
 struct Costmap2D {
   int width = 0;
   int height = 0;
-  double resolution = 0.05;
-  double origin_x = 0.0;
-  double origin_y = 0.0;
+  double resolution_m = 0.05;
+  Eigen::Vector2d origin_m = Eigen::Vector2d::Zero();  // world x, y of cell (0, 0)'s corner
   std::vector<std::uint8_t> cells;
 
   std::uint8_t at(int ix, int iy) const { return cells.at(static_cast<std::size_t>(iy) * width + ix); }

@@ -16,24 +16,24 @@ void validate_pose(const Eigen::Isometry3d& T_world_camera) {
 }
 
 DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, const ObservationSource& source)
-    : DepthCameraFrustum(T_world_camera, source.horizontal_fov_angle, source.vertical_fov_angle, source.min_z,
-                         source.max_z) {}
+    : DepthCameraFrustum(T_world_camera, source.horizontal_fov_rad, source.vertical_fov_rad, source.min_z_m,
+                         source.max_z_m) {}
 
-DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, double horizontal_fov_angle,
-                                       double vertical_fov_angle, double min_z, double max_z) {
+DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, double horizontal_fov_rad,
+                                       double vertical_fov_rad, double min_z_m, double max_z_m) {
   ObservationSource check;
-  check.horizontal_fov_angle = horizontal_fov_angle;
-  check.vertical_fov_angle = vertical_fov_angle;
-  check.min_z = min_z;
-  check.max_z = max_z;
+  check.horizontal_fov_rad = horizontal_fov_rad;
+  check.vertical_fov_rad = vertical_fov_rad;
+  check.min_z_m = min_z_m;
+  check.max_z_m = max_z_m;
   check.validate();
   validate_pose(T_world_camera);
 
-  const double ch = std::cos(horizontal_fov_angle / 2), sh = std::sin(horizontal_fov_angle / 2);
-  const double cv = std::cos(vertical_fov_angle / 2), sv = std::sin(vertical_fov_angle / 2);
+  const double ch = std::cos(horizontal_fov_rad / 2), sh = std::sin(horizontal_fov_rad / 2);
+  const double cv = std::cos(vertical_fov_rad / 2), sv = std::sin(vertical_fov_rad / 2);
   const std::array<Eigen::Vector4d, 6> planes_C = {
-      Eigen::Vector4d(0, 0, 1, -min_z),   // near
-      Eigen::Vector4d(0, 0, -1, max_z),   // far
+      Eigen::Vector4d(0, 0, 1, -min_z_m),   // near
+      Eigen::Vector4d(0, 0, -1, max_z_m),   // far
       Eigen::Vector4d(-ch, 0, sh, 0),     // right: x <= z tan(h/2)
       Eigen::Vector4d(ch, 0, sh, 0),      // left
       Eigen::Vector4d(0, -cv, sv, 0),     // bottom (y down)
@@ -45,8 +45,8 @@ DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, 
     const Eigen::Vector3d n_W = R * planes_C[i].head<3>();
     planes_W_[i] << n_W, planes_C[i][3] - n_W.dot(t);
   }
-  const double th = std::tan(horizontal_fov_angle / 2), tv = std::tan(vertical_fov_angle / 2);
-  for (double z : {min_z, max_z})
+  const double th = std::tan(horizontal_fov_rad / 2), tv = std::tan(vertical_fov_rad / 2);
+  for (double z : {min_z_m, max_z_m})
     for (double sx : {-1.0, 1.0})
       for (double sy : {-1.0, 1.0}) bounds_W_.extend(T_world_camera * Eigen::Vector3d(sx * z * th, sy * z * tv, z));
 }

@@ -12,8 +12,8 @@ namespace stvl::mapping {
 class DepthCameraFrustum {
  public:
   // Throws std::invalid_argument for bad FOV/range or a non-finite pose.
-  DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, double horizontal_fov_angle,
-                     double vertical_fov_angle, double min_z, double max_z);
+  DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, double horizontal_fov_rad,
+                     double vertical_fov_rad, double min_z_m, double max_z_m);
   DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, const ObservationSource& source);
 
   // Boundary points count as inside.

@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   CLI::App app{"map-bench: per-frame mark/clear cost of the STVL voxel map vs map size"};
   stvl::mapping::MapBenchOptions options;
   bool no_octomap = false;
-  app.add_option("--voxel-size", options.voxel_size, "voxel size in m");
+  app.add_option("--voxel-size", options.voxel_size_m, "voxel size in m");
   app.add_option("--frames", options.frames, "synthetic frames per map size");
   app.add_option("--sizes", options.sizes, "pre-filled voxel counts")->delimiter(',');
   app.add_option("--seed", options.seed, "seed of the synthetic frames");

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <set>
@@ -20,7 +21,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "mapping/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "mapping/frustum.hpp"
 
 namespace stvl::mapping {
@@ -58,7 +59,7 @@ struct CentreBox {
 
 struct Frustum {
   DepthCameraFrustum shape;
-  double decay_acceleration;
+  double decay_acceleration_per_s3;
 };
 
 void ensure_openvdb_initialized() {
@@ -84,8 +85,8 @@ struct VoxelMap::Impl {
     ensure_openvdb_initialized();
     grid = GridT::create(kBackground);
     grid->setName(kGridName);
-    auto transform = openvdb::math::Transform::createLinearTransform(config.voxel_size);
-    transform->postTranslate(openvdb::Vec3d(config.voxel_size / 2));
+    auto transform = openvdb::math::Transform::createLinearTransform(config.voxel_size_m);
+    transform->postTranslate(openvdb::Vec3d(config.voxel_size_m / 2));
     grid->setTransform(transform);
   }
 
@@ -102,23 +103,23 @@ struct VoxelMap::Impl {
   }
 
   bool to_key(const Eigen::Vector3d& p_W, Coord& key) const {
-    const Eigen::Vector3d scaled = (p_W / config.voxel_size).array().floor();
+    const Eigen::Vector3d scaled = (p_W / config.voxel_size_m).array().floor();
     if (!(scaled.cwiseAbs().maxCoeff() < kMaxIndex)) return false;
     key = Coord(static_cast<int>(scaled.x()), static_cast<int>(scaled.y()), static_cast<int>(scaled.z()));
     return true;
   }
 
   Eigen::Vector3d centre(const Coord& c) const {
-    return Eigen::Vector3d(c.x() + 0.5, c.y() + 0.5, c.z() + 0.5) * config.voxel_size;
+    return Eigen::Vector3d(c.x() + 0.5, c.y() + 0.5, c.z() + 0.5) * config.voxel_size_m;
   }
 
   double base_time_left(double age) const {
     switch (config.decay_model) {
-      case DecayModel::kLinear: return config.voxel_decay - age;
-      case DecayModel::kExponential: return config.voxel_decay * std::exp(-age);
-      case DecayModel::kPersistent: return config.voxel_decay;
+      case DecayModel::kLinear: return config.voxel_decay_s - age;
+      case DecayModel::kExponential: return config.voxel_decay_s * std::exp(-age);
+      case DecayModel::kPersistent: return config.voxel_decay_s;
     }
-    return config.voxel_decay;
+    return config.voxel_decay_s;
   }
 
   void schedule(const Coord& leaf, double due) {
@@ -145,7 +146,7 @@ struct VoxelMap::Impl {
     for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
       double oldest = std::numeric_limits<double>::infinity();
       for (auto v = leaf->cbeginValueOn(); v; ++v) oldest = std::min(oldest, *v);
-      if (std::isfinite(oldest)) schedule(leaf->origin(), oldest + config.voxel_decay);
+      if (std::isfinite(oldest)) schedule(leaf->origin(), oldest + config.voxel_decay_s);
     }
   }
 
@@ -183,7 +184,7 @@ struct VoxelMap::Impl {
       const Eigen::Vector3d c = centre(it.getCoord());
       for (const Frustum& f : frustums) {
         if (!f.shape.contains(c)) continue;
-        const double acceleration = f.decay_acceleration * age * age * age / 6.0;
+        const double acceleration = f.decay_acceleration_per_s3 * age * age * age / 6.0;
         if (base - acceleration < 0.0) {
           it.setValueOff();
           return true;
@@ -214,7 +215,7 @@ struct VoxelMap::Impl {
 
   void frustum_pass(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats) {
     if (frustums.empty()) return;
-    const CentreBox box_of{config.voxel_size};
+    const CentreBox box_of{config.voxel_size_m};
     auto meets_any = [&](const openvdb::CoordBBox& box) {
       const Eigen::AlignedBox3d box_W = box_of(box);
       for (const Frustum& f : frustums)
@@ -246,7 +247,7 @@ struct VoxelMap::Impl {
       if (leaf->isEmpty())
         emptied.push_back(leaf->origin());
       else if (indexed)
-        schedule(leaf->origin(), oldest + config.voxel_decay);
+        schedule(leaf->origin(), oldest + config.voxel_decay_s);
     }
     delete_empty_leaves(emptied);
   }
@@ -254,7 +255,7 @@ struct VoxelMap::Impl {
   void expiry_pass(double time_s, ClearStats& stats) {
     if (!uses_expiry_index()) return;
     // Slack so that rounding in value + voxel_decay never hides a voxel the full walk would remove.
-    const double due_limit = time_s + 1e-9 * (1.0 + std::abs(time_s) + config.voxel_decay);
+    const double due_limit = time_s + 1e-9 * (1.0 + std::abs(time_s) + config.voxel_decay_s);
     std::vector<Coord> due_leaves;
     auto it = due_queue.begin();
     for (; it != due_queue.end() && it->first <= due_limit; ++it) {
@@ -271,7 +272,7 @@ struct VoxelMap::Impl {
       double oldest = std::numeric_limits<double>::infinity();
       for (auto v = leaf->beginValueOn(); v; ++v) {
         ++stats.voxels_visited;
-        if (time_s - *v > config.voxel_decay) {
+        if (time_s - *v > config.voxel_decay_s) {
           v.setValueOff();
           ++stats.voxels_removed;
         } else {
@@ -281,7 +282,7 @@ struct VoxelMap::Impl {
       if (leaf->isEmpty())
         emptied.push_back(origin);
       else
-        schedule(origin, oldest + config.voxel_decay);
+        schedule(origin, oldest + config.voxel_decay_s);
     }
     delete_empty_leaves(emptied);
   }
@@ -425,7 +426,7 @@ struct VoxelMap::Impl {
 
   void raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats) {
     std::vector<Coord> touched;
-    const double inv = 1.0 / config.voxel_size;
+    const double inv = 1.0 / config.voxel_size_m;
     struct Walked {
       std::vector<RayHit> hits;
       std::size_t visited = 0;
@@ -437,8 +438,8 @@ struct VoxelMap::Impl {
       Coord start;
       if (!to_key(origin_W, start)) continue;
       const Eigen::Matrix3Xf& points = *obs.points_W;
-      const double max_range_sq = obs.source.max_z * obs.source.max_z;
-      const LeafTable table = leaf_table_around(s, start, static_cast<int>(std::ceil(obs.source.max_z * inv)) + 1);
+      const double max_range_sq = obs.source.max_z_m * obs.source.max_z_m;
+      const LeafTable table = leaf_table_around(s, start, static_cast<int>(std::ceil(obs.source.max_z_m * inv)) + 1);
       // Rays only read the tree (in parallel, one accessor per chunk); the voxels they pass are cleared after.
       tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
                         [&](const tbb::blocked_range<Eigen::Index>& range) {
@@ -449,7 +450,7 @@ struct VoxelMap::Impl {
           if (!p.allFinite()) continue;
           const double length_sq = (p - origin_W).squaredNorm();
           if (length_sq < 1e-18) continue;
-          if (length_sq > max_range_sq) p = origin_W + (p - origin_W) * (obs.source.max_z / std::sqrt(length_sq));
+          if (length_sq > max_range_sq) p = origin_W + (p - origin_W) * (obs.source.max_z_m / std::sqrt(length_sq));
           Coord end;
           if (!to_key(p, end)) continue;
           // Every block nearer than free_radius is empty: skip that part of the ray (or all of it).
@@ -493,7 +494,7 @@ VoxelMap::VoxelMap(VoxelMap&&) noexcept = default;
 VoxelMap& VoxelMap::operator=(VoxelMap&&) noexcept = default;
 
 const StvlConfig& VoxelMap::config() const { return impl_->config; }
-double VoxelMap::voxel_size_m() const { return impl_->config.voxel_size; }
+double VoxelMap::voxel_size_m() const { return impl_->config.voxel_size_m; }
 
 std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isometry3d& T_world_camera,
                            const ObservationSource& source, double time_s) {
@@ -502,9 +503,9 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
   impl_->check_time(time_s);
   if (!source.marking) return 0;
   const Eigen::Vector3d origin_W = T_world_camera.translation();
-  const double range_sq = source.obstacle_range * source.obstacle_range;
+  const double range_sq = source.obstacle_range_m * source.obstacle_range_m;
   const bool indexed = impl_->uses_expiry_index();
-  const double due = time_s + impl_->config.voxel_decay;
+  const double due = time_s + impl_->config.voxel_decay_s;
   auto accessor = impl_->grid->getAccessor();
   Coord last_leaf(std::numeric_limits<int>::max());
   std::size_t marked = 0;
@@ -513,7 +514,7 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
     if (!p.allFinite()) continue;
     const double distance_sq = (p - origin_W).squaredNorm();
     if (distance_sq > range_sq || distance_sq < kMinMarkDistanceSq) continue;
-    if (p.z() < source.min_obstacle_height || p.z() > source.max_obstacle_height) continue;
+    if (p.z() < source.min_obstacle_height_m || p.z() > source.max_obstacle_height_m) continue;
     Coord key;
     if (!impl_->to_key(p, key)) continue;
     accessor.setValueOn(key, time_s);
@@ -544,7 +545,7 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
   std::vector<Frustum> frustums;
   if (impl_->config.clearing_mode == ClearingMode::kFrustum) {
     for (const ClearingObservation& obs : clearing)
-      frustums.push_back({DepthCameraFrustum(obs.T_world_camera, obs.source), obs.source.decay_acceleration});
+      frustums.push_back({DepthCameraFrustum(obs.T_world_camera, obs.source), obs.source.decay_acceleration_per_s3});
   } else {
     impl_->raycast_pass(clearing, stats);
   }
@@ -560,16 +561,16 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
 std::size_t VoxelMap::size() const { return impl_->grid->activeVoxelCount(); }
 std::size_t VoxelMap::leaf_count() const { return impl_->grid->tree().leafCount(); }
 
-Eigen::Vector3i VoxelMap::key_of(const Eigen::Vector3d& p_W) const {
+VoxelKey VoxelMap::key_of(const Eigen::Vector3d& p_W) const {
   Coord key;
   if (!p_W.allFinite() || !impl_->to_key(p_W, key))
     throw std::invalid_argument("point (" + std::to_string(p_W.x()) + ", " + std::to_string(p_W.y()) + ", " +
                                 std::to_string(p_W.z()) + ") has no voxel key");
-  return Eigen::Vector3i(key.x(), key.y(), key.z());
+  return {key.x(), key.y(), key.z()};
 }
 
-Eigen::Vector3d VoxelMap::center_of(const Eigen::Vector3i& key) const {
-  return impl_->centre(Coord(key.x(), key.y(), key.z()));
+Eigen::Vector3d VoxelMap::center_of(const VoxelKey& key) const {
+  return impl_->centre(Coord(key.x, key.y, key.z));
 }
 
 std::optional<double> VoxelMap::lookup(const Eigen::Vector3d& p_W) const {
@@ -585,16 +586,14 @@ std::vector<Voxel> VoxelMap::voxels() const {
   out.reserve(size());
   for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
     const Coord c = it.getCoord();
-    out.push_back({Eigen::Vector3i(c.x(), c.y(), c.z()), *it});
+    out.push_back({{c.x(), c.y(), c.z()}, *it});
   }
-  std::sort(out.begin(), out.end(), [](const Voxel& a, const Voxel& b) {
-    return std::lexicographical_compare(a.key.data(), a.key.data() + 3, b.key.data(), b.key.data() + 3);
-  });
+  std::sort(out.begin(), out.end(), [](const Voxel& a, const Voxel& b) { return a.key < b.key; });
   return out;
 }
 
-std::vector<Eigen::Vector3i> VoxelMap::voxel_keys() const {
-  std::vector<Eigen::Vector3i> keys;
+std::vector<VoxelKey> VoxelMap::voxel_keys() const {
+  std::vector<VoxelKey> keys;
   for (const Voxel& v : voxels()) keys.push_back(v.key);
   return keys;
 }
@@ -612,35 +611,35 @@ void VoxelMap::set_voxels(const std::vector<Voxel>& voxels) {
   auto accessor = impl_->grid->getAccessor();
   const bool indexed = impl_->uses_expiry_index();
   for (const Voxel& v : voxels) {
-    const Coord key(v.key.x(), v.key.y(), v.key.z());
+    const Coord key(v.key.x, v.key.y, v.key.z);
     accessor.setValueOn(key, v.time_s);
     impl_->latest_time_s = std::max(impl_->latest_time_s, v.time_s);
-    if (indexed) impl_->schedule(leaf_origin(key), v.time_s + impl_->config.voxel_decay);
+    if (indexed) impl_->schedule(leaf_origin(key), v.time_s + impl_->config.voxel_decay_s);
   }
 }
 
 Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
-  const double resolution = options.resolution == 0.0 ? impl_->config.voxel_size : options.resolution;
+  const double resolution = options.resolution_m == 0.0 ? impl_->config.voxel_size_m : options.resolution_m;
   if (!std::isfinite(resolution) || resolution <= 0.0)
-    throw std::invalid_argument("costmap resolution = " + std::to_string(options.resolution) + " must be > 0");
-  if (std::isnan(options.min_obstacle_height) || std::isnan(options.max_obstacle_height) ||
-      options.min_obstacle_height > options.max_obstacle_height)
-    throw std::invalid_argument("costmap min_obstacle_height = " + std::to_string(options.min_obstacle_height) +
-                                " must be <= max_obstacle_height = " + std::to_string(options.max_obstacle_height));
+    throw std::invalid_argument("costmap resolution = " + std::to_string(options.resolution_m) + " must be > 0");
+  if (std::isnan(options.min_obstacle_height_m) || std::isnan(options.max_obstacle_height_m) ||
+      options.min_obstacle_height_m > options.max_obstacle_height_m)
+    throw std::invalid_argument("costmap min_obstacle_height = " + std::to_string(options.min_obstacle_height_m) +
+                                " must be <= max_obstacle_height = " + std::to_string(options.max_obstacle_height_m));
   std::vector<Eigen::Vector2d> columns;
   for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
     const Eigen::Vector3d c = impl_->centre(it.getCoord());
-    if (c.z() < options.min_obstacle_height || c.z() > options.max_obstacle_height) continue;
+    if (c.z() < options.min_obstacle_height_m || c.z() > options.max_obstacle_height_m) continue;
     columns.push_back(c.head<2>());
   }
   Costmap2D map;
-  map.resolution = resolution;
+  map.resolution_m = resolution;
   if (options.bounds_W) {
     const Eigen::AlignedBox2d& b = *options.bounds_W;
     if (!b.min().allFinite() || !b.max().allFinite() || (b.max() - b.min()).minCoeff() < 0.0)
       throw std::invalid_argument("costmap bounds_W must be finite with min <= max");
-    map.origin_x = b.min().x();
-    map.origin_y = b.min().y();
+    map.origin_m.x() = b.min().x();
+    map.origin_m.y() = b.min().y();
     const double w = std::max(1.0, std::ceil((b.max().x() - b.min().x()) / resolution - 1e-9));
     const double h = std::max(1.0, std::ceil((b.max().y() - b.min().y()) / resolution - 1e-9));
     if (!(w * h <= 1e8)) throw std::invalid_argument("costmap of " + std::to_string(w) + " x " + std::to_string(h) + " cells is too large");
@@ -655,15 +654,15 @@ Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
     const Eigen::Vector2d hi = (extent.max() / resolution).array().floor();
     const Eigen::Vector2d cells = (hi - lo).array() + 1.0;
     if (!(cells.prod() <= 1e8)) throw std::invalid_argument("costmap over the map's extent is too large; give bounds_W");
-    map.origin_x = lo.x() * resolution;
-    map.origin_y = lo.y() * resolution;
+    map.origin_m.x() = lo.x() * resolution;
+    map.origin_m.y() = lo.y() * resolution;
     map.width = static_cast<int>(hi.x() - lo.x()) + 1;
     map.height = static_cast<int>(hi.y() - lo.y()) + 1;
   }
   std::vector<int> counts(static_cast<std::size_t>(map.width) * map.height, 0);
   for (const auto& c : columns) {
-    const double fx = std::floor((c.x() - map.origin_x) / resolution);
-    const double fy = std::floor((c.y() - map.origin_y) / resolution);
+    const double fx = std::floor((c.x() - map.origin_m.x()) / resolution);
+    const double fy = std::floor((c.y() - map.origin_m.y()) / resolution);
     if (fx < 0 || fy < 0 || fx >= map.width || fy >= map.height) continue;
     ++counts[static_cast<std::size_t>(fy) * map.width + static_cast<std::size_t>(fx)];
   }
@@ -677,27 +676,23 @@ void VoxelMap::save_vdb(const std::string& path) const {
   const StvlConfig& c = impl_->config;
   GridT::Ptr out = impl_->grid->copy();  // shares the tree; metadata is the copy's own
   out->setName(kGridName);
-  out->insertMeta("voxel_size", openvdb::DoubleMetadata(c.voxel_size));
-  out->insertMeta("voxel_decay", openvdb::DoubleMetadata(c.voxel_decay));
+  out->insertMeta("voxel_size", openvdb::DoubleMetadata(c.voxel_size_m));
+  out->insertMeta("voxel_decay", openvdb::DoubleMetadata(c.voxel_decay_s));
   out->insertMeta("decay_model", openvdb::StringMetadata(to_string(c.decay_model)));
   out->insertMeta("mark_threshold", openvdb::Int32Metadata(c.mark_threshold));
   out->insertMeta("clearing_mode", openvdb::StringMetadata(to_string(c.clearing_mode)));
   out->insertMeta("clearing_walk", openvdb::StringMetadata(to_string(c.clearing_walk)));
   out->insertMeta("expiry_leaves_per_update", openvdb::Int64Metadata(static_cast<openvdb::Int64>(c.expiry_leaves_per_update)));
   out->insertMeta("latest_time_s", openvdb::DoubleMetadata(impl_->latest_time_s));
-  const std::string temp = path + ".tmp";
-  try {
-    openvdb::io::File file(temp);
-    file.write(openvdb::GridCPtrVec{out});
-    file.close();
-  } catch (const openvdb::Exception& e) {
-    std::remove(temp.c_str());
-    throw std::runtime_error("cannot write '" + path + "': " + e.what());
-  }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    std::remove(temp.c_str());
-    throw std::runtime_error("cannot rename '" + temp + "' to '" + path + "'");
-  }
+  write_via_temporary(path, [&](const std::filesystem::path& temp) {
+    try {
+      openvdb::io::File file(temp.string());
+      file.write(openvdb::GridCPtrVec{out});
+      file.close();
+    } catch (const openvdb::Exception& e) {
+      throw std::runtime_error("cannot write '" + path + "': " + e.what());
+    }
+  });
 }
 
 VoxelMap VoxelMap::load_vdb(const std::string& path) {
@@ -724,8 +719,8 @@ VoxelMap VoxelMap::load_vdb(const std::string& path) {
       return m ? m->value() : fallback;
     };
     if (!grid->getMetadata<openvdb::DoubleMetadata>("voxel_size")) throw std::invalid_argument("voxel_size metadata missing");
-    config.voxel_size = meta_double("voxel_size", config.voxel_size);
-    config.voxel_decay = meta_double("voxel_decay", config.voxel_decay);
+    config.voxel_size_m = meta_double("voxel_size", config.voxel_size_m);
+    config.voxel_decay_s = meta_double("voxel_decay", config.voxel_decay_s);
     config.decay_model = parse_decay_model(meta_string("decay_model", to_string(config.decay_model)));
     if (auto m = grid->getMetadata<openvdb::Int32Metadata>("mark_threshold")) config.mark_threshold = m->value();
     config.clearing_mode = parse_clearing_mode(meta_string("clearing_mode", to_string(config.clearing_mode)));
@@ -734,9 +729,9 @@ VoxelMap VoxelMap::load_vdb(const std::string& path) {
       config.expiry_leaves_per_update = static_cast<std::size_t>(std::max<openvdb::Int64>(m->value(), 0));
     config.validate();
     const double transform_size = grid->voxelSize().x();
-    if (std::abs(transform_size - config.voxel_size) > 1e-9 * config.voxel_size)
+    if (std::abs(transform_size - config.voxel_size_m) > 1e-9 * config.voxel_size_m)
       throw std::invalid_argument("transform voxel size " + std::to_string(transform_size) +
-                                  " differs from voxel_size metadata " + std::to_string(config.voxel_size));
+                                  " differs from voxel_size metadata " + std::to_string(config.voxel_size_m));
     VoxelMap map(config);
     map.impl_->latest_time_s = meta_double("latest_time_s", -std::numeric_limits<double>::infinity());
     for (auto it = grid->cbeginValueOn(); it; ++it)

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "common/voxel_key.hpp"
 #include "mapping/config.hpp"
 #include "mapping/costmap.hpp"
 
@@ -37,7 +38,7 @@ struct ClearingObservation {
 };
 
 struct Voxel {
-  Eigen::Vector3i key;
+  VoxelKey key;
   double time_s;
 };
 
@@ -73,9 +74,9 @@ class VoxelMap {
   std::size_t size() const;  // active voxels
   bool empty() const { return size() == 0; }
   std::optional<double> lookup(const Eigen::Vector3d& p_W) const;  // time of the voxel holding p_W
-  Eigen::Vector3i key_of(const Eigen::Vector3d& p_W) const;
-  Eigen::Vector3d center_of(const Eigen::Vector3i& key) const;
-  std::vector<Eigen::Vector3i> voxel_keys() const;  // sorted lexicographically (x, y, z)
+  VoxelKey key_of(const Eigen::Vector3d& p_W) const;
+  Eigen::Vector3d center_of(const VoxelKey& key) const;
+  std::vector<VoxelKey> voxel_keys() const;  // sorted lexicographically (x, y, z)
   std::vector<Voxel> voxels() const;                // sorted by key
   Eigen::Matrix3Xf voxel_centers() const;           // in voxel_keys() order
   std::size_t leaf_count() const;

@@ -1,12 +1,12 @@
 #include "sensors/depth_image.hpp"
 
-#include <png.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
+
+#include "common/png.hpp"
 
 namespace stvl::sensors {
 namespace {
@@ -26,39 +26,6 @@ void check_matches(const DepthImage& image, const CameraIntrinsics& intrinsics) 
     throw std::invalid_argument("depth_to_cloud: image " + std::to_string(image.width) + "x" +
                                 std::to_string(image.height) + " does not match intrinsics " +
                                 std::to_string(intrinsics.width) + "x" + std::to_string(intrinsics.height));
-  }
-}
-
-// rows: height pointers to rows of bytes; bit_depth 8 (RGB) or 16 (grey, host order converted here).
-void write_png(const std::string& path, int width, int height, int bit_depth, int color_type,
-               const std::vector<unsigned char>& data, size_t row_bytes) {
-  const std::string tmp = path + ".tmp";
-  FILE* file = std::fopen(tmp.c_str(), "wb");
-  if (!file) throw std::runtime_error("cannot open " + tmp + " for writing");
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info || setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    std::fclose(file);
-    std::remove(tmp.c_str());
-    throw std::runtime_error("libpng failed writing " + tmp);
-  }
-  png_init_io(png, file);
-  png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), bit_depth, color_type, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_set_compression_level(png, 1);
-  png_write_info(png, info);
-  for (int v = 0; v < height; ++v) png_write_row(png, const_cast<png_bytep>(data.data() + size_t(v) * row_bytes));
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  const bool write_failed = std::ferror(file) != 0;
-  if (std::fclose(file) != 0 || write_failed) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("write error on " + tmp);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot rename " + tmp + " to " + path);
   }
 }
 
@@ -110,15 +77,12 @@ Eigen::Matrix3Xf depth_to_cloud(const DepthImage& image, const CameraIntrinsics&
 
 void write_depth_png_mm(const DepthImage& image, const std::string& path) {
   check_image(image);
-  const size_t row_bytes = size_t(image.width) * 2;
-  std::vector<unsigned char> data(row_bytes * image.height);
+  std::vector<std::uint16_t> mm(image.depth_m.size());
   for (size_t i = 0; i < image.depth_m.size(); ++i) {
     const float z = image.depth_m[i];
-    const long mm = (z > 0.0f && std::isfinite(z)) ? std::min(65535L, std::lround(double(z) * 1000.0)) : 0L;
-    data[2 * i] = static_cast<unsigned char>(mm >> 8);  // PNG stores 16-bit samples big-endian
-    data[2 * i + 1] = static_cast<unsigned char>(mm & 0xff);
+    mm[i] = static_cast<std::uint16_t>((z > 0.0f && std::isfinite(z)) ? std::min(65535L, std::lround(double(z) * 1000.0)) : 0L);
   }
-  write_png(path, image.width, image.height, 16, PNG_COLOR_TYPE_GRAY, data, row_bytes);
+  write_png(path, image.width, image.height, PngFormat::kGray16, mm.data(), 1);
 }
 
 void write_depth_png_colorized(const DepthImage& image, const std::string& path, double min_m, double max_m) {
@@ -133,34 +97,13 @@ void write_depth_png_colorized(const DepthImage& image, const std::string& path,
     const float z = image.depth_m[i];
     if (z > 0.0f && std::isfinite(z)) turbo((z - min_m) / (max_m - min_m), &data[3 * i]);
   }
-  write_png(path, image.width, image.height, 8, PNG_COLOR_TYPE_RGB, data, row_bytes);
+  write_png(path, image.width, image.height, PngFormat::kRgb8, data.data(), 1);
 }
 
 DepthImage read_depth_png_mm(const std::string& path) {
-  FILE* file = std::fopen(path.c_str(), "rb");
-  if (!file) throw std::runtime_error("cannot open " + path);
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info || setjmp(png_jmpbuf(png))) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    std::fclose(file);
-    throw std::runtime_error("libpng failed reading " + path);
-  }
-  png_init_io(png, file);
-  png_read_info(png, info);
-  if (png_get_bit_depth(png, info) != 16 || png_get_color_type(png, info) != PNG_COLOR_TYPE_GRAY) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    std::fclose(file);
-    throw std::runtime_error(path + " is not a 16-bit grey PNG");
-  }
-  DepthImage image(int(png_get_image_width(png, info)), int(png_get_image_height(png, info)));
-  std::vector<unsigned char> row(size_t(image.width) * 2);
-  for (int v = 0; v < image.height; ++v) {
-    png_read_row(png, row.data(), nullptr);
-    for (int u = 0; u < image.width; ++u) image.at(u, v) = float((row[2 * u] << 8) | row[2 * u + 1]) * 0.001f;
-  }
-  png_destroy_read_struct(&png, &info, nullptr);
-  std::fclose(file);
+  const Gray16Image png = read_png_gray16(path);
+  DepthImage image(png.width, png.height);
+  for (size_t i = 0; i < png.pixels.size(); ++i) image.depth_m[i] = float(png.pixels[i]) * 0.001f;
   return image;
 }
 

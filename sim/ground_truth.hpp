@@ -23,7 +23,7 @@
 
 #include <Eigen/Geometry>
 
-#include "sim/voxel_key.hpp"
+#include "common/voxel_key.hpp"
 #include "sim/world.hpp"
 
 namespace stvl::sim {

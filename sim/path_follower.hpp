@@ -10,6 +10,13 @@
 
 namespace stvl::sim {
 
+// A planar pose in the world frame: position and heading (yaw about z, counter-clockwise from +x).
+struct Pose2D {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double yaw_rad = 0.0;
+};
+
 struct Path {
   std::vector<Eigen::Vector2d> waypoints_W;
   double cruise_speed_mps = 0.5;

@@ -19,8 +19,8 @@ Simulator::Simulator(World world, SimulatorConfig config)
   robot_.set_camera_mount(config_.camera_mount);
 }
 
-void Simulator::set_start_pose(double x_m, double y_m, double yaw_rad) {
-  robot_.set_pose(x_m, y_m, yaw_rad);
+void Simulator::set_start_pose(const Pose2D& pose_W) {
+  robot_.set_pose(pose_W.x_m, pose_W.y_m, pose_W.yaw_rad);
   odometry_ = WheelOdometry(robot_.wheel_radius_m(), robot_.track_width_m(), config_.odometry);
 }
 

@@ -31,7 +31,7 @@ class Simulator {
   Simulator& operator=(const Simulator&) = delete;
 
   // Places the robot at rest and restarts odometry (T_odom_base = identity here).
-  void set_start_pose(double x_m, double y_m, double yaw_rad);
+  void set_start_pose(const Pose2D& pose_W);
   void set_path(const Path& path);
   bool path_finished() const { return follower_.finished(); }
   void set_mocap_tracks(std::vector<MocapTrack> tracks);

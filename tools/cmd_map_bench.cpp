@@ -15,7 +15,7 @@ struct MapBenchCli {
 const stvl::tools::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("map-bench", "per-frame mark/clear cost of the voxel map vs map size, with peers");
   auto cli = std::make_shared<MapBenchCli>();
-  cmd->add_option("--voxel-size", cli->options.voxel_size, "voxel size in m");
+  cmd->add_option("--voxel-size", cli->options.voxel_size_m, "voxel size in m");
   cmd->add_option("--frames", cli->options.frames, "synthetic frames per map size");
   cmd->add_option("--sizes", cli->options.sizes, "pre-filled voxel counts, comma separated")->delimiter(',');
   cmd->add_option("--seed", cli->options.seed, "seed of the synthetic frames");

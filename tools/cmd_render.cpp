@@ -7,7 +7,7 @@
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
 #include "sim/simulator.hpp"
-#include "tools/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "tools/command.hpp"
 #include "tools/scenario.hpp"
 

@@ -9,10 +9,10 @@
 namespace stvl::tools {
 namespace {
 
-using sim::CellKey;
-using sim::CellSet;
-using sim::VoxelKey;
-using sim::VoxelSet;
+using stvl::CellKey;
+using stvl::CellSet;
+using stvl::VoxelKey;
+using stvl::VoxelSet;
 
 // Within tol (Chebyshev) of a member; the key itself first, the usual hit.
 bool near_voxel(const VoxelSet& set, const VoxelKey& k, int tol) {
@@ -38,18 +38,18 @@ bool is_mocap(const sim::World& world, int body_id) { return world.model()->body
 
 sim::VoxelizeOptions voxelize_options(const Scenario& s) {
   sim::VoxelizeOptions options;
-  options.voxel_size_m = s.map.voxel_size;
-  options.bounds_W = Eigen::AlignedBox3d(Eigen::Vector3d(-1e6, -1e6, s.source.min_obstacle_height),
-                                         Eigen::Vector3d(1e6, 1e6, s.source.max_obstacle_height));
+  options.voxel_size_m = s.map.voxel_size_m;
+  options.bounds_W = Eigen::AlignedBox3d(Eigen::Vector3d(-1e6, -1e6, s.source.min_obstacle_height_m),
+                                         Eigen::Vector3d(1e6, 1e6, s.source.max_obstacle_height_m));
   return options;
 }
 
 // The voxels [min_obstacle_height, max_obstacle_height] maps to in the z direction; truth voxels outside
 // the map's marking band are dropped so they do not count as misses.
 bool in_band(const VoxelKey& k, const Scenario& s) {
-  const double zc = (k.z + 0.5) * s.map.voxel_size;
-  return zc >= s.source.min_obstacle_height - 0.5 * s.map.voxel_size &&
-         zc <= s.source.max_obstacle_height + 0.5 * s.map.voxel_size;
+  const double zc = (k.z + 0.5) * s.map.voxel_size_m;
+  return zc >= s.source.min_obstacle_height_m - 0.5 * s.map.voxel_size_m &&
+         zc <= s.source.max_obstacle_height_m + 0.5 * s.map.voxel_size_m;
 }
 
 DistanceStats distance_stats(std::vector<double> d) {
@@ -69,7 +69,7 @@ DistanceStats distance_stats(std::vector<double> d) {
 }  // namespace
 
 Evaluator::Evaluator(const sim::World& world, const Scenario& scenario)
-    : scenario_(&scenario), voxel_m_(scenario.map.voxel_size) {
+    : scenario_(&scenario), voxel_m_(scenario.map.voxel_size_m) {
   refresh_truth(world);
 }
 
@@ -96,7 +96,7 @@ void Evaluator::refresh_truth(const sim::World& world) {
     for (const auto& body : static_bodies_) static_truth_.insert(body.voxels.begin(), body.voxels.end());
     for (std::size_t b = 0; b < static_bodies_.size(); ++b)
       for (const auto& k : static_bodies_[b].voxels) static_body_of_.emplace(k, static_cast<int>(b));
-    for (const auto& body : sim::footprints(statics, voxel_m_, s.source.min_obstacle_height, s.source.max_obstacle_height))
+    for (const auto& body : sim::footprints(statics, voxel_m_, s.source.min_obstacle_height_m, s.source.max_obstacle_height_m))
       static_footprint_.insert(body.cells.begin(), body.cells.end());
   }
   dynamic_bodies_ = in_band_only(sim::voxelize_bodies(dynamic_geoms_, voxelize_options(s)));
@@ -132,10 +132,10 @@ void Evaluator::observe(double time_s, const sensors::DepthImage& clean_depth,
       const float z = clean_depth.at(u, v);
       if (!(z > 0.0f)) continue;
       const Eigen::Vector3f p_C = z * sensors::pixel_ray_C(intrinsics, u, v).cast<float>();
-      if (p_C.norm() > s.source.obstacle_range) continue;
+      if (p_C.norm() > s.source.obstacle_range_m) continue;
       const Eigen::Vector3d p_W = (T * p_C).cast<double>();
-      if (p_W.z() < s.source.min_obstacle_height || p_W.z() > s.source.max_obstacle_height) continue;
-      const VoxelKey key = sim::voxel_key(p_W, voxel_m_);
+      if (p_W.z() < s.source.min_obstacle_height_m || p_W.z() > s.source.max_obstacle_height_m) continue;
+      const VoxelKey key = stvl::voxel_key(p_W, voxel_m_);
       if (have_last && key == last) continue;
       have_last = true;
       last = key;
@@ -155,7 +155,7 @@ void Evaluator::observe_clearing(double time_s, const sim::World& world, const s
   const Eigen::Isometry3d T_camera_world = T_world_camera.inverse();
   for (const VoxelKey& k : vacated_) {
     if (seen_through_.count(k) || near_truth(k)) continue;
-    const Eigen::Vector3d c_W = sim::voxel_center(k, voxel_m_);
+    const Eigen::Vector3d c_W = stvl::voxel_center(k, voxel_m_);
     if (!map.lookup(c_W)) continue;
     const Eigen::Vector3d p_C = T_camera_world * c_W;
     const auto pixel = sensors::project_to_pixel(intrinsics, p_C);
@@ -169,7 +169,7 @@ void Evaluator::observe_clearing(double time_s, const sim::World& world, const s
 
 void Evaluator::after_update(double time_s, const mapping::VoxelMap& map) {
   for (auto it = seen_through_.begin(); it != seen_through_.end();) {
-    if (map.lookup(sim::voxel_center(it->first, voxel_m_))) {
+    if (map.lookup(stvl::voxel_center(it->first, voxel_m_))) {
       ++it;
       continue;
     }
@@ -186,23 +186,23 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   snap.time_s = time_s;
 
   VoxelSet mapped;
-  for (const auto& k : map.voxel_keys()) mapped.insert({k.x(), k.y(), k.z()});
+  for (const auto& k : map.voxel_keys()) mapped.insert(k);
   snap.mapped_voxels = mapped.size();
   // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so each distance tests a few geoms.
   constexpr double kCell = 1.0, kReach = 0.5;
-  std::unordered_map<CellKey, std::vector<int>, sim::CellKeyHash> geoms_near;
+  std::unordered_map<CellKey, std::vector<int>, stvl::CellKeyHash> geoms_near;
   std::vector<Eigen::AlignedBox3d> boxes;
   for (std::size_t g = 0; g < geoms_.size(); ++g) {
     boxes.push_back(geoms_[g].aabb_W());
-    const auto lo = sim::cell_key(boxes.back().min().head<2>().array() - kReach, kCell);
-    const auto hi = sim::cell_key(boxes.back().max().head<2>().array() + kReach, kCell);
+    const auto lo = stvl::cell_key(boxes.back().min().head<2>().array() - kReach, kCell);
+    const auto hi = stvl::cell_key(boxes.back().max().head<2>().array() + kReach, kCell);
     for (int x = lo.x; x <= hi.x; ++x)
       for (int y = lo.y; y <= hi.y; ++y) geoms_near[{x, y}].push_back(static_cast<int>(g));
   }
   for (const auto& k : mapped) {
     if (near_truth(k)) ++snap.matched_mapped;
-    const Eigen::Vector3d c = sim::voxel_center(k, voxel_m_);
-    const auto bucket = geoms_near.find(sim::cell_key(c.head<2>(), kCell));
+    const Eigen::Vector3d c = stvl::voxel_center(k, voxel_m_);
+    const auto bucket = geoms_near.find(stvl::cell_key(c.head<2>(), kCell));
     double best = std::numeric_limits<double>::infinity();
     const auto consider = [&](int g) {
       if (boxes[g].exteriorDistance(c) < best) best = std::min(best, std::abs(geoms_[g].signed_distance_m(c)));
@@ -219,7 +219,7 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   for (const auto& body : static_bodies_) bodies.push_back(&body);
   for (const auto& body : dynamic_bodies_) bodies.push_back(&body);
   // The first body holding a voxel (static ones first); the static part is built once.
-  std::unordered_map<VoxelKey, int, sim::VoxelKeyHash> dynamic_body_of;
+  std::unordered_map<VoxelKey, int, stvl::VoxelKeyHash> dynamic_body_of;
   for (std::size_t b = static_bodies_.size(); b < bodies.size(); ++b)
     for (const auto& k : bodies[b]->voxels) dynamic_body_of.emplace(k, static_cast<int>(b));
   const auto body_of = [&](const VoxelKey& k) {
@@ -262,20 +262,20 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   // 2D: lethal cells against the true footprints in the band.
   CellSet footprint = static_footprint_;
   for (const auto& body :
-       sim::footprints(dynamic_geoms_, voxel_m_, s.source.min_obstacle_height, s.source.max_obstacle_height))
+       sim::footprints(dynamic_geoms_, voxel_m_, s.source.min_obstacle_height_m, s.source.max_obstacle_height_m))
     footprint.insert(body.cells.begin(), body.cells.end());
   mapping::CostmapOptions options;
-  options.resolution = voxel_m_;
-  options.min_obstacle_height = s.source.min_obstacle_height;
-  options.max_obstacle_height = s.source.max_obstacle_height;
+  options.resolution_m = voxel_m_;
+  options.min_obstacle_height_m = s.source.min_obstacle_height_m;
+  options.max_obstacle_height_m = s.source.max_obstacle_height_m;
   CellSet lethal;
   if (!map.empty()) {
     const auto costmap = map.project_costmap(options);
     for (int iy = 0; iy < costmap.height; ++iy)
       for (int ix = 0; ix < costmap.width; ++ix)
         if (costmap.at(ix, iy) == mapping::kCostLethal)
-          lethal.insert(sim::cell_key({costmap.origin_x + (ix + 0.5) * costmap.resolution,
-                                       costmap.origin_y + (iy + 0.5) * costmap.resolution},
+          lethal.insert(stvl::cell_key({costmap.origin_m.x() + (ix + 0.5) * costmap.resolution_m,
+                                       costmap.origin_m.y() + (iy + 0.5) * costmap.resolution_m},
                                       voxel_m_));
   }
   snap.lethal_cells = lethal.size();
@@ -342,7 +342,7 @@ Eigen::Matrix3Xf Evaluator::truth_voxel_centers() const {
   std::sort(keys.begin(), keys.end());
   Eigen::Matrix3Xf centers(3, static_cast<Eigen::Index>(keys.size()));
   for (std::size_t i = 0; i < keys.size(); ++i)
-    centers.col(static_cast<Eigen::Index>(i)) = sim::voxel_center(keys[i], voxel_m_).cast<float>();
+    centers.col(static_cast<Eigen::Index>(i)) = stvl::voxel_center(keys[i], voxel_m_).cast<float>();
   return centers;
 }
 

@@ -98,7 +98,7 @@ class Evaluator {
   struct TopDown {
     Eigen::AlignedBox2d bounds_W;
     double cell_m = 0.05;
-    std::vector<sim::CellKey> truth, true_positive, false_positive, false_negative;
+    std::vector<stvl::CellKey> truth, true_positive, false_positive, false_negative;
   };
   const TopDown& top_down() const { return top_down_; }
   // Centres of the true surface voxels in the height band, sorted (for the bag's /ground_truth/occupancy).
@@ -106,24 +106,24 @@ class Evaluator {
 
  private:
   void refresh_truth(const sim::World& world);  // statics once, mocap bodies every call
-  bool is_truth(const sim::VoxelKey& k) const;
-  bool near_truth(const sim::VoxelKey& k) const;  // within tolerance_voxels
+  bool is_truth(const stvl::VoxelKey& k) const;
+  bool near_truth(const stvl::VoxelKey& k) const;  // within tolerance_voxels
 
   const Scenario* scenario_;
   double voxel_m_;
   std::vector<sim::ObstacleGeom> geoms_;          // every obstacle geom, current poses
   std::vector<sim::ObstacleGeom> dynamic_geoms_;  // those of mocap bodies
   std::vector<sim::BodyVoxels> static_bodies_;    // voxelized once
-  std::unordered_map<sim::VoxelKey, int, sim::VoxelKeyHash> static_body_of_;  // voxel -> its first static body
-  sim::CellSet static_footprint_;
+  std::unordered_map<stvl::VoxelKey, int, stvl::VoxelKeyHash> static_body_of_;  // voxel -> its first static body
+  stvl::CellSet static_footprint_;
   bool statics_voxelized_ = false;
-  sim::VoxelSet static_truth_, dynamic_truth_;
+  stvl::VoxelSet static_truth_, dynamic_truth_;
   std::vector<sim::BodyVoxels> dynamic_bodies_;
   std::map<std::string, ObstacleResult> obstacles_;
-  std::unordered_map<sim::VoxelKey, double, sim::VoxelKeyHash> last_seen_;
-  std::unordered_map<sim::VoxelKey, double, sim::VoxelKeyHash> seen_through_;  // stale voxel -> first time
-  sim::VoxelSet vacated_;         // every voxel a moving body has occupied (dilated by one)
-  sim::VoxelSet off_truth_keys_;
+  std::unordered_map<stvl::VoxelKey, double, stvl::VoxelKeyHash> last_seen_;
+  std::unordered_map<stvl::VoxelKey, double, stvl::VoxelKeyHash> seen_through_;  // stale voxel -> first time
+  stvl::VoxelSet vacated_;         // every voxel a moving body has occupied (dilated by one)
+  stvl::VoxelSet off_truth_keys_;
   std::vector<double> latencies_s_;
   std::vector<double> distances_m_;
   std::vector<EvaluationSnapshot> snapshots_;

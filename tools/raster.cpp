@@ -1,13 +1,12 @@
 #include "tools/raster.hpp"
 
-#include "tools/atomic_file.hpp"
-
-#include <png.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+
+#include "common/atomic_file.hpp"
+#include "common/png.hpp"
 
 namespace stvl::tools {
 
@@ -60,33 +59,8 @@ void RgbImage::line(int x0, int y0, int x1, int y1, Rgb color) {
   }
 }
 
-namespace {
-void append_to_string(png_structp png, png_bytep data, png_size_t length) {
-  static_cast<std::string*>(png_get_io_ptr(png))->append(reinterpret_cast<const char*>(data), length);
-}
-}  // namespace
-
 std::string encode_png(const RgbImage& image) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!info) {
-    png_destroy_write_struct(&png, nullptr);
-    throw std::runtime_error("libpng: cannot allocate the encoder");
-  }
-  std::string bytes;
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    throw std::runtime_error("libpng: encoding failed");
-  }
-  png_set_write_fn(png, &bytes, append_to_string, nullptr);
-  png_set_IHDR(png, info, image.width(), image.height(), 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  for (int y = 0; y < image.height(); ++y)
-    png_write_row(png, const_cast<png_bytep>(&image.rgb()[static_cast<std::size_t>(y) * image.width() * 3]));
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return bytes;
+  return stvl::encode_png(image.width(), image.height(), PngFormat::kRgb8, image.rgb().data());
 }
 
 void write_png(const std::filesystem::path& path, const RgbImage& image) {

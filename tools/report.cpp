@@ -5,7 +5,7 @@
 #include <numeric>
 #include <sstream>
 
-#include "tools/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "tools/raster.hpp"
 
 namespace stvl::tools {
@@ -66,7 +66,7 @@ RgbImage top_down_image(const RunResult& r) {
   RgbImage image(std::max(1, cells_x * scale), std::max(1, cells_y * scale));
   const auto px = [&](double x) { return static_cast<int>((x - bounds.min().x()) / td.cell_m * scale) + scale; };
   const auto py = [&](double y) { return image.height() - 1 - (static_cast<int>((y - bounds.min().y()) / td.cell_m * scale) + scale); };
-  const auto paint = [&](const std::vector<sim::CellKey>& cells, Rgb color) {
+  const auto paint = [&](const std::vector<stvl::CellKey>& cells, Rgb color) {
     for (const auto& c : cells) {
       const int x = px(c.x * td.cell_m), y = py((c.y + 1) * td.cell_m);
       image.fill_rect(x, y, x + scale - 1, y + scale - 1, color);
@@ -106,7 +106,7 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"interrupted", r.interrupted},
       {"frames", r.frames},
       {"sim_time_s", r.sim_time_s},
-      {"voxel_size_m", r.scenario.map.voxel_size},
+      {"voxel_size_m", r.scenario.map.voxel_size_m},
       {"filter", {{"type", filter::to_string(r.scenario.filter.type)}, {"device", r.filter_device}}},
       {"gl_backend", r.gl_backend},
       {"noise", r.scenario.camera.noise.enabled},
@@ -198,7 +198,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   h << "<h1>" << xml_escape(r.scenario.name) << " <span class=\"" << (r.passed() ? "pass\">PASSED" : "fail\">FAILED")
     << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.seed << ", " << r.frames
     << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s << " s (real-time factor "
-    << r.real_time_factor << "), voxel " << r.scenario.map.voxel_size << " m, filter "
+    << r.real_time_factor << "), voxel " << r.scenario.map.voxel_size_m << " m, filter "
     << filter::to_string(r.scenario.filter.type) << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
     << (r.scenario.camera.noise.enabled ? "on" : "off") << ".</p>\n";
   h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";

@@ -14,7 +14,7 @@
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
 #include "sim/simulator.hpp"
-#include "tools/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "tools/bag_writer.hpp"
 #include "tools/serial_worker.hpp"
 
@@ -260,7 +260,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
         bag->write_points("/stvl/filtered_points", t, kMapFrame, filtered_W);
         if (publish_map) bag->write_points("/stvl/voxel_grid", t, kMapFrame, voxels);
         if (costmap)
-          bag->write_occupancy_grid(t, costmap->resolution, costmap->origin_x, costmap->origin_y, costmap->width,
+          bag->write_occupancy_grid(t, costmap->resolution_m, costmap->origin_m.x(), costmap->origin_m.y(), costmap->width,
                                     costmap->height, occupancy(*costmap));
       });
     }
@@ -304,8 +304,8 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     map.save_ply((out / "map.ply").string());  // deterministic bytes (a .vdb file carries a random UUID)
     if (!map.empty()) {
       mapping::CostmapOptions costmap_options;
-      costmap_options.min_obstacle_height = s.source.min_obstacle_height;
-      costmap_options.max_obstacle_height = s.source.max_obstacle_height;
+      costmap_options.min_obstacle_height_m = s.source.min_obstacle_height_m;
+      costmap_options.max_obstacle_height_m = s.source.max_obstacle_height_m;
       mapping::write_costmap(map.project_costmap(costmap_options), (out / "costmap").string());
     }
   }

@@ -259,17 +259,17 @@ void read_observation(YamlMap o, Scenario& s) {
   std::optional<double> hfov, vfov;
   o.get("marking", src.marking);
   o.get("clearing", src.clearing);
-  o.get("obstacle_range", src.obstacle_range);
-  o.get("min_obstacle_height", src.min_obstacle_height);
-  o.get("max_obstacle_height", src.max_obstacle_height);
+  o.get("obstacle_range", src.obstacle_range_m);
+  o.get("min_obstacle_height", src.min_obstacle_height_m);
+  o.get("max_obstacle_height", src.max_obstacle_height_m);
   get_optional(o, "horizontal_fov_angle", hfov);
   get_optional(o, "vertical_fov_angle", vfov);
-  o.get("min_z", src.min_z);
-  o.get("max_z", src.max_z);
-  o.get("decay_acceleration", src.decay_acceleration);
+  o.get("min_z", src.min_z_m);
+  o.get("max_z", src.max_z_m);
+  o.get("decay_acceleration", src.decay_acceleration_per_s3);
   o.finish();
-  src.horizontal_fov_angle = hfov.value_or(s.camera.intrinsics.hfov_rad());
-  src.vertical_fov_angle = vfov.value_or(s.camera.intrinsics.vfov_rad());
+  src.horizontal_fov_rad = hfov.value_or(s.camera.intrinsics.hfov_rad());
+  src.vertical_fov_rad = vfov.value_or(s.camera.intrinsics.vfov_rad());
   const char* keys[] = {"obstacle_range", "min_obstacle_height", "max_obstacle_height", "horizontal_fov_angle",
                         "vertical_fov_angle", "min_z", "max_z", "decay_acceleration"};
   validate_keys({{keys[0], &o, keys[0]}, {keys[1], &o, keys[1]}, {keys[2], &o, keys[2]}, {keys[3], &o, keys[3]},
@@ -279,8 +279,8 @@ void read_observation(YamlMap o, Scenario& s) {
 
 void read_map(YamlMap map, Scenario& s) {
   auto& m = s.map;
-  map.get("voxel_size", m.voxel_size);
-  map.get("voxel_decay", m.voxel_decay);
+  map.get("voxel_size", m.voxel_size_m);
+  map.get("voxel_decay", m.voxel_decay_s);
   std::string decay = mapping::to_string(m.decay_model), mode = mapping::to_string(m.clearing_mode),
               walk = mapping::to_string(m.clearing_walk);
   map.get("decay_model", decay);
@@ -375,8 +375,8 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   if (root.has("camera")) read_camera(root.map("camera"), s);
   if (root.has("filter")) read_filter(root.map("filter"), s);
   s.source.clearing = true;
-  s.source.horizontal_fov_angle = s.camera.intrinsics.hfov_rad();
-  s.source.vertical_fov_angle = s.camera.intrinsics.vfov_rad();
+  s.source.horizontal_fov_rad = s.camera.intrinsics.hfov_rad();
+  s.source.vertical_fov_rad = s.camera.intrinsics.vfov_rad();
   if (root.has("map")) read_map(root.map("map"), s);
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
@@ -424,7 +424,7 @@ void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
   if (o.memory) override_option("--memory", [&] { r.filter.memory = filter::parse_memory_mode(*o.memory); });
   if (o.voxel_size_m) {
     override_option("--voxel-size", [&] {
-      r.map.voxel_size = *o.voxel_size_m;
+      r.map.voxel_size_m = *o.voxel_size_m;
       r.filter.voxel.voxel_size_m = *o.voxel_size_m;
       r.filter.csnb.voxel_size_m = *o.voxel_size_m;
       r.map.validate();
@@ -442,7 +442,7 @@ void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
 
 std::unique_ptr<sim::Simulator> make_simulator(const Scenario& s) {
   auto sim = std::make_unique<sim::Simulator>(sim::World::from_file(s.world_path), s.sim);
-  sim->set_start_pose(s.start_pose.x(), s.start_pose.y(), s.start_pose.z());
+  sim->set_start_pose(s.start_pose);
   sim->set_path(s.path);
   if (!s.moving_bodies.empty()) sim->set_mocap_tracks(s.moving_bodies);
   return sim;

@@ -56,7 +56,7 @@ struct Scenario {
   double duration_s = 30.0;
   bool stop_at_path_end = true;
   sim::SimulatorConfig sim;
-  Eigen::Vector3d start_pose{0.0, 0.0, 0.0};  // x_m, y_m, yaw_rad
+  sim::Pose2D start_pose;
   sim::Path path;
   std::vector<sim::MocapTrack> moving_bodies;
   CameraConfig camera;

@@ -18,14 +18,14 @@ m::ObservationSource any_source(FuzzedDataProvider& in) {
   s.marking = in.ConsumeIntegralInRange<int>(0, 7) != 0;
   s.clearing = in.ConsumeBool();
   if (in.ConsumeBool()) return s;
-  s.obstacle_range = any_value<double>(in, 0.0, 20.0);
-  s.min_obstacle_height = any_value<double>(in, -1.0, 1.0);
-  s.max_obstacle_height = any_value<double>(in, 0.0, 3.0);
-  s.horizontal_fov_angle = any_value<double>(in, 0.01, 3.2);
-  s.vertical_fov_angle = any_value<double>(in, 0.01, 3.2);
-  s.min_z = any_value<double>(in, 0.0, 1.0);
-  s.max_z = any_value<double>(in, 0.0, 12.0);
-  s.decay_acceleration = any_value<double>(in, 0.0, 100.0);
+  s.obstacle_range_m = any_value<double>(in, 0.0, 20.0);
+  s.min_obstacle_height_m = any_value<double>(in, -1.0, 1.0);
+  s.max_obstacle_height_m = any_value<double>(in, 0.0, 3.0);
+  s.horizontal_fov_rad = any_value<double>(in, 0.01, 3.2);
+  s.vertical_fov_rad = any_value<double>(in, 0.01, 3.2);
+  s.min_z_m = any_value<double>(in, 0.0, 1.0);
+  s.max_z_m = any_value<double>(in, 0.0, 12.0);
+  s.decay_acceleration_per_s3 = any_value<double>(in, 0.0, 100.0);
   return s;
 }
 
@@ -42,8 +42,8 @@ Eigen::Matrix3Xf any_points(FuzzedDataProvider& in) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   FuzzedDataProvider in(data, size);
   m::StvlConfig config;
-  config.voxel_size = in.ConsumeBool() ? 0.05 : any_value<double>(in, 0.01, 1.0);
-  config.voxel_decay = any_value<double>(in, 0.0, 30.0);
+  config.voxel_size_m = in.ConsumeBool() ? 0.05 : any_value<double>(in, 0.01, 1.0);
+  config.voxel_decay_s = any_value<double>(in, 0.0, 30.0);
   config.decay_model = static_cast<m::DecayModel>(in.ConsumeIntegralInRange<int>(-1, 2));
   config.mark_threshold = in.ConsumeIntegralInRange<int>(-1, 4);
   config.clearing_mode = in.ConsumeBool() ? m::ClearingMode::kFrustum : m::ClearingMode::kRaycast;
@@ -87,7 +87,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         }
         case 4: {
           m::CostmapOptions options;
-          if (in.ConsumeBool()) options.resolution = any_value<double>(in, 0.01, 1.0);
+          if (in.ConsumeBool()) options.resolution_m = any_value<double>(in, 0.01, 1.0);
           const auto costmap = map->project_costmap(options);
           if (costmap.width < 1 || costmap.height < 1 || double(costmap.width) * costmap.height > 1e8) std::abort();
           break;

@@ -39,7 +39,7 @@ TEST(DepthCameraFrustum, ContainsFollowsFovAndRange) {
 // C at (0.05, 0.25) with 2 voxels of which one is above the 1 m band.
 VoxelMap layout(int mark_threshold) {
   StvlConfig config;
-  config.voxel_size = 0.1;
+  config.voxel_size_m = 0.1;
   config.mark_threshold = mark_threshold;
   VoxelMap map(config);
   map.set_voxels({{{0, 0, 0}, 1.0}, {{0, 0, 1}, 1.0}, {{0, 0, 2}, 1.0},
@@ -50,12 +50,12 @@ VoxelMap layout(int mark_threshold) {
 
 TEST(Costmap, ProjectsColumnsWithMarkThreshold) {
   CostmapOptions options;
-  options.max_obstacle_height = 1.0;
+  options.max_obstacle_height_m = 1.0;
   const Costmap2D zero = layout(0).project_costmap(options);  // STVL: 0 behaves like 1
   EXPECT_EQ(zero.width, 4);
   EXPECT_EQ(zero.height, 3);
-  EXPECT_DOUBLE_EQ(zero.origin_x, 0.0);
-  EXPECT_DOUBLE_EQ(zero.origin_y, 0.0);
+  EXPECT_DOUBLE_EQ(zero.origin_m.x(), 0.0);
+  EXPECT_DOUBLE_EQ(zero.origin_m.y(), 0.0);
   EXPECT_EQ(zero.at(0, 0), kCostLethal);
   EXPECT_EQ(zero.at(3, 0), kCostLethal);
   EXPECT_EQ(zero.at(0, 2), kCostLethal);
@@ -66,14 +66,14 @@ TEST(Costmap, ProjectsColumnsWithMarkThreshold) {
   EXPECT_EQ(two.at(0, 0), kCostLethal);  // 3 voxels
   EXPECT_EQ(two.at(3, 0), kCostFree);    // 1 voxel
   EXPECT_EQ(two.at(0, 2), kCostFree);    // 2 voxels but one outside the band
-  options.max_obstacle_height = 2.0;
+  options.max_obstacle_height_m = 2.0;
   EXPECT_EQ(layout(2).project_costmap(options).at(0, 2), kCostLethal);
   EXPECT_EQ(layout(3).project_costmap(options).at(0, 2), kCostFree);
   EXPECT_EQ(layout(3).project_costmap(options).at(0, 0), kCostLethal);
 
   CostmapOptions bounded;
   bounded.bounds_W = Eigen::AlignedBox2d(Eigen::Vector2d(-1.0, -1.0), Eigen::Vector2d(1.0, 1.0));
-  bounded.resolution = 0.2;
+  bounded.resolution_m = 0.2;
   const Costmap2D coarse = layout(0).project_costmap(bounded);
   EXPECT_EQ(coarse.width, 10);
   EXPECT_EQ(coarse.height, 10);
@@ -81,7 +81,7 @@ TEST(Costmap, ProjectsColumnsWithMarkThreshold) {
   EXPECT_EQ(coarse.at_world(0.35, 0.05), kCostLethal);
   EXPECT_EQ(coarse.at_world(-0.5, -0.5), kCostFree);
   EXPECT_FALSE(coarse.at_world(1.5, 0.0).has_value());
-  bounded.resolution = -1.0;
+  bounded.resolution_m = -1.0;
   EXPECT_THROW(layout(0).project_costmap(bounded), std::invalid_argument);
 }
 
@@ -94,7 +94,7 @@ std::string read_all(const std::string& path) {
 
 TEST(Costmap, WritesPgmAndMapServerYaml) {
   CostmapOptions options;
-  options.max_obstacle_height = 1.0;
+  options.max_obstacle_height_m = 1.0;
   const Costmap2D map = layout(0).project_costmap(options);
   const std::string base = ::testing::TempDir() + "stvl_costmap_test";
   write_costmap(map, base);

@@ -22,13 +22,13 @@ inline ObservationSource wide_source() {
   ObservationSource source;
   source.marking = true;
   source.clearing = true;
-  source.obstacle_range = 100.0;
-  source.min_obstacle_height = -100.0;
-  source.max_obstacle_height = 100.0;
-  source.horizontal_fov_angle = 1.2;
-  source.vertical_fov_angle = 1.0;
-  source.min_z = 0.1;
-  source.max_z = 10.0;
+  source.obstacle_range_m = 100.0;
+  source.min_obstacle_height_m = -100.0;
+  source.max_obstacle_height_m = 100.0;
+  source.horizontal_fov_rad = 1.2;
+  source.vertical_fov_rad = 1.0;
+  source.min_z_m = 0.1;
+  source.max_z_m = 10.0;
   return source;
 }
 

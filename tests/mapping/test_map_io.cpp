@@ -16,8 +16,8 @@ namespace {
 
 VoxelMap sample_map() {
   StvlConfig config;
-  config.voxel_size = 0.1;
-  config.voxel_decay = 7.5;
+  config.voxel_size_m = 0.1;
+  config.voxel_decay_s = 7.5;
   config.decay_model = DecayModel::kExponential;
   config.mark_threshold = 3;
   VoxelMap map(config);
@@ -31,8 +31,8 @@ TEST(MapIo, VdbRoundTripKeepsKeysTimesAndConfig) {
   map.save_vdb(path);
   const VoxelMap loaded = VoxelMap::load_vdb(path);
   EXPECT_TRUE(test::same_voxels(map.voxels(), loaded.voxels()));
-  EXPECT_EQ(loaded.config().voxel_size, 0.1);
-  EXPECT_EQ(loaded.config().voxel_decay, 7.5);
+  EXPECT_EQ(loaded.config().voxel_size_m, 0.1);
+  EXPECT_EQ(loaded.config().voxel_decay_s, 7.5);
   EXPECT_EQ(loaded.config().decay_model, DecayModel::kExponential);
   EXPECT_EQ(loaded.config().mark_threshold, 3);
   EXPECT_EQ(loaded.lookup({-0.25, 0.45, 0.05}), 1.25);

@@ -21,7 +21,7 @@ constexpr double kExactVoxel = 0.125;  // representable in float, so boundaries 
 
 StvlConfig exact_config() {
   StvlConfig config;
-  config.voxel_size = kExactVoxel;
+  config.voxel_size_m = kExactVoxel;
   return config;
 }
 
@@ -31,9 +31,9 @@ TEST(VoxelMapMark, KeysAtBoundariesAndNegativeCoordinates) {
   map.mark(cloud({{0.125f, 0.1249f, -0.0001f}, {-0.125f, -0.1251f, 0.25f}}), camera, wide_source(), 1.0);
   ASSERT_EQ(map.size(), 2u);
   const auto keys = map.voxel_keys();
-  EXPECT_EQ(keys[0], Eigen::Vector3i(-1, -2, 2));
-  EXPECT_EQ(keys[1], Eigen::Vector3i(1, 0, -1));
-  EXPECT_EQ(map.key_of({-1e-9, 0.0, 0.0}), Eigen::Vector3i(-1, 0, 0));
+  EXPECT_EQ(keys[0], (VoxelKey{-1, -2, 2}));
+  EXPECT_EQ(keys[1], (VoxelKey{1, 0, -1}));
+  EXPECT_EQ(map.key_of({-1e-9, 0.0, 0.0}), (VoxelKey{-1, 0, 0}));
   EXPECT_TRUE(map.center_of({-1, 0, 0}).isApprox(Eigen::Vector3d(-0.0625, 0.0625, 0.0625)));
 
   EXPECT_EQ(map.lookup({0.125, 0.0, -0.125}), 1.0);   // lower corner belongs to the voxel
@@ -51,9 +51,9 @@ TEST(VoxelMapMark, KeysAtBoundariesAndNegativeCoordinates) {
 TEST(VoxelMapMark, SkipsOutOfRangeOutOfBandNonFiniteAndSensorOrigin) {
   VoxelMap map(exact_config());
   ObservationSource source = wide_source();
-  source.obstacle_range = 2.0;
-  source.min_obstacle_height = 0.0;
-  source.max_obstacle_height = 1.0;
+  source.obstacle_range_m = 2.0;
+  source.min_obstacle_height_m = 0.0;
+  source.max_obstacle_height_m = 1.0;
   const auto camera = camera_looking_along_x({0, 0, 0.5});
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
@@ -81,11 +81,11 @@ TEST(VoxelMapMark, SkipsOutOfRangeOutOfBandNonFiniteAndSensorOrigin) {
 bool survives_single_clear(DecayModel model, double voxel_decay, double acceleration, double x, double time_s) {
   StvlConfig config = exact_config();
   config.decay_model = model;
-  config.voxel_decay = voxel_decay;
+  config.voxel_decay_s = voxel_decay;
   VoxelMap map(config);
   const auto camera = camera_looking_along_x({0, 0, 0});
   ObservationSource source = wide_source();
-  source.decay_acceleration = acceleration;
+  source.decay_acceleration_per_s3 = acceleration;
   map.mark(cloud({{static_cast<float>(x), 0.01f, 0.01f}}), camera, source, 0.0);
   map.clear({{camera, source, nullptr}}, time_s);
   return map.lookup({x, 0.01, 0.01}).has_value();
@@ -130,11 +130,11 @@ TEST(VoxelMapDecay, PersistentOnlyExpiresInsideFrustum) {
 
 TEST(VoxelMapDecay, AccelerationClearsInsideBeforeOutside) {
   StvlConfig config = exact_config();
-  config.voxel_decay = 10.0;
+  config.voxel_decay_s = 10.0;
   VoxelMap map(config);
   const auto camera = camera_looking_along_x({0, 0, 0});
   ObservationSource source = wide_source();
-  source.decay_acceleration = 100.0;
+  source.decay_acceleration_per_s3 = 100.0;
   map.mark(cloud({{2.0f, 0.0f, 0.0f}, {-2.0f, 0.0f, 0.0f}, {2.0f, 5.0f, 0.0f}}), camera, source, 0.0);
   map.clear({{camera, source, nullptr}}, 1.5);
   EXPECT_FALSE(map.lookup({2.0, 0.0, 0.0}).has_value());
@@ -142,7 +142,7 @@ TEST(VoxelMapDecay, AccelerationClearsInsideBeforeOutside) {
   EXPECT_TRUE(map.lookup({2.0, 5.0, 0.0}).has_value());   // beside, outside the FOV
   // STVL pulls a surviving voxel's mark back by the acceleration term.
   VoxelMap slow(config);
-  source.decay_acceleration = 6.0;
+  source.decay_acceleration_per_s3 = 6.0;
   slow.mark(cloud({{2.0f, 0.0f, 0.0f}}), camera, source, 0.0);
   slow.clear({{camera, source, nullptr}}, 1.0);
   EXPECT_DOUBLE_EQ(*slow.lookup({2.0, 0.0, 0.0}), -1.0);
@@ -153,7 +153,7 @@ TEST(VoxelMapDecay, NonClearingSourceDoesNotAccelerate) {
   VoxelMap map(config);
   const auto camera = camera_looking_along_x({0, 0, 0});
   ObservationSource source = wide_source();
-  source.decay_acceleration = 100.0;
+  source.decay_acceleration_per_s3 = 100.0;
   source.clearing = false;
   map.mark(cloud({{2.0f, 0.0f, 0.0f}}), camera, source, 0.0);
   map.clear({{camera, source, nullptr}}, 1.5);
@@ -167,7 +167,7 @@ VoxelMap moved_obstacle_map(ClearingMode mode, int updates) {
   VoxelMap map(config);
   const auto camera = camera_looking_along_x({0, 0, 0});
   ObservationSource source = wide_source();
-  source.decay_acceleration = 20.0;
+  source.decay_acceleration_per_s3 = 20.0;
   std::vector<Eigen::Vector3f> obstacle, wall;
   for (float y = -0.5f; y <= 0.5f; y += 0.1f)
     for (float z = -0.3f; z <= 0.3f; z += 0.1f) {
@@ -206,13 +206,13 @@ TEST(VoxelMapClear, RaycastSameMapForAnyThreadCount) {
   auto run = [](int threads, ClearStats& stats) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     StvlConfig config;
-    config.voxel_size = 0.05;
+    config.voxel_size_m = 0.05;
     config.clearing_mode = ClearingMode::kRaycast;
     VoxelMap map(config);
     std::mt19937 rng(3);
     std::uniform_int_distribution<int> kx(10, 80), ky(-30, 30), kz(-20, 20);
     std::vector<Voxel> prefill;
-    for (int i = 0; i < 20000; ++i) prefill.push_back({Eigen::Vector3i(kx(rng), ky(rng), kz(rng)), 0.0});
+    for (int i = 0; i < 20000; ++i) prefill.push_back({{kx(rng), ky(rng), kz(rng)}, 0.0});
     map.set_voxels(prefill);
     std::uniform_real_distribution<float> ex(3.0f, 6.0f), ey(-2.0f, 2.0f), ez(-1.5f, 1.5f);
     std::vector<Eigen::Vector3f> ends;
@@ -260,7 +260,7 @@ TEST(VoxelMapClear, RaycastRespectsMaxZ) {
   config.clearing_mode = ClearingMode::kRaycast;
   VoxelMap map(config);
   ObservationSource source = wide_source();
-  source.max_z = 2.0;
+  source.max_z_m = 2.0;
   const auto camera = camera_looking_along_x({0, 0, 0});
   map.set_voxels({{map.key_of({1.0, 0.01, 0.01}), 0.0}, {map.key_of({3.0, 0.01, 0.01}), 0.0}});
   const Eigen::Matrix3Xf hit = cloud({{5.0f, 0.01f, 0.01f}});
@@ -274,7 +274,7 @@ TEST(VoxelMapClear, RaycastRespectsMaxZ) {
 TEST(VoxelMapClear, BoundedWalkEqualsFullWalkAfterSweepBound) {
   for (ClearingMode mode : {ClearingMode::kFrustum, ClearingMode::kRaycast}) {
     StvlConfig config = exact_config();
-    config.voxel_decay = 3.0;
+    config.voxel_decay_s = 3.0;
     config.expiry_leaves_per_update = 2;
     config.clearing_mode = mode;
     VoxelMap bounded(config);
@@ -288,8 +288,8 @@ TEST(VoxelMapClear, BoundedWalkEqualsFullWalkAfterSweepBound) {
     bounded.set_voxels(seed);
     full.set_voxels(seed);
     ObservationSource source = wide_source();
-    source.decay_acceleration = 2.0;
-    source.max_z = 5.0;
+    source.decay_acceleration_per_s3 = 2.0;
+    source.max_z_m = 5.0;
     std::size_t last_backlog = 0;
     for (int frame = 0; frame < 20; ++frame) {
       const double t = 2.0 + 0.1 * frame;
@@ -319,10 +319,10 @@ TEST(VoxelMapClear, FrustumPassVisitsOnlyNearbyLeaves) {
   VoxelMap map(exact_config());
   std::vector<Voxel> far;
   for (int i = 0; i < 64; ++i)
-    for (int j = 0; j < 64; ++j) far.push_back({Eigen::Vector3i(-400 + i, j, 0), 1.0});
+    for (int j = 0; j < 64; ++j) far.push_back({VoxelKey{-400 + i, j, 0}, 1.0});
   map.set_voxels(far);
   ObservationSource source = wide_source();
-  source.max_z = 3.0;
+  source.max_z_m = 3.0;
   const auto stats = map.clear({{camera_looking_along_x({0, 0, 0}), source, nullptr}}, 1.5);
   EXPECT_EQ(stats.voxels_visited, 0u);
   EXPECT_EQ(map.size(), far.size());
@@ -334,7 +334,7 @@ TEST(VoxelMap, DeterministicForSameInputs) {
     config.expiry_leaves_per_update = 3;
     VoxelMap map(config);
     ObservationSource source = wide_source();
-    source.decay_acceleration = 1.0;
+    source.decay_acceleration_per_s3 = 1.0;
     for (int f = 0; f < 8; ++f) {
       const SyntheticFrame frame = synthetic_corridor_frame(3, f, 0.05);
       map.clear({{frame.T_world_camera, source, &frame.points_W}}, frame.time_s);
@@ -365,12 +365,12 @@ TEST(VoxelMapErrors, BadParametersNameTheField) {
       VoxelMap map(config);
     };
   };
-  expect_message(with_config([](StvlConfig& c) { c.voxel_size = 0.0; }), "voxel_size");
-  expect_message(with_config([](StvlConfig& c) { c.voxel_size = -0.05; }), "voxel_size");
-  expect_message(with_config([](StvlConfig& c) { c.voxel_size = std::nan(""); }), "voxel_size");
-  expect_message(with_config([](StvlConfig& c) { c.voxel_size = 0.001; }), "voxel_size");
-  expect_message(with_config([](StvlConfig& c) { c.voxel_size = 2.0; }), "voxel_size");
-  expect_message(with_config([](StvlConfig& c) { c.voxel_decay = -1.0; }), "voxel_decay");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size_m = 0.0; }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size_m = -0.05; }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size_m = std::nan(""); }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size_m = 0.001; }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_size_m = 2.0; }), "voxel_size");
+  expect_message(with_config([](StvlConfig& c) { c.voxel_decay_s = -1.0; }), "voxel_decay");
   expect_message(with_config([](StvlConfig& c) { c.mark_threshold = -1; }), "mark_threshold");
   expect_message(with_config([](StvlConfig& c) { c.expiry_leaves_per_update = 0; }), "expiry_leaves_per_update");
   expect_message([] { parse_decay_model("3"); }, "decay_model");
@@ -390,15 +390,15 @@ TEST(VoxelMapErrors, BadParametersNameTheField) {
       map.mark(points, camera, source, 1.0);
     };
   };
-  expect_message(with_source([](ObservationSource& s) { s.horizontal_fov_angle = 0.0; }), "horizontal_fov_angle");
-  expect_message(with_source([](ObservationSource& s) { s.horizontal_fov_angle = 3.2; }), "horizontal_fov_angle");
-  expect_message(with_source([](ObservationSource& s) { s.vertical_fov_angle = -1.0; }), "vertical_fov_angle");
-  expect_message(with_source([](ObservationSource& s) { s.min_z = 5.0; s.max_z = 5.0; }), "min_z");
-  expect_message(with_source([](ObservationSource& s) { s.min_z = -0.1; }), "min_z");
-  expect_message(with_source([](ObservationSource& s) { s.max_z = std::numeric_limits<double>::infinity(); }), "max_z");
-  expect_message(with_source([](ObservationSource& s) { s.decay_acceleration = -1.0; }), "decay_acceleration");
-  expect_message(with_source([](ObservationSource& s) { s.obstacle_range = 0.0; }), "obstacle_range");
-  expect_message(with_source([](ObservationSource& s) { s.min_obstacle_height = 2.0; s.max_obstacle_height = 1.0; }),
+  expect_message(with_source([](ObservationSource& s) { s.horizontal_fov_rad = 0.0; }), "horizontal_fov_angle");
+  expect_message(with_source([](ObservationSource& s) { s.horizontal_fov_rad = 3.2; }), "horizontal_fov_angle");
+  expect_message(with_source([](ObservationSource& s) { s.vertical_fov_rad = -1.0; }), "vertical_fov_angle");
+  expect_message(with_source([](ObservationSource& s) { s.min_z_m = 5.0; s.max_z_m = 5.0; }), "min_z");
+  expect_message(with_source([](ObservationSource& s) { s.min_z_m = -0.1; }), "min_z");
+  expect_message(with_source([](ObservationSource& s) { s.max_z_m = std::numeric_limits<double>::infinity(); }), "max_z");
+  expect_message(with_source([](ObservationSource& s) { s.decay_acceleration_per_s3 = -1.0; }), "decay_acceleration");
+  expect_message(with_source([](ObservationSource& s) { s.obstacle_range_m = 0.0; }), "obstacle_range");
+  expect_message(with_source([](ObservationSource& s) { s.min_obstacle_height_m = 2.0; s.max_obstacle_height_m = 1.0; }),
                  "min_obstacle_height");
 
   Eigen::Isometry3d bad_pose = camera;

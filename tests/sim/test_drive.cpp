@@ -83,7 +83,7 @@ double odometry_error_m(const Simulator& sim, const Eigen::Isometry3d& T_world_s
 
 TEST(Odometry, MatchesGroundTruthWithoutDrift) {
   Simulator sim(test::flat_world());
-  sim.set_start_pose(1.0, -0.5, 0.3);
+  sim.set_start_pose({1.0, -0.5, 0.3});
   const Eigen::Isometry3d T_world_start = sim.T_world_base();
   const Path path{{{1.0, -0.5}, {3.0, 0.1}, {3.5, 2.0}}, 0.6};
   ASSERT_TRUE(drive(sim, path, 40.0).finished);
@@ -125,7 +125,7 @@ TEST(Odometry, DriftDivergesAndIsReproducible) {
 
 TEST(CameraMount, MovesOpticalSite) {
   Simulator sim(test::flat_world());
-  sim.set_start_pose(2.0, 1.0, M_PI / 2);
+  sim.set_start_pose({2.0, 1.0, M_PI / 2});
   sim.robot().set_camera_mount({0.9, 0.2, 0.15});
   const Eigen::Isometry3d T = sim.T_world_camera();
   const Eigen::Isometry3d T_base = sim.T_world_base();

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "tools/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "tools/raster.hpp"
 
 namespace stvl::tools {
@@ -248,10 +248,10 @@ TEST(Raster, LongLinesStartingFarOutsideStillCrossTheImage) {
   for (int x = 0; x < 10; ++x) EXPECT_EQ(image.at(x, 3), blue) << x;
 }
 
-class AtomicFile : public ::testing::Test {
+class ReportFiles : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("stvl_atomic_file_" + std::to_string(::getpid()));
+    dir_ = fs::temp_directory_path() / ("stvl_report_files_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -268,48 +268,7 @@ class AtomicFile : public ::testing::Test {
   fs::path dir_;
 };
 
-TEST_F(AtomicFile, WritesAndReplacesLeavingNoTemporary) {
-  const fs::path file = dir_ / "metrics.json";
-  write_file_atomically(file, "first");
-  EXPECT_EQ(read(file), "first");
-  write_file_atomically(file, std::string("second\0binary", 13));
-  EXPECT_EQ(read(file), std::string("second\0binary", 13));
-  EXPECT_EQ(names(), std::vector<std::string>{"metrics.json"});
-}
-
-TEST_F(AtomicFile, UnwritablePathsThrowNamingThePath) {
-  const fs::path missing_dir = dir_ / "no" / "such" / "dir" / "f.txt";
-  try {
-    write_file_atomically(missing_dir, "x");
-    ADD_FAILURE() << "no exception";
-  } catch (const std::runtime_error& e) {
-    EXPECT_THAT(e.what(), HasSubstr(missing_dir.string()));
-  }
-  fs::create_directories(dir_ / "a_directory");
-  try {
-    write_file_atomically(dir_ / "a_directory", "x");
-    ADD_FAILURE() << "no exception";
-  } catch (const std::runtime_error& e) {
-    EXPECT_THAT(e.what(), HasSubstr((dir_ / "a_directory").string()));
-  }
-  EXPECT_TRUE(fs::is_directory(dir_ / "a_directory"));
-  EXPECT_EQ(names(), std::vector<std::string>{"a_directory"});  // no .tmp left behind
-}
-
-TEST_F(AtomicFile, EnsureWritableDirectoryCreatesParentsAndRejectsFiles) {
-  ensure_writable_directory(dir_ / "out" / "frames");
-  EXPECT_TRUE(fs::is_directory(dir_ / "out" / "frames"));
-  EXPECT_TRUE(fs::is_empty(dir_ / "out" / "frames"));
-  write_file_atomically(dir_ / "plain", "x");
-  try {
-    ensure_writable_directory(dir_ / "plain" / "sub");
-    ADD_FAILURE() << "no exception";
-  } catch (const std::runtime_error& e) {
-    EXPECT_THAT(e.what(), HasSubstr((dir_ / "plain" / "sub").string()));
-  }
-}
-
-TEST_F(AtomicFile, WriteReportWritesEveryOutput) {
+TEST_F(ReportFiles, WriteReportWritesEveryOutput) {
   write_report(synthetic_result(), dir_);
   for (const char* name : {"metrics.json", "junit.xml", "report.html", "top_down.png", "timing.png", "quality.png"})
     EXPECT_TRUE(fs::is_regular_file(dir_ / name)) << name;

@@ -208,7 +208,7 @@ TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
     EXPECT_TRUE(c.f1_3d_min || c.iou_3d_min || c.costmap_precision_min || c.costmap_recall_min ||
                 c.all_obstacles_detected || c.phantom_obstacles_max || c.clearing_latency_max_s || c.accuracy_p90_max_m)
         << "a shipped scenario checks nothing";
-    EXPECT_DOUBLE_EQ(s.source.horizontal_fov_angle, s.camera.intrinsics.hfov_rad());
+    EXPECT_DOUBLE_EQ(s.source.horizontal_fov_rad, s.camera.intrinsics.hfov_rad());
   }
   EXPECT_GE(count, 7);
 }
@@ -226,7 +226,9 @@ TEST(ScenarioParse, MinimalScenarioTakesTheDefaults) {
   EXPECT_EQ(s.seed, 1u);
   EXPECT_DOUBLE_EQ(s.duration_s, 30.0);
   EXPECT_TRUE(s.stop_at_path_end);
-  EXPECT_TRUE(s.start_pose.isZero());
+  EXPECT_EQ(s.start_pose.x_m, 0.0);
+  EXPECT_EQ(s.start_pose.y_m, 0.0);
+  EXPECT_EQ(s.start_pose.yaw_rad, 0.0);
   ASSERT_EQ(s.path.waypoints_W.size(), 2u);
   EXPECT_EQ(s.path.waypoints_W[1], Eigen::Vector2d(1, 0));
   EXPECT_DOUBLE_EQ(s.path.cruise_speed_mps, 0.5);
@@ -236,8 +238,8 @@ TEST(ScenarioParse, MinimalScenarioTakesTheDefaults) {
   EXPECT_TRUE(s.camera.noise.enabled);
   EXPECT_EQ(s.filter.type, filter::FilterType::kVoxel);
   EXPECT_EQ(s.filter.device, filter::Device::kAuto);
-  EXPECT_DOUBLE_EQ(s.map.voxel_size, defaults.map.voxel_size);
-  EXPECT_DOUBLE_EQ(s.map.voxel_decay, 15.0);
+  EXPECT_DOUBLE_EQ(s.map.voxel_size_m, defaults.map.voxel_size_m);
+  EXPECT_DOUBLE_EQ(s.map.voxel_decay_s, 15.0);
   EXPECT_TRUE(s.source.marking);
   EXPECT_TRUE(s.source.clearing);
   EXPECT_DOUBLE_EQ(s.evaluation.recall_window_s, 2.0);
@@ -253,9 +255,9 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_EQ(s.seed, 7u);
   EXPECT_DOUBLE_EQ(s.duration_s, 12.5);
   EXPECT_FALSE(s.stop_at_path_end);
-  EXPECT_DOUBLE_EQ(s.start_pose.x(), 1.0);
-  EXPECT_DOUBLE_EQ(s.start_pose.y(), 2.0);
-  EXPECT_NEAR(s.start_pose.z(), M_PI / 2, 1e-12);
+  EXPECT_DOUBLE_EQ(s.start_pose.x_m, 1.0);
+  EXPECT_DOUBLE_EQ(s.start_pose.y_m, 2.0);
+  EXPECT_NEAR(s.start_pose.yaw_rad, M_PI / 2, 1e-12);
   ASSERT_EQ(s.path.waypoints_W.size(), 3u);
   EXPECT_EQ(s.path.waypoints_W[2], Eigen::Vector2d(5, 6));
   EXPECT_DOUBLE_EQ(s.path.cruise_speed_mps, 0.4);
@@ -315,8 +317,8 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_EQ(f.csnb.grid_exponent, 5);
   EXPECT_EQ(f.csnb.seed, 7u);
   const auto& m = s.map;
-  EXPECT_DOUBLE_EQ(m.voxel_size, 0.04);
-  EXPECT_DOUBLE_EQ(m.voxel_decay, 10.0);
+  EXPECT_DOUBLE_EQ(m.voxel_size_m, 0.04);
+  EXPECT_DOUBLE_EQ(m.voxel_decay_s, 10.0);
   EXPECT_EQ(m.decay_model, mapping::DecayModel::kExponential);
   EXPECT_EQ(m.mark_threshold, 2);
   EXPECT_EQ(m.clearing_mode, mapping::ClearingMode::kRaycast);
@@ -326,14 +328,14 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   const auto& o = s.source;
   EXPECT_TRUE(o.marking);
   EXPECT_FALSE(o.clearing);
-  EXPECT_DOUBLE_EQ(o.obstacle_range, 3.5);
-  EXPECT_DOUBLE_EQ(o.min_obstacle_height, 0.05);
-  EXPECT_DOUBLE_EQ(o.max_obstacle_height, 1.8);
-  EXPECT_DOUBLE_EQ(o.horizontal_fov_angle, 1.2);
-  EXPECT_DOUBLE_EQ(o.vertical_fov_angle, 0.8);
-  EXPECT_DOUBLE_EQ(o.min_z, 0.2);
-  EXPECT_DOUBLE_EQ(o.max_z, 5.0);
-  EXPECT_DOUBLE_EQ(o.decay_acceleration, 2.0);
+  EXPECT_DOUBLE_EQ(o.obstacle_range_m, 3.5);
+  EXPECT_DOUBLE_EQ(o.min_obstacle_height_m, 0.05);
+  EXPECT_DOUBLE_EQ(o.max_obstacle_height_m, 1.8);
+  EXPECT_DOUBLE_EQ(o.horizontal_fov_rad, 1.2);
+  EXPECT_DOUBLE_EQ(o.vertical_fov_rad, 0.8);
+  EXPECT_DOUBLE_EQ(o.min_z_m, 0.2);
+  EXPECT_DOUBLE_EQ(o.max_z_m, 5.0);
+  EXPECT_DOUBLE_EQ(o.decay_acceleration_per_s3, 2.0);
   const auto& e = s.evaluation;
   EXPECT_DOUBLE_EQ(e.recall_window_s, 3.0);
   EXPECT_DOUBLE_EQ(e.evaluate_every_s, 0.5);
@@ -537,18 +539,18 @@ TEST(ScenarioParse, PresetsSetTheIntrinsics) {
 
 TEST(ScenarioParse, ClearingFrustumFovDefaultsToTheCamera) {
   const Scenario wide = parse(kMinimal);
-  EXPECT_DOUBLE_EQ(wide.source.horizontal_fov_angle, sensors::CameraIntrinsics::d435_848x480().hfov_rad());
-  EXPECT_DOUBLE_EQ(wide.source.vertical_fov_angle, sensors::CameraIntrinsics::d435_848x480().vfov_rad());
+  EXPECT_DOUBLE_EQ(wide.source.horizontal_fov_rad, sensors::CameraIntrinsics::d435_848x480().hfov_rad());
+  EXPECT_DOUBLE_EQ(wide.source.vertical_fov_rad, sensors::CameraIntrinsics::d435_848x480().vfov_rad());
 
   const Scenario narrow = parse(std::string(kMinimal) + "camera: {preset: d435_640x480}\nmap:\n  observation: {max_z: 4}\n");
-  EXPECT_DOUBLE_EQ(narrow.source.horizontal_fov_angle, sensors::CameraIntrinsics::d435_640x480().hfov_rad());
-  EXPECT_DOUBLE_EQ(narrow.source.vertical_fov_angle, sensors::CameraIntrinsics::d435_640x480().vfov_rad());
-  EXPECT_LT(narrow.source.horizontal_fov_angle, wide.source.horizontal_fov_angle);
-  EXPECT_DOUBLE_EQ(narrow.source.max_z, 4.0);
+  EXPECT_DOUBLE_EQ(narrow.source.horizontal_fov_rad, sensors::CameraIntrinsics::d435_640x480().hfov_rad());
+  EXPECT_DOUBLE_EQ(narrow.source.vertical_fov_rad, sensors::CameraIntrinsics::d435_640x480().vfov_rad());
+  EXPECT_LT(narrow.source.horizontal_fov_rad, wide.source.horizontal_fov_rad);
+  EXPECT_DOUBLE_EQ(narrow.source.max_z_m, 4.0);
 
   const Scenario custom = parse(replace_line(kFull, "    vertical_fov_angle:", "").yaml);
-  EXPECT_DOUBLE_EQ(custom.source.horizontal_fov_angle, 1.2);
-  EXPECT_DOUBLE_EQ(custom.source.vertical_fov_angle, custom.camera.intrinsics.vfov_rad());
+  EXPECT_DOUBLE_EQ(custom.source.horizontal_fov_rad, 1.2);
+  EXPECT_DOUBLE_EQ(custom.source.vertical_fov_rad, custom.camera.intrinsics.vfov_rad());
 }
 
 TEST(ScenarioParse, RelativeWorldPathsResolveAgainstTheScenarioFolder) {
@@ -579,7 +581,7 @@ TEST(ScenarioOverrides, EmptyOverridesChangeNothing) {
   apply_overrides(s, {});
   EXPECT_EQ(s.seed, 7u);
   EXPECT_EQ(s.filter.type, filter::FilterType::kCsnb);
-  EXPECT_DOUBLE_EQ(s.map.voxel_size, 0.04);
+  EXPECT_DOUBLE_EQ(s.map.voxel_size_m, 0.04);
   EXPECT_DOUBLE_EQ(s.duration_s, 12.5);
   EXPECT_FALSE(s.camera.noise.enabled);
 }
@@ -602,14 +604,14 @@ TEST(ScenarioOverrides, EachOverrideChangesWhatItNames) {
   EXPECT_EQ(s.filter.type, filter::FilterType::kVoxel);
   EXPECT_EQ(s.filter.device, filter::Device::kAuto);
   EXPECT_EQ(s.filter.memory, filter::MemoryMode::kManaged);
-  EXPECT_DOUBLE_EQ(s.map.voxel_size, 0.1);
+  EXPECT_DOUBLE_EQ(s.map.voxel_size_m, 0.1);
   EXPECT_DOUBLE_EQ(s.filter.voxel.voxel_size_m, 0.1);
   EXPECT_DOUBLE_EQ(s.filter.csnb.voxel_size_m, 0.1);
   EXPECT_DOUBLE_EQ(s.duration_s, 3.0);
   EXPECT_EQ(s.camera.gl_backend, sensors::GlBackend::kEgl);
   EXPECT_TRUE(s.camera.noise.enabled);
   // Untouched values stay.
-  EXPECT_DOUBLE_EQ(s.map.voxel_decay, 10.0);
+  EXPECT_DOUBLE_EQ(s.map.voxel_decay_s, 10.0);
   EXPECT_EQ(s.camera.intrinsics.width, 320);
 }
 
@@ -634,7 +636,7 @@ TEST(ScenarioOverrides, BadValuesAreRejectedNamingTheOptionAndChangeNothing) {
     Scenario s = parse(kFull);
     EXPECT_THAT(invalid_argument_of([&] { apply_overrides(s, c.overrides); }), HasSubstr(c.expected));
     EXPECT_EQ(s.seed, 7u);
-    EXPECT_DOUBLE_EQ(s.map.voxel_size, 0.04);
+    EXPECT_DOUBLE_EQ(s.map.voxel_size_m, 0.04);
     EXPECT_DOUBLE_EQ(s.filter.voxel.voxel_size_m, 0.04);
     EXPECT_DOUBLE_EQ(s.duration_s, 12.5);
   }

@@ -1,5 +1,5 @@
 #pragma once
-// Integer voxel and cell keys. Voxel index = floor(p / voxel_size_m) per axis: voxel k covers
+// Integer voxel and cell keys, shared by sim/ (ground truth), mapping/ (the map) and evaluation/. Voxel index = floor(p / voxel_size_m) per axis: voxel k covers
 // [k * size, (k + 1) * size) on each axis, so the origin is a voxel corner.
 #include <cmath>
 #include <cstddef>
@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-namespace stvl::sim {
+namespace stvl {
 
 struct VoxelKey {
   std::int32_t x = 0, y = 0, z = 0;
@@ -59,4 +59,4 @@ inline CellKey cell_key(const Eigen::Vector2d& p, double cell_size_m) {
           static_cast<std::int32_t>(std::floor(p.y() / cell_size_m))};
 }
 
-}  // namespace stvl::sim
+}  // namespace stvl
