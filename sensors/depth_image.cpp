@@ -75,14 +75,18 @@ Eigen::Matrix3Xf depth_to_cloud(const DepthImage& image, const CameraIntrinsics&
   return buffer.leftCols(n);
 }
 
-void write_depth_png_mm(const DepthImage& image, const std::string& path) {
-  check_image(image);
+std::vector<std::uint16_t> depth_to_millimetres(const DepthImage& image) {
   std::vector<std::uint16_t> mm(image.depth_m.size());
   for (size_t i = 0; i < image.depth_m.size(); ++i) {
     const float z = image.depth_m[i];
     mm[i] = static_cast<std::uint16_t>((z > 0.0f && std::isfinite(z)) ? std::min(65535L, std::lround(double(z) * 1000.0)) : 0L);
   }
-  write_png(path, image.width, image.height, PngFormat::kGray16, mm.data(), 1);
+  return mm;
+}
+
+void write_depth_png_mm(const DepthImage& image, const std::string& path) {
+  check_image(image);
+  write_png(path, image.width, image.height, PngFormat::kGray16, depth_to_millimetres(image).data(), 1);
 }
 
 void write_depth_png_colorized(const DepthImage& image, const std::string& path, double min_m, double max_m) {

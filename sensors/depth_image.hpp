@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,8 @@ Eigen::Matrix3Xf depth_to_cloud(const DepthImage& image, const CameraIntrinsics&
 // the first `return value` columns are the points.
 Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C);
 
+// Depth in millimetres as realsense2_camera publishes it (16UC1): rounded, saturated at 65535, 0 = invalid.
+std::vector<std::uint16_t> depth_to_millimetres(const DepthImage& image);
 // 16-bit grey PNG in millimetres (rounded, saturated at 65535; 0 = invalid), as realsense2_camera publishes.
 // Written to "<path>.tmp" then renamed. Throws std::runtime_error naming the path on I/O failure.
 void write_depth_png_mm(const DepthImage& image, const std::string& path);

@@ -22,6 +22,8 @@
 #include <system_error>
 #include <utility>
 
+#include "common/enum_names.hpp"
+
 // Debian 12 packages no C++ header for rosgraph_msgs/Clock (libros-rosgraph-msgs-dev is not a dependency), so the
 // message is declared here: md5sum, datatype and definition match rosgraph_msgs/Clock exactly, so readers
 // (rosbag, rqt_bag, rosbag play) treat it as the real type.
@@ -126,24 +128,16 @@ void require_image_size(int width, int height, std::size_t size, const char* wha
 
 }  // namespace
 
+namespace {
+constexpr EnumName<BagCompression> kCompressionNames[] = {
+    {BagCompression::kNone, "none"}, {BagCompression::kBz2, "bz2"}, {BagCompression::kLz4, "lz4"}};
+}  // namespace
+
 BagCompression parse_bag_compression(const std::string& name) {
-  if (name == "none") return BagCompression::kNone;
-  if (name == "bz2") return BagCompression::kBz2;
-  if (name == "lz4") return BagCompression::kLz4;
-  throw std::invalid_argument("unknown bag compression '" + name + "' (expected none, bz2 or lz4)");
+  return parse_enum(name, kCompressionNames, "bag compression");
 }
 
-std::string to_string(BagCompression compression) {
-  switch (compression) {
-    case BagCompression::kNone:
-      return "none";
-    case BagCompression::kBz2:
-      return "bz2";
-    case BagCompression::kLz4:
-      return "lz4";
-  }
-  return "unknown";
-}
+std::string to_string(BagCompression compression) { return enum_name(compression, kCompressionNames); }
 
 struct BagWriter::Impl {
   // A heap Bag so that one whose write or close failed (a full disk) can be abandoned: rosbag's ~Bag() retries
@@ -287,7 +281,9 @@ void BagWriter::write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_m
   impl_->write(topic, stamp, msg);
 }
 
-void BagWriter::write_depth_image(double t_s, int width, int height, const std::vector<std::uint16_t>& depth_mm) {
+void BagWriter::write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
+                                  const std::vector<std::uint16_t>& depth_mm) {
+  const int width = intrinsics.width, height = intrinsics.height;
   require_image_size(width, height, depth_mm.size(), "depth image");
   const std::string topic = "/camera/depth/image_rect_raw";
   const ros::Time stamp = to_ros_time(t_s);
@@ -303,8 +299,9 @@ void BagWriter::write_depth_image(double t_s, int width, int height, const std::
   impl_->write(topic, stamp, msg);
 }
 
-void BagWriter::write_camera_info(double t_s, int width, int height, double fx_px, double fy_px, double cx_px,
-                                  double cy_px) {
+void BagWriter::write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics) {
+  const int width = intrinsics.width, height = intrinsics.height;
+  const double fx_px = intrinsics.fx, fy_px = intrinsics.fy, cx_px = intrinsics.cx, cy_px = intrinsics.cy;
   if (width <= 0 || height <= 0) {
     throw std::invalid_argument("BagWriter: camera_info size must be positive");
   }
@@ -360,31 +357,36 @@ void BagWriter::write_points(const std::string& topic, double t_s, const std::st
   impl_->write(topic, stamp, msg, latched);
 }
 
-void BagWriter::write_occupancy_grid(double t_s, double resolution_m, double origin_x_m, double origin_y_m,
-                                     int width, int height, const std::vector<std::int8_t>& data) {
-  require_image_size(width, height, data.size(), "occupancy grid");
-  if (!(resolution_m > 0.0) || !std::isfinite(resolution_m) || !std::isfinite(origin_x_m) ||
-      !std::isfinite(origin_y_m)) {
-    throw std::invalid_argument("BagWriter: occupancy grid needs a finite origin and a resolution > 0");
+std::vector<std::int8_t> occupancy_values(const mapping::Costmap2D& costmap) {
+  std::vector<std::int8_t> data(costmap.cells.size());
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const int c = costmap.cells[i];
+    data[i] = static_cast<std::int8_t>(c == mapping::kCostUnknown ? -1
+                                       : c == mapping::kCostLethal ? 100
+                                       : c == 253                  ? 99
+                                       : c == mapping::kCostFree   ? 0
+                                                                   : 1 + 97 * (c - 1) / 251);
   }
-  for (const std::int8_t value : data) {
-    if (value < -1 || value > 100) {
-      throw std::invalid_argument("BagWriter: occupancy value " + std::to_string(value) +
-                                  " outside -1 (unknown) .. 100");
-    }
+  return data;
+}
+
+void BagWriter::write_costmap(double t_s, const mapping::Costmap2D& costmap) {
+  require_image_size(costmap.width, costmap.height, costmap.cells.size(), "costmap");
+  if (!(costmap.resolution_m > 0.0) || !std::isfinite(costmap.resolution_m) || !costmap.origin_m.allFinite()) {
+    throw std::invalid_argument("BagWriter: costmap needs a finite origin and a resolution > 0");
   }
   const std::string topic = "/stvl/costmap";
   const ros::Time stamp = to_ros_time(t_s);
   nav_msgs::OccupancyGrid msg;
   msg.header = impl_->header(topic, stamp, kMapFrame);
   msg.info.map_load_time = stamp;
-  msg.info.resolution = static_cast<float>(resolution_m);
-  msg.info.width = static_cast<std::uint32_t>(width);
-  msg.info.height = static_cast<std::uint32_t>(height);
-  msg.info.origin.position.x = origin_x_m;
-  msg.info.origin.position.y = origin_y_m;
+  msg.info.resolution = static_cast<float>(costmap.resolution_m);
+  msg.info.width = static_cast<std::uint32_t>(costmap.width);
+  msg.info.height = static_cast<std::uint32_t>(costmap.height);
+  msg.info.origin.position.x = costmap.origin_m.x();
+  msg.info.origin.position.y = costmap.origin_m.y();
   msg.info.origin.orientation.w = 1.0;
-  msg.data = data;
+  msg.data = occupancy_values(costmap);
   impl_->write(topic, stamp, msg);
 }
 

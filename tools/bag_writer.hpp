@@ -12,6 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "mapping/costmap.hpp"
+#include "sensors/camera.hpp"
+
 namespace stvl::tools {
 
 inline constexpr double kBagTimeOffset_s = 1.0;
@@ -23,6 +26,10 @@ inline constexpr const char* kCameraLinkFrame = "camera_link";
 inline constexpr const char* kCameraOpticalFrame = "camera_depth_optical_frame";
 
 enum class BagCompression { kNone, kBz2, kLz4 };
+
+// nav2_costmap_2d's cost -> OccupancyGrid value table: free 0 -> 0, lethal 254 -> 100, inscribed 253 -> 99,
+// unknown 255 -> -1, and 1..252 -> 1 + 97 (c - 1) / 251.
+std::vector<std::int8_t> occupancy_values(const mapping::Costmap2D& costmap);
 
 // "none", "bz2" or "lz4"; throws std::invalid_argument otherwise.
 BagCompression parse_bag_compression(const std::string& name);
@@ -48,19 +55,18 @@ class BagWriter {
   void write_odometry(double t_s, const Eigen::Isometry3d& T_odom_base, double v_mps, double omega_radps);
   // /ground_truth/pose geometry_msgs/PoseStamped, frame map.
   void write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_map_base);
-  // /camera/depth/image_rect_raw 16UC1 (mm, 0 = invalid), row-major top row first, frame
-  // camera_depth_optical_frame. depth_mm.size() must be width * height.
-  void write_depth_image(double t_s, int width, int height, const std::vector<std::uint16_t>& depth_mm);
+  // /camera/depth/image_rect_raw 16UC1 (mm, 0 = invalid; sensors::depth_to_millimetres), row-major top row
+  // first, frame camera_depth_optical_frame. depth_mm.size() must be the intrinsics' width * height.
+  void write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
+                         const std::vector<std::uint16_t>& depth_mm);
   // /camera/depth/camera_info: plumb_bob with zero distortion, K, R = I, P = [K | 0].
-  void write_camera_info(double t_s, int width, int height, double fx_px, double fy_px, double cx_px,
-                         double cy_px);
+  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics);
   // sensor_msgs/PointCloud2 with fields x y z float32, unorganized (height 1); is_dense when all finite.
   void write_points(const std::string& topic, double t_s, const std::string& frame_id,
                     const Eigen::Matrix3Xf& points, bool latched = false);
-  // /stvl/costmap nav_msgs/OccupancyGrid, frame map; data row-major from the origin cell, -1 unknown,
-  // 0..100 cost. data.size() must be width * height.
-  void write_occupancy_grid(double t_s, double resolution_m, double origin_x_m, double origin_y_m, int width,
-                            int height, const std::vector<std::int8_t>& data);
+  // /stvl/costmap nav_msgs/OccupancyGrid, frame map, row-major from the origin cell; costs translated as
+  // nav2's costmap publisher does (occupancy_values()).
+  void write_costmap(double t_s, const mapping::Costmap2D& costmap);
 
   // Writes the index, closes the file and renames path.active -> path. Further writes throw.
   void close();

@@ -32,17 +32,17 @@ struct FilterBenchOptions {
 
 // Clouds in the world frame from the scenario's drive, evenly spaced over its first 20 s.
 std::vector<filter::BenchmarkCloud> render_clouds(const Scenario& s, int count) {
-  const auto simulator = make_simulator(s);
+  const auto simulator = pipeline::make_simulator(s.pipeline);
   sim::Simulator& sim = *simulator;
-  sensors::DepthRenderer renderer(sim.world().model(), s.camera.intrinsics, s.camera.gl_backend);
-  sensors::DepthNoise noise(s.camera.noise, s.camera.intrinsics);
+  sensors::DepthRenderer renderer(sim.world().model(), s.camera().intrinsics, s.camera().gl_backend);
+  sensors::DepthNoise noise(s.camera().noise, s.camera().intrinsics);
   std::vector<filter::BenchmarkCloud> clouds;
   for (int k = 0; k < count; ++k) {
     const double t = 2.0 + 18.0 * k / std::max(1, count - 1);
     sim.run_until(t);
     sensors::DepthImage image = renderer.render(sim.world().model(), sim.world().data(), sim.T_world_camera());
-    noise.apply(image, s.seed, static_cast<std::uint64_t>(k));
-    const Eigen::Matrix3Xf points_C = sensors::depth_to_cloud(image, s.camera.intrinsics);
+    noise.apply(image, s.pipeline.seed, static_cast<std::uint64_t>(k));
+    const Eigen::Matrix3Xf points_C = sensors::depth_to_cloud(image, s.camera().intrinsics);
     const Eigen::Isometry3f T = sim.T_world_camera().cast<float>();
     char name[32];
     std::snprintf(name, sizeof name, "corridor_t%04.1f", t);
@@ -71,8 +71,8 @@ int filter_bench(const FilterBenchOptions& o) {
     for (const auto& c : clouds) filter::save_cloud((std::filesystem::path(o.save_clouds) / (c.name + ".stvlcld")).string(), c.points);
   }
   std::printf("filter-bench: %d clouds of %dx%d rendered from %s (noise %s), %d threads (0: all cores), %d repetitions after %d warm-up\n",
-              o.clouds, scenario.camera.intrinsics.width, scenario.camera.intrinsics.height, scenario.world_path.c_str(),
-              scenario.camera.noise.enabled ? "on" : "off", o.threads, o.repetitions, o.warmup);
+              o.clouds, scenario.camera().intrinsics.width, scenario.camera().intrinsics.height, scenario.pipeline.world_path.c_str(),
+              scenario.camera().noise.enabled ? "on" : "off", o.threads, o.repetitions, o.warmup);
   std::vector<filter::BenchmarkRow> rows;
   std::string baseline = "voxel/cpu";
   if (o.peer == "pcl") {

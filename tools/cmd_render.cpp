@@ -35,31 +35,32 @@ int render(const RenderOptions& o) {
   if (!o.scenario.empty()) {
     s = load_scenario(o.scenario);
   } else {
-    s.world_path = o.world;
-    s.path.waypoints_W = {{0.0, 0.0}, {100.0, 0.0}};
-    s.path.cruise_speed_mps = o.speed_mps;
-    if (o.preset == "d435_640x480") s.camera.intrinsics = sensors::CameraIntrinsics::d435_640x480();
+    s.pipeline.world_path = o.world;
+    s.pipeline.path.waypoints_W = {{0.0, 0.0}, {100.0, 0.0}};
+    s.pipeline.path.cruise_speed_mps = o.speed_mps;
+    auto& camera = s.camera();
+    if (o.preset == "d435_640x480") camera.intrinsics = sensors::CameraIntrinsics::d435_640x480();
     else if (o.preset != "d435_848x480") throw std::invalid_argument("--preset must be d435_848x480 or d435_640x480");
-    s.camera.intrinsics.rate_hz = o.rate_hz;
-    s.camera.intrinsics.validate();
-    s.camera.noise.enabled = o.noise == "on";
-    s.camera.gl_backend = sensors::parse_gl_backend(o.gl);
-    s.seed = o.seed;
+    camera.intrinsics.rate_hz = o.rate_hz;
+    camera.intrinsics.validate();
+    camera.noise.enabled = o.noise == "on";
+    camera.gl_backend = sensors::parse_gl_backend(o.gl);
+    s.pipeline.seed = o.seed;
   }
   ensure_writable_directory(o.out_dir);
-  const auto simulator = make_simulator(s);
+  const auto simulator = pipeline::make_simulator(s.pipeline);
   sim::Simulator& sim = *simulator;
-  const auto& intrinsics = s.camera.intrinsics;
-  sensors::DepthRenderer renderer(sim.world().model(), intrinsics, s.camera.gl_backend);
-  sensors::DepthNoise noise(s.camera.noise, intrinsics);
+  const auto& intrinsics = s.camera().intrinsics;
+  sensors::DepthRenderer renderer(sim.world().model(), intrinsics, s.camera().gl_backend);
+  sensors::DepthNoise noise(s.camera().noise, intrinsics);
   sensors::DepthImage image;
   double render_s = 0.0;
   for (int k = 0; k < o.frames; ++k) {
-    sim.run_until(k / intrinsics.rate_hz);
+    sim.run_until(k * (1.0 / intrinsics.rate_hz));  // the frame times of a run
     const auto start = std::chrono::steady_clock::now();
     image = renderer.render(sim.world().model(), sim.world().data(), sim.T_world_camera());
     render_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    noise.apply(image, s.seed, static_cast<std::uint64_t>(k));
+    noise.apply(image, s.pipeline.seed, static_cast<std::uint64_t>(k));
     char name[32];
     std::snprintf(name, sizeof name, "depth_%05d", k);
     const std::filesystem::path base = std::filesystem::path(o.out_dir) / name;

@@ -19,7 +19,7 @@ nlohmann::json stage_stats(std::vector<double> ms) {
   return {{"mean", mean}, {"p50", at(0.5)}, {"p95", at(0.95)}};
 }
 
-nlohmann::json snapshot_json(const EvaluationSnapshot& s) {
+nlohmann::json snapshot_json(const evaluation::EvaluationSnapshot& s) {
   return {{"time_s", s.time_s},
           {"mapped_voxels", s.mapped_voxels},
           {"observed_truth_voxels", s.observed_truth_voxels},
@@ -33,11 +33,28 @@ nlohmann::json snapshot_json(const EvaluationSnapshot& s) {
           {"phantom_obstacles", s.phantom_obstacles}};
 }
 
+// The means over the run; phantom_obstacles is the mean count, max_phantom_obstacles the most at one snapshot.
+nlohmann::json mean_json(const evaluation::EvaluationMean& m) {
+  return {{"time_s", m.time_s},
+          {"snapshots", m.snapshots},
+          {"mapped_voxels", m.mapped_voxels},
+          {"observed_truth_voxels", m.observed_truth_voxels},
+          {"precision", m.precision},
+          {"recall", m.recall},
+          {"f1", m.f1},
+          {"iou", m.iou},
+          {"lethal_cells", m.lethal_cells},
+          {"costmap_precision", m.costmap_precision},
+          {"costmap_recall", m.costmap_recall},
+          {"phantom_obstacles", m.phantom_obstacles},
+          {"max_phantom_obstacles", m.max_phantom_obstacles}};
+}
+
 // The final snapshot also says where its phantoms are.
-nlohmann::json final_json(const EvaluationSnapshot& s) {
+nlohmann::json final_json(const evaluation::EvaluationSnapshot& s) {
   nlohmann::json j = snapshot_json(s);
   j["phantoms"] = nlohmann::json::array();
-  for (const Phantom& p : s.phantoms) j["phantoms"].push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
+  for (const evaluation::Phantom& p : s.phantoms) j["phantoms"].push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
   return j;
 }
 
@@ -101,20 +118,20 @@ nlohmann::json metrics_json(const RunResult& r) {
   return {
       {"scenario", r.scenario.name},
       {"scenario_file", r.scenario.file},
-      {"seed", r.scenario.seed},
+      {"seed", r.scenario.pipeline.seed},
       {"passed", r.passed()},
       {"interrupted", r.interrupted},
       {"frames", r.frames},
       {"sim_time_s", r.sim_time_s},
-      {"voxel_size_m", r.scenario.map.voxel_size_m},
-      {"filter", {{"type", filter::to_string(r.scenario.filter.type)}, {"device", r.filter_device}}},
+      {"voxel_size_m", r.scenario.pipeline.map.voxel_size_m},
+      {"filter", {{"type", filter::to_string(r.scenario.pipeline.filter.type)}, {"device", r.filter_device}}},
       {"gl_backend", r.gl_backend},
-      {"noise", r.scenario.camera.noise.enabled},
+      {"noise", r.scenario.camera().noise.enabled},
       {"evaluation",
        {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
         {"recall_window_s", r.scenario.evaluation.recall_window_s},
         {"phantom_clearance_m", r.scenario.evaluation.phantom_clearance_m},
-        {"mean", snapshot_json(e.mean)},
+        {"mean", mean_json(e.mean)},
         {"final", final_json(e.final)},
         {"snapshots", snapshots},
         {"obstacles", obstacles},
@@ -196,11 +213,11 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
        "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}"
        "img{max-width:100%;border:1px solid #ddd}</style></head><body>\n";
   h << "<h1>" << xml_escape(r.scenario.name) << " <span class=\"" << (r.passed() ? "pass\">PASSED" : "fail\">FAILED")
-    << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.seed << ", " << r.frames
+    << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.pipeline.seed << ", " << r.frames
     << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s << " s (real-time factor "
-    << r.real_time_factor << "), voxel " << r.scenario.map.voxel_size_m << " m, filter "
-    << filter::to_string(r.scenario.filter.type) << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
-    << (r.scenario.camera.noise.enabled ? "on" : "off") << ".</p>\n";
+    << r.real_time_factor << "), voxel " << r.scenario.pipeline.map.voxel_size_m << " m, filter "
+    << filter::to_string(r.scenario.pipeline.filter.type) << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
+    << (r.scenario.camera().noise.enabled ? "on" : "off") << ".</p>\n";
   h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";
   for (const auto& c : r.checks)
     h << "<tr><td>" << xml_escape(c.name) << "</td><td class=\"" << (c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
@@ -209,10 +226,13 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     << " voxel(s); recall against surfaces seen by the noise-free camera within the last "
     << r.scenario.evaluation.recall_window_s << " s.</p><table><tr><th></th><th>precision</th><th>recall</th><th>F1</th>"
        "<th>IoU</th><th>costmap precision</th><th>costmap recall</th><th>phantoms</th></tr>\n";
-  for (const auto& [label, s] : {std::pair<const char*, const EvaluationSnapshot&>{"mean", e.mean}, {"final", e.final}})
+  const auto row = [&](const char* label, const auto& s, const std::string& phantoms) {
     h << "<tr><td>" << label << "</td><td>" << s.precision << "</td><td>" << s.recall << "</td><td>" << s.f1 << "</td><td>"
-      << s.iou << "</td><td>" << s.costmap_precision << "</td><td>" << s.costmap_recall << "</td><td>"
-      << s.phantom_obstacles << "</td></tr>\n";
+      << s.iou << "</td><td>" << s.costmap_precision << "</td><td>" << s.costmap_recall << "</td><td>" << phantoms
+      << "</td></tr>\n";
+  };
+  row("mean", e.mean, fixed(e.mean.phantom_obstacles, 2) + " (at most " + std::to_string(e.mean.max_phantom_obstacles) + ")");
+  row("final", e.final, std::to_string(e.final.phantom_obstacles));
   h << "</table><p>Distance of mapped voxel centres to the true surface: mean " << e.accuracy.mean_m << " m, median "
     << e.accuracy.median_m << " m, p90 " << e.accuracy.p90_m << " m, p99 " << e.accuracy.p99_m << " m.</p>\n";
   h << "<img src=\"quality.png\" alt=\"F1 (black), precision (red), recall (blue) over time\"><p>F1 (black), precision "

@@ -1,11 +1,12 @@
 #pragma once
-// Runs one scenario end to end: physics, depth rendering, noise, filter, STVL map, evaluation, outputs.
+// Runs one scenario end to end: builds the pipeline, steps it frame by frame, hands each frame to the
+// evaluation and to the outputs (bag, sample depth frames), then checks the result.
 #include <atomic>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "tools/evaluation.hpp"
+#include "evaluation/evaluator.hpp"
+#include "tools/checks.hpp"
 #include "tools/scenario.hpp"
 
 namespace stvl::tools {
@@ -23,16 +24,10 @@ struct StageTimes {
   std::vector<double> render, noise, cloud, filter, clear, mark, evaluation, bag, frame;
 };
 
-struct CheckResult {
-  std::string name;
-  bool passed = false;
-  std::string message;  // value and threshold, or why it failed
-};
-
 struct RunResult {
   Scenario scenario;
-  EvaluationSummary evaluation;
-  Evaluator::TopDown top_down;
+  evaluation::EvaluationSummary evaluation;
+  evaluation::TopDown top_down;
   StageTimes times;
   std::vector<CheckResult> checks;
   std::vector<Eigen::Vector2d> path_W;  // the robot's true position at each frame

@@ -76,18 +76,18 @@ void read_robot(YamlMap robot, Scenario& s) {
   robot.get("start", start);
   if (start.size() != 3) robot.fail(robot.raw("start"), "start", "expected [x_m, y_m, yaw_deg]");
   require_range(robot, "start", "non-finite values", std::isfinite(start[0] + start[1] + start[2]), "must be finite");
-  s.start_pose = {start[0], start[1], start[2] * kDegToRad};
+  s.pipeline.start_pose = {start[0], start[1], start[2] * kDegToRad};
   std::vector<std::vector<double>> waypoints;
   robot.require("waypoints", waypoints);
-  s.path.waypoints_W.clear();
-  for (const auto& xy : waypoints) s.path.waypoints_W.push_back(to_point2(xy, robot, "waypoints"));
-  robot.require("speed_mps", s.path.cruise_speed_mps);
+  s.pipeline.path.waypoints_W.clear();
+  for (const auto& xy : waypoints) s.pipeline.path.waypoints_W.push_back(to_point2(xy, robot, "waypoints"));
+  robot.require("speed_mps", s.pipeline.path.cruise_speed_mps);
   validate_keys({{"waypoints", &robot, "waypoints"}, {"waypoint", &robot, "waypoints"}, {"cruise_speed_mps", &robot, "speed_mps"}},
-                [&] { sim::PathFollower(s.sim.follower).set_path(s.path); });
+                [&] { sim::PathFollower(s.pipeline.sim.follower).set_path(s.pipeline.path); });
 
   if (robot.has("camera_mount")) {
     auto mount = robot.map("camera_mount");
-    auto& m = s.sim.camera_mount;
+    auto& m = s.pipeline.sim.camera_mount;
     double pitch_deg = m.pitch_rad / kDegToRad;
     mount.get("height_m", m.height_m);
     mount.get("pitch_deg", pitch_deg);
@@ -97,7 +97,7 @@ void read_robot(YamlMap robot, Scenario& s) {
   }
   if (robot.has("odometry_drift")) {
     auto drift = robot.map("odometry_drift");
-    auto& o = s.sim.odometry;
+    auto& o = s.pipeline.sim.odometry;
     drift.get("enabled", o.drift);
     drift.get("left_wheel_radius_error", o.left_wheel_radius_error);
     drift.get("right_wheel_radius_error", o.right_wheel_radius_error);
@@ -140,19 +140,20 @@ void read_moving_bodies(YamlMap& root, Scenario& s) {
     }
     if (track.keyframes.empty()) body.fail(body.raw("keyframes"), "keyframes", "at least one keyframe is required");
     body.finish();
-    s.moving_bodies.push_back(std::move(track));
+    s.pipeline.moving_bodies.push_back(std::move(track));
   }
 }
 
 void read_camera(YamlMap camera, Scenario& s) {
-  auto& c = s.camera;
-  camera.get("preset", c.preset);
+  auto& c = s.camera();
+  std::string preset = "d435_848x480";
+  camera.get("preset", preset);
   std::optional<YamlMap> in;
-  if (c.preset == "d435_848x480") {
+  if (preset == "d435_848x480") {
     c.intrinsics = sensors::CameraIntrinsics::d435_848x480();
-  } else if (c.preset == "d435_640x480") {
+  } else if (preset == "d435_640x480") {
     c.intrinsics = sensors::CameraIntrinsics::d435_640x480();
-  } else if (c.preset == "custom") {
+  } else if (preset == "custom") {
     in = camera.map("intrinsics");
     in->require("width", c.intrinsics.width);
     in->require("height", c.intrinsics.height);
@@ -162,10 +163,10 @@ void read_camera(YamlMap camera, Scenario& s) {
     in->require("cy", c.intrinsics.cy);
     in->finish();
   } else {
-    camera.fail(camera.raw("preset"), "preset", "unknown preset '" + c.preset + "' (d435_848x480, d435_640x480, custom)");
+    camera.fail(camera.raw("preset"), "preset", "unknown preset '" + preset + "' (d435_848x480, d435_640x480, custom)");
   }
   if (!in && camera.has("intrinsics"))
-    camera.fail(camera.raw("intrinsics"), "intrinsics", "only used with preset: custom (preset is " + c.preset + ")");
+    camera.fail(camera.raw("intrinsics"), "intrinsics", "only used with preset: custom (preset is " + preset + ")");
   camera.get("min_range_m", c.intrinsics.min_range_m);
   camera.get("max_range_m", c.intrinsics.max_range_m);
   camera.get("rate_hz", c.intrinsics.rate_hz);
@@ -205,7 +206,7 @@ void read_camera(YamlMap camera, Scenario& s) {
 }
 
 void read_filter(YamlMap filter, Scenario& s) {
-  auto& f = s.filter;
+  auto& f = s.pipeline.filter;
   std::string type = filter::to_string(f.type), device = filter::to_string(f.device),
               memory = filter::to_string(f.memory);
   filter.get("type", type);
@@ -255,7 +256,7 @@ void read_filter(YamlMap filter, Scenario& s) {
 }
 
 void read_observation(YamlMap o, Scenario& s) {
-  auto& src = s.source;
+  auto& src = s.camera().source;
   std::optional<double> hfov, vfov;
   o.get("marking", src.marking);
   o.get("clearing", src.clearing);
@@ -268,8 +269,8 @@ void read_observation(YamlMap o, Scenario& s) {
   o.get("max_z", src.max_z_m);
   o.get("decay_acceleration", src.decay_acceleration_per_s3);
   o.finish();
-  src.horizontal_fov_rad = hfov.value_or(s.camera.intrinsics.hfov_rad());
-  src.vertical_fov_rad = vfov.value_or(s.camera.intrinsics.vfov_rad());
+  src.horizontal_fov_rad = hfov.value_or(s.camera().intrinsics.hfov_rad());
+  src.vertical_fov_rad = vfov.value_or(s.camera().intrinsics.vfov_rad());
   const char* keys[] = {"obstacle_range", "min_obstacle_height", "max_obstacle_height", "horizontal_fov_angle",
                         "vertical_fov_angle", "min_z", "max_z", "decay_acceleration"};
   validate_keys({{keys[0], &o, keys[0]}, {keys[1], &o, keys[1]}, {keys[2], &o, keys[2]}, {keys[3], &o, keys[3]},
@@ -278,7 +279,7 @@ void read_observation(YamlMap o, Scenario& s) {
 }
 
 void read_map(YamlMap map, Scenario& s) {
-  auto& m = s.map;
+  auto& m = s.pipeline.map;
   map.get("voxel_size", m.voxel_size_m);
   map.get("voxel_decay", m.voxel_decay_s);
   std::string decay = mapping::to_string(m.decay_model), mode = mapping::to_string(m.clearing_mode),
@@ -294,9 +295,9 @@ void read_map(YamlMap map, Scenario& s) {
   map.get("expiry_leaves_per_update", expiry_leaves);
   require_range(map, "expiry_leaves_per_update", expiry_leaves, expiry_leaves >= 1, "must be >= 1");
   m.expiry_leaves_per_update = static_cast<std::size_t>(expiry_leaves);
-  map.get("publish_period_s", s.voxel_grid_publish_period_s);
-  require_range(map, "publish_period_s", s.voxel_grid_publish_period_s,
-                std::isfinite(s.voxel_grid_publish_period_s) && s.voxel_grid_publish_period_s > 0, "must be finite and > 0 s");
+  map.get("publish_period_s", s.outputs.publish_period_s);
+  require_range(map, "publish_period_s", s.outputs.publish_period_s,
+                std::isfinite(s.outputs.publish_period_s) && s.outputs.publish_period_s > 0, "must be finite and > 0 s");
   validate_keys({{"voxel_size", &map, "voxel_size"}, {"voxel_decay", &map, "voxel_decay"},
                  {"decay_model", &map, "decay_model"}, {"mark_threshold", &map, "mark_threshold"}},
                 [&] { m.validate(); });
@@ -312,7 +313,7 @@ void read_evaluation(YamlMap e, Scenario& s) {
   e.get("min_observed_voxels", ev.min_observed_voxels);
   e.get("phantom_min_cells", ev.phantom_min_cells);
   e.get("phantom_clearance_m", ev.phantom_clearance_m);
-  e.get("sample_depth_frames", ev.sample_depth_frames);
+  e.get("sample_depth_frames", s.outputs.sample_depth_frames);
   e.finish();
   require_range(e, "recall_window_s", ev.recall_window_s, std::isfinite(ev.recall_window_s) && ev.recall_window_s > 0,
                 "must be finite and > 0 s");
@@ -325,7 +326,8 @@ void read_evaluation(YamlMap e, Scenario& s) {
   require_range(e, "phantom_clearance_m", ev.phantom_clearance_m,
                 std::isfinite(ev.phantom_clearance_m) && ev.phantom_clearance_m >= 0 && ev.phantom_clearance_m <= 1,
                 "must lie in [0, 1] m");
-  require_range(e, "sample_depth_frames", ev.sample_depth_frames, ev.sample_depth_frames >= 0 && ev.sample_depth_frames <= 100,
+  require_range(e, "sample_depth_frames", s.outputs.sample_depth_frames,
+                s.outputs.sample_depth_frames >= 0 && s.outputs.sample_depth_frames <= 100,
                 "must lie in 0..100");
 }
 
@@ -363,10 +365,10 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   std::string world;
   root.require("world", world);
   require_range(root, "world", "an empty path", !world.empty(), "must not be empty");
-  s.world_path = std::filesystem::path(world).is_absolute()
+  s.pipeline.world_path = std::filesystem::path(world).is_absolute()
                      ? world
                      : (std::filesystem::path(base_dir) / world).lexically_normal().string();
-  root.get("seed", s.seed);
+  root.get("seed", s.pipeline.seed);
   root.get("duration_s", s.duration_s);
   require_range(root, "duration_s", s.duration_s, s.duration_s > 0 && s.duration_s <= 3600, "must lie in (0, 3600] s");
   root.get("stop_at_path_end", s.stop_at_path_end);
@@ -374,17 +376,17 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   read_moving_bodies(root, s);
   if (root.has("camera")) read_camera(root.map("camera"), s);
   if (root.has("filter")) read_filter(root.map("filter"), s);
-  s.source.clearing = true;
-  s.source.horizontal_fov_rad = s.camera.intrinsics.hfov_rad();
-  s.source.vertical_fov_rad = s.camera.intrinsics.vfov_rad();
+  s.camera().source.clearing = true;
+  s.camera().source.horizontal_fov_rad = s.camera().intrinsics.hfov_rad();
+  s.camera().source.vertical_fov_rad = s.camera().intrinsics.vfov_rad();
   if (root.has("map")) read_map(root.map("map"), s);
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
   root.finish();
-  s.filter.csnb.seed = s.seed;
-  s.sim.odometry.seed = s.seed;
+  s.pipeline.filter.csnb.seed = s.pipeline.seed;
+  s.pipeline.sim.odometry.seed = s.pipeline.seed;
   try {
-    s.source.validate();
+    s.camera().source.validate();
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(s.file + ": map.observation: " + e.what());
   }
@@ -418,16 +420,16 @@ void override_option(const char* option, F&& apply) {
 void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
   // Validated on a copy, so a rejected override leaves the scenario as it was.
   Scenario r = s;
-  if (o.seed) r.seed = *o.seed, r.filter.csnb.seed = *o.seed, r.sim.odometry.seed = *o.seed;
-  if (o.filter_type) override_option("--filter", [&] { r.filter.type = filter::parse_filter_type(*o.filter_type); });
-  if (o.device) override_option("--device", [&] { r.filter.device = filter::parse_device(*o.device); });
-  if (o.memory) override_option("--memory", [&] { r.filter.memory = filter::parse_memory_mode(*o.memory); });
+  if (o.seed) r.pipeline.seed = *o.seed, r.pipeline.filter.csnb.seed = *o.seed, r.pipeline.sim.odometry.seed = *o.seed;
+  if (o.filter_type) override_option("--filter", [&] { r.pipeline.filter.type = filter::parse_filter_type(*o.filter_type); });
+  if (o.device) override_option("--device", [&] { r.pipeline.filter.device = filter::parse_device(*o.device); });
+  if (o.memory) override_option("--memory", [&] { r.pipeline.filter.memory = filter::parse_memory_mode(*o.memory); });
   if (o.voxel_size_m) {
     override_option("--voxel-size", [&] {
-      r.map.voxel_size_m = *o.voxel_size_m;
-      r.filter.voxel.voxel_size_m = *o.voxel_size_m;
-      r.filter.csnb.voxel_size_m = *o.voxel_size_m;
-      r.map.validate();
+      r.pipeline.map.voxel_size_m = *o.voxel_size_m;
+      r.pipeline.filter.voxel.voxel_size_m = *o.voxel_size_m;
+      r.pipeline.filter.csnb.voxel_size_m = *o.voxel_size_m;
+      r.pipeline.map.validate();
     });
   }
   if (o.duration_s) {
@@ -435,17 +437,17 @@ void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
       throw std::invalid_argument("--duration: must lie in (0, 3600] s, got " + std::to_string(*o.duration_s));
     r.duration_s = *o.duration_s;
   }
-  if (o.gl_backend) override_option("--gl", [&] { r.camera.gl_backend = sensors::parse_gl_backend(*o.gl_backend); });
-  if (o.noise) r.camera.noise.enabled = *o.noise;
+  if (o.gl_backend) override_option("--gl", [&] { r.camera().gl_backend = sensors::parse_gl_backend(*o.gl_backend); });
+  if (o.noise) r.camera().noise.enabled = *o.noise;
   s = std::move(r);
 }
 
-std::unique_ptr<sim::Simulator> make_simulator(const Scenario& s) {
-  auto sim = std::make_unique<sim::Simulator>(sim::World::from_file(s.world_path), s.sim);
-  sim->set_start_pose(s.start_pose);
-  sim->set_path(s.path);
-  if (!s.moving_bodies.empty()) sim->set_mocap_tracks(s.moving_bodies);
-  return sim;
+evaluation::EvaluationConfig evaluation_config(const Scenario& s) {
+  evaluation::EvaluationConfig e = s.evaluation;
+  e.voxel_size_m = s.pipeline.map.voxel_size_m;
+  e.min_obstacle_height_m = s.camera().source.min_obstacle_height_m;
+  e.max_obstacle_height_m = s.camera().source.max_obstacle_height_m;
+  return e;
 }
 
 }  // namespace stvl::tools

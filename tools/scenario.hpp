@@ -2,26 +2,14 @@
 // A scenario: which world, how the robot drives, the camera, the filter, the map, what is evaluated and which
 // checks must pass. Loaded from YAML (scenarios/*.yaml); every key is documented in scenarios/README.md.
 #include <cstdint>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "filter/filter.hpp"
-#include "mapping/config.hpp"
-#include "sensors/camera.hpp"
-#include "sensors/depth_noise.hpp"
-#include "sensors/gl_context.hpp"
-#include "sim/simulator.hpp"
+#include "evaluation/config.hpp"
+#include "pipeline/pipeline.hpp"
 
 namespace stvl::tools {
-
-struct CameraConfig {
-  std::string preset = "d435_848x480";  // d435_848x480 | d435_640x480 | custom
-  sensors::CameraIntrinsics intrinsics = sensors::CameraIntrinsics::d435_848x480();
-  sensors::GlBackend gl_backend = sensors::GlBackend::kAuto;
-  sensors::DepthNoiseConfig noise;
-};
 
 // Thresholds of the pass/fail checks; a check whose threshold is absent is not run.
 struct ChecksConfig {
@@ -35,38 +23,32 @@ struct ChecksConfig {
   std::optional<double> accuracy_p90_max_m;
 };
 
-struct EvaluationConfig {
-  // Recall counts true surface voxels seen by the (noise-free) camera within this window before each evaluation.
-  double recall_window_s = 2.0;
-  double evaluate_every_s = 1.0;
-  int tolerance_voxels = 1;        // a mapped voxel within this many voxels (Chebyshev) of a truth voxel matches
-  int min_observed_voxels = 3;     // an obstacle counts as observed once this many of its voxels were seen
-  int phantom_min_cells = 2;       // lethal components smaller than this are not called phantoms
-  // A lethal component is a phantom when no true footprint lies within this distance (metres, so that the
-  // meaning does not change with the voxel size; 0.10 m is below a small robot's inflation radius).
-  double phantom_clearance_m = 0.10;
-  int sample_depth_frames = 3;     // depth frames saved as PNG for the report
+// What a run writes besides its metrics.
+struct OutputConfig {
+  double publish_period_s = 1.0;  // map.publish_period_s: bag /stvl/voxel_grid and /stvl/costmap
+  int sample_depth_frames = 3;    // evaluation.sample_depth_frames: depth frames saved as PNG for the report
 };
 
 struct Scenario {
   std::string name;
-  std::string file;        // where it was loaded from
-  std::string world_path;  // resolved against the scenario file's folder
-  std::uint64_t seed = 1;
+  std::string file;  // where it was loaded from
   double duration_s = 30.0;
   bool stop_at_path_end = true;
-  sim::SimulatorConfig sim;
-  sim::Pose2D start_pose;
-  sim::Path path;
-  std::vector<sim::MocapTrack> moving_bodies;
-  CameraConfig camera;
-  filter::FilterConfig filter;
-  mapping::StvlConfig map;
-  mapping::ObservationSource source;  // FOV filled from the camera unless given
-  double voxel_grid_publish_period_s = 1.0;  // bag: /stvl/voxel_grid and /stvl/costmap
-  EvaluationConfig evaluation;
+  // The world (resolved against the scenario file's folder), robot, camera, filter and map. The camera's
+  // observation source takes its FOV from the camera unless the file gives one.
+  pipeline::PipelineConfig pipeline;
+  // The YAML's evaluation settings; evaluation_config() adds what follows from the map.
+  evaluation::EvaluationConfig evaluation;
   ChecksConfig checks;
+  OutputConfig outputs;
+
+  pipeline::CameraConfig& camera() { return pipeline.cameras.front(); }
+  const pipeline::CameraConfig& camera() const { return pipeline.cameras.front(); }
 };
+
+// The evaluation of a scenario: its evaluation settings at the map's voxel size and the camera source's
+// marking band.
+evaluation::EvaluationConfig evaluation_config(const Scenario& scenario);
 
 // Throws std::invalid_argument naming the file, line and key for malformed files, unknown keys, wrong types
 // and out-of-range values.
@@ -89,7 +71,5 @@ struct ScenarioOverrides {
 };
 void apply_overrides(Scenario& scenario, const ScenarioOverrides& overrides);
 
-// The scenario's world with the robot at its start pose, on its path, and the moving bodies scripted.
-std::unique_ptr<sim::Simulator> make_simulator(const Scenario& scenario);
 
 }  // namespace stvl::tools

@@ -23,10 +23,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     return 0;
   }
   // Loaded: everything the runner relies on must already hold.
-  s.camera.intrinsics.validate();
-  s.map.validate();
-  s.source.validate();
-  s.camera.noise.validate();
-  if (!(s.duration_s > 0 && s.duration_s <= 3600) || s.path.waypoints_W.empty() || s.world_path.empty()) std::abort();
+  s.camera().intrinsics.validate();
+  s.pipeline.map.validate();
+  s.camera().source.validate();
+  s.camera().noise.validate();
+  if (!(s.duration_s > 0 && s.duration_s <= 3600) || s.pipeline.path.waypoints_W.empty() || s.pipeline.world_path.empty()) std::abort();
   return 0;
 }

@@ -29,6 +29,12 @@ constexpr double kCy = 5.25;
 constexpr int kFrames = 4;
 constexpr double kFramePeriod_s = 0.1;
 
+sensors::CameraIntrinsics intrinsics(double cx_px = kCx) {
+  sensors::CameraIntrinsics k;
+  k.width = kWidth, k.height = kHeight, k.fx = kFx, k.fy = kFy, k.cx = cx_px, k.cy = kCy;
+  return k;
+}
+
 const std::string kChecker = std::string(STVL_SOURCE_DIR) + "/tests/tools/check_bag.py";
 
 // Known pattern with invalid (0) pixels; frame k shifts it so the images differ.
@@ -95,16 +101,18 @@ void write_run(BagWriter& writer) {
     writer.write_odometry(t_s, T_odom_base, 0.5, 0.1);
     writer.write_ground_truth_pose(t_s, pose_xy_yaw(0.05 * k + 0.001 * k, 0.0, 0.01 * k));
     const std::vector<std::uint16_t> depth = depth_pattern_mm(k);
-    writer.write_depth_image(t_s, kWidth, kHeight, depth);
-    writer.write_camera_info(t_s, kWidth, kHeight, kFx, kFy, kCx, kCy);
+    writer.write_depth_image(t_s, intrinsics(), depth);
+    writer.write_camera_info(t_s, intrinsics());
     const Eigen::Matrix3Xf points_C = depth_to_points_C(depth);
     writer.write_points("/camera/depth/points", t_s, kCameraOpticalFrame, points_C);
     writer.write_points("/stvl/filtered_points", t_s, kMapFrame, points_C.leftCols(points_C.cols() / 2));
     writer.write_points("/stvl/voxel_grid", t_s, kMapFrame, points_C.leftCols(5));
-    std::vector<std::int8_t> costmap(6 * 4, 0);
-    costmap[k] = 100;
-    costmap[23] = -1;
-    writer.write_occupancy_grid(t_s, 0.05, -0.1, -0.1, 6, 4, costmap);
+    mapping::Costmap2D costmap;
+    costmap.width = 6, costmap.height = 4, costmap.resolution_m = 0.05, costmap.origin_m = {-0.1, -0.1};
+    costmap.cells.assign(6 * 4, mapping::kCostFree);
+    costmap.cells[k] = mapping::kCostLethal;
+    costmap.cells[23] = mapping::kCostUnknown;
+    writer.write_costmap(t_s, costmap);
   }
 }
 
@@ -223,8 +231,8 @@ TEST(BagWriterTest, CheckerCatchesACloudInconsistentWithTheCameraInfo) {
   {
     BagWriter writer(bag.string(), BagCompression::kNone);
     const std::vector<std::uint16_t> depth = depth_pattern_mm(0);
-    writer.write_depth_image(0.0, kWidth, kHeight, depth);
-    writer.write_camera_info(0.0, kWidth, kHeight, kFx, kFy, kCx + 0.5, kCy);  // half a pixel off
+    writer.write_depth_image(0.0, intrinsics(), depth);
+    writer.write_camera_info(0.0, intrinsics(kCx + 0.5));  // half a pixel off
     writer.write_points("/camera/depth/points", 0.0, kCameraOpticalFrame, depth_to_points_C(depth));
     writer.close();
   }
@@ -239,7 +247,7 @@ TEST(BagWriterTest, DestroyedWithoutCloseLeavesOnlyTheActiveFile) {
   try {
     BagWriter writer(bag.string(), BagCompression::kLz4);
     writer.write_clock(0.0);
-    writer.write_depth_image(0.1, kWidth, kHeight, std::vector<std::uint16_t>(3));  // wrong size: throws
+    writer.write_depth_image(0.1, intrinsics(), std::vector<std::uint16_t>(3));  // wrong size: throws
     FAIL() << "write_depth_image accepted a wrong-sized image";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("depth image has 3 values"), std::string::npos) << e.what();
@@ -258,15 +266,34 @@ TEST(BagWriterTest, UnwritablePathThrowsAClearError) {
   }
 }
 
+TEST(BagWriterTest, CostsBecomeOccupancyAsNav2PublishesThem) {
+  mapping::Costmap2D costmap;
+  costmap.width = 6, costmap.height = 1;
+  costmap.cells = {mapping::kCostFree, 1, 128, 252, 253, mapping::kCostLethal};
+  EXPECT_EQ(occupancy_values(costmap), (std::vector<std::int8_t>{0, 1, 1 + 97 * 127 / 251, 98, 99, 100}));
+  costmap.width = 1;
+  costmap.cells = {mapping::kCostUnknown};
+  EXPECT_EQ(occupancy_values(costmap), (std::vector<std::int8_t>{-1}));
+}
+
 TEST(BagWriterTest, RejectsBadInput) {
   TempDir dir("bad_input");
   BagWriter writer((dir.path / "run.bag").string(), BagCompression::kNone);
   EXPECT_THROW(writer.write_clock(-0.5), std::invalid_argument);
   EXPECT_THROW(writer.write_clock(std::nan("")), std::invalid_argument);
-  EXPECT_THROW(writer.write_camera_info(0.0, kWidth, kHeight, 0.0, kFy, kCx, kCy), std::invalid_argument);
+  sensors::CameraIntrinsics no_focal = intrinsics();
+  no_focal.fx = 0.0;
+  EXPECT_THROW(writer.write_camera_info(0.0, no_focal), std::invalid_argument);
   EXPECT_THROW(writer.write_points("no_slash", 0.0, kMapFrame, Eigen::Matrix3Xf(3, 1)), std::invalid_argument);
-  EXPECT_THROW(writer.write_occupancy_grid(0.0, 0.05, 0.0, 0.0, 2, 2, {0, 0, 0}), std::invalid_argument);
-  EXPECT_THROW(writer.write_occupancy_grid(0.0, 0.05, 0.0, 0.0, 1, 1, {101}), std::invalid_argument);
+  mapping::Costmap2D wrong_size;
+  wrong_size.width = wrong_size.height = 2;
+  wrong_size.cells.assign(3, mapping::kCostFree);
+  EXPECT_THROW(writer.write_costmap(0.0, wrong_size), std::invalid_argument);
+  mapping::Costmap2D no_resolution;
+  no_resolution.width = no_resolution.height = 1;
+  no_resolution.cells.assign(1, mapping::kCostFree);
+  no_resolution.resolution_m = 0.0;
+  EXPECT_THROW(writer.write_costmap(0.0, no_resolution), std::invalid_argument);
   Eigen::Isometry3d not_finite = Eigen::Isometry3d::Identity();
   not_finite.translation().x() = std::numeric_limits<double>::infinity();
   EXPECT_THROW(writer.write_ground_truth_pose(0.0, not_finite), std::invalid_argument);

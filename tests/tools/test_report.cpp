@@ -36,7 +36,7 @@ RunResult synthetic_result() {
   RunResult r;
   r.scenario.name = "corridor <&> \"quoted\"";
   r.scenario.file = "scenarios/x.yaml";
-  r.scenario.seed = 5;
+  r.scenario.pipeline.seed = 5;
   r.checks = {{"f1_3d", true, "mean 3D F1 0.9, required >= 0.85"},
               {"phantom<obstacles>", false, "3 phantoms & \"ghosts\" <here>"},
               {"iou_3d", false, "mean 3D IoU 0.2, required >= 0.5"}};
@@ -52,7 +52,7 @@ RunResult synthetic_result() {
   r.evaluation.mean.f1 = 0.75;
   r.evaluation.final.phantom_obstacles = 3;
   r.evaluation.final.phantoms = {{1.5, -2.25, 4}, {3.0, 0.5, 2}, {7.25, 1.0, 9}};
-  EvaluationSnapshot snapshot;
+  evaluation::EvaluationSnapshot snapshot;
   snapshot.time_s = 1.0;
   snapshot.precision = 0.5;
   r.evaluation.snapshots = {snapshot, snapshot};

@@ -202,13 +202,13 @@ TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
     Scenario s;
     ASSERT_NO_THROW(s = load_scenario(entry.path().string()));
     EXPECT_EQ(s.name, entry.path().stem().string());
-    EXPECT_TRUE(fs::is_regular_file(s.world_path)) << s.world_path;
-    EXPECT_GE(s.path.waypoints_W.size(), 2u);
+    EXPECT_TRUE(fs::is_regular_file(s.pipeline.world_path)) << s.pipeline.world_path;
+    EXPECT_GE(s.pipeline.path.waypoints_W.size(), 2u);
     const auto& c = s.checks;
     EXPECT_TRUE(c.f1_3d_min || c.iou_3d_min || c.costmap_precision_min || c.costmap_recall_min ||
                 c.all_obstacles_detected || c.phantom_obstacles_max || c.clearing_latency_max_s || c.accuracy_p90_max_m)
         << "a shipped scenario checks nothing";
-    EXPECT_DOUBLE_EQ(s.source.horizontal_fov_rad, s.camera.intrinsics.hfov_rad());
+    EXPECT_DOUBLE_EQ(s.camera().source.horizontal_fov_rad, s.camera().intrinsics.hfov_rad());
   }
   EXPECT_GE(count, 7);
 }
@@ -223,63 +223,62 @@ TEST(ScenarioParse, MinimalScenarioTakesTheDefaults) {
   const Scenario defaults;
   EXPECT_EQ(s.name, "minimal");
   EXPECT_EQ(s.file, "x.yaml");
-  EXPECT_EQ(s.seed, 1u);
+  EXPECT_EQ(s.pipeline.seed, 1u);
   EXPECT_DOUBLE_EQ(s.duration_s, 30.0);
   EXPECT_TRUE(s.stop_at_path_end);
-  EXPECT_EQ(s.start_pose.x_m, 0.0);
-  EXPECT_EQ(s.start_pose.y_m, 0.0);
-  EXPECT_EQ(s.start_pose.yaw_rad, 0.0);
-  ASSERT_EQ(s.path.waypoints_W.size(), 2u);
-  EXPECT_EQ(s.path.waypoints_W[1], Eigen::Vector2d(1, 0));
-  EXPECT_DOUBLE_EQ(s.path.cruise_speed_mps, 0.5);
-  EXPECT_EQ(s.camera.preset, "d435_848x480");
-  EXPECT_EQ(s.camera.intrinsics.width, 848);
-  EXPECT_EQ(s.camera.gl_backend, sensors::GlBackend::kAuto);
-  EXPECT_TRUE(s.camera.noise.enabled);
-  EXPECT_EQ(s.filter.type, filter::FilterType::kVoxel);
-  EXPECT_EQ(s.filter.device, filter::Device::kAuto);
-  EXPECT_DOUBLE_EQ(s.map.voxel_size_m, defaults.map.voxel_size_m);
-  EXPECT_DOUBLE_EQ(s.map.voxel_decay_s, 15.0);
-  EXPECT_TRUE(s.source.marking);
-  EXPECT_TRUE(s.source.clearing);
+  EXPECT_EQ(s.pipeline.start_pose.x_m, 0.0);
+  EXPECT_EQ(s.pipeline.start_pose.y_m, 0.0);
+  EXPECT_EQ(s.pipeline.start_pose.yaw_rad, 0.0);
+  ASSERT_EQ(s.pipeline.path.waypoints_W.size(), 2u);
+  EXPECT_EQ(s.pipeline.path.waypoints_W[1], Eigen::Vector2d(1, 0));
+  EXPECT_DOUBLE_EQ(s.pipeline.path.cruise_speed_mps, 0.5);
+  EXPECT_DOUBLE_EQ(s.camera().intrinsics.fx, sensors::CameraIntrinsics::d435_848x480().fx);
+  EXPECT_EQ(s.camera().intrinsics.width, 848);
+  EXPECT_EQ(s.camera().gl_backend, sensors::GlBackend::kAuto);
+  EXPECT_TRUE(s.camera().noise.enabled);
+  EXPECT_EQ(s.pipeline.filter.type, filter::FilterType::kVoxel);
+  EXPECT_EQ(s.pipeline.filter.device, filter::Device::kAuto);
+  EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_size_m, defaults.pipeline.map.voxel_size_m);
+  EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_decay_s, 15.0);
+  EXPECT_TRUE(s.camera().source.marking);
+  EXPECT_TRUE(s.camera().source.clearing);
   EXPECT_DOUBLE_EQ(s.evaluation.recall_window_s, 2.0);
   EXPECT_FALSE(s.checks.f1_3d_min);
   EXPECT_FALSE(s.checks.all_obstacles_detected);
-  EXPECT_TRUE(s.moving_bodies.empty());
-  EXPECT_DOUBLE_EQ(s.voxel_grid_publish_period_s, 1.0);
+  EXPECT_TRUE(s.pipeline.moving_bodies.empty());
+  EXPECT_DOUBLE_EQ(s.outputs.publish_period_s, 1.0);
 }
 
 TEST(ScenarioParse, EveryKeyIsRead) {
   const Scenario s = parse(kFull);
-  EXPECT_EQ(s.world_path, "/base/worlds/office_corridor.xml");
-  EXPECT_EQ(s.seed, 7u);
+  EXPECT_EQ(s.pipeline.world_path, "/base/worlds/office_corridor.xml");
+  EXPECT_EQ(s.pipeline.seed, 7u);
   EXPECT_DOUBLE_EQ(s.duration_s, 12.5);
   EXPECT_FALSE(s.stop_at_path_end);
-  EXPECT_DOUBLE_EQ(s.start_pose.x_m, 1.0);
-  EXPECT_DOUBLE_EQ(s.start_pose.y_m, 2.0);
-  EXPECT_NEAR(s.start_pose.yaw_rad, M_PI / 2, 1e-12);
-  ASSERT_EQ(s.path.waypoints_W.size(), 3u);
-  EXPECT_EQ(s.path.waypoints_W[2], Eigen::Vector2d(5, 6));
-  EXPECT_DOUBLE_EQ(s.path.cruise_speed_mps, 0.4);
-  EXPECT_DOUBLE_EQ(s.sim.camera_mount.height_m, 0.6);
-  EXPECT_NEAR(s.sim.camera_mount.pitch_rad, 10 * M_PI / 180, 1e-12);
-  EXPECT_DOUBLE_EQ(s.sim.camera_mount.forward_offset_m, 0.2);
-  EXPECT_TRUE(s.sim.odometry.drift);
-  EXPECT_DOUBLE_EQ(s.sim.odometry.left_wheel_radius_error, 0.01);
-  EXPECT_DOUBLE_EQ(s.sim.odometry.right_wheel_radius_error, -0.02);
-  EXPECT_DOUBLE_EQ(s.sim.odometry.track_width_error, 0.03);
-  EXPECT_DOUBLE_EQ(s.sim.odometry.linear_noise_std_mps, 0.05);
-  EXPECT_DOUBLE_EQ(s.sim.odometry.angular_noise_std_radps, 0.06);
-  EXPECT_EQ(s.sim.odometry.seed, 7u);
-  ASSERT_EQ(s.moving_bodies.size(), 1u);
-  EXPECT_EQ(s.moving_bodies[0].body, "person");
-  ASSERT_EQ(s.moving_bodies[0].keyframes.size(), 2u);
-  EXPECT_DOUBLE_EQ(s.moving_bodies[0].keyframes[1].time_s, 2.0);
-  EXPECT_EQ(s.moving_bodies[0].keyframes[1].position_W, Eigen::Vector3d(4.0, 0.5, 0.0));
-  ASSERT_TRUE(s.moving_bodies[0].keyframes[1].yaw_rad);
-  EXPECT_NEAR(*s.moving_bodies[0].keyframes[1].yaw_rad, M_PI, 1e-12);
-  const auto& k = s.camera.intrinsics;
-  EXPECT_EQ(s.camera.preset, "custom");
+  EXPECT_DOUBLE_EQ(s.pipeline.start_pose.x_m, 1.0);
+  EXPECT_DOUBLE_EQ(s.pipeline.start_pose.y_m, 2.0);
+  EXPECT_NEAR(s.pipeline.start_pose.yaw_rad, M_PI / 2, 1e-12);
+  ASSERT_EQ(s.pipeline.path.waypoints_W.size(), 3u);
+  EXPECT_EQ(s.pipeline.path.waypoints_W[2], Eigen::Vector2d(5, 6));
+  EXPECT_DOUBLE_EQ(s.pipeline.path.cruise_speed_mps, 0.4);
+  EXPECT_DOUBLE_EQ(s.pipeline.sim.camera_mount.height_m, 0.6);
+  EXPECT_NEAR(s.pipeline.sim.camera_mount.pitch_rad, 10 * M_PI / 180, 1e-12);
+  EXPECT_DOUBLE_EQ(s.pipeline.sim.camera_mount.forward_offset_m, 0.2);
+  EXPECT_TRUE(s.pipeline.sim.odometry.drift);
+  EXPECT_DOUBLE_EQ(s.pipeline.sim.odometry.left_wheel_radius_error, 0.01);
+  EXPECT_DOUBLE_EQ(s.pipeline.sim.odometry.right_wheel_radius_error, -0.02);
+  EXPECT_DOUBLE_EQ(s.pipeline.sim.odometry.track_width_error, 0.03);
+  EXPECT_DOUBLE_EQ(s.pipeline.sim.odometry.linear_noise_std_mps, 0.05);
+  EXPECT_DOUBLE_EQ(s.pipeline.sim.odometry.angular_noise_std_radps, 0.06);
+  EXPECT_EQ(s.pipeline.sim.odometry.seed, 7u);
+  ASSERT_EQ(s.pipeline.moving_bodies.size(), 1u);
+  EXPECT_EQ(s.pipeline.moving_bodies[0].body, "person");
+  ASSERT_EQ(s.pipeline.moving_bodies[0].keyframes.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.pipeline.moving_bodies[0].keyframes[1].time_s, 2.0);
+  EXPECT_EQ(s.pipeline.moving_bodies[0].keyframes[1].position_W, Eigen::Vector3d(4.0, 0.5, 0.0));
+  ASSERT_TRUE(s.pipeline.moving_bodies[0].keyframes[1].yaw_rad);
+  EXPECT_NEAR(*s.pipeline.moving_bodies[0].keyframes[1].yaw_rad, M_PI, 1e-12);
+  const auto& k = s.camera().intrinsics;
   EXPECT_EQ(k.width, 320);
   EXPECT_EQ(k.height, 240);
   EXPECT_DOUBLE_EQ(k.fx, 200.0);
@@ -289,8 +288,8 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_DOUBLE_EQ(k.min_range_m, 0.2);
   EXPECT_DOUBLE_EQ(k.max_range_m, 8.0);
   EXPECT_DOUBLE_EQ(k.rate_hz, 10.0);
-  EXPECT_EQ(s.camera.gl_backend, sensors::GlBackend::kOsmesa);
-  const auto& n = s.camera.noise;
+  EXPECT_EQ(s.camera().gl_backend, sensors::GlBackend::kOsmesa);
+  const auto& n = s.camera().noise;
   EXPECT_FALSE(n.enabled);
   EXPECT_DOUBLE_EQ(n.baseline_m, 0.06);
   EXPECT_DOUBLE_EQ(n.subpixel, 0.1);
@@ -301,7 +300,7 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_DOUBLE_EQ(n.dropout_probability, 0.01);
   EXPECT_DOUBLE_EQ(n.holes_per_frame, 3.0);
   EXPECT_DOUBLE_EQ(n.hole_max_radius_px, 5.0);
-  const auto& f = s.filter;
+  const auto& f = s.pipeline.filter;
   EXPECT_EQ(f.type, filter::FilterType::kCsnb);
   EXPECT_EQ(f.device, filter::Device::kCpu);
   EXPECT_EQ(f.memory, filter::MemoryMode::kPinned);
@@ -316,7 +315,7 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_EQ(f.csnb.batch_size, 500);
   EXPECT_EQ(f.csnb.grid_exponent, 5);
   EXPECT_EQ(f.csnb.seed, 7u);
-  const auto& m = s.map;
+  const auto& m = s.pipeline.map;
   EXPECT_DOUBLE_EQ(m.voxel_size_m, 0.04);
   EXPECT_DOUBLE_EQ(m.voxel_decay_s, 10.0);
   EXPECT_EQ(m.decay_model, mapping::DecayModel::kExponential);
@@ -324,8 +323,8 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_EQ(m.clearing_mode, mapping::ClearingMode::kRaycast);
   EXPECT_EQ(m.clearing_walk, mapping::ClearingWalk::kFullWalk);
   EXPECT_EQ(m.expiry_leaves_per_update, 64u);
-  EXPECT_DOUBLE_EQ(s.voxel_grid_publish_period_s, 0.5);
-  const auto& o = s.source;
+  EXPECT_DOUBLE_EQ(s.outputs.publish_period_s, 0.5);
+  const auto& o = s.camera().source;
   EXPECT_TRUE(o.marking);
   EXPECT_FALSE(o.clearing);
   EXPECT_DOUBLE_EQ(o.obstacle_range_m, 3.5);
@@ -343,7 +342,7 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_EQ(e.min_observed_voxels, 5);
   EXPECT_EQ(e.phantom_min_cells, 3);
   EXPECT_DOUBLE_EQ(e.phantom_clearance_m, 0.2);
-  EXPECT_EQ(e.sample_depth_frames, 4);
+  EXPECT_EQ(s.outputs.sample_depth_frames, 4);
   const auto& c = s.checks;
   EXPECT_EQ(c.f1_3d_min, 0.8);
   EXPECT_EQ(c.iou_3d_min, 0.7);
@@ -532,33 +531,33 @@ TEST(ScenarioParse, OutOfRangeValuesNameKeyAndLine) {
 
 TEST(ScenarioParse, PresetsSetTheIntrinsics) {
   const Scenario s = parse(std::string(kMinimal) + "camera: {preset: d435_640x480, rate_hz: 6}\n");
-  EXPECT_EQ(s.camera.intrinsics.width, 640);
-  EXPECT_EQ(s.camera.intrinsics.height, 480);
-  EXPECT_DOUBLE_EQ(s.camera.intrinsics.rate_hz, 6.0);
+  EXPECT_EQ(s.camera().intrinsics.width, 640);
+  EXPECT_EQ(s.camera().intrinsics.height, 480);
+  EXPECT_DOUBLE_EQ(s.camera().intrinsics.rate_hz, 6.0);
 }
 
 TEST(ScenarioParse, ClearingFrustumFovDefaultsToTheCamera) {
   const Scenario wide = parse(kMinimal);
-  EXPECT_DOUBLE_EQ(wide.source.horizontal_fov_rad, sensors::CameraIntrinsics::d435_848x480().hfov_rad());
-  EXPECT_DOUBLE_EQ(wide.source.vertical_fov_rad, sensors::CameraIntrinsics::d435_848x480().vfov_rad());
+  EXPECT_DOUBLE_EQ(wide.camera().source.horizontal_fov_rad, sensors::CameraIntrinsics::d435_848x480().hfov_rad());
+  EXPECT_DOUBLE_EQ(wide.camera().source.vertical_fov_rad, sensors::CameraIntrinsics::d435_848x480().vfov_rad());
 
   const Scenario narrow = parse(std::string(kMinimal) + "camera: {preset: d435_640x480}\nmap:\n  observation: {max_z: 4}\n");
-  EXPECT_DOUBLE_EQ(narrow.source.horizontal_fov_rad, sensors::CameraIntrinsics::d435_640x480().hfov_rad());
-  EXPECT_DOUBLE_EQ(narrow.source.vertical_fov_rad, sensors::CameraIntrinsics::d435_640x480().vfov_rad());
-  EXPECT_LT(narrow.source.horizontal_fov_rad, wide.source.horizontal_fov_rad);
-  EXPECT_DOUBLE_EQ(narrow.source.max_z_m, 4.0);
+  EXPECT_DOUBLE_EQ(narrow.camera().source.horizontal_fov_rad, sensors::CameraIntrinsics::d435_640x480().hfov_rad());
+  EXPECT_DOUBLE_EQ(narrow.camera().source.vertical_fov_rad, sensors::CameraIntrinsics::d435_640x480().vfov_rad());
+  EXPECT_LT(narrow.camera().source.horizontal_fov_rad, wide.camera().source.horizontal_fov_rad);
+  EXPECT_DOUBLE_EQ(narrow.camera().source.max_z_m, 4.0);
 
   const Scenario custom = parse(replace_line(kFull, "    vertical_fov_angle:", "").yaml);
-  EXPECT_DOUBLE_EQ(custom.source.horizontal_fov_rad, 1.2);
-  EXPECT_DOUBLE_EQ(custom.source.vertical_fov_rad, custom.camera.intrinsics.vfov_rad());
+  EXPECT_DOUBLE_EQ(custom.camera().source.horizontal_fov_rad, 1.2);
+  EXPECT_DOUBLE_EQ(custom.camera().source.vertical_fov_rad, custom.camera().intrinsics.vfov_rad());
 }
 
 TEST(ScenarioParse, RelativeWorldPathsResolveAgainstTheScenarioFolder) {
-  EXPECT_EQ(parse_scenario(kMinimal, "x.yaml", "/a/b/scenarios").world_path, "/a/b/scenarios/w.xml");
+  EXPECT_EQ(parse_scenario(kMinimal, "x.yaml", "/a/b/scenarios").pipeline.world_path, "/a/b/scenarios/w.xml");
   const std::string up = replace_line(kMinimal, "world:", "world: ../worlds/./w.xml").yaml;
-  EXPECT_EQ(parse_scenario(up, "x.yaml", "/a/b/scenarios").world_path, "/a/b/worlds/w.xml");
+  EXPECT_EQ(parse_scenario(up, "x.yaml", "/a/b/scenarios").pipeline.world_path, "/a/b/worlds/w.xml");
   const std::string absolute = replace_line(kMinimal, "world:", "world: /abs/w.xml").yaml;
-  EXPECT_EQ(parse_scenario(absolute, "x.yaml", "/a/b/scenarios").world_path, "/abs/w.xml");
+  EXPECT_EQ(parse_scenario(absolute, "x.yaml", "/a/b/scenarios").pipeline.world_path, "/abs/w.xml");
   EXPECT_THAT(error_of(replace_line(kMinimal, "world:", "world: ''").yaml), HasSubstr("world: must not be empty"));
 }
 
@@ -569,7 +568,7 @@ TEST(ScenarioParse, LoadScenarioResolvesAgainstTheFilesFolder) {
   std::ofstream(file) << replace_line(kMinimal, "world:", "world: ../worlds/w.xml").yaml;
   const Scenario s = load_scenario(file.string());
   EXPECT_EQ(s.file, file.string());
-  EXPECT_EQ(s.world_path, (dir / "worlds" / "w.xml").string());
+  EXPECT_EQ(s.pipeline.world_path, (dir / "worlds" / "w.xml").string());
   std::ofstream(file) << "name: a\nworld: b\nrobot:\n  waypoints: [[0, 0], [1, 0]]\n  speed_mps: 0.5\n  bogus: 1\n";
   EXPECT_THAT(invalid_argument_of([&] { load_scenario(file.string()); }), HasSubstr(file.string() + ":6: robot.bogus: unknown key"));
   fs::remove_all(dir);
@@ -579,11 +578,11 @@ TEST(ScenarioParse, LoadScenarioResolvesAgainstTheFilesFolder) {
 TEST(ScenarioOverrides, EmptyOverridesChangeNothing) {
   Scenario s = parse(kFull);
   apply_overrides(s, {});
-  EXPECT_EQ(s.seed, 7u);
-  EXPECT_EQ(s.filter.type, filter::FilterType::kCsnb);
-  EXPECT_DOUBLE_EQ(s.map.voxel_size_m, 0.04);
+  EXPECT_EQ(s.pipeline.seed, 7u);
+  EXPECT_EQ(s.pipeline.filter.type, filter::FilterType::kCsnb);
+  EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_size_m, 0.04);
   EXPECT_DOUBLE_EQ(s.duration_s, 12.5);
-  EXPECT_FALSE(s.camera.noise.enabled);
+  EXPECT_FALSE(s.camera().noise.enabled);
 }
 
 TEST(ScenarioOverrides, EachOverrideChangesWhatItNames) {
@@ -598,21 +597,21 @@ TEST(ScenarioOverrides, EachOverrideChangesWhatItNames) {
   o.gl_backend = "egl";
   o.noise = true;
   apply_overrides(s, o);
-  EXPECT_EQ(s.seed, 42u);
-  EXPECT_EQ(s.filter.csnb.seed, 42u);
-  EXPECT_EQ(s.sim.odometry.seed, 42u);
-  EXPECT_EQ(s.filter.type, filter::FilterType::kVoxel);
-  EXPECT_EQ(s.filter.device, filter::Device::kAuto);
-  EXPECT_EQ(s.filter.memory, filter::MemoryMode::kManaged);
-  EXPECT_DOUBLE_EQ(s.map.voxel_size_m, 0.1);
-  EXPECT_DOUBLE_EQ(s.filter.voxel.voxel_size_m, 0.1);
-  EXPECT_DOUBLE_EQ(s.filter.csnb.voxel_size_m, 0.1);
+  EXPECT_EQ(s.pipeline.seed, 42u);
+  EXPECT_EQ(s.pipeline.filter.csnb.seed, 42u);
+  EXPECT_EQ(s.pipeline.sim.odometry.seed, 42u);
+  EXPECT_EQ(s.pipeline.filter.type, filter::FilterType::kVoxel);
+  EXPECT_EQ(s.pipeline.filter.device, filter::Device::kAuto);
+  EXPECT_EQ(s.pipeline.filter.memory, filter::MemoryMode::kManaged);
+  EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_size_m, 0.1);
+  EXPECT_DOUBLE_EQ(s.pipeline.filter.voxel.voxel_size_m, 0.1);
+  EXPECT_DOUBLE_EQ(s.pipeline.filter.csnb.voxel_size_m, 0.1);
   EXPECT_DOUBLE_EQ(s.duration_s, 3.0);
-  EXPECT_EQ(s.camera.gl_backend, sensors::GlBackend::kEgl);
-  EXPECT_TRUE(s.camera.noise.enabled);
+  EXPECT_EQ(s.camera().gl_backend, sensors::GlBackend::kEgl);
+  EXPECT_TRUE(s.camera().noise.enabled);
   // Untouched values stay.
-  EXPECT_DOUBLE_EQ(s.map.voxel_decay_s, 10.0);
-  EXPECT_EQ(s.camera.intrinsics.width, 320);
+  EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_decay_s, 10.0);
+  EXPECT_EQ(s.camera().intrinsics.width, 320);
 }
 
 TEST(ScenarioOverrides, BadValuesAreRejectedNamingTheOptionAndChangeNothing) {
@@ -635,9 +634,9 @@ TEST(ScenarioOverrides, BadValuesAreRejectedNamingTheOptionAndChangeNothing) {
     c.overrides.seed = 99;  // applied before the bad value: must not stick either
     Scenario s = parse(kFull);
     EXPECT_THAT(invalid_argument_of([&] { apply_overrides(s, c.overrides); }), HasSubstr(c.expected));
-    EXPECT_EQ(s.seed, 7u);
-    EXPECT_DOUBLE_EQ(s.map.voxel_size_m, 0.04);
-    EXPECT_DOUBLE_EQ(s.filter.voxel.voxel_size_m, 0.04);
+    EXPECT_EQ(s.pipeline.seed, 7u);
+    EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_size_m, 0.04);
+    EXPECT_DOUBLE_EQ(s.pipeline.filter.voxel.voxel_size_m, 0.04);
     EXPECT_DOUBLE_EQ(s.duration_s, 12.5);
   }
 }

@@ -1,0 +1,29 @@
+#pragma once
+// What the map is compared with and how. Lengths in metres, times in seconds of simulated time.
+#include <string>
+
+namespace stvl::evaluation {
+
+struct EvaluationConfig {
+  // Taken from the map and its observation source (not YAML keys of their own): truth is voxelized at the
+  // map's voxel size and kept inside the marking height band.
+  double voxel_size_m = 0.05;
+  double min_obstacle_height_m = 0.0;
+  double max_obstacle_height_m = 3.0;
+
+  // YAML evaluation.*, same names.
+  double recall_window_s = 2.0;     // recall counts truth voxels the noise-free camera saw this recently
+  double evaluate_every_s = 1.0;    // cadence of the full comparison (snapshots)
+  int tolerance_voxels = 1;         // a match lies within this many voxels (cells in 2D), Chebyshev
+  int min_observed_voxels = 3;      // an obstacle counts as observed once this many of its voxels were seen
+  int phantom_min_cells = 2;        // lethal components smaller than this are not called phantoms
+  // A lethal component is a phantom when no true footprint cell centre lies within this distance of one of
+  // its cell centres (Chebyshev, rounded up to whole cells). Metres, so that the meaning does not change
+  // with the voxel size; 0.10 m is below a small robot's inflation radius.
+  double phantom_clearance_m = 0.10;
+
+  // Throws std::invalid_argument naming the field (by its YAML key) and value.
+  void validate() const;
+};
+
+}  // namespace stvl::evaluation

@@ -1,0 +1,192 @@
+#include "evaluation/evaluator.hpp"
+
+#include <cmath>
+
+namespace stvl::evaluation {
+
+EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double warm_up_s) {
+  EvaluationMean m;
+  if (snapshots.empty()) return m;
+  const double warm_up_end = snapshots.front().time_s + warm_up_s;
+  std::size_t n = 0;
+  double phantoms = 0;
+  for (const auto& s : snapshots) {
+    if (s.time_s < warm_up_end && snapshots.size() > 1) continue;
+    ++n;
+    m.precision += s.precision, m.recall += s.recall, m.f1 += s.f1, m.iou += s.iou;
+    m.costmap_precision += s.costmap_precision, m.costmap_recall += s.costmap_recall;
+    m.mapped_voxels += s.mapped_voxels, m.observed_truth_voxels += s.observed_truth_voxels;
+    m.lethal_cells += s.lethal_cells;
+    phantoms += s.phantom_obstacles;
+    m.max_phantom_obstacles = std::max(m.max_phantom_obstacles, s.phantom_obstacles);
+  }
+  if (n > 0) {
+    m.precision /= n, m.recall /= n, m.f1 /= n, m.iou /= n, m.costmap_precision /= n, m.costmap_recall /= n;
+    m.mapped_voxels /= n, m.observed_truth_voxels /= n, m.lethal_cells /= n;
+    m.phantom_obstacles = phantoms / n;
+  }
+  m.snapshots = n;
+  m.time_s = snapshots.back().time_s;
+  return m;
+}
+
+Evaluator::Evaluator(const sim::World& world, const EvaluationConfig& config) : config_(config), truth_(world, config) {
+  update_truth(world);
+}
+
+void Evaluator::update_truth(const sim::World& world) {
+  truth_.update(world);
+  for (const auto* body : truth_.bodies()) {
+    auto& result = obstacles_[body->body_name];
+    result.name = body->body_name;
+    result.truth_voxels = std::max(result.truth_voxels, body->voxels.size());
+  }
+}
+
+void Evaluator::observe(double time_s, const CameraView& view) {
+  const sensors::DepthImage& depth = *view.clean_depth;
+  const Eigen::Isometry3f T = view.T_world_camera.cast<float>();
+  constexpr int kStride = 2;
+  // Neighbouring pixels mostly fall in one voxel, and recording a voxel twice in a frame changes nothing:
+  // skip the hash lookups when the key repeats.
+  bool have_last = false;
+  VoxelKey last{};
+  for (int v = 0; v < depth.height; v += kStride) {
+    for (int u = 0; u < depth.width; u += kStride) {
+      const float z = depth.at(u, v);
+      if (!(z > 0.0f)) continue;
+      const Eigen::Vector3f p_C = z * sensors::pixel_ray_C(view.intrinsics, u, v).cast<float>();
+      if (p_C.norm() > view.obstacle_range_m) continue;
+      const Eigen::Vector3d p_W = (T * p_C).cast<double>();
+      if (p_W.z() < config_.min_obstacle_height_m || p_W.z() > config_.max_obstacle_height_m) continue;
+      const VoxelKey key = voxel_key(p_W, config_.voxel_size_m);
+      if (have_last && key == last) continue;
+      have_last = true;
+      last = key;
+      last_seen_[key] = time_s;
+      if (!truth_.contains(key)) off_truth_keys_.insert(key);
+    }
+  }
+}
+
+void Evaluator::observe_clearing(double time_s, const sim::World& world, const CameraView& view,
+                                 const mapping::VoxelMap& map) {
+  if (!truth_.has_moving_bodies()) return;
+  update_truth(world);
+  const sensors::DepthImage& depth = *view.clean_depth;
+  const Eigen::Isometry3d T_camera_world = view.T_world_camera.inverse();
+  for (const VoxelKey& k : truth_.vacated()) {
+    if (clearing_.tracked(k) || truth_.near(k, config_.tolerance_voxels)) continue;
+    const Eigen::Vector3d c_W = voxel_center(k, config_.voxel_size_m);
+    if (!map.lookup(c_W)) continue;
+    const Eigen::Vector3d p_C = T_camera_world * c_W;
+    const auto pixel = sensors::project_to_pixel(view.intrinsics, p_C);
+    if (!pixel) continue;
+    const int u = static_cast<int>(std::lround(pixel->x())), v = static_cast<int>(std::lround(pixel->y()));
+    if (u < 0 || v < 0 || u >= depth.width || v >= depth.height) continue;
+    const float z = depth.at(u, v);
+    if (z > 0.0f && z > p_C.z() + config_.voxel_size_m) clearing_.seen_through(k, time_s);
+  }
+}
+
+void Evaluator::after_update(double time_s, const mapping::VoxelMap& map) {
+  clearing_.after_update(time_s, [&](const VoxelKey& k) {
+    return map.lookup(voxel_center(k, config_.voxel_size_m)).has_value();
+  });
+}
+
+VoxelMatches Evaluator::match_mapped_voxels(const VoxelSet& mapped) {
+  VoxelMatches m;
+  m.mapped = mapped.size();
+  for (const auto& k : mapped) {
+    if (truth_.near(k, config_.tolerance_voxels)) ++m.matched_mapped;
+    if (const auto d = truth_.distance_to_surface_m(voxel_center(k, config_.voxel_size_m))) distances_m_.push_back(*d);
+  }
+  return m;
+}
+
+VoxelMatches Evaluator::match_observed_truth(double time_s, const VoxelSet& mapped, CellSet& observed_cells) {
+  VoxelMatches m;
+  const auto& bodies = truth_.bodies();
+  std::vector<std::size_t> body_observed(bodies.size()), body_matched(bodies.size());
+  for (auto it = last_seen_.begin(); it != last_seen_.end();) {
+    if (it->second < time_s - config_.recall_window_s) {
+      it = last_seen_.erase(it);
+      continue;
+    }
+    const int body = truth_.body_of(it->first);
+    if (body >= 0) {
+      ++m.observed_truth;
+      ++body_observed[body];
+      observed_cells.insert({it->first.x, it->first.y});
+      if (near_voxel(mapped, it->first, config_.tolerance_voxels)) ++m.matched_truth, ++body_matched[body];
+    }
+    ++it;
+  }
+  for (std::size_t b = 0; b < bodies.size(); ++b)
+    update_obstacle(obstacles_[bodies[b]->body_name], body_observed[b], body_matched[b], config_.min_observed_voxels);
+  return m;
+}
+
+void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap) {
+  const double cell_m = config_.voxel_size_m;
+  const CellSet footprint = truth_.footprint();
+  CellSet lethal;
+  if (!map.empty()) {
+    mapping::CostmapOptions options;
+    options.resolution_m = cell_m;
+    options.min_obstacle_height_m = config_.min_obstacle_height_m;
+    options.max_obstacle_height_m = config_.max_obstacle_height_m;
+    lethal = lethal_cells(map.project_costmap(options), cell_m);
+  }
+  CostmapMatches m = match_costmap(lethal, footprint, observed_cells, config_.tolerance_voxels);
+  snap.lethal_cells = m.lethal;
+  snap.costmap_precision = m.precision;
+  snap.costmap_recall = m.recall;
+  snap.phantoms = find_phantoms(lethal, footprint, cell_m, config_.phantom_clearance_m, config_.phantom_min_cells);
+  snap.phantom_obstacles = static_cast<int>(snap.phantoms.size());
+  top_down_ = {};
+  top_down_.cell_m = cell_m;
+  top_down_.true_positive = std::move(m.true_positive);
+  top_down_.false_positive = std::move(m.false_positive);
+  top_down_.false_negative = std::move(m.false_negative);
+  top_down_.truth.assign(footprint.begin(), footprint.end());
+  top_down_.bounds_W = truth_.bounds_W();
+}
+
+const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& world, const mapping::VoxelMap& map) {
+  update_truth(world);
+  EvaluationSnapshot snap;
+  snap.time_s = time_s;
+  VoxelSet mapped;
+  for (const auto& k : map.voxel_keys()) mapped.insert(k);
+  const VoxelMatches mapped_matches = match_mapped_voxels(mapped);
+  CellSet observed_cells;
+  const VoxelMatches truth_matches = match_observed_truth(time_s, mapped, observed_cells);
+  VoxelMatches matches = mapped_matches;
+  matches.observed_truth = truth_matches.observed_truth;
+  matches.matched_truth = truth_matches.matched_truth;
+  const VoxelScores scores = voxel_scores(matches);
+  snap.mapped_voxels = matches.mapped;
+  snap.matched_mapped = matches.matched_mapped;
+  snap.observed_truth_voxels = matches.observed_truth;
+  snap.matched_truth = matches.matched_truth;
+  snap.precision = scores.precision, snap.recall = scores.recall, snap.f1 = scores.f1, snap.iou = scores.iou;
+  score_costmap(map, observed_cells, snap);
+  snapshots_.push_back(snap);
+  return snapshots_.back();
+}
+
+EvaluationSummary Evaluator::finish(double time_s, const sim::World& world, const mapping::VoxelMap& map) {
+  EvaluationSummary summary;
+  summary.final = evaluate(time_s, world, map);
+  summary.snapshots = snapshots_;
+  summary.mean = mean_of(snapshots_, config_.recall_window_s);
+  for (const auto& [name, result] : obstacles_) summary.obstacles.push_back(result);
+  summary.accuracy = distance_stats(distances_m_);
+  summary.clearing = clearing_.result(time_s);
+  summary.observed_off_truth_voxels = off_truth_keys_.size();
+  return summary;
+}
+
+}  // namespace stvl::evaluation

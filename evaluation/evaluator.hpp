@@ -1,0 +1,107 @@
+#pragma once
+// Map versus ground truth over a run, at the map's voxel size (see metrics.hpp for each figure):
+//   every frame   observe() what the noise-free camera saw (recall's denominator), observe_clearing() before
+//                 the map's update and after_update() after it (clearing latency of moved bodies);
+//   periodically  evaluate(): a snapshot of every figure against the truth of the world's current state;
+//   at the end    finish(): the final snapshot, means, obstacles, surface distances, clearing.
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "evaluation/clearing.hpp"
+#include "evaluation/config.hpp"
+#include "evaluation/metrics.hpp"
+#include "evaluation/truth.hpp"
+#include "mapping/voxel_map.hpp"
+#include "sensors/camera.hpp"
+#include "sensors/depth_image.hpp"
+
+namespace stvl::evaluation {
+
+struct EvaluationSnapshot {
+  double time_s = 0;
+  std::size_t mapped_voxels = 0;
+  std::size_t observed_truth_voxels = 0;
+  std::size_t matched_mapped = 0;
+  std::size_t matched_truth = 0;
+  double precision = 0, recall = 0, f1 = 0, iou = 0;
+  std::size_t lethal_cells = 0;
+  double costmap_precision = 0, costmap_recall = 0;
+  int phantom_obstacles = 0;
+  std::vector<Phantom> phantoms;  // phantom_obstacles of them, sorted by position
+};
+
+// Means over the snapshots after the first recall window (all of them when there is only one).
+struct EvaluationMean {
+  double time_s = 0;          // the end of the run
+  std::size_t snapshots = 0;  // how many were averaged
+  std::size_t mapped_voxels = 0, observed_truth_voxels = 0, lethal_cells = 0;  // means, rounded down
+  double precision = 0, recall = 0, f1 = 0, iou = 0, costmap_precision = 0, costmap_recall = 0;
+  double phantom_obstacles = 0;   // mean
+  int max_phantom_obstacles = 0;  // the most at one snapshot
+};
+
+struct EvaluationSummary {
+  std::vector<EvaluationSnapshot> snapshots;
+  EvaluationMean mean;
+  EvaluationSnapshot final;  // at the end of the run
+  std::vector<ObstacleResult> obstacles;  // sorted by body name
+  DistanceStats accuracy;    // mapped voxel centre to the nearest true surface, all snapshots pooled
+  ClearingResult clearing;
+  std::size_t observed_off_truth_voxels = 0;  // noise-free hits outside every truth voxel (render vs geometry)
+};
+
+// Averages the snapshots as EvaluationMean says; warm_up_s is the recall window.
+EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double warm_up_s);
+
+// One camera's noise-free view of a frame.
+struct CameraView {
+  const sensors::DepthImage* clean_depth = nullptr;  // rendered depth, no noise
+  sensors::CameraIntrinsics intrinsics;
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
+  double obstacle_range_m = 2.5;  // the source's marking range: farther hits are not expected in the map
+};
+
+// Top-down picture of the last evaluation: true footprints, lethal and true, lethal and false, observed
+// footprint missed; cells of cell_m.
+struct TopDown {
+  Eigen::AlignedBox2d bounds_W;
+  double cell_m = 0.05;
+  std::vector<CellKey> truth, true_positive, false_positive, false_negative;
+};
+
+class Evaluator {
+ public:
+  // Throws std::invalid_argument for a bad config.
+  Evaluator(const sim::World& world, const EvaluationConfig& config);
+
+  void observe(double time_s, const CameraView& view);
+  void observe_clearing(double time_s, const sim::World& world, const CameraView& view, const mapping::VoxelMap& map);
+  void after_update(double time_s, const mapping::VoxelMap& map);
+  const EvaluationSnapshot& evaluate(double time_s, const sim::World& world, const mapping::VoxelMap& map);
+  EvaluationSummary finish(double time_s, const sim::World& world, const mapping::VoxelMap& map);
+
+  const TopDown& top_down() const { return top_down_; }
+  const Truth& truth() const { return truth_; }
+
+ private:
+  void update_truth(const sim::World& world);
+  // evaluate(), step by step.
+  VoxelMatches match_mapped_voxels(const VoxelSet& mapped);  // also pools the surface distances
+  VoxelMatches match_observed_truth(double time_s, const VoxelSet& mapped, CellSet& observed_cells);
+  void score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap);
+
+  EvaluationConfig config_;
+  Truth truth_;
+  std::map<std::string, ObstacleResult> obstacles_;
+  std::unordered_map<VoxelKey, double, VoxelKeyHash> last_seen_;  // observed truth candidates -> last time
+  VoxelSet off_truth_keys_;
+  ClearingLatency clearing_;
+  std::vector<double> distances_m_;
+  std::vector<EvaluationSnapshot> snapshots_;
+  TopDown top_down_;
+};
+
+}  // namespace stvl::evaluation

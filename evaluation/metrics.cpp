@@ -1,0 +1,124 @@
+#include "evaluation/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <tuple>
+
+namespace stvl::evaluation {
+namespace {
+
+double ratio(std::size_t num, std::size_t den) { return den == 0 ? 0.0 : static_cast<double>(num) / den; }
+
+}  // namespace
+
+bool near_voxel(const VoxelSet& set, const VoxelKey& k, int tol) {
+  if (set.count(k)) return true;  // the usual hit first
+  for (int dx = -tol; dx <= tol; ++dx)
+    for (int dy = -tol; dy <= tol; ++dy)
+      for (int dz = -tol; dz <= tol; ++dz)
+        if (set.count({k.x + dx, k.y + dy, k.z + dz})) return true;
+  return false;
+}
+
+bool near_cell(const CellSet& set, const CellKey& c, int tol) {
+  if (set.count(c)) return true;
+  for (int dx = -tol; dx <= tol; ++dx)
+    for (int dy = -tol; dy <= tol; ++dy)
+      if (set.count({c.x + dx, c.y + dy})) return true;
+  return false;
+}
+
+VoxelScores voxel_scores(const VoxelMatches& m) {
+  VoxelScores s;
+  s.precision = ratio(m.matched_mapped, m.mapped);
+  s.recall = ratio(m.matched_truth, m.observed_truth);
+  s.f1 = s.precision + s.recall > 0 ? 2 * s.precision * s.recall / (s.precision + s.recall) : 0;
+  s.iou = ratio(m.matched_truth, m.observed_truth + (m.mapped - m.matched_mapped));
+  return s;
+}
+
+void update_obstacle(ObstacleResult& o, std::size_t observed_voxels, std::size_t matched_voxels, int min_observed_voxels) {
+  o.observed_voxels = std::max(o.observed_voxels, observed_voxels);
+  if (observed_voxels < static_cast<std::size_t>(min_observed_voxels)) return;
+  o.observed = true;
+  o.best_recall = std::max(o.best_recall, ratio(matched_voxels, observed_voxels));
+  o.detected = o.detected || o.best_recall >= 0.5;
+}
+
+CostmapMatches match_costmap(const CellSet& lethal, const CellSet& footprint, const CellSet& observed, int tol) {
+  CostmapMatches m;
+  m.lethal = lethal.size();
+  m.observed = observed.size();
+  for (const auto& c : lethal) {
+    const bool ok = near_cell(footprint, c, tol);
+    m.lethal_true += ok;
+    (ok ? m.true_positive : m.false_positive).push_back(c);
+  }
+  for (const auto& c : observed) {
+    if (near_cell(lethal, c, tol)) ++m.observed_hit;
+    else m.false_negative.push_back(c);
+  }
+  m.precision = ratio(m.lethal_true, m.lethal);
+  m.recall = ratio(m.observed_hit, m.observed);
+  return m;
+}
+
+CellSet lethal_cells(const mapping::Costmap2D& costmap, double cell_m) {
+  CellSet lethal;
+  for (int iy = 0; iy < costmap.height; ++iy)
+    for (int ix = 0; ix < costmap.width; ++ix)
+      if (costmap.at(ix, iy) == mapping::kCostLethal)
+        lethal.insert(cell_key({costmap.origin_m.x() + (ix + 0.5) * costmap.resolution_m,
+                                costmap.origin_m.y() + (iy + 0.5) * costmap.resolution_m},
+                               cell_m));
+  return lethal;
+}
+
+std::vector<Phantom> find_phantoms(const CellSet& lethal, const CellSet& footprint, double cell_m, double clearance_m,
+                                   int min_cells) {
+  const int clearance_cells = static_cast<int>(std::ceil(clearance_m / cell_m - 1e-9));
+  std::vector<Phantom> phantoms;
+  CellSet visited;
+  for (const auto& start : lethal) {
+    if (visited.count(start)) continue;
+    std::vector<CellKey> stack{start};
+    visited.insert(start);
+    std::size_t size = 0;
+    bool near_truth = false;
+    Eigen::Vector2d sum_m = Eigen::Vector2d::Zero();
+    while (!stack.empty()) {
+      const CellKey c = stack.back();
+      stack.pop_back();
+      ++size;
+      sum_m += Eigen::Vector2d(c.x + 0.5, c.y + 0.5) * cell_m;
+      near_truth = near_truth || near_cell(footprint, c, clearance_cells);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy) {
+          const CellKey n{c.x + dx, c.y + dy};
+          if (lethal.count(n) && visited.insert(n).second) stack.push_back(n);
+        }
+    }
+    if (!near_truth && size >= static_cast<std::size_t>(min_cells))
+      phantoms.push_back({sum_m.x() / double(size), sum_m.y() / double(size), size});
+  }
+  std::sort(phantoms.begin(), phantoms.end(),
+            [](const Phantom& a, const Phantom& b) { return std::tie(a.x_m, a.y_m) < std::tie(b.x_m, b.y_m); });
+  return phantoms;
+}
+
+DistanceStats distance_stats(std::vector<double> d) {
+  DistanceStats stats;
+  stats.count = d.size();
+  if (d.empty()) return stats;
+  std::sort(d.begin(), d.end());
+  const auto at = [&](double q) { return d[std::min(d.size() - 1, static_cast<std::size_t>(q * (d.size() - 1) + 0.5))]; };
+  stats.mean_m = std::accumulate(d.begin(), d.end(), 0.0) / d.size();
+  stats.median_m = at(0.5);
+  stats.p90_m = at(0.9);
+  stats.p99_m = at(0.99);
+  stats.max_m = d.back();
+  return stats;
+}
+
+}  // namespace stvl::evaluation

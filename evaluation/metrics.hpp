@@ -1,0 +1,72 @@
+#pragma once
+// The figures of one comparison between a map and the truth, each a plain function of voxel and cell sets so
+// that it can be checked on hand-made inputs. Keys are world-frame voxel (cell) indices at the evaluation's
+// voxel size (common/voxel_key.hpp); "within tol" is the Chebyshev distance between indices.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "common/voxel_key.hpp"
+#include "mapping/costmap.hpp"
+
+namespace stvl::evaluation {
+
+bool near_voxel(const VoxelSet& set, const VoxelKey& key, int tol);
+bool near_cell(const CellSet& set, const CellKey& cell, int tol);
+
+// 3D: precision = matched mapped / mapped, recall = matched observed truth / observed truth,
+// F1 = 2PR / (P + R), IoU = matched truth / (observed truth + unmatched mapped). Empty denominators give 0.
+struct VoxelMatches {
+  std::size_t mapped = 0, matched_mapped = 0;  // mapped voxels, and those within tol of a truth voxel
+  std::size_t observed_truth = 0, matched_truth = 0;  // observed truth voxels, and those within tol of a mapped one
+};
+struct VoxelScores {
+  double precision = 0, recall = 0, f1 = 0, iou = 0;
+};
+VoxelScores voxel_scores(const VoxelMatches& matches);
+
+// An obstacle (one body) over the run: observed once at least min_observed_voxels of its voxels were seen
+// within the recall window at one evaluation; detected once, at such an evaluation, at least half of them were
+// in the map (within tol).
+struct ObstacleResult {
+  std::string name;
+  std::size_t truth_voxels = 0;     // surface voxels in the height band (the most at any time)
+  std::size_t observed_voxels = 0;  // the most seen at one evaluation
+  double best_recall = 0;           // the best fraction of its observed voxels in the map at one evaluation
+  bool observed = false;
+  bool detected = false;
+};
+void update_obstacle(ObstacleResult& obstacle, std::size_t observed_voxels, std::size_t matched_voxels,
+                     int min_observed_voxels);
+
+// 2D: lethal cells against the true footprints. precision = lethal cells within tol of a footprint cell /
+// lethal cells; recall = observed footprint cells within tol of a lethal cell / observed footprint cells.
+struct CostmapMatches {
+  std::size_t lethal = 0, lethal_true = 0;
+  std::size_t observed = 0, observed_hit = 0;
+  double precision = 0, recall = 0;
+  std::vector<CellKey> true_positive, false_positive, false_negative;  // for pictures
+};
+CostmapMatches match_costmap(const CellSet& lethal, const CellSet& footprint, const CellSet& observed, int tol);
+// Cell keys (at cell_m, the costmap's own resolution) of the lethal cells of a costmap.
+CellSet lethal_cells(const mapping::Costmap2D& costmap, double cell_m);
+
+// A phantom obstacle: an 8-connected group of at least min_cells lethal cells with no true footprint cell
+// centre within clearance_m of any of its cell centres (Chebyshev, ceil(clearance_m / cell_m) cells).
+struct Phantom {
+  double x_m = 0, y_m = 0;  // the mean of its cell centres, world frame
+  std::size_t cells = 0;
+};
+// Sorted by position (x, then y).
+std::vector<Phantom> find_phantoms(const CellSet& lethal, const CellSet& footprint, double cell_m, double clearance_m,
+                                   int min_cells);
+
+// Distance of mapped voxel centres to the nearest true surface.
+struct DistanceStats {
+  std::size_t count = 0;
+  double mean_m = 0, median_m = 0, p90_m = 0, p99_m = 0, max_m = 0;
+};
+// Quantiles are the nearest rank (index round(q (n - 1)) of the sorted values).
+DistanceStats distance_stats(std::vector<double> distances_m);
+
+}  // namespace stvl::evaluation

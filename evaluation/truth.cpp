@@ -1,0 +1,148 @@
+#include "evaluation/truth.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace stvl::evaluation {
+namespace {
+
+constexpr double kBucketCell_m = 1.0;
+constexpr double kReach_m = 0.5;
+
+bool is_mocap(const sim::World& world, int body_id) { return world.model()->body_mocapid[body_id] >= 0; }
+
+// Truth voxels outside the map's marking band are dropped so that they do not count as misses.
+bool in_band(const VoxelKey& k, const EvaluationConfig& c) {
+  const double zc = (k.z + 0.5) * c.voxel_size_m;
+  return zc >= c.min_obstacle_height_m - 0.5 * c.voxel_size_m && zc <= c.max_obstacle_height_m + 0.5 * c.voxel_size_m;
+}
+
+std::vector<sim::BodyVoxels> voxelize_in_band(const std::vector<sim::ObstacleGeom>& geoms, const EvaluationConfig& c) {
+  sim::VoxelizeOptions options;
+  options.voxel_size_m = c.voxel_size_m;
+  options.bounds_W = Eigen::AlignedBox3d(Eigen::Vector3d(-1e6, -1e6, c.min_obstacle_height_m),
+                                         Eigen::Vector3d(1e6, 1e6, c.max_obstacle_height_m));
+  std::vector<sim::BodyVoxels> bodies = sim::voxelize_bodies(geoms, options);
+  for (auto& body : bodies)
+    body.voxels.erase(std::remove_if(body.voxels.begin(), body.voxels.end(), [&](const VoxelKey& k) { return !in_band(k, c); }),
+                      body.voxels.end());
+  return bodies;
+}
+
+}  // namespace
+
+Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(config) {
+  config_.validate();
+  geoms_ = sim::obstacle_geoms(world);
+  std::vector<sim::ObstacleGeom> statics;
+  for (const auto& g : geoms_) (is_mocap(world, g.body_id) ? dynamic_geoms_ : statics).push_back(g);
+  static_bodies_ = voxelize_in_band(statics, config_);
+  for (const auto& body : static_bodies_) static_truth_.insert(body.voxels.begin(), body.voxels.end());
+  for (std::size_t b = 0; b < static_bodies_.size(); ++b)
+    for (const auto& k : static_bodies_[b].voxels) static_body_of_.emplace(k, static_cast<int>(b));
+  for (const auto& body : sim::footprints(statics, config_.voxel_size_m, config_.min_obstacle_height_m,
+                                          config_.max_obstacle_height_m))
+    static_footprint_.insert(body.cells.begin(), body.cells.end());
+  update(world);
+}
+
+void Truth::update(const sim::World& world) {
+  geoms_ = sim::obstacle_geoms(world);
+  dynamic_geoms_.clear();
+  for (const auto& g : geoms_)
+    if (is_mocap(world, g.body_id)) dynamic_geoms_.push_back(g);
+  dynamic_bodies_ = voxelize_in_band(dynamic_geoms_, config_);
+  dynamic_truth_.clear();
+  dynamic_body_of_.clear();
+  bodies_.clear();
+  for (const auto& body : static_bodies_) bodies_.push_back(&body);
+  for (const auto& body : dynamic_bodies_) {
+    const int index = static_cast<int>(bodies_.size());
+    bodies_.push_back(&body);
+    dynamic_truth_.insert(body.voxels.begin(), body.voxels.end());
+    for (const auto& k : body.voxels) {
+      dynamic_body_of_.emplace(k, index);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) vacated_.insert({k.x + dx, k.y + dy, k.z + dz});
+    }
+  }
+  index_geoms();
+}
+
+void Truth::index_geoms() {
+  geoms_near_.clear();
+  boxes_.clear();
+  for (std::size_t g = 0; g < geoms_.size(); ++g) {
+    boxes_.push_back(geoms_[g].aabb_W());
+    const auto lo = cell_key(boxes_.back().min().head<2>().array() - kReach_m, kBucketCell_m);
+    const auto hi = cell_key(boxes_.back().max().head<2>().array() + kReach_m, kBucketCell_m);
+    for (int x = lo.x; x <= hi.x; ++x)
+      for (int y = lo.y; y <= hi.y; ++y) geoms_near_[{x, y}].push_back(static_cast<int>(g));
+  }
+}
+
+bool Truth::contains(const VoxelKey& k) const { return static_truth_.count(k) || dynamic_truth_.count(k); }
+
+bool Truth::near(const VoxelKey& k, int tol) const {
+  const auto near_set = [&](const VoxelSet& set) {
+    if (set.count(k)) return true;
+    for (int dx = -tol; dx <= tol; ++dx)
+      for (int dy = -tol; dy <= tol; ++dy)
+        for (int dz = -tol; dz <= tol; ++dz)
+          if (set.count({k.x + dx, k.y + dy, k.z + dz})) return true;
+    return false;
+  };
+  return near_set(static_truth_) || near_set(dynamic_truth_);
+}
+
+int Truth::body_of(const VoxelKey& k) const {
+  if (const auto it = static_body_of_.find(k); it != static_body_of_.end()) return it->second;
+  if (const auto it = dynamic_body_of_.find(k); it != dynamic_body_of_.end()) return it->second;
+  return -1;
+}
+
+CellSet Truth::footprint() const {
+  CellSet footprint = static_footprint_;
+  for (const auto& body : sim::footprints(dynamic_geoms_, config_.voxel_size_m, config_.min_obstacle_height_m,
+                                          config_.max_obstacle_height_m))
+    footprint.insert(body.cells.begin(), body.cells.end());
+  return footprint;
+}
+
+std::optional<double> Truth::distance_to_surface_m(const Eigen::Vector3d& c) const {
+  double best = std::numeric_limits<double>::infinity();
+  const auto consider = [&](int g) {
+    if (boxes_[g].exteriorDistance(c) < best) best = std::min(best, std::abs(geoms_[g].signed_distance_m(c)));
+  };
+  const auto bucket = geoms_near_.find(cell_key(c.head<2>(), kBucketCell_m));
+  if (bucket != geoms_near_.end())
+    for (int g : bucket->second) consider(g);
+  if (!(best <= kReach_m))  // nothing within reach in this cell: fall back to every geom
+    for (std::size_t g = 0; g < geoms_.size(); ++g) consider(static_cast<int>(g));
+  if (!std::isfinite(best)) return std::nullopt;
+  return best;
+}
+
+Eigen::AlignedBox2d Truth::bounds_W() const {
+  Eigen::AlignedBox2d bounds;
+  for (const auto& g : geoms_) {
+    const auto box = g.aabb_W();
+    bounds.extend(Eigen::Vector2d(box.min().x(), box.min().y()));
+    bounds.extend(Eigen::Vector2d(box.max().x(), box.max().y()));
+  }
+  return bounds;
+}
+
+Eigen::Matrix3Xf Truth::voxel_centers() const {
+  std::vector<VoxelKey> keys(static_truth_.begin(), static_truth_.end());
+  keys.insert(keys.end(), dynamic_truth_.begin(), dynamic_truth_.end());
+  std::sort(keys.begin(), keys.end());
+  Eigen::Matrix3Xf centers(3, static_cast<Eigen::Index>(keys.size()));
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    centers.col(static_cast<Eigen::Index>(i)) = voxel_center(keys[i], config_.voxel_size_m).cast<float>();
+  return centers;
+}
+
+}  // namespace stvl::evaluation

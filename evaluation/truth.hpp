@@ -1,0 +1,58 @@
+#pragma once
+// Ground truth from the simulated geometry at the evaluation's voxel size: the surface voxels of every obstacle
+// body inside the marking height band (sim::voxelize_bodies), the bodies' footprints, and which body holds a
+// voxel. Static bodies are voxelized once; mocap (moving) bodies at their current poses on every update().
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "common/voxel_key.hpp"
+#include "evaluation/config.hpp"
+#include "sim/ground_truth.hpp"
+
+namespace stvl::evaluation {
+
+class Truth {
+ public:
+  Truth(const sim::World& world, const EvaluationConfig& config);
+  // Moving bodies at their poses in `world` now.
+  void update(const sim::World& world);
+
+  bool contains(const VoxelKey& key) const;
+  bool near(const VoxelKey& key, int tol) const;  // within tol voxels (Chebyshev) of a truth voxel
+  // Index into bodies() of the first body holding `key` (static bodies first), -1 when none does.
+  int body_of(const VoxelKey& key) const;
+  // Static bodies, then moving ones; each with its voxels in the band.
+  const std::vector<const sim::BodyVoxels*>& bodies() const { return bodies_; }
+  bool has_moving_bodies() const { return !dynamic_geoms_.empty(); }
+  // Every voxel a moving body has occupied since the start, grown by one voxel: where stale map voxels can be.
+  const VoxelSet& vacated() const { return vacated_; }
+  // Footprint cells (cell = voxel size) of every body's solid in the band, now.
+  CellSet footprint() const;
+  // Distance from p_W to the nearest obstacle surface now; nullopt when there is no obstacle at all.
+  std::optional<double> distance_to_surface_m(const Eigen::Vector3d& p_W) const;
+  // x/y extent of every obstacle now.
+  Eigen::AlignedBox2d bounds_W() const;
+  // Truth voxel centres, sorted by key.
+  Eigen::Matrix3Xf voxel_centers() const;
+
+ private:
+  void index_geoms();  // the buckets distance_to_surface_m() searches
+
+  EvaluationConfig config_;
+  std::vector<sim::ObstacleGeom> geoms_;          // every obstacle geom, current poses
+  std::vector<sim::ObstacleGeom> dynamic_geoms_;  // those of mocap bodies
+  std::vector<sim::BodyVoxels> static_bodies_, dynamic_bodies_;
+  std::vector<const sim::BodyVoxels*> bodies_;
+  VoxelSet static_truth_, dynamic_truth_;
+  std::unordered_map<VoxelKey, int, VoxelKeyHash> static_body_of_, dynamic_body_of_;
+  CellSet static_footprint_;
+  VoxelSet vacated_;
+  // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so a distance tests a few geoms.
+  std::unordered_map<CellKey, std::vector<int>, CellKeyHash> geoms_near_;
+  std::vector<Eigen::AlignedBox3d> boxes_;
+};
+
+}  // namespace stvl::evaluation

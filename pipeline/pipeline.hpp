@@ -1,0 +1,134 @@
+#pragma once
+// The frame loop of the bench: the simulator, the robot's depth cameras (render, noise, depth to cloud), the
+// decimation filter and the STVL map, built from one plain config. Each step() advances to the next camera
+// frame and runs it through every stage:
+//
+//   stvl::pipeline::Pipeline pipeline(config);
+//   while (pipeline.next_time_s() <= duration_s) {
+//     const stvl::pipeline::FrameResult& frame = pipeline.step();
+//     if (!frame.robot_upright) break;
+//     ...  // evaluate, write outputs
+//   }
+//
+// Frames: camera c takes frame k at k / rate_hz (its intrinsics' rate); step() takes the earliest pending
+// frame of any camera (ties: the lower camera index). A frame is cleared then marked into the map (STVL's
+// order): the whole decimated cloud clears (so ray-cast clearing also sees the floor behind a moved obstacle)
+// and the decimated cloud inside the passthrough band marks, as STVL applies its passthrough before marking.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "filter/filter.hpp"
+#include "mapping/voxel_map.hpp"
+#include "sensors/camera.hpp"
+#include "sensors/depth_image.hpp"
+#include "sensors/depth_noise.hpp"
+#include "sensors/gl_context.hpp"
+#include "sim/simulator.hpp"
+
+namespace stvl::pipeline {
+
+// One depth camera on the robot, and the STVL observation source it feeds.
+struct CameraConfig {
+  std::string name = "camera";
+  sensors::CameraIntrinsics intrinsics = sensors::CameraIntrinsics::d435_848x480();  // also its rate and range
+  sensors::GlBackend gl_backend = sensors::GlBackend::kAuto;
+  sensors::DepthNoiseConfig noise;
+  mapping::ObservationSource source;
+};
+
+struct PipelineConfig {
+  std::string world_path;  // MJCF file holding the robot
+  std::uint64_t seed = 1;  // depth noise (per camera and frame); the filter's and odometry's seeds are their own
+  sim::SimulatorConfig sim;  // the robot's controller, odometry and camera mount
+  sim::Pose2D start_pose;
+  sim::Path path;
+  std::vector<sim::MocapTrack> moving_bodies;
+  // One for now: several cameras on one robot need a mount each (not yet in sim::SimulatorConfig).
+  std::vector<CameraConfig> cameras{CameraConfig{}};
+  filter::FilterConfig filter;
+  mapping::StvlConfig map;
+};
+
+// Wall-clock milliseconds of one frame's stages (the only part of a run that is not deterministic).
+struct StageTimes {
+  double render_ms = 0, noise_ms = 0, cloud_ms = 0, filter_ms = 0, clear_ms = 0, mark_ms = 0;
+};
+
+struct FrameResult {
+  std::size_t camera_index = 0;
+  std::string camera;
+  std::size_t frame_index = 0;  // of this camera
+  double time_s = 0;            // simulated
+  // False when the robot fell over or left the world at time_s: nothing below the poses was computed, the map
+  // was not updated, and the run should stop.
+  bool robot_upright = true;
+  Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();    // truth
+  Eigen::Isometry3d T_odom_base = Eigen::Isometry3d::Identity();     // wheel odometry
+  Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();      // odometry drift (map = world)
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
+  double odom_v_mps = 0, odom_omega_radps = 0;
+  sensors::DepthImage clean_depth;  // rendered, noise-free
+  sensors::DepthImage depth;        // with the camera's noise model
+  // Valid pixels in the optical frame, row-major pixel order: the first point_count columns of points_C.
+  Eigen::Matrix3Xf points_C;
+  Eigen::Index point_count = 0;
+  auto cloud_C() const { return points_C.leftCols(point_count); }
+  Eigen::Matrix3Xf cloud_W;      // the same points in the world frame
+  Eigen::Matrix3Xf decimated_W;  // after the voxel grid or CSNB: clears
+  Eigen::Matrix3Xf marking_W;    // decimated and inside the passthrough band: marks
+  StageTimes times;
+};
+
+class Pipeline {
+ public:
+  // Throws std::invalid_argument for a bad config or world, std::runtime_error when no GL context can be made
+  // or a CUDA filter was required without a GPU.
+  explicit Pipeline(PipelineConfig config);
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  // Simulated time of the frame the next step() takes.
+  double next_time_s() const;
+  // Called inside step() after sensing and filtering, before the map's update, with the map as the previous
+  // frame left it (the evaluation needs that moment for clearing latency).
+  using BeforeMapUpdate = std::function<void(const FrameResult& frame, const mapping::VoxelMap& map)>;
+  // Runs the next frame. The result is owned by the pipeline and overwritten by the next step().
+  const FrameResult& step(const BeforeMapUpdate& before_map_update = {});
+
+  const PipelineConfig& config() const { return config_; }
+  const sim::Simulator& simulator() const { return *sim_; }
+  const mapping::VoxelMap& map() const { return map_; }
+  // The map's costmap at its voxel size over the occupied extent (1 x 1 when empty), counting voxels inside
+  // the marking height band: from the lowest min_obstacle_height_m to the highest max_obstacle_height_m of
+  // the cameras' sources.
+  mapping::Costmap2D costmap() const;
+  mapping::CostmapOptions costmap_options() const;
+  const char* gl_backend() const;     // "egl" or "osmesa"
+  const char* filter_device() const;  // "cpu" or "cuda"
+
+ private:
+  struct Camera;
+  PipelineConfig config_;
+  std::unique_ptr<sim::Simulator> sim_;
+  std::vector<std::unique_ptr<Camera>> cameras_;
+  filter::Filter filter_;
+  bool passthrough_ = false;
+  mapping::VoxelMap map_;
+  FrameResult frame_;
+};
+
+// The config's world with the robot at its start pose, on its path, and the moving bodies scripted (what the
+// pipeline steps; the render command and benchmarks use it alone).
+std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& config);
+
+// The decimation the pipeline runs on the whole cloud: the filter without its passthrough (which applies to
+// the marking cloud only).
+filter::FilterConfig decimation_config(filter::FilterConfig config);
+
+}  // namespace stvl::pipeline

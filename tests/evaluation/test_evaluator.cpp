@@ -1,0 +1,181 @@
+// The Evaluator on a tiny world of its own: a box whose front face the camera sees head-on, and a mocap cart
+// that moves away. Depth images are drawn analytically, so the expected figures follow from the geometry.
+#include "evaluation/evaluator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace stvl::evaluation {
+namespace {
+
+// box: x 2.05..2.65, y -0.25..0.25, z 0.15..0.65. Its front face (x = 2.05) lies in voxel layer x = 20 at
+// 0.1 m: 6 x 6 surface voxels (y keys -3..2, z keys 1..6). cart: 0.2 m cube at (1.0, 0, 0.4).
+constexpr const char* kWorld = R"(
+<mujoco>
+  <worldbody>
+    <body name="box" pos="2.35 0 0.4"><geom type="box" size="0.3 0.25 0.25"/></body>
+    <body name="cart" mocap="true" pos="1.0 0 0.4"><geom type="box" size="0.1 0.1 0.1"/></body>
+  </worldbody>
+</mujoco>)";
+constexpr double kFaceX = 2.05;
+
+EvaluationConfig config() {
+  EvaluationConfig c;
+  c.voxel_size_m = 0.1;
+  c.min_obstacle_height_m = 0.0;
+  c.max_obstacle_height_m = 2.0;
+  c.tolerance_voxels = 0;  // a mapped voxel matches only itself
+  return c;
+}
+
+// Camera at (0, 0, 0.4) looking along +x: optical z = world x, optical x = -y, optical y = -z.
+CameraView camera_view(const sensors::DepthImage& depth, const sensors::CameraIntrinsics& k) {
+  CameraView view;
+  view.clean_depth = &depth;
+  view.intrinsics = k;
+  view.T_world_camera.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  view.T_world_camera.translation() = Eigen::Vector3d(0, 0, 0.4);
+  view.obstacle_range_m = 10.0;
+  return view;
+}
+
+sensors::CameraIntrinsics intrinsics() {
+  sensors::CameraIntrinsics k;
+  k.width = 200, k.height = 160, k.fx = k.fy = 100.0, k.cx = 99.5, k.cy = 79.5;
+  return k;
+}
+
+// What the camera sees of the box's front face (2 cm between pixels there); 0 elsewhere (no return).
+sensors::DepthImage face_depth(const sensors::CameraIntrinsics& k) {
+  sensors::DepthImage image(k.width, k.height);
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) {
+      const double y_W = -(u - k.cx) / k.fx * kFaceX, z_W = 0.4 - (v - k.cy) / k.fy * kFaceX;
+      if (std::abs(y_W) < 0.25 && z_W > 0.15 && z_W < 0.65) image.at(u, v) = static_cast<float>(kFaceX);
+    }
+  return image;
+}
+
+std::vector<VoxelKey> face_voxels() {
+  std::vector<VoxelKey> keys;
+  for (int y = -3; y <= 2; ++y)
+    for (int z = 1; z <= 6; ++z) keys.push_back({20, y, z});
+  return keys;
+}
+
+mapping::VoxelMap map_with(const std::vector<VoxelKey>& keys) {
+  mapping::StvlConfig c;
+  c.voxel_size_m = 0.1;
+  mapping::VoxelMap map(c);
+  std::vector<mapping::Voxel> voxels;
+  for (const auto& k : keys) voxels.push_back({k, 0.5});
+  map.set_voxels(voxels);
+  return map;
+}
+
+ObstacleResult obstacle(const EvaluationSummary& s, const std::string& name) {
+  for (const auto& o : s.obstacles)
+    if (o.name == name) return o;
+  ADD_FAILURE() << "no obstacle " << name;
+  return {};
+}
+
+TEST(Evaluator, ObservedFaceVoxelsAreRecallsDenominator) {
+  const sim::World world = sim::World::from_string(kWorld);
+  Evaluator evaluator(world, config());
+  const auto k = intrinsics();
+  const sensors::DepthImage depth = face_depth(k);
+  evaluator.observe(1.0, camera_view(depth, k));
+  const auto all = face_voxels();
+  const EvaluationSnapshot& snap = evaluator.evaluate(1.0, world, map_with(all));
+  EXPECT_EQ(snap.observed_truth_voxels, all.size());
+  EXPECT_EQ(snap.matched_truth, all.size());
+  EXPECT_DOUBLE_EQ(snap.recall, 1.0);
+  EXPECT_DOUBLE_EQ(snap.precision, 1.0);
+}
+
+TEST(Evaluator, OneFalseVoxelAmongNMappedGivesPrecisionNMinusOneOverN) {
+  const sim::World world = sim::World::from_string(kWorld);
+  Evaluator evaluator(world, config());
+  std::vector<VoxelKey> mapped = face_voxels();
+  mapped.resize(18);
+  mapped.push_back({0, 30, 5});  // 3 m beside everything: false
+  const EvaluationSnapshot& snap = evaluator.evaluate(1.0, world, map_with(mapped));
+  EXPECT_EQ(snap.mapped_voxels, 19u);
+  EXPECT_DOUBLE_EQ(snap.precision, 18.0 / 19.0);
+}
+
+TEST(Evaluator, AnObstacleWithHalfOfItsObservedVoxelsMappedIsDetectedAndOneWithFewerIsNot) {
+  const auto k = intrinsics();
+  const sensors::DepthImage depth = face_depth(k);
+  for (const std::size_t mapped : {18u, 17u}) {  // of 36 observed
+    const sim::World world = sim::World::from_string(kWorld);
+    Evaluator evaluator(world, config());
+    evaluator.observe(1.0, camera_view(depth, k));
+    std::vector<VoxelKey> keys = face_voxels();
+    keys.resize(mapped);
+    const mapping::VoxelMap map = map_with(keys);
+    evaluator.evaluate(1.0, world, map);
+    const EvaluationSummary summary = evaluator.finish(1.0, world, map);
+    const ObstacleResult box = obstacle(summary, "box");
+    EXPECT_TRUE(box.observed);
+    EXPECT_EQ(box.observed_voxels, 36u);
+    EXPECT_DOUBLE_EQ(box.best_recall, mapped / 36.0);
+    EXPECT_EQ(box.detected, mapped == 18u) << mapped << " of 36";
+    EXPECT_FALSE(obstacle(summary, "cart").observed);
+  }
+}
+
+TEST(Evaluator, StaleVoxelSeenThroughAtT0AndRemovedAtT1HasLatencyT1MinusT0) {
+  sim::World world = sim::World::from_string(kWorld);
+  Evaluator evaluator(world, config());  // the cart at its first place
+  world.data()->mocap_pos[0] = -5.0, world.data()->mocap_pos[1] = 3.0;  // then it leaves
+  world.forward();
+  const auto k = intrinsics();
+  sensors::DepthImage depth = face_depth(k);
+  // Two voxels of the cart's old place are still in the map. Behind (10, 0, 4) (pixel 95, 75) the camera sees
+  // the box 1 m farther: seen through. Behind (9, -1, 3) (pixel 105, 85) it has no return: not seen through.
+  const VoxelKey seen{10, 0, 4}, unseen{9, -1, 3};
+  for (int v = 83; v <= 87; ++v)
+    for (int u = 103; u <= 107; ++u) depth.at(u, v) = 0.0f;
+  const mapping::VoxelMap before = map_with({seen, unseen});
+  evaluator.observe_clearing(1.0, world, camera_view(depth, k), before);
+  evaluator.after_update(1.0, before);  // the update at 1.0 removed nothing
+  const mapping::VoxelMap after = map_with({});
+  evaluator.observe_clearing(1.4, world, camera_view(depth, k), after);
+  evaluator.after_update(1.4, after);  // both gone at 1.4
+  const EvaluationSummary summary = evaluator.finish(2.0, world, after);
+  EXPECT_EQ(summary.clearing.stale_voxels_seen_through, 1u);  // the unseen one is neither cleared nor missed
+  EXPECT_EQ(summary.clearing.not_cleared, 0u);
+  EXPECT_NEAR(summary.clearing.max_latency_s, 0.4, 1e-12);
+}
+
+TEST(Evaluator, AStaleVoxelStillMappedAtTheEndIsNotCleared) {
+  sim::World world = sim::World::from_string(kWorld);
+  Evaluator evaluator(world, config());
+  world.data()->mocap_pos[0] = -5.0;
+  world.forward();
+  const auto k = intrinsics();
+  const sensors::DepthImage depth = face_depth(k);
+  const mapping::VoxelMap map = map_with({{10, 0, 4}});
+  evaluator.observe_clearing(1.0, world, camera_view(depth, k), map);
+  evaluator.after_update(1.0, map);
+  const EvaluationSummary summary = evaluator.finish(3.5, world, map);
+  EXPECT_EQ(summary.clearing.stale_voxels_seen_through, 1u);
+  EXPECT_EQ(summary.clearing.not_cleared, 1u);
+  EXPECT_NEAR(summary.clearing.max_latency_s, 2.5, 1e-12);
+}
+
+TEST(Evaluator, BadConfigIsRejected) {
+  const sim::World world = sim::World::from_string(kWorld);
+  EvaluationConfig c = config();
+  c.recall_window_s = 0.0;
+  EXPECT_THROW(Evaluator(world, c), std::invalid_argument);
+  c = config();
+  c.voxel_size_m = std::nan("");
+  EXPECT_THROW(Evaluator(world, c), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace stvl::evaluation

@@ -1,0 +1,128 @@
+// The figures of metrics.hpp on hand-made sets, with the expected values worked out here.
+#include "evaluation/metrics.hpp"
+
+#include <gtest/gtest.h>
+
+namespace stvl::evaluation {
+namespace {
+
+TEST(VoxelScores, OneFalseVoxelAmongNGivesPrecisionNMinusOneOverN) {
+  for (std::size_t n : {1u, 2u, 7u, 1000u}) {
+    VoxelMatches m;
+    m.mapped = n, m.matched_mapped = n - 1;
+    m.observed_truth = 10, m.matched_truth = 10;
+    const VoxelScores s = voxel_scores(m);
+    EXPECT_DOUBLE_EQ(s.precision, double(n - 1) / n) << n;
+    EXPECT_DOUBLE_EQ(s.recall, 1.0);
+    // IoU = matched truth / (observed truth + unmatched mapped) = 10 / 11.
+    EXPECT_DOUBLE_EQ(s.iou, 10.0 / 11.0);
+    if (n > 1) EXPECT_DOUBLE_EQ(s.f1, 2 * s.precision / (s.precision + 1.0));
+  }
+}
+
+TEST(VoxelScores, EmptyDenominatorsGiveZeroNotNan) {
+  const VoxelScores s = voxel_scores({});
+  EXPECT_EQ(s.precision, 0.0);
+  EXPECT_EQ(s.recall, 0.0);
+  EXPECT_EQ(s.f1, 0.0);
+  EXPECT_EQ(s.iou, 0.0);
+}
+
+TEST(NearVoxel, ChebyshevDistanceInVoxels) {
+  const VoxelSet set{{0, 0, 0}};
+  EXPECT_TRUE(near_voxel(set, {0, 0, 0}, 0));
+  EXPECT_FALSE(near_voxel(set, {1, 0, 0}, 0));
+  EXPECT_TRUE(near_voxel(set, {1, -1, 1}, 1));  // a corner neighbour is one voxel away
+  EXPECT_FALSE(near_voxel(set, {2, 0, 0}, 1));
+  EXPECT_TRUE(near_voxel(set, {-2, 2, 2}, 2));
+  const CellSet cells{{5, 5}};
+  EXPECT_TRUE(near_cell(cells, {6, 4}, 1));
+  EXPECT_FALSE(near_cell(cells, {7, 5}, 1));
+}
+
+TEST(Obstacles, HalfOfTheObservedVoxelsMappedIsDetectedFewerIsNot) {
+  ObstacleResult half{"half"}, fewer{"fewer"}, unseen{"unseen"};
+  update_obstacle(half, 10, 5, 3);
+  update_obstacle(fewer, 10, 4, 3);
+  update_obstacle(unseen, 2, 2, 3);  // 2 of 3 needed to count as observed
+  EXPECT_TRUE(half.observed && half.detected);
+  EXPECT_DOUBLE_EQ(half.best_recall, 0.5);
+  EXPECT_TRUE(fewer.observed);
+  EXPECT_FALSE(fewer.detected);
+  EXPECT_DOUBLE_EQ(fewer.best_recall, 0.4);
+  EXPECT_FALSE(unseen.observed || unseen.detected);
+  EXPECT_EQ(unseen.observed_voxels, 2u);
+  // Detection sticks once reached; the best recall is the best at one evaluation.
+  update_obstacle(half, 12, 1, 3);
+  EXPECT_TRUE(half.detected);
+  EXPECT_DOUBLE_EQ(half.best_recall, 0.5);
+  EXPECT_EQ(half.observed_voxels, 12u);
+}
+
+TEST(Costmap, PrecisionAndRecallAgainstFootprintsWithinTolerance) {
+  const CellSet footprint{{0, 0}, {1, 0}, {2, 0}};
+  const CellSet observed{{0, 0}, {1, 0}, {2, 0}};
+  // With tol 1: (3, 0) is one cell from the footprint (true), (5, 5) is false; every observed cell has a
+  // lethal cell within one cell, so nothing is missed.
+  const CellSet lethal{{0, 0}, {3, 0}, {5, 5}};
+  const CostmapMatches tol1 = match_costmap(lethal, footprint, observed, 1);
+  EXPECT_DOUBLE_EQ(tol1.precision, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(tol1.recall, 1.0);
+  EXPECT_EQ(tol1.false_positive, std::vector<CellKey>({{5, 5}}));
+  const CostmapMatches tol0 = match_costmap(lethal, footprint, observed, 0);
+  EXPECT_DOUBLE_EQ(tol0.precision, 1.0 / 3.0);
+  EXPECT_DOUBLE_EQ(tol0.recall, 1.0 / 3.0);  // (1, 0) and (2, 0) missed
+  EXPECT_EQ(tol0.false_negative.size(), 2u);
+}
+
+TEST(Costmap, LethalCellsAreKeyedAtTheirCentres) {
+  mapping::Costmap2D costmap;
+  costmap.width = 3, costmap.height = 2, costmap.resolution_m = 0.05, costmap.origin_m = {-0.05, 1.0};
+  costmap.cells.assign(6, mapping::kCostFree);
+  costmap.cells[1] = mapping::kCostLethal;      // ix 1, iy 0: centre (0.025, 1.025)
+  costmap.cells[5] = mapping::kCostLethal;      // ix 2, iy 1: centre (0.075, 1.075)
+  costmap.cells[3] = mapping::kCostUnknown;
+  EXPECT_EQ(lethal_cells(costmap, 0.05), (CellSet{{0, 20}, {1, 21}}));
+}
+
+TEST(Phantoms, ALethalGroupBeyondTheClearanceIsAPhantomAndOneWithinIsNot) {
+  // 1 cm cells: the clearance of 0.10 m is 10 cells between cell centres.
+  const double cell_m = 0.01, clearance_m = 0.10;
+  const CellSet footprint{{0, 0}};
+  const CellSet at_11cm{{11, 0}, {12, 0}};  // 0.11 m from the footprint: a phantom
+  const CellSet at_9cm{{0, 9}, {1, 10}};     // 0.09 m (Chebyshev) from it: an obstacle's edge
+  const auto far = find_phantoms(at_11cm, footprint, cell_m, clearance_m, 2);
+  ASSERT_EQ(far.size(), 1u);
+  EXPECT_EQ(far[0].cells, 2u);
+  EXPECT_NEAR(far[0].x_m, 0.12, 1e-12);  // mean of the centres 0.115 and 0.125
+  EXPECT_NEAR(far[0].y_m, 0.005, 1e-12);
+  EXPECT_TRUE(find_phantoms(at_9cm, footprint, cell_m, clearance_m, 2).empty());
+}
+
+TEST(Phantoms, GroupsAreEightConnectedSortedAndAtLeastMinCells) {
+  const CellSet footprint{{-100, -100}};
+  // One diagonal group of 3 cells, one single cell, one pair; min_cells 2 drops the single one.
+  const CellSet lethal{{10, 10}, {11, 11}, {12, 12}, {30, 0}, {20, 5}, {20, 6}};
+  const auto phantoms = find_phantoms(lethal, footprint, 0.05, 0.10, 2);
+  ASSERT_EQ(phantoms.size(), 2u);
+  EXPECT_EQ(phantoms[0].cells, 3u);  // x 0.575 < 1.025
+  EXPECT_EQ(phantoms[1].cells, 2u);
+  EXPECT_LT(phantoms[0].x_m, phantoms[1].x_m);
+  EXPECT_EQ(find_phantoms(lethal, footprint, 0.05, 0.10, 1).size(), 3u);
+}
+
+TEST(DistanceStats, NearestRankQuantiles) {
+  std::vector<double> d;
+  for (int i = 100; i >= 0; --i) d.push_back(i * 0.001);  // 0 .. 0.1 m, unsorted
+  const DistanceStats s = distance_stats(d);
+  EXPECT_EQ(s.count, 101u);
+  EXPECT_NEAR(s.mean_m, 0.05, 1e-12);
+  EXPECT_DOUBLE_EQ(s.median_m, 0.050);
+  EXPECT_DOUBLE_EQ(s.p90_m, 0.090);
+  EXPECT_DOUBLE_EQ(s.p99_m, 0.099);
+  EXPECT_DOUBLE_EQ(s.max_m, 0.100);
+  EXPECT_EQ(distance_stats({}).count, 0u);
+}
+
+}  // namespace
+}  // namespace stvl::evaluation

@@ -1,0 +1,58 @@
+#include "tools/bag_recorder.hpp"
+
+#include <optional>
+
+#include "tools/serial_worker.hpp"
+
+namespace stvl::tools {
+
+BagRecorder::BagRecorder(const std::string& path, BagCompression compression, const pipeline::Pipeline& pipeline,
+                         const Eigen::Matrix3Xf& truth_voxel_centers_W)
+    : bag_(std::make_unique<BagWriter>(path, compression)), worker_(std::make_unique<SerialWorker>()) {
+  bag_->write_tf_static(pipeline.simulator().robot().T_base_camera_link(), sim::DiffDriveRobot::T_camera_link_optical());
+  bag_->write_points("/ground_truth/occupancy", 0.0, kMapFrame, truth_voxel_centers_W, true);
+}
+
+BagRecorder::~BagRecorder() = default;
+
+void BagRecorder::record(const pipeline::FrameResult& f, const pipeline::Pipeline& pipeline, bool publish_map) {
+  std::optional<mapping::Costmap2D> costmap;
+  Eigen::Matrix3Xf voxels;
+  if (publish_map) {
+    voxels = pipeline.map().voxel_centers();
+    if (!pipeline.map().empty()) costmap = pipeline.costmap();
+  }
+  const auto& intrinsics = pipeline.config().cameras[f.camera_index].intrinsics;
+  // The lambda copies what each message needs; the frame is overwritten by the next step().
+  worker_->submit([bag = bag_.get(), t = f.time_s, T_world_base = f.T_world_base, T_map_odom = f.T_map_odom,
+                   T_odom_base = f.T_odom_base, v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics,
+                   depth = f.depth, cloud_C = Eigen::Matrix3Xf(f.cloud_C()), marking_W = f.marking_W,
+                   voxels = std::move(voxels), publish_map, costmap = std::move(costmap)] {
+    bag->write_clock(t);
+    bag->write_tf(t, T_map_odom, T_odom_base);
+    bag->write_odometry(t, T_odom_base, v, omega);
+    bag->write_ground_truth_pose(t, T_world_base);
+    bag->write_depth_image(t, intrinsics, sensors::depth_to_millimetres(depth));
+    bag->write_camera_info(t, intrinsics);
+    bag->write_points("/camera/depth/points", t, kCameraOpticalFrame, cloud_C);
+    bag->write_points("/stvl/filtered_points", t, kMapFrame, marking_W);
+    if (publish_map) bag->write_points("/stvl/voxel_grid", t, kMapFrame, voxels);
+    if (costmap) bag->write_costmap(t, *costmap);
+  });
+}
+
+void BagRecorder::record_map(double time_s, const pipeline::Pipeline& pipeline) {
+  std::optional<mapping::Costmap2D> costmap;
+  if (!pipeline.map().empty()) costmap = pipeline.costmap();
+  worker_->submit([bag = bag_.get(), time_s, voxels = pipeline.map().voxel_centers(), costmap = std::move(costmap)] {
+    bag->write_points("/stvl/voxel_grid", time_s, kMapFrame, voxels);
+    if (costmap) bag->write_costmap(time_s, *costmap);
+  });
+}
+
+void BagRecorder::close() {
+  worker_->finish();
+  bag_->close();
+}
+
+}  // namespace stvl::tools

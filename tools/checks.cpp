@@ -1,0 +1,75 @@
+#include "tools/checks.hpp"
+
+#include <iomanip>
+#include <sstream>
+
+namespace stvl::tools {
+
+std::string fixed(double value, int decimals) {
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(decimals) << value;
+  return text.str();
+}
+
+namespace {
+
+CheckResult at_least(const char* name, const char* what, double value, double min) {
+  return {name, value >= min, std::string(what) + " " + fixed(value, 4) + ", required >= " + fixed(min, 4)};
+}
+
+}  // namespace
+
+std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e) {
+  std::vector<CheckResult> r;
+  const auto& mean = e.mean;
+  if (c.f1_3d_min) r.push_back(at_least("f1_3d", "mean 3D F1", mean.f1, *c.f1_3d_min));
+  if (c.iou_3d_min) r.push_back(at_least("iou_3d", "mean 3D IoU", mean.iou, *c.iou_3d_min));
+  if (c.costmap_precision_min)
+    r.push_back(at_least("costmap_precision", "mean costmap precision", mean.costmap_precision, *c.costmap_precision_min));
+  if (c.costmap_recall_min)
+    r.push_back(at_least("costmap_recall", "mean costmap recall", mean.costmap_recall, *c.costmap_recall_min));
+  if (c.all_obstacles_detected) {
+    std::string missed;
+    int observed = 0;
+    for (const auto& o : e.obstacles) {
+      observed += o.observed;
+      if (o.observed && !o.detected) missed += (missed.empty() ? "" : ", ") + o.name;
+    }
+    r.push_back({"all_obstacles_detected", missed.empty() && observed > 0,
+                 observed == 0      ? "no obstacle was observed"
+                 : missed.empty() ? std::to_string(observed) + " observed obstacles all detected"
+                                  : "missed: " + missed});
+  }
+  if (c.phantom_obstacles_max)
+    r.push_back({"phantom_obstacles", e.final.phantom_obstacles <= *c.phantom_obstacles_max,
+                 std::to_string(e.final.phantom_obstacles) + " phantom obstacles in the final costmap, allowed " +
+                     std::to_string(*c.phantom_obstacles_max)});
+  if (c.clearing_latency_max_s) {
+    const auto& cl = e.clearing;
+    const bool ok = cl.stale_voxels_seen_through > 0 && cl.not_cleared == 0 && cl.max_latency_s <= *c.clearing_latency_max_s;
+    r.push_back({"clearing_latency", ok,
+                 cl.stale_voxels_seen_through == 0
+                     ? "no stale voxel of a moved body was seen through"
+                     : "max latency " + fixed(cl.max_latency_s, 3) + " s, required <= " + fixed(*c.clearing_latency_max_s, 3) +
+                           " s (" + std::to_string(cl.not_cleared) + " never cleared)"});
+  }
+  if (c.accuracy_p90_max_m)
+    r.push_back({"accuracy_p90", e.accuracy.p90_m <= *c.accuracy_p90_max_m,
+                 "p90 distance to the true surface " + fixed(e.accuracy.p90_m, 4) + " m, required <= " +
+                     fixed(*c.accuracy_p90_max_m, 4) + " m"});
+  return r;
+}
+
+CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad) {
+  if (upright) return {"robot_upright", true, "the robot stayed upright on the floor"};
+  return {"robot_upright", false,
+          "the robot fell over or left the world at t = " + fixed(time_s, 2) + " s (tilt " + fixed(tilt_rad, 2) + " rad)"};
+}
+
+CheckResult path_completed_check(bool completed, double time_s, double duration_s) {
+  return {"path_completed", completed,
+          completed ? "reached the end of the path at t = " + fixed(time_s, 2) + " s"
+                    : "did not reach the end of the path within " + fixed(duration_s, 1) + " s"};
+}
+
+}  // namespace stvl::tools

@@ -1,0 +1,29 @@
+#pragma once
+// The pass/fail checks of a scenario, from its thresholds and the evaluation's figures.
+#include <string>
+#include <vector>
+
+#include "evaluation/evaluator.hpp"
+#include "tools/scenario.hpp"
+
+namespace stvl::tools {
+
+struct CheckResult {
+  std::string name;
+  bool passed = false;
+  std::string message;  // value and threshold, or why it failed
+};
+
+// One result per threshold the scenario sets (f1_3d, iou_3d, costmap_precision, costmap_recall,
+// all_obstacles_detected, phantom_obstacles, clearing_latency, accuracy_p90), in that order.
+std::vector<CheckResult> evaluation_checks(const ChecksConfig& checks, const evaluation::EvaluationSummary& summary);
+
+// robot_upright: the robot fell over or left the world at fell_at_s (when it did).
+CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad);
+// path_completed: the path's end reached at time_s, or not within duration_s.
+CheckResult path_completed_check(bool completed, double time_s, double duration_s);
+
+// `value` with `decimals` digits after the point ("0.9871").
+std::string fixed(double value, int decimals);
+
+}  // namespace stvl::tools
