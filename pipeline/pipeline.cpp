@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <sstream>
 #include <stdexcept>
 
 #include "sensors/depth_renderer.hpp"
@@ -24,6 +25,27 @@ Eigen::Matrix3Xf transform(const Eigen::Isometry3d& T, const Eigen::Matrix3Xf& p
 bool upright(const sim::Simulator& sim) {
   const Eigen::Vector3d p = sim.T_world_base().translation();
   return sim.robot().tilt_rad() <= 0.5 && p.z() >= -0.5 && p.allFinite();
+}
+
+// A path the robot cannot reach (off the floor, 1e308 m away) would only end at the run's time limit.
+void check_inside_world(const PipelineConfig& c, const sim::World& world) {
+  const Eigen::AlignedBox2d extent = world.extent_xy();
+  if (extent.isEmpty()) return;
+  const auto describe = [](const Eigen::Vector2d& p) {
+    std::ostringstream text;
+    text << "(" << p.x() << ", " << p.y() << ")";
+    return text.str();
+  };
+  const auto check = [&](const Eigen::Vector2d& p, const std::string& what) {
+    if (extent.contains(p)) return;
+    std::ostringstream text;
+    text << what << " " << describe(p) << " m lies outside the world's extent, x " << extent.min().x() << " .. "
+         << extent.max().x() << " m, y " << extent.min().y() << " .. " << extent.max().y() << " m (" << c.world_path << ")";
+    throw std::invalid_argument(text.str());
+  };
+  check({c.start_pose.x_m, c.start_pose.y_m}, "robot.start");
+  for (std::size_t i = 0; i < c.path.waypoints_W.size(); ++i)
+    check(c.path.waypoints_W[i], "robot.waypoints[" + std::to_string(i) + "]");
 }
 
 }  // namespace
@@ -67,6 +89,7 @@ Pipeline::Pipeline(PipelineConfig config)
     c.source.validate();
   }
   sim_ = make_simulator(config_);
+  check_inside_world(config_, sim_->world());
   for (const auto& c : config_.cameras) cameras_.push_back(std::make_unique<Camera>(sim_->world().model(), c));
 }
 

@@ -41,6 +41,27 @@ World World::from_file(const std::string& path) {
   return World(model, path);
 }
 
+Eigen::AlignedBox2d World::extent_xy() const {
+  Eigen::AlignedBox2d extent;
+  const mjModel* m = model_.get();
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->geom_group[g] == 2) continue;
+    const Eigen::Vector2d centre(data_->geom_xpos[3 * g], data_->geom_xpos[3 * g + 1]);
+    if (m->geom_type[g] == mjGEOM_PLANE) {
+      const double hx = m->geom_size[3 * g], hy = m->geom_size[3 * g + 1];
+      if (hx <= 0 || hy <= 0) continue;  // infinite
+      const double* R = data_->geom_xmat + 9 * g;  // row-major
+      for (const double sx : {-hx, hx})
+        for (const double sy : {-hy, hy}) extent.extend(centre + Eigen::Vector2d(R[0] * sx + R[1] * sy, R[3] * sx + R[4] * sy));
+    } else {
+      const double r = m->geom_rbound[g];
+      extent.extend(centre - Eigen::Vector2d(r, r));
+      extent.extend(centre + Eigen::Vector2d(r, r));
+    }
+  }
+  return extent;
+}
+
 World World::from_string(const std::string& xml, const std::string& base_dir) {
   if (xml.empty()) throw std::invalid_argument("world XML string is empty");
   if (!base_dir.empty() && !std::filesystem::is_directory(base_dir)) {

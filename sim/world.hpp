@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <mujoco/mujoco.h>
 
 namespace stvl::sim {
@@ -35,6 +36,11 @@ class World {
   void step();
   // Recomputes everything from qpos/qvel/mocap (mj_forward), e.g. after editing the state.
   void forward();
+
+  // x/y extent (world frame, m) of the geoms outside group 2 (the robot's) at their current poses: finite
+  // planes as their rectangles, other geoms as their bounding spheres; infinite planes are left out. Empty
+  // when there is no such geom.
+  Eigen::AlignedBox2d extent_xy() const;
 
   // Name lookups; throw std::invalid_argument naming the missing object.
   int body_id(const std::string& name) const;

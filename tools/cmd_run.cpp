@@ -3,6 +3,8 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
+#include <string>
 
 #include "tools/command.hpp"
 #include "tools/report.hpp"
@@ -16,6 +18,18 @@ std::atomic<int> g_signal{0};
 extern "C" void request_stop(int signal) {
   g_signal = signal;
   g_stop = true;
+}
+
+// A seed is a decimal integer in [0, 2^64 - 1]; CLI11 alone would saturate larger values silently.
+std::string seed_error(std::string& text) {
+  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  if (!digits) return "expected a non-negative integer, got '" + text + "'";
+  try {
+    std::stoull(text);
+  } catch (const std::out_of_range&) {
+    return "'" + text + "' exceeds the largest seed, 18446744073709551615";
+  }
+  return {};
 }
 
 struct RunCommandOptions {
@@ -68,12 +82,7 @@ const CommandRegistration kRun{"run", [](CLI::App& app) {
   cmd->add_option("--bag", o->bag, "Also write a ROS 1 bag to this file");
   cmd->add_option("--bag-compression", o->bag_compression, "none | bz2 | lz4")->check(CLI::IsMember({"none", "bz2", "lz4"}));
   cmd->add_option("--seed", o->overrides.seed, "Override the scenario's seed (a non-negative integer)")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            return text.find('-') == std::string::npos ? std::string()
-                                                       : "expected a non-negative integer, got '" + text + "'";
-          },
-          "UINT"));
+      ->check(CLI::Validator(seed_error, "UINT"));
   cmd->add_option("--filter", o->overrides.filter_type, "Override the filter: none | passthrough | voxel | csnb");
   cmd->add_option("--device", o->overrides.device, "Override the filter device: cpu | cuda | auto");
   cmd->add_option("--memory", o->overrides.memory, "Override the CUDA memory mode: copy | pinned | mapped | managed");

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A short run of the default scenario exported as a bag: topics, types, counts per frame, frame ids, latching,
-# increasing stamps, CameraInfo reprojection (tests/tools/check_bag.py), `rosbag info`, and the depth images
-# equal to the frames `stvl-bench render` gives for the same scenario and seed.
+# increasing stamps, CameraInfo reprojection (tests/tools/check_bag.py), `rosbag info`, the depth images
+# equal to the frames `stvl-bench render` gives for the same scenario and seed, and the bag's last costmap equal
+# to costmap.pgm (also for band_edge.yaml, whose band edge cuts a voxel).
 set -euo pipefail
 bin=$1 out=$2 checker=$3
 rm -rf "$out" && mkdir -p "$out"
@@ -33,3 +34,7 @@ PY
 /usr/bin/python3 "$checker" "$out/run.bag" "$out/expect.json"
 "$bin" render --scenario "$(dirname "$0")/../../scenarios/office_corridor.yaml" --frames 3 --out "$out/render" >/dev/null
 /usr/bin/python3 "$(dirname "$0")/compare_bag_depth.py" "$out/run.bag" "$out/render"
+here=$(dirname "$0")
+/usr/bin/python3 "$here/compare_bag_costmap.py" "$out/run.bag" "$out/run"
+"$bin" run "$here/band_edge.yaml" --out "$out/band" --bag "$out/band.bag" --no-progress >/dev/null || true
+/usr/bin/python3 "$here/compare_bag_costmap.py" "$out/band.bag" "$out/band"

@@ -126,5 +126,25 @@ TEST(MocapScript, RejectsBadTracks) {
   }
 }
 
+TEST(World, ExtentCoversFinitePlanesAndGeomsButNotTheRobotOrInfinitePlanes) {
+  const World world = World::from_string(R"(
+<mujoco>
+  <worldbody>
+    <geom name="floor" type="plane" pos="10 1 0" size="12 3 0.1"/>
+    <geom name="sky" type="plane" pos="0 0 5" size="0 0 0.1"/>
+    <geom name="pillar" type="sphere" pos="30 0 1" size="0.5"/>
+    <geom name="robot_part" type="box" pos="-40 0 0" size="1 1 1" group="2"/>
+  </worldbody>
+</mujoco>)");
+  const Eigen::AlignedBox2d e = world.extent_xy();
+  EXPECT_DOUBLE_EQ(e.min().x(), -2.0);  // the floor from 10 - 12
+  EXPECT_DOUBLE_EQ(e.min().y(), -2.0);
+  EXPECT_DOUBLE_EQ(e.max().x(), 30.5);  // the sphere's bound
+  EXPECT_DOUBLE_EQ(e.max().y(), 4.0);
+  EXPECT_TRUE(World::from_string("<mujoco><worldbody><geom type=\"plane\" size=\"0 0 1\"/></worldbody></mujoco>")
+                  .extent_xy()
+                  .isEmpty());
+}
+
 }  // namespace
 }  // namespace stvl::sim

@@ -97,6 +97,12 @@ TEST_F(Cli, UnknownSubcommandsAndOptionsExitTwo) {
   const Outcome seed = run("run " + quoted(kDefaultScenario) + " --seed -1 " + out_arg());
   EXPECT_EQ(seed.exit_code, kBadInput) << seed.output;
   EXPECT_THAT(seed.output, HasSubstr("--seed"));
+  const Outcome huge = run("run " + quoted(kDefaultScenario) + " --seed 99999999999999999999 " + out_arg());
+  EXPECT_EQ(huge.exit_code, kBadInput) << huge.output;
+  EXPECT_THAT(huge.output, HasSubstr("exceeds the largest seed"));
+  const Outcome word = run("run " + quoted(kDefaultScenario) + " --seed 12ab " + out_arg());
+  EXPECT_EQ(word.exit_code, kBadInput) << word.output;
+  EXPECT_THAT(word.output, HasSubstr("expected a non-negative integer"));
 }
 
 TEST_F(Cli, MissingScenarioFileExitsTwoNamingIt) {
@@ -135,6 +141,25 @@ TEST_F(Cli, MalformedWorldExitsTwoWithMujocosMessage) {
   EXPECT_EQ(o.exit_code, kBadInput) << o.output;
   EXPECT_THAT(o.output, HasSubstr("cannot load world '" + (dir_ / "broken.xml").string() + "'"));
   EXPECT_THAT(o.output, HasSubstr("XML_ERROR_MISMATCHED_ELEMENT"));
+}
+
+TEST_F(Cli, WaypointsOutsideTheWorldExitTwoBeforeDriving) {
+  const std::string world = std::string(STVL_SOURCE_DIR) + "/worlds/office_corridor.xml";
+  for (const char* waypoints : {"[[0, 0], [1e308, 0]]", "[[0, 0], [5, 0], [5, 40]]"}) {
+    SCOPED_TRACE(waypoints);
+    const std::string file = write("far.yaml", "name: far\nworld: " + world + "\nrobot:\n  waypoints: " + waypoints +
+                                                   "\n  speed_mps: 0.5\n");
+    const Outcome o = run("run " + quoted(file) + " " + out_arg());
+    EXPECT_EQ(o.exit_code, kBadInput) << o.output;
+    EXPECT_THAT(o.output, HasSubstr("lies outside the world's extent"));
+    EXPECT_THAT(o.output, HasSubstr("robot.waypoints["));
+  }
+  const std::string start = write("start.yaml", "name: far\nworld: " + world +
+                                                    "\nrobot:\n  start: [-50, 0, 0]\n  waypoints: [[0, 0], [1, 0]]\n"
+                                                    "  speed_mps: 0.5\n");
+  const Outcome o = run("run " + quoted(start) + " " + out_arg());
+  EXPECT_EQ(o.exit_code, kBadInput) << o.output;
+  EXPECT_THAT(o.output, HasSubstr("robot.start (-50, 0) m lies outside"));
 }
 
 TEST_F(Cli, BadOverridesExitTwo) {
