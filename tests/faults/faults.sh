@@ -177,7 +177,8 @@ case $case_name in
     ;;
 
   robot_falls)
-    # A 2 m platform with nothing around it: the path leads off its edge and the robot falls.
+    # A 2 m platform 3 m above a wide floor: the path leads off its edge and the robot falls. (The lower floor
+    # keeps the waypoints inside the world's extent, which a run checks before driving.)
     cp "$src/worlds/robot.xml" "$tmp/"
     cat >"$tmp/platform.xml" <<'EOF'
 <mujoco model="platform">
@@ -193,6 +194,7 @@ case $case_name in
   <worldbody>
     <light name="sun" directional="true" pos="0 0 10" dir="0 0 -1" castshadow="false"/>
     <geom name="floor" type="box" pos="0 0 -0.05" size="1 1 0.05" group="0"/>
+    <geom name="ground" type="plane" pos="0 0 -3" size="8 8 0.1" group="0"/>
     <body name="box_1" pos="0.8 0.6 0.2">
       <geom type="box" size="0.1 0.1 0.2" group="1"/>
     </body>
