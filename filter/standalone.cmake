@@ -15,6 +15,11 @@ if(EIGEN3_INCLUDE_DIR)
   set_target_properties(Eigen3::Eigen PROPERTIES INTERFACE_INCLUDE_DIRECTORIES ${EIGEN3_INCLUDE_DIR})
 endif()
 
+# bench/ builds only its Eigen-only part here (the synthetic corridor, cloud files, filter-bench-standalone): it
+# checks STVL_MODULES, which in this build names filter/ alone.
+set(STVL_MODULES filter)
+add_subdirectory(${CMAKE_CURRENT_SOURCE_DIR}/../bench ${CMAKE_BINARY_DIR}/bench)
+
 if(STVL_BUILD_TESTS)
   set(STVL_GTEST_SOURCE_DIR "" CACHE PATH "googletest sources (e.g. /usr/src/googletest), used when GTest is not installed")
   find_package(GTest QUIET)
@@ -36,4 +41,5 @@ if(STVL_BUILD_TESTS)
     set(GTest_DIR ${CMAKE_BINARY_DIR}/gtest-config CACHE PATH "" FORCE)
   endif()
   add_subdirectory(${CMAKE_CURRENT_SOURCE_DIR}/../tests/filter ${CMAKE_BINARY_DIR}/tests/filter)
+  add_subdirectory(${CMAKE_CURRENT_SOURCE_DIR}/../tests/bench ${CMAKE_BINARY_DIR}/tests/bench)
 endif()

@@ -36,7 +36,7 @@ cat >"$work/main.cpp" <<'EOF'
 #include <cstdlib>
 #include <vector>
 
-#include "filter/cloud_io.hpp"
+#include "bench/cloud_io.hpp"
 #include HEADER
 
 namespace stvl::filter {
@@ -45,7 +45,7 @@ Eigen::Matrix3Xf FN_OLD(const Eigen::Matrix3Xf&, const CONFIG&, int);
 using namespace stvl::filter;
 
 int main(int, char** argv) {
-  const Eigen::Matrix3Xf cloud = load_cloud(argv[1]);
+  const Eigen::Matrix3Xf cloud = stvl::bench::load_cloud(argv[1]);
   CONFIG config;
   config.voxel_size_m = std::atof(argv[2]);
   const int threads = std::atoi(argv[3]), reps = std::atoi(argv[4]);
@@ -72,6 +72,6 @@ EOF
 flags=(-O3 -DNDEBUG -std=c++17 -I. -I"$work" -isystem "$eigen" -pthread "-DFN=$fn" "-DFN_OLD=${fn}_old"
        "-DFN_NAME=\"$fn\"" "-DCONFIG=$config_type" "-DHEADER=\"$header\"")
 g++ "${flags[@]}" "-D$fn=${fn}_old" -c "$work/old.cpp" -o "$work/old.o"
-g++ "${flags[@]}" "$work/main.cpp" "$work/old.o" "$source" filter/common.cpp filter/cloud_io.cpp \
+g++ "${flags[@]}" "$work/main.cpp" "$work/old.o" "$source" filter/common.cpp bench/cloud_io.cpp \
   -o "$work/ab"
 "$work/ab" "$cloud" "$voxel" "$threads" "$reps"

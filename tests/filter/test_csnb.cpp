@@ -6,7 +6,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "filter/cloud_io.hpp"
+#include "bench/synthetic_corridor.hpp"
 #include "filter/csnb.hpp"
 #include "filter/detail/common.hpp"
 #include "helpers.hpp"
@@ -138,7 +138,7 @@ Eigen::Matrix3Xf reference_csnb(const Eigen::Matrix3Xf& in, const CsnbConfig& co
 }
 
 TEST(Csnb, EqualsTheLiteralAlgorithm) {
-  const Eigen::Matrix3Xf corridor = make_corridor_cloud(4, 96, 54);
+  const Eigen::Matrix3Xf corridor = bench::make_corridor_cloud(4, 96, 54);
   const Eigen::Matrix3Xf random = test::random_cloud(21, 2500, -0.3f, 0.4f);
   struct Case {
     const Eigen::Matrix3Xf* cloud;
@@ -169,7 +169,7 @@ TEST(Csnb, EqualsTheLiteralAlgorithm) {
 // The plain counting loops (CPUs without AVX2, or the switch off) give the same output as the AVX2 ones, on
 // a cloud large enough for many windows of the walk, and the literal algorithm agrees on a smaller one.
 TEST(Csnb, SameOutputWithoutSimd) {
-  const Eigen::Matrix3Xf corridor = make_corridor_cloud(2, 320, 180);
+  const Eigen::Matrix3Xf corridor = bench::make_corridor_cloud(2, 320, 180);
   for (double voxel : {0.02, 0.05}) {
     CsnbConfig config;
     config.voxel_size_m = voxel;
@@ -206,7 +206,7 @@ TEST(Csnb, DensityBoundAndNoCubeLostOnRandomClouds) {
 }
 
 TEST(Csnb, DensityBoundOnCorridorPatch) {
-  const Eigen::Matrix3Xf corridor = make_corridor_cloud(3, 160, 90);
+  const Eigen::Matrix3Xf corridor = bench::make_corridor_cloud(3, 160, 90);
   CsnbConfig config;
   config.voxel_size_m = 0.05;
   config.max_neighbours = 3;

@@ -1,13 +1,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdio>
-#include <fstream>
-#include <sstream>
+#include <limits>
 #include <stdexcept>
 
-#include "filter/benchmark.hpp"
-#include "filter/cloud_io.hpp"
+#include "bench/synthetic_corridor.hpp"
 #include "filter/filter.hpp"
 #include "helpers.hpp"
 
@@ -63,7 +60,7 @@ class CpuVsCuda : public ::testing::TestWithParam<MemoryMode> {};
 TEST_P(CpuVsCuda, IdenticalOutputs) {
   std::string reason;
   if (!cuda_available(&reason)) GTEST_SKIP() << "no GPU: " << reason;
-  const Eigen::Matrix3Xf corridor = make_corridor_cloud(4, 424, 240);
+  const Eigen::Matrix3Xf corridor = bench::make_corridor_cloud(4, 424, 240);
   Eigen::Matrix3Xf random = test::random_cloud(6, 50000, -2.f, 3.f);
   random(0, 17) = std::numeric_limits<float>::quiet_NaN();
   for (const Eigen::Matrix3Xf* cloud : {&corridor, static_cast<const Eigen::Matrix3Xf*>(&random)}) {
@@ -143,43 +140,6 @@ TEST(RadixSort, EqualsStableSortOnTheChosenBits) {
       }
     }
   }
-}
-
-TEST(CloudIo, RoundTripAndBadFiles) {
-  const std::string path = ::testing::TempDir() + "stvl_filter_cloud.bin";
-  const Eigen::Matrix3Xf cloud = test::random_cloud(8, 1234, -1.f, 1.f);
-  save_cloud(path, cloud);
-  EXPECT_TRUE(load_cloud(path) == cloud);
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::app);
-    out.put('x');
-  }
-  EXPECT_THROW(load_cloud(path), std::invalid_argument);
-  {
-    std::ofstream out(path, std::ios::binary);
-    out << "NOTACLOUDFILE...";
-  }
-  EXPECT_THROW(load_cloud(path), std::invalid_argument);
-  EXPECT_THROW(load_cloud(path + ".missing"), std::runtime_error);
-  std::remove(path.c_str());
-}
-
-TEST(Benchmark, CorridorCloudAndTable) {
-  const Eigen::Matrix3Xf corridor = make_corridor_cloud(1);
-  EXPECT_GT(corridor.cols(), 350000);
-  EXPECT_LE(corridor.cols(), 848 * 480);
-  EXPECT_TRUE(corridor == make_corridor_cloud(1));
-  BenchmarkConfig config;
-  config.warmup = 0;
-  config.repetitions = 1;
-  config.cuda = false;
-  const auto rows = run_benchmark({{"small", test::random_cloud(1, 2000, 0.f, 1.f)}}, config);
-  ASSERT_EQ(rows.size(), 2u);
-  EXPECT_EQ(rows[0].method, "voxel/cpu");
-  EXPECT_EQ(rows[1].method, "csnb/cpu");
-  std::ostringstream table;
-  print_benchmark_table(table, rows);
-  EXPECT_NE(table.str().find("| small | csnb/cpu |"), std::string::npos) << table.str();
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 #include <limits>
 #include <random>
 
-#include "mapping/benchmark.hpp"
+#include "bench/synthetic_corridor.hpp"
 #include "mapping/voxel_map.hpp"
 #include "test_helpers.hpp"
 
@@ -336,7 +336,7 @@ TEST(VoxelMap, DeterministicForSameInputs) {
     ObservationSource source = wide_source();
     source.decay_acceleration_per_s3 = 1.0;
     for (int f = 0; f < 8; ++f) {
-      const SyntheticFrame frame = synthetic_corridor_frame(3, f, 0.05);
+      const bench::SyntheticFrame frame = bench::synthetic_corridor_frame(3, f, 0.05);
       map.clear({{frame.T_world_camera, source, &frame.points_W}}, frame.time_s);
       map.mark(frame.points_W, frame.T_world_camera, source, frame.time_s);
     }
@@ -345,7 +345,7 @@ TEST(VoxelMap, DeterministicForSameInputs) {
   const auto a = run(), b = run();
   EXPECT_GT(a.size(), 1000u);
   EXPECT_TRUE(test::same_voxels(a, b));
-  const auto f1 = synthetic_corridor_frame(3, 2, 0.05), f2 = synthetic_corridor_frame(3, 2, 0.05);
+  const auto f1 = bench::synthetic_corridor_frame(3, 2, 0.05), f2 = bench::synthetic_corridor_frame(3, 2, 0.05);
   EXPECT_TRUE(f1.points_W.isApprox(f2.points_W));
 }
 

@@ -1,23 +1,31 @@
 // stvl-bench filter-bench: every filter on D435-sized clouds rendered from the corridor, on the CPU and (where
 // present) CUDA in every memory mode, mean and standard deviation in ms, optionally against PCL's VoxelGrid.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
-#include "filter/benchmark.hpp"
-#include "filter/cloud_io.hpp"
+#include "bench/cloud_io.hpp"
+#include "bench/filter_bench.hpp"
+#include "bench/pcl_peer.hpp"
+#include "common/atomic_file.hpp"
+#include "pipeline/pipeline.hpp"
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
 #include "sim/simulator.hpp"
-#include "common/atomic_file.hpp"
 #include "tools/command.hpp"
-#include "tools/pcl_peer.hpp"
 #include "tools/scenario.hpp"
 
-namespace stvl::tools {
+namespace stvl::bench {
 namespace {
 
-struct FilterBenchOptions {
+using tools::Scenario;
+
+struct FilterBenchCli {
   std::string scenario;
   int clouds = 3;
   std::vector<double> voxel_sizes_m{0.02, 0.05, 0.10};
@@ -31,12 +39,12 @@ struct FilterBenchOptions {
 };
 
 // Clouds in the world frame from the scenario's drive, evenly spaced over its first 20 s.
-std::vector<filter::BenchmarkCloud> render_clouds(const Scenario& s, int count) {
+std::vector<BenchmarkCloud> render_clouds(const Scenario& s, int count) {
   const auto simulator = pipeline::make_simulator(s.pipeline);
   sim::Simulator& sim = *simulator;
   sensors::DepthRenderer renderer(sim.world().model(), s.camera().intrinsics, s.camera().gl_backend);
   sensors::DepthNoise noise(s.camera().noise, s.camera().intrinsics);
-  std::vector<filter::BenchmarkCloud> clouds;
+  std::vector<BenchmarkCloud> clouds;
   for (int k = 0; k < count; ++k) {
     const double t = 2.0 + 18.0 * k / std::max(1, count - 1);
     sim.run_until(t);
@@ -51,12 +59,12 @@ std::vector<filter::BenchmarkCloud> render_clouds(const Scenario& s, int count) 
   return clouds;
 }
 
-int filter_bench(const FilterBenchOptions& o) {
+int filter_bench(const FilterBenchCli& o) {
   if (o.clouds < 1 || o.clouds > 100) throw std::invalid_argument("--clouds must be in 1..100");
   if (o.repetitions < 1 || o.warmup < 0) throw std::invalid_argument("--reps must be >= 1 and --warmup >= 0");
   if (!o.peer.empty() && o.peer != "pcl") throw std::invalid_argument("--peer must be pcl, got '" + o.peer + "'");
   if (o.peer == "pcl" && !pcl_peer_available()) run_pcl_peer({}, {}, 0, 0);  // throws the explanation
-  filter::BenchmarkConfig config;
+  FilterBenchConfig config;
   config.voxel_sizes_m = o.voxel_sizes_m;
   config.filters.clear();
   for (const auto& f : o.filters) config.filters.push_back(filter::parse_filter_type(f));
@@ -64,16 +72,16 @@ int filter_bench(const FilterBenchOptions& o) {
   config.cpu_threads = o.threads;
   config.warmup = o.warmup;
   config.repetitions = o.repetitions;
-  Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario);
+  Scenario scenario = tools::load_scenario(o.scenario.empty() ? tools::default_scenario_path() : o.scenario);
   const auto clouds = render_clouds(scenario, o.clouds);
   if (!o.save_clouds.empty()) {
     ensure_writable_directory(o.save_clouds);
-    for (const auto& c : clouds) filter::save_cloud((std::filesystem::path(o.save_clouds) / (c.name + ".stvlcld")).string(), c.points);
+    for (const auto& c : clouds) save_cloud((std::filesystem::path(o.save_clouds) / (c.name + ".stvlcld")).string(), c.points);
   }
   std::printf("filter-bench: %d clouds of %dx%d rendered from %s (noise %s), %d threads (0: all cores), %d repetitions after %d warm-up\n",
               o.clouds, scenario.camera().intrinsics.width, scenario.camera().intrinsics.height, scenario.pipeline.world_path.c_str(),
               scenario.camera().noise.enabled ? "on" : "off", o.threads, o.repetitions, o.warmup);
-  std::vector<filter::BenchmarkRow> rows;
+  std::vector<FilterBenchRow> rows;
   std::string baseline = "voxel/cpu";
   if (o.peer == "pcl") {
     // Ours and PCL's back to back for each cloud and voxel size, so that the ratio compares like with like on
@@ -81,21 +89,21 @@ int filter_bench(const FilterBenchOptions& o) {
     baseline = "pcl2/cpu";
     for (const auto& cloud : clouds) {
       for (double voxel_m : o.voxel_sizes_m) {
-        filter::BenchmarkConfig one = config;
+        FilterBenchConfig one = config;
         one.voxel_sizes_m = {voxel_m};
-        for (auto part : {filter::run_benchmark({cloud}, one), run_pcl_peer({cloud}, {voxel_m}, o.warmup, o.repetitions)})
+        for (auto part : {run_filter_bench({cloud}, one), run_pcl_peer({cloud}, {voxel_m}, o.warmup, o.repetitions)})
           rows.insert(rows.end(), part.begin(), part.end());
       }
     }
   } else {
-    rows = filter::run_benchmark(clouds, config);
+    rows = run_filter_bench(clouds, config);
   }
-  filter::print_benchmark_table(std::cout, rows, baseline);
-  return kExitOk;
+  print_filter_bench_table(std::cout, rows, baseline);
+  return tools::kExitOk;
 }
 
-const CommandRegistration kFilterBench{"filter-bench", [](CLI::App& app) {
-  auto o = std::make_shared<FilterBenchOptions>();
+const tools::CommandRegistration kFilterBench{"filter-bench", [](CLI::App& app) {
+  auto o = std::make_shared<FilterBenchCli>();
   auto* cmd = app.add_subcommand("filter-bench", "Benchmark the filters on clouds rendered from the corridor");
   cmd->add_option("--scenario", o->scenario, "Scenario whose world, path and camera make the clouds (default: the default scenario)");
   cmd->add_option("--clouds", o->clouds, "Number of rendered clouds")->capture_default_str();
@@ -111,4 +119,4 @@ const CommandRegistration kFilterBench{"filter-bench", [](CLI::App& app) {
 }};
 
 }  // namespace
-}  // namespace stvl::tools
+}  // namespace stvl::bench

@@ -1,20 +1,24 @@
 // filter-bench-standalone [--cloud FILE]... [--voxel M]... [--warmup N] [--reps N] [--threads N] [--max-neighbours N]
 //                         [--batch N] [--save FILE] [--no-cuda] [--no-cpu] [--filters voxel,csnb]
-// Without --cloud it benchmarks the synthetic 848x480 corridor cloud.
-#include <cstdio>
-#include <cstdlib>
+// Without --cloud it benchmarks the synthetic 848x480 corridor cloud (bench/synthetic_corridor.hpp). For a machine
+// without our Debian packages: built by `cmake -S filter` (Eigen, optional CUDA) as well as by the whole project.
+#include <algorithm>
 #include <exception>
 #include <iostream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
-#include "filter/benchmark.hpp"
-#include "filter/cloud_io.hpp"
+#include "bench/cloud_io.hpp"
+#include "bench/filter_bench.hpp"
+#include "bench/synthetic_corridor.hpp"
 
 int main(int argc, char** argv) {
-  using namespace stvl::filter;
+  using namespace stvl::bench;
+  namespace filter = stvl::filter;
   try {
     std::vector<BenchmarkCloud> clouds;
-    BenchmarkConfig config;
+    FilterBenchConfig config;
     std::vector<double> voxels;
     std::string save_path;
     for (int i = 1; i < argc; ++i) {
@@ -49,7 +53,7 @@ int main(int argc, char** argv) {
         std::string list = value();
         for (std::size_t start = 0; start <= list.size();) {
           const std::size_t comma = std::min(list.find(',', start), list.size());
-          config.filters.push_back(parse_filter_type(list.substr(start, comma - start)));
+          config.filters.push_back(filter::parse_filter_type(list.substr(start, comma - start)));
           start = comma + 1;
         }
       } else {
@@ -60,13 +64,9 @@ int main(int argc, char** argv) {
     if (clouds.empty()) clouds.push_back({"corridor-synthetic", make_corridor_cloud(1)});
     if (!save_path.empty()) save_cloud(save_path, clouds.front().points);
     std::string reason;
-    if (config.cuda && !cuda_available(&reason)) std::cerr << "no CUDA rows: " << reason << "\n";
-    const auto rows = run_benchmark(clouds, config);
-    print_benchmark_table(std::cout, rows, "voxel/cpu");
+    if (config.cuda && !filter::cuda_available(&reason)) std::cerr << "no CUDA rows: " << reason << "\n";
+    print_filter_bench_table(std::cout, run_filter_bench(clouds, config), "voxel/cpu");
     return 0;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "filter-bench-standalone: " << e.what() << "\n";
-    return 2;
   } catch (const std::exception& e) {
     std::cerr << "filter-bench-standalone: " << e.what() << "\n";
     return 2;

@@ -1,18 +1,21 @@
-// sensors-bench [world.xml] [backend...]: depth frames per second on a corridor, render only and
-// render + noise + cloud, at 640x480 and 848x480, for each backend (default: osmesa egl). Each backend runs in its
-// own child process so that one does not decide MuJoCo's GL binding for the other.
-#include "sensors/depth_noise.hpp"
-#include "sensors/depth_renderer.hpp"
+#include "bench/sensors_bench.hpp"
 
 #include <mujoco/mujoco.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "sensors/depth_noise.hpp"
+#include "sensors/depth_renderer.hpp"
+
+namespace stvl::bench {
 
 namespace {
 
@@ -91,35 +94,34 @@ Result measure(const std::string& world_path, stvl::sensors::GlBackend backend,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+void SensorsBenchOptions::validate() const {
+  if (frames < 1 || frames > 1000) throw std::invalid_argument("frames = " + std::to_string(frames) + " must lie in [1, 1000]");
+  if (backends.empty()) throw std::invalid_argument("no GL backend given");
+  for (const std::string& b : backends) sensors::parse_gl_backend(b);  // throws naming a bad one
+}
+
+void run_sensors_bench(const SensorsBenchOptions& options) {
   using namespace stvl::sensors;
-  std::string world_path;
-  std::vector<std::string> backends;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "egl" || arg == "osmesa" || arg == "auto") {
-      backends.push_back(arg);
-    } else {
-      world_path = arg;
-    }
-  }
-  if (backends.empty()) backends = {"osmesa", "egl"};
+  options.validate();
+  std::string world_path = options.world_path;
+  bool temporary_world = false;
   if (world_path.empty()) {
     world_path = "/tmp/stvl_sensors_bench_" + std::to_string(getpid()) + ".xml";
     std::ofstream(world_path) << kCorridor;
+    temporary_world = true;
   }
-  const int frames = 300;
   std::printf("%-7s %-8s %11s %19s %9s %9s %7s %8s\n", "backend", "size", "render fps", "render+noise+cloud",
               "noise ms", "cloud ms", "valid", "points");
-  for (const std::string& backend_arg : backends) {
+  for (const std::string& backend_arg : options.backends) {
     std::fflush(stdout);
     const pid_t child = fork();
+    if (child < 0) throw std::runtime_error("sensors-bench: fork failed");
     if (child == 0) {
       int status = 0;
       for (const CameraIntrinsics& k : {CameraIntrinsics::d435_640x480(), CameraIntrinsics::d435_848x480()}) {
         try {
           std::string name;
-          const Result r = measure(world_path, parse_gl_backend(backend_arg), k, frames, name);
+          const Result r = measure(world_path, parse_gl_backend(backend_arg), k, options.frames, name);
           std::printf("%-7s %4dx%-3d %11.1f %19.1f %9.2f %9.2f %6.1f%% %8.0f\n", name.c_str(), k.width, k.height,
                       r.render_fps, r.full_fps, r.noise_ms, r.cloud_ms, 100.0 * r.valid_fraction, r.points);
         } catch (const std::exception& e) {
@@ -133,5 +135,7 @@ int main(int argc, char** argv) {
     int status = 0;
     waitpid(child, &status, 0);
   }
-  return 0;
+  if (temporary_world) std::remove(world_path.c_str());
 }
+
+}  // namespace stvl::bench

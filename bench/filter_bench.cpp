@@ -1,12 +1,18 @@
-#include "filter/benchmark.hpp"
+#include "bench/filter_bench.hpp"
 
 #include <cstdio>
 #include <ostream>
 
-namespace stvl::filter {
+#include "bench/timing.hpp"
 
-std::vector<BenchmarkRow> run_benchmark(const std::vector<BenchmarkCloud>& clouds, const BenchmarkConfig& config) {
-  std::vector<BenchmarkRow> rows;
+namespace stvl::bench {
+
+using filter::Device;
+using filter::FilterType;
+using filter::MemoryMode;
+
+std::vector<FilterBenchRow> run_filter_bench(const std::vector<BenchmarkCloud>& clouds, const FilterBenchConfig& config) {
+  std::vector<FilterBenchRow> rows;
   struct Variant {
     Device device;
     MemoryMode memory;
@@ -14,14 +20,14 @@ std::vector<BenchmarkRow> run_benchmark(const std::vector<BenchmarkCloud>& cloud
   };
   std::vector<Variant> variants;
   if (config.cpu) variants.push_back({Device::kCpu, MemoryMode::kCopy, "cpu"});
-  if (config.cuda && cuda_available()) {
+  if (config.cuda && filter::cuda_available()) {
     for (MemoryMode mode : config.memory_modes) variants.push_back({Device::kCuda, mode, std::string("cuda/") + to_string(mode)});
   }
   for (const BenchmarkCloud& cloud : clouds) {
     for (double voxel_size_m : config.voxel_sizes_m) {
       for (FilterType type : config.filters) {
         for (const Variant& variant : variants) {
-          FilterConfig fc;
+          filter::FilterConfig fc;
           fc.type = type;
           fc.device = variant.device;
           fc.memory = variant.memory;
@@ -30,9 +36,9 @@ std::vector<BenchmarkRow> run_benchmark(const std::vector<BenchmarkCloud>& cloud
           fc.voxel.voxel_size_m = voxel_size_m;
           fc.csnb = config.csnb;
           fc.csnb.voxel_size_m = voxel_size_m;
-          Filter filter(fc);
+          filter::Filter under_test(fc);
           std::size_t out_points = 0;
-          const auto [mean, sd] = time_ms([&] { out_points = static_cast<std::size_t>(filter.apply(cloud.points).cols()); },
+          const auto [mean, sd] = time_ms([&] { out_points = static_cast<std::size_t>(under_test.apply(cloud.points).cols()); },
                                           config.warmup, config.repetitions);
           rows.push_back({cloud.name, std::string(to_string(type)) + "/" + variant.label, voxel_size_m,
                           static_cast<std::size_t>(cloud.points.cols()), out_points, mean, sd});
@@ -43,13 +49,13 @@ std::vector<BenchmarkRow> run_benchmark(const std::vector<BenchmarkCloud>& cloud
   return rows;
 }
 
-void print_benchmark_table(std::ostream& out, const std::vector<BenchmarkRow>& rows, const std::string& baseline_method) {
+void print_filter_bench_table(std::ostream& out, const std::vector<FilterBenchRow>& rows, const std::string& baseline_method) {
   out << "| cloud | method | voxel m | points in | points out | mean ms | std ms | x " << baseline_method << " |\n"
       << "|---|---|---:|---:|---:|---:|---:|---:|\n";
   char line[512];
-  for (const BenchmarkRow& row : rows) {
-    const BenchmarkRow* base = nullptr;
-    for (const BenchmarkRow& b : rows) {
+  for (const FilterBenchRow& row : rows) {
+    const FilterBenchRow* base = nullptr;
+    for (const FilterBenchRow& b : rows) {
       if (b.method == baseline_method && b.cloud == row.cloud && b.voxel_size_m == row.voxel_size_m) base = &b;
     }
     char ratio[32] = "";
@@ -60,4 +66,4 @@ void print_benchmark_table(std::ostream& out, const std::vector<BenchmarkRow>& r
   }
 }
 
-}  // namespace stvl::filter
+}  // namespace stvl::bench

@@ -5,14 +5,14 @@
 #include <string>
 #include <vector>
 
-#include "filter/benchmark.hpp"
+#include "bench/filter_bench.hpp"
 
-namespace stvl::tools {
+namespace stvl::bench {
 
 bool pcl_peer_available();
 // Rows "pcl2/cpu" (VoxelGrid<PCLPointCloud2> with z limits, the call STVL makes) and "pclxyz/cpu"
 // (VoxelGrid<PointXYZ>) for each cloud and voxel size. Throws std::runtime_error when built without PCL.
-std::vector<filter::BenchmarkRow> run_pcl_peer(const std::vector<filter::BenchmarkCloud>& clouds,
-                                               const std::vector<double>& voxel_sizes_m, int warmup, int repetitions);
+std::vector<FilterBenchRow> run_pcl_peer(const std::vector<BenchmarkCloud>& clouds,
+                                        const std::vector<double>& voxel_sizes_m, int warmup, int repetitions);
 
-}  // namespace stvl::tools
+}  // namespace stvl::bench

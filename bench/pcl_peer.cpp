@@ -1,6 +1,8 @@
-#include "tools/pcl_peer.hpp"
+#include "bench/pcl_peer.hpp"
 
 #include <stdexcept>
+
+#include "bench/timing.hpp"
 
 #ifdef STVL_HAVE_PCL
 #include <pcl/conversions.h>
@@ -8,14 +10,14 @@
 #include <pcl/point_types.h>
 #endif
 
-namespace stvl::tools {
+namespace stvl::bench {
 
 #ifdef STVL_HAVE_PCL
 bool pcl_peer_available() { return true; }
 
-std::vector<filter::BenchmarkRow> run_pcl_peer(const std::vector<filter::BenchmarkCloud>& clouds,
-                                               const std::vector<double>& voxel_sizes_m, int warmup, int repetitions) {
-  std::vector<filter::BenchmarkRow> rows;
+std::vector<FilterBenchRow> run_pcl_peer(const std::vector<BenchmarkCloud>& clouds,
+                                        const std::vector<double>& voxel_sizes_m, int warmup, int repetitions) {
+  std::vector<FilterBenchRow> rows;
   for (const auto& cloud : clouds) {
     pcl::PointCloud<pcl::PointXYZ>::Ptr xyz(new pcl::PointCloud<pcl::PointXYZ>);
     xyz->resize(static_cast<std::size_t>(cloud.points.cols()));
@@ -32,14 +34,14 @@ std::vector<filter::BenchmarkRow> run_pcl_peer(const std::vector<filter::Benchma
       grid2.setLeafSize(leaf, leaf, leaf);
       grid2.setFilterFieldName("z");
       grid2.setFilterLimits(z_min, z_max);
-      const auto [mean2, std2] = filter::time_ms([&] { grid2.filter(out2); }, warmup, repetitions);
+      const auto [mean2, std2] = time_ms([&] { grid2.filter(out2); }, warmup, repetitions);
       rows.push_back({cloud.name, "pcl2/cpu", voxel, static_cast<std::size_t>(cloud.points.cols()),
                       static_cast<std::size_t>(out2.width) * out2.height, mean2, std2});
       pcl::PointCloud<pcl::PointXYZ> out;
       pcl::VoxelGrid<pcl::PointXYZ> grid;
       grid.setInputCloud(xyz);
       grid.setLeafSize(leaf, leaf, leaf);
-      const auto [mean, std] = filter::time_ms([&] { grid.filter(out); }, warmup, repetitions);
+      const auto [mean, std] = time_ms([&] { grid.filter(out); }, warmup, repetitions);
       rows.push_back({cloud.name, "pclxyz/cpu", voxel, static_cast<std::size_t>(cloud.points.cols()), out.size(), mean, std});
     }
   }
@@ -48,11 +50,10 @@ std::vector<filter::BenchmarkRow> run_pcl_peer(const std::vector<filter::Benchma
 #else
 bool pcl_peer_available() { return false; }
 
-std::vector<filter::BenchmarkRow> run_pcl_peer(const std::vector<filter::BenchmarkCloud>&, const std::vector<double>&,
-                                               int, int) {
+std::vector<FilterBenchRow> run_pcl_peer(const std::vector<BenchmarkCloud>&, const std::vector<double>&, int, int) {
   throw std::runtime_error("--peer pcl: stvl-bench was built without PCL (install libpcl-dev with "
                            "scripts/install-deps.sh --with-pcl and rebuild)");
 }
 #endif
 
-}  // namespace stvl::tools
+}  // namespace stvl::bench

@@ -1,15 +1,13 @@
 #pragma once
-// `map-bench`: per-frame mark and clear cost of the voxel map as the map grows, against the STVL-style full
-// walk and OctoMap's insertPointCloud (when liboctomap was found) in the same run.
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-
+// `stvl-bench map-bench`: per-frame mark and clear cost of the voxel map as the map grows, against the
+// STVL-style full walk and OctoMap's insertPointCloud (when liboctomap was found) in the same run, on the
+// synthetic corridor's frames (bench/synthetic_corridor.hpp).
 #include <cstddef>
 #include <cstdint>
 #include <iosfwd>
 #include <vector>
 
-namespace stvl::mapping {
+namespace stvl::bench {
 
 struct MapBenchOptions {
   double voxel_size_m = 0.05;
@@ -20,15 +18,6 @@ struct MapBenchOptions {
   int threads = 0;      // threads for the map's parallel ray walks (0: all cores); OctoMap's insert is serial
   void validate() const;  // throws std::invalid_argument
 };
-
-// One synthetic D435-like frame (424x240, 87 x 58 deg, 0.2..5 m, depth noise 1 mm * z^2) in a 2 m wide
-// corridor with boxes, voxel-filtered (centroid per voxel) at voxel_size. Deterministic in (seed, frame).
-struct SyntheticFrame {
-  Eigen::Matrix3Xf points_W;
-  Eigen::Isometry3d T_world_camera;  // optical frame
-  double time_s = 0.0;
-};
-SyntheticFrame synthetic_corridor_frame(std::uint64_t seed, int frame, double voxel_size_m);
 
 struct MapBenchRow {
   std::size_t prefilled_voxels = 0;
@@ -52,4 +41,4 @@ struct MapBenchResult {
 MapBenchResult run_map_bench(const MapBenchOptions& options);
 void print_map_bench(const MapBenchResult& result, std::ostream& out);
 
-}  // namespace stvl::mapping
+}  // namespace stvl::bench

@@ -1,18 +1,19 @@
-// `stvl-bench map-bench`: the mapping module's benchmark (logic in mapping/benchmark.cpp).
+// `stvl-bench map-bench`: the voxel map's per-frame cost against a full walk and OctoMap (bench/map_bench.cpp).
 #include <iostream>
 #include <memory>
 
-#include "mapping/benchmark.hpp"
+#include "bench/map_bench.hpp"
 #include "tools/command.hpp"
 
+namespace stvl::bench {
 namespace {
 
 struct MapBenchCli {
-  stvl::mapping::MapBenchOptions options;
+  MapBenchOptions options;
   bool no_octomap = false;
 };
 
-const stvl::tools::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) {
+const tools::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("map-bench", "per-frame mark/clear cost of the voxel map vs map size, with peers");
   auto cli = std::make_shared<MapBenchCli>();
   cmd->add_option("--voxel-size", cli->options.voxel_size_m, "voxel size in m");
@@ -23,9 +24,10 @@ const stvl::tools::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) 
   cmd->add_option("--threads", cli->options.threads, "threads for the map's ray walks (0: all cores)");
   return [cli] {
     cli->options.octomap = !cli->no_octomap;
-    stvl::mapping::print_map_bench(stvl::mapping::run_map_bench(cli->options), std::cout);
-    return stvl::tools::kExitOk;
+    print_map_bench(run_map_bench(cli->options), std::cout);
+    return tools::kExitOk;
   };
 }};
 
 }  // namespace
+}  // namespace stvl::bench
