@@ -2,12 +2,11 @@
 // shortest settings, and checks bad options exit with code 2 before measuring anything.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <string>
+
+#include "tests/support/command.hpp"
 
 namespace stvl::bench {
 namespace {
@@ -15,32 +14,15 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-struct Outcome {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
+using test::Outcome;
 
 class BenchCommands : public ::testing::Test {
  protected:
   void SetUp() override {
-    binary_ = fs::read_symlink("/proc/self/exe").parent_path() / "stvl-bench";
-    if (!fs::is_regular_file(binary_)) GTEST_SKIP() << binary_ << " not built (build the stvl-bench target)";
+    binary_ = test::stvl_bench_binary();
+    if (binary_.empty()) GTEST_SKIP() << "stvl-bench not built (build the stvl-bench target)";
   }
-
-  Outcome run(const std::string& args) const {
-    const std::string command = "timeout 120 '" + binary_.string() + "' " + args + " 2>&1";
-    Outcome outcome;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) {
-      ADD_FAILURE() << "popen failed for " << command;
-      return outcome;
-    }
-    std::array<char, 4096> buffer{};
-    while (const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) outcome.output.append(buffer.data(), n);
-    const int status = ::pclose(pipe);
-    outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return outcome;
-  }
+  Outcome run(const std::string& args) const { return test::run_shell("timeout 120 " + test::quoted(binary_.string()) + " " + args); }
 
   fs::path binary_;
 };

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/command.hpp"
+
 namespace stvl {
 namespace {
 
@@ -19,22 +21,10 @@ using ::testing::HasSubstr;
 
 class AtomicFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("stvl_atomic_file_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::vector<std::string> names() const {
-    std::vector<std::string> result;
-    for (const auto& entry : fs::directory_iterator(dir_)) result.push_back(entry.path().filename().string());
-    std::sort(result.begin(), result.end());
-    return result;
-  }
-  static std::string read(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  }
-  fs::path dir_;
+  std::vector<std::string> names() const { return dir.names(); }
+  static std::string read(const fs::path& path) { return test::TempDir::read(path); }
+  test::TempDir dir{"atomic_file"};
+  const fs::path& dir_ = dir.path();
 };
 
 TEST_F(AtomicFile, WritesAndReplacesLeavingNoTemporary) {

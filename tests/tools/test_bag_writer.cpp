@@ -1,7 +1,6 @@
 #include "tools/bag_writer.hpp"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -14,6 +13,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "tests/support/command.hpp"
 
 namespace stvl::tools {
 namespace {
@@ -71,15 +72,6 @@ Eigen::Isometry3d pose_xy_yaw(double x, double y, double yaw) {
   return T;
 }
 
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("stvl_bag_" + name + "_" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
 
 // Writes kFrames frames of every topic; the camera cloud is the depth image reprojected with the camera info.
 void write_run(BagWriter& writer) {
@@ -165,31 +157,19 @@ std::string expectations_json(BagCompression compression, int frame_count) {
   return json.str();
 }
 
-struct CheckResult {
-  int exit_code;
-  std::string output;
-};
-
-CheckResult run_checker(const fs::path& bag, const std::string& json, const fs::path& dir) {
+test::Outcome run_checker(const fs::path& bag, const std::string& json, const fs::path& dir) {
   const fs::path expect = dir / "expect.json";
-  const fs::path log = dir / "check.log";
   std::ofstream(expect) << json;
-  const std::string command =
-      "/usr/bin/python3 '" + kChecker + "' '" + bag.string() + "' '" + expect.string() + "' > '" + log.string() +
-      "' 2>&1";
-  const int status = std::system(command.c_str());
-  std::ifstream in(log);
-  std::stringstream output;
-  output << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output.str()};
+  return test::run_shell("/usr/bin/python3 " + test::quoted(kChecker) + " " + test::quoted(bag.string()) + " " +
+                         test::quoted(expect.string()));
 }
 
 class BagWriterCompressionTest : public ::testing::TestWithParam<BagCompression> {};
 
 TEST_P(BagWriterCompressionTest, WholeApiPassesTheChecker) {
   const BagCompression compression = GetParam();
-  TempDir dir("api_" + to_string(compression));
-  const fs::path bag = dir.path / "run.bag";
+  const test::TempDir dir("bag_api_" + to_string(compression));
+  const fs::path bag = dir.path() / "run.bag";
   {
     BagWriter writer(bag.string(), compression);
     write_run(writer);
@@ -201,7 +181,7 @@ TEST_P(BagWriterCompressionTest, WholeApiPassesTheChecker) {
   EXPECT_FALSE(fs::exists(bag.string() + ".active"));
   ASSERT_TRUE(fs::exists(bag));
 
-  const CheckResult result = run_checker(bag, expectations_json(compression, kFrames), dir.path);
+  const test::Outcome result = run_checker(bag, expectations_json(compression, kFrames), dir.path());
   EXPECT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("0 failed"), std::string::npos) << result.output;
 }
@@ -211,23 +191,23 @@ INSTANTIATE_TEST_SUITE_P(AllCompressions, BagWriterCompressionTest,
                          [](const auto& info) { return to_string(info.param); });
 
 TEST(BagWriterTest, CheckerFailsOnWrongExpectations) {
-  TempDir dir("wrong");
-  const fs::path bag = dir.path / "run.bag";
+  const test::TempDir dir("bag_wrong");
+  const fs::path bag = dir.path() / "run.bag";
   {
     BagWriter writer(bag.string(), BagCompression::kLz4);
     write_run(writer);
     writer.close();
   }
   // One frame fewer than written: counts and depth values disagree with the bag.
-  const CheckResult result = run_checker(bag, expectations_json(BagCompression::kLz4, kFrames - 1), dir.path);
+  const test::Outcome result = run_checker(bag, expectations_json(BagCompression::kLz4, kFrames - 1), dir.path());
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_NE(result.output.find("FAIL: /clock: 4 messages, expected 3"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("FAIL: depth: 4 images, expected 3"), std::string::npos) << result.output;
 }
 
 TEST(BagWriterTest, CheckerCatchesACloudInconsistentWithTheCameraInfo) {
-  TempDir dir("inconsistent");
-  const fs::path bag = dir.path / "run.bag";
+  const test::TempDir dir("bag_inconsistent");
+  const fs::path bag = dir.path() / "run.bag";
   {
     BagWriter writer(bag.string(), BagCompression::kNone);
     const std::vector<std::uint16_t> depth = depth_pattern_mm(0);
@@ -236,14 +216,14 @@ TEST(BagWriterTest, CheckerCatchesACloudInconsistentWithTheCameraInfo) {
     writer.write_points("/camera/depth/points", 0.0, kCameraOpticalFrame, depth_to_points_C(depth));
     writer.close();
   }
-  const CheckResult result = run_checker(bag, "{}", dir.path);
+  const test::Outcome result = run_checker(bag, "{}", dir.path());
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_NE(result.output.find("points match the depth image"), std::string::npos) << result.output;
 }
 
 TEST(BagWriterTest, DestroyedWithoutCloseLeavesOnlyTheActiveFile) {
-  TempDir dir("interrupted");
-  const fs::path bag = dir.path / "run.bag";
+  const test::TempDir dir("bag_interrupted");
+  const fs::path bag = dir.path() / "run.bag";
   try {
     BagWriter writer(bag.string(), BagCompression::kLz4);
     writer.write_clock(0.0);
@@ -277,8 +257,8 @@ TEST(BagWriterTest, CostsBecomeOccupancyAsNav2PublishesThem) {
 }
 
 TEST(BagWriterTest, RejectsBadInput) {
-  TempDir dir("bad_input");
-  BagWriter writer((dir.path / "run.bag").string(), BagCompression::kNone);
+  const test::TempDir dir("bag_bad_input");
+  BagWriter writer((dir.path() / "run.bag").string(), BagCompression::kNone);
   EXPECT_THROW(writer.write_clock(-0.5), std::invalid_argument);
   EXPECT_THROW(writer.write_clock(std::nan("")), std::invalid_argument);
   sensors::CameraIntrinsics no_focal = intrinsics();

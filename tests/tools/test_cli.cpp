@@ -2,14 +2,13 @@
 // input. Every case must fail before simulating; `timeout` bounds a case that would wrongly start a run.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include "tests/support/command.hpp"
 
 namespace stvl::tools {
 namespace {
@@ -20,22 +19,14 @@ using ::testing::HasSubstr;
 constexpr int kBadInput = 2;
 const std::string kDefaultScenario = std::string(STVL_SOURCE_DIR) + "/scenarios/office_corridor.yaml";
 
-std::string quoted(const std::string& text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-struct Outcome {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
+using test::Outcome;
+using test::quoted;
 
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    binary_ = fs::read_symlink("/proc/self/exe").parent_path() / "stvl-bench";
-    if (!fs::is_regular_file(binary_)) GTEST_SKIP() << binary_ << " not built (build the stvl-bench target)";
+    binary_ = test::stvl_bench_binary();
+    if (binary_.empty()) GTEST_SKIP() << "stvl-bench not built (build the stvl-bench target)";
     dir_ = fs::temp_directory_path() / ("stvl_cli_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
   }
@@ -45,19 +36,7 @@ class Cli : public ::testing::Test {
 
   // Runs stvl-bench with `args` (already quoted where needed) from the temporary folder.
   Outcome run(const std::string& args) const {
-    const std::string command =
-        "cd " + quoted(dir_.string()) + " && timeout 60 " + quoted(binary_.string()) + " " + args + " 2>&1";
-    Outcome outcome;
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) {
-      ADD_FAILURE() << "popen failed for " << command;
-      return outcome;
-    }
-    std::array<char, 4096> buffer{};
-    while (const std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) outcome.output.append(buffer.data(), n);
-    const int status = ::pclose(pipe);
-    outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return outcome;
+    return test::run_shell("cd " + quoted(dir_.string()) + " && timeout 60 " + quoted(binary_.string()) + " " + args);
   }
 
   std::string write(const std::string& name, const std::string& text) const {

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/atomic_file.hpp"
+#include "tests/support/command.hpp"
 #include "tools/raster.hpp"
 
 namespace stvl::tools {
@@ -248,32 +249,13 @@ TEST(Raster, LongLinesStartingFarOutsideStillCrossTheImage) {
   for (int x = 0; x < 10; ++x) EXPECT_EQ(image.at(x, 3), blue) << x;
 }
 
-class ReportFiles : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("stvl_report_files_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::vector<std::string> names() const {
-    std::vector<std::string> result;
-    for (const auto& entry : fs::directory_iterator(dir_)) result.push_back(entry.path().filename().string());
-    std::sort(result.begin(), result.end());
-    return result;
-  }
-  static std::string read(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  }
-  fs::path dir_;
-};
-
-TEST_F(ReportFiles, WriteReportWritesEveryOutput) {
-  write_report(synthetic_result(), dir_);
+TEST(ReportFiles, WriteReportWritesEveryOutput) {
+  const test::TempDir dir("report_files");
+  write_report(synthetic_result(), dir.path());
   for (const char* name : {"metrics.json", "junit.xml", "report.html", "top_down.png", "timing.png", "quality.png"})
-    EXPECT_TRUE(fs::is_regular_file(dir_ / name)) << name;
-  EXPECT_EQ(nlohmann::json::parse(read(dir_ / "metrics.json"))["frames"], 5);
-  for (const auto& name : names()) EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
+    EXPECT_TRUE(fs::is_regular_file(dir.path() / name)) << name;
+  EXPECT_EQ(nlohmann::json::parse(test::TempDir::read(dir.path() / "metrics.json"))["frames"], 5);
+  for (const auto& name : dir.names()) EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
 }
 
 }  // namespace
