@@ -177,6 +177,14 @@ std::atomic<bool> g_simd_enabled{true};
 void set_simd_enabled(bool enabled) { g_simd_enabled = enabled; }
 bool simd_enabled() { return g_simd_enabled; }
 
+bool cpu_has_avx2() {
+#if defined(__x86_64__) || defined(__i386__)
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
 int resolve_threads(int threads) {
   if (threads > 0) return threads;
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));

@@ -84,7 +84,7 @@ std::size_t parallel_compact(std::size_t n, int threads, std::size_t grain, Coun
 #if defined(__x86_64__) || defined(__i386__)
 #define STVL_CSNB_X86 1
 #define STVL_AVX2 __attribute__((target("avx2")))  // not "fma": a*b+c must stay two roundings, as in sq_dist
-bool avx2_supported() { return __builtin_cpu_supports("avx2") && detail::simd_enabled(); }
+bool avx2_supported() { return detail::cpu_has_avx2() && detail::simd_enabled(); }
 #else
 #define STVL_CSNB_X86 0
 #define STVL_AVX2

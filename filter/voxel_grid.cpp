@@ -51,7 +51,7 @@ bool make_keys32(const detail::VoxelLayout& l, Keys32& k) {
 
 #if defined(__x86_64__) || defined(__i386__)
 #define STVL_KEYS32_TARGET __attribute__((target("avx2")))
-bool keys32_supported() { return __builtin_cpu_supports("avx2") && detail::simd_enabled(); }
+bool keys32_supported() { return detail::cpu_has_avx2() && detail::simd_enabled(); }
 #else
 #define STVL_KEYS32_TARGET
 bool keys32_supported() { return detail::simd_enabled(); }

@@ -30,10 +30,11 @@ int bit_width(std::uint64_t value);
 
 int resolve_threads(int threads);
 
-// The AVX2 code paths run where the CPU has AVX2 and this switch is on (the default). Tests turn it off to
-// check that the plain paths give the same output.
+// The AVX2 code paths run where the CPU has AVX2 (cpu_has_avx2: x86 only) and this switch is on (the
+// default). Tests turn it off to check that the plain paths give the same output.
 void set_simd_enabled(bool enabled);
 bool simd_enabled();
+bool cpu_has_avx2();
 
 // The filters keep their work buffers per calling thread between calls (fresh multi-megabyte buffers would
 // page-fault on every frame), but release them after a cloud larger than this, so that one huge cloud does not

@@ -171,6 +171,7 @@ TEST(Csnb, EqualsTheLiteralAlgorithmOnRandomClouds) {
 // The plain counting loops (CPUs without AVX2, or the switch off) give the same output as the AVX2 ones, on
 // a cloud large enough for many windows of the walk.
 TEST(Csnb, SameOutputWithoutSimd) {
+  if (!detail::cpu_has_avx2()) GTEST_SKIP() << "no AVX2: the plain counting loops are the only ones";
   const Eigen::Matrix3Xf corridor = make_corridor_cloud(2, 320, 180);
   for (double voxel : {0.02, 0.05}) {
     CsnbConfig config;
