@@ -22,14 +22,23 @@ TEST(FilterConfig, ParsesNamesAndRejectsOthers) {
   EXPECT_EQ(parse_memory_mode("mapped"), MemoryMode::kMapped);
   EXPECT_EQ(parse_filter_type("csnb"), FilterType::kCsnb);
   EXPECT_STREQ(to_string(MemoryMode::kPinned), "pinned");
-  try {
-    parse_device("gpu");
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("'gpu'"), std::string::npos);
-  }
-  EXPECT_THROW(parse_memory_mode("Copy"), std::invalid_argument);
-  EXPECT_THROW(parse_filter_type(""), std::invalid_argument);
+  for (FilterType t : {FilterType::kNone, FilterType::kPassthrough, FilterType::kVoxel, FilterType::kCsnb})
+    EXPECT_EQ(parse_filter_type(to_string(t)), t);
+  for (Device d : {Device::kCpu, Device::kCuda, Device::kAuto}) EXPECT_EQ(parse_device(to_string(d)), d);
+  for (MemoryMode m : {MemoryMode::kCopy, MemoryMode::kPinned, MemoryMode::kMapped, MemoryMode::kManaged})
+    EXPECT_EQ(parse_memory_mode(to_string(m)), m);
+  auto message = [](auto parse, const std::string& text) {
+    try {
+      parse(text);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no exception");
+  };
+  EXPECT_EQ(message(parse_device, "gpu"), "filter: unknown device 'gpu' (expected cpu|cuda|auto; did you mean 'cpu'?)");
+  EXPECT_EQ(message(parse_memory_mode, "Copy"),
+            "filter: unknown memory mode 'Copy' (expected copy|pinned|mapped|managed; did you mean 'copy'?)");
+  EXPECT_EQ(message(parse_filter_type, ""), "filter: unknown filter type '' (expected none|passthrough|voxel|csnb)");
 }
 
 TEST(Filter, PassthroughThenVoxelOnCpu) {
