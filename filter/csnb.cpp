@@ -103,7 +103,7 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   const float* p = points.data();
   const int key_bits = 3 * layout.grid_exponent;
   thread_local Workspace workspace;
-  Workspace& w = workspace;  // named through a reference: the pool's workers must see the caller's buffers
+  Workspace& w = workspace;  // named through a reference: the worker threads must see the caller's buffers
   const detail::AtScopeExit release{[&] {
     if (n > detail::kKeepBuffersUpToPoints) w = Workspace{};
   }};

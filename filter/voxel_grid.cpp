@@ -208,7 +208,7 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
     using Key = decltype(key_type);
     using Item = KeyPoint<Key>;
     thread_local Workspace<Key> workspace;
-    Workspace<Key>& w = workspace;  // the caller's, seen by the pool's workers
+    Workspace<Key>& w = workspace;  // the caller's, seen by the worker threads
     const detail::AtScopeExit release{[&] {
       if (n > detail::kKeepBuffersUpToPoints) w = {};
     }};

@@ -55,8 +55,10 @@ inline int parts_for(std::size_t n, int threads, std::size_t grain = 4096) {
   return static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(threads, n / grain + 1)));
 }
 
-// Runs fn(0) .. fn(parts - 1) on a persistent pool of worker threads (the caller takes a share); falls back to
-// spawning threads when the pool is busy (another caller, or a nested call). Returns once all are done.
+// Runs fn(0) .. fn(parts - 1), the caller taking a share, and returns once all are done: one TBB task per part
+// where stvl_filter is built with TBB (STVL_FILTER_TBB), else on a small persistent pool of worker threads
+// (spawning threads when the pool is busy: another caller, or a nested call). Outputs never depend on which
+// thread runs a part: every buffer a part writes is indexed by its part number.
 void run_parallel(int parts, void (*fn)(void*, int), void* context);
 
 // Runs fn(begin, end, part) on `threads` contiguous parts of [0, n).
