@@ -140,10 +140,12 @@ TEST(Csnb, EqualsTheLiteralAlgorithmOnRandomClouds) {
   for (int trial = 0; trial < 64; ++trial) {
     const Eigen::Index n = trial % 16 == 15 ? 20000 : r.pick(sizes);
     const double size_m = r.log_uniform(0.1, 50.0);
-    // Neighbours per point in a uniform cloud of n points: 4/3 pi d^3 n / size^3, from about 0.2 to 40.
+    // Neighbours per point in a uniform cloud of n points: 4/3 pi d^3 n / size^3, from about 0.2 to 40; or,
+    // one trial in four, d from the box alone, down to size / 3000 (cubes of extent / 512, larger than d).
     const double neighbours = r.log_uniform(0.2, 40.0);
     CsnbConfig config;
     config.voxel_size_m = size_m * std::cbrt(neighbours / (4.19 * double(std::max<Eigen::Index>(n, 1))));
+    if (trial % 4 == 3) config.voxel_size_m = size_m / r.log_uniform(100.0, 3000.0);
     config.max_neighbours = r.range(0, 12);
     config.batch_size = std::max<int>(int(n / 400) + 1, r.pick({1, 2, 7, 50, 300, 1000, 1000000}));
     config.seed = r.bits();
