@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 #include <stdexcept>
+#include <vector>
 
 #include "filter/cloud_io.hpp"
 #include "filter/csnb.hpp"
@@ -165,6 +166,45 @@ TEST(Csnb, EqualsTheLiteralAlgorithmOnRandomClouds) {
             << "trial " << trial << ": " << what << ", voxel " << config.voxel_size_m << " m, max neighbours "
             << config.max_neighbours << ", batch " << config.batch_size << ", n " << config.grid_exponent
             << ", seed " << config.seed << ", threads " << threads << ", simd " << simd;
+      }
+    }
+  }
+}
+
+// Points on lattices of step d / 2 or d from origins on them, with duplicates: exact coordinates on cube
+// boundaries (where the floor of a quotient must not round), neighbours at exactly d (not neighbours), anchors
+// at equal distances from their cube's centre. All finite (the vectorised cube keys) or with a NaN.
+TEST(Csnb, EqualsTheLiteralAlgorithmOnLattices) {
+  test::Random r{99};
+  for (int trial = 0; trial < 24; ++trial) {
+    CsnbConfig config;
+    config.voxel_size_m = r.pick({0.125, 0.25});
+    config.max_neighbours = r.range(0, 6);
+    config.batch_size = r.pick({1, 5, 1000});
+    config.seed = r.bits();
+    const double step = config.voxel_size_m * r.pick({0.5, 1.0});
+    const int side = r.range(4, 12);
+    const double origin[3] = {step * r.range(-40, 40), step * r.range(-40, 40), step * r.range(-40, 40)};
+    std::vector<Eigen::Vector3f> points;
+    for (int i = 0; i < side * side * side; ++i) {
+      const int copies = r.range(-1, 3);  // a quarter of the sites empty
+      for (int c = 0; c < copies; ++c) {
+        points.push_back(Eigen::Vector3d(origin[0] + step * (i % side), origin[1] + step * (i / side % side),
+                                         origin[2] + step * (i / side / side))
+                             .cast<float>());
+      }
+    }
+    if (trial % 3 == 2) points.push_back(Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
+    Eigen::Matrix3Xf cloud(3, static_cast<Eigen::Index>(points.size()));
+    for (std::size_t i = 0; i < points.size(); ++i) cloud.col(static_cast<Eigen::Index>(i)) = points[i];
+    const Eigen::Matrix3Xf expected = reference::csnb(cloud, config);
+    for (const bool simd : {true, false}) {
+      const test::SimdSetting setting(simd);
+      for (int threads : {1, 3}) {
+        EXPECT_TRUE(test::same_bits(csnb(cloud, config, threads), expected))
+            << "trial " << trial << ": " << cloud.cols() << " points, step " << step << ", voxel "
+            << config.voxel_size_m << ", max neighbours " << config.max_neighbours << ", batch " << config.batch_size
+            << ", threads " << threads << ", simd " << simd;
       }
     }
   }
