@@ -8,6 +8,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#if STVL_FILTER_TBB
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+#endif
+
 namespace stvl::filter::detail {
 
 namespace {
@@ -16,6 +23,7 @@ std::string format(double value) {
   out << value;
   return out.str();
 }
+#if !STVL_FILTER_TBB
 void cpu_relax() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();
@@ -113,6 +121,7 @@ class Pool {
   bool stop_ = false;
 };
 
+#endif
 }  // namespace
 
 void run_parallel(int parts, void (*fn)(void*, int), void* context) {
@@ -120,6 +129,15 @@ void run_parallel(int parts, void (*fn)(void*, int), void* context) {
     if (parts == 1) fn(context, 0);
     return;
   }
+#if STVL_FILTER_TBB
+  // One task per part. Isolated: while this thread waits for the parts it runs none but these, never an outer
+  // task that could enter a filter again on this thread (and its thread_local buffers).
+  tbb::this_task_arena::isolate([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, parts, 1), [&](const tbb::blocked_range<int>& range) {
+      for (int t = range.begin(); t != range.end(); ++t) fn(context, t);
+    }, tbb::simple_partitioner());
+  });
+#else
   static Pool pool;
   if (pool.try_run(parts, fn, context)) return;
   std::vector<std::thread> spawned;
@@ -127,6 +145,7 @@ void run_parallel(int parts, void (*fn)(void*, int), void* context) {
   for (int t = 0; t + 1 < parts; ++t) spawned.emplace_back([fn, context, t] { fn(context, t); });
   fn(context, parts - 1);
   for (auto& thread : spawned) thread.join();
+#endif
 }
 
 void validate(const VoxelGridConfig& config) {
@@ -176,6 +195,14 @@ std::atomic<bool> g_simd_enabled{true};
 
 void set_simd_enabled(bool enabled) { g_simd_enabled = enabled; }
 bool simd_enabled() { return g_simd_enabled; }
+
+bool cpu_has_avx2() {
+#if defined(__x86_64__) || defined(__i386__)
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
 
 int resolve_threads(int threads) {
   if (threads > 0) return threads;

@@ -5,32 +5,40 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "common/enum_names.hpp"
 #include "filter/cuda/context.hpp"
 #include "filter/detail/common.hpp"
 
 namespace stvl::filter {
 
 namespace {
+constexpr EnumName<FilterType> kTypeNames[] = {{FilterType::kNone, "none"},
+                                               {FilterType::kPassthrough, "passthrough"},
+                                               {FilterType::kVoxel, "voxel"},
+                                               {FilterType::kCsnb, "csnb"}};
+constexpr EnumName<Device> kDeviceNames[] = {{Device::kCpu, "cpu"}, {Device::kCuda, "cuda"}, {Device::kAuto, "auto"}};
+constexpr EnumName<MemoryMode> kMemoryNames[] = {{MemoryMode::kCopy, "copy"},
+                                                 {MemoryMode::kPinned, "pinned"},
+                                                 {MemoryMode::kMapped, "mapped"},
+                                                 {MemoryMode::kManaged, "managed"}};
+
+// parse_enum's message, "filter: " in front (config errors name the module that threw them).
 template <class E, std::size_t N>
-E parse(const std::string& text, const char* what, const char* const (&names)[N]) {
-  for (std::size_t i = 0; i < N; ++i) {
-    if (text == names[i]) return static_cast<E>(i);
+E parse(const std::string& text, const EnumName<E> (&names)[N], const char* what) {
+  try {
+    return parse_enum(text, names, what);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("filter: ") + e.what());
   }
-  std::string options;
-  for (std::size_t i = 0; i < N; ++i) options += (i ? "|" : "") + std::string(names[i]);
-  throw std::invalid_argument(std::string("filter: unknown ") + what + " '" + text + "' (expected " + options + ")");
 }
-constexpr const char* kTypeNames[] = {"none", "passthrough", "voxel", "csnb"};
-constexpr const char* kDeviceNames[] = {"cpu", "cuda", "auto"};
-constexpr const char* kMemoryNames[] = {"copy", "pinned", "mapped", "managed"};
 }  // namespace
 
-FilterType parse_filter_type(const std::string& text) { return parse<FilterType>(text, "filter type", kTypeNames); }
-Device parse_device(const std::string& text) { return parse<Device>(text, "device", kDeviceNames); }
-MemoryMode parse_memory_mode(const std::string& text) { return parse<MemoryMode>(text, "memory mode", kMemoryNames); }
-const char* to_string(FilterType type) { return kTypeNames[static_cast<int>(type)]; }
-const char* to_string(Device device) { return kDeviceNames[static_cast<int>(device)]; }
-const char* to_string(MemoryMode mode) { return kMemoryNames[static_cast<int>(mode)]; }
+FilterType parse_filter_type(const std::string& text) { return parse(text, kTypeNames, "filter type"); }
+Device parse_device(const std::string& text) { return parse(text, kDeviceNames, "device"); }
+MemoryMode parse_memory_mode(const std::string& text) { return parse(text, kMemoryNames, "memory mode"); }
+const char* to_string(FilterType type) { return enum_name(type, kTypeNames); }
+const char* to_string(Device device) { return enum_name(device, kDeviceNames); }
+const char* to_string(MemoryMode mode) { return enum_name(mode, kMemoryNames); }
 
 bool cuda_available(std::string* reason) {
   static std::once_flag once;

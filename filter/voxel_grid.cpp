@@ -51,7 +51,7 @@ bool make_keys32(const detail::VoxelLayout& l, Keys32& k) {
 
 #if defined(__x86_64__) || defined(__i386__)
 #define STVL_KEYS32_TARGET __attribute__((target("avx2")))
-bool keys32_supported() { return __builtin_cpu_supports("avx2") && detail::simd_enabled(); }
+bool keys32_supported() { return detail::cpu_has_avx2() && detail::simd_enabled(); }
 #else
 #define STVL_KEYS32_TARGET
 bool keys32_supported() { return detail::simd_enabled(); }
@@ -208,7 +208,7 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
     using Key = decltype(key_type);
     using Item = KeyPoint<Key>;
     thread_local Workspace<Key> workspace;
-    Workspace<Key>& w = workspace;  // the caller's, seen by the pool's workers
+    Workspace<Key>& w = workspace;  // the caller's, seen by the worker threads
     const detail::AtScopeExit release{[&] {
       if (n > detail::kKeepBuffersUpToPoints) w = {};
     }};

@@ -3,8 +3,9 @@
 
 namespace stvl::filter {
 
-// PCL VoxelGrid semantics: one output point per occupied voxel, the centroid (double sums in point-index
-// order) of its points; voxels with fewer than min_points_per_voxel points dropped; NaN/Inf skipped.
+// PCL VoxelGrid semantics: one output point per occupied voxel, the centroid of its points (per axis
+// float(sum / count), the sum in double in point-index order); voxels with fewer than min_points_per_voxel
+// points dropped; NaN/Inf skipped. The plain reference is filter/reference/voxel_grid.cpp.
 // Voxel of a point: floor(double(x) / voxel_size_m) per axis. Output sorted by voxel key
 // (x fastest, then y, then z). Keys are 64-bit over the cloud's bounding box: a cloud whose box needs more
 // than 2^64 voxels throws std::invalid_argument saying so; so does a voxel size that is not finite and > 0.

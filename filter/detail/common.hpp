@@ -30,10 +30,11 @@ int bit_width(std::uint64_t value);
 
 int resolve_threads(int threads);
 
-// The AVX2 code paths run where the CPU has AVX2 and this switch is on (the default). Tests turn it off to
-// check that the plain paths give the same output.
+// The AVX2 code paths run where the CPU has AVX2 (cpu_has_avx2: x86 only) and this switch is on (the
+// default). Tests turn it off to check that the plain paths give the same output.
 void set_simd_enabled(bool enabled);
 bool simd_enabled();
+bool cpu_has_avx2();
 
 // The filters keep their work buffers per calling thread between calls (fresh multi-megabyte buffers would
 // page-fault on every frame), but release them after a cloud larger than this, so that one huge cloud does not
@@ -54,8 +55,10 @@ inline int parts_for(std::size_t n, int threads, std::size_t grain = 4096) {
   return static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(threads, n / grain + 1)));
 }
 
-// Runs fn(0) .. fn(parts - 1) on a persistent pool of worker threads (the caller takes a share); falls back to
-// spawning threads when the pool is busy (another caller, or a nested call). Returns once all are done.
+// Runs fn(0) .. fn(parts - 1), the caller taking a share, and returns once all are done: one TBB task per part
+// where stvl_filter is built with TBB (STVL_FILTER_TBB), else on a small persistent pool of worker threads
+// (spawning threads when the pool is busy: another caller, or a nested call). Outputs never depend on which
+// thread runs a part: every buffer a part writes is indexed by its part number.
 void run_parallel(int parts, void (*fn)(void*, int), void* context);
 
 // Runs fn(begin, end, part) on `threads` contiguous parts of [0, n).

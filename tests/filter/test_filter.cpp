@@ -3,6 +3,12 @@
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
+#include <thread>
+#include <vector>
+
+#if STVL_TEST_TBB
+#include <tbb/parallel_for.h>
+#endif
 
 #include "bench/synthetic_corridor.hpp"
 #include "filter/filter.hpp"
@@ -19,14 +25,23 @@ TEST(FilterConfig, ParsesNamesAndRejectsOthers) {
   EXPECT_EQ(parse_memory_mode("mapped"), MemoryMode::kMapped);
   EXPECT_EQ(parse_filter_type("csnb"), FilterType::kCsnb);
   EXPECT_STREQ(to_string(MemoryMode::kPinned), "pinned");
-  try {
-    parse_device("gpu");
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("'gpu'"), std::string::npos);
-  }
-  EXPECT_THROW(parse_memory_mode("Copy"), std::invalid_argument);
-  EXPECT_THROW(parse_filter_type(""), std::invalid_argument);
+  for (FilterType t : {FilterType::kNone, FilterType::kPassthrough, FilterType::kVoxel, FilterType::kCsnb})
+    EXPECT_EQ(parse_filter_type(to_string(t)), t);
+  for (Device d : {Device::kCpu, Device::kCuda, Device::kAuto}) EXPECT_EQ(parse_device(to_string(d)), d);
+  for (MemoryMode m : {MemoryMode::kCopy, MemoryMode::kPinned, MemoryMode::kMapped, MemoryMode::kManaged})
+    EXPECT_EQ(parse_memory_mode(to_string(m)), m);
+  auto message = [](auto parse, const std::string& text) {
+    try {
+      parse(text);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no exception");
+  };
+  EXPECT_EQ(message(parse_device, "gpu"), "filter: unknown device 'gpu' (expected cpu|cuda|auto; did you mean 'cpu'?)");
+  EXPECT_EQ(message(parse_memory_mode, "Copy"),
+            "filter: unknown memory mode 'Copy' (expected copy|pinned|mapped|managed; did you mean 'copy'?)");
+  EXPECT_EQ(message(parse_filter_type, ""), "filter: unknown filter type '' (expected none|passthrough|voxel|csnb)");
 }
 
 TEST(Filter, PassthroughThenVoxelOnCpu) {
@@ -53,6 +68,43 @@ TEST(Filter, WithoutGpuAutoFallsBackAndCudaThrows) {
   EXPECT_STREQ(Filter(config).device_used(), "cpu");
   config.device = Device::kCuda;
   EXPECT_THROW(Filter{config}, std::runtime_error);
+}
+
+// Calls from several threads at once, and (with TBB) from inside TBB tasks, give the outputs of sequential
+// calls: the per-thread buffers and the parts stay apart.
+TEST(Filter, ConcurrentCallsGiveTheSequentialOutputs) {
+  constexpr int kClouds = 6;
+  std::vector<Eigen::Matrix3Xf> clouds, voxel_expected, csnb_expected;
+  const VoxelGridConfig voxel{0.02, 1};
+  CsnbConfig csnb_config;
+  csnb_config.voxel_size_m = 0.05;
+  for (int i = 0; i < kClouds; ++i) {
+    clouds.push_back(test::random_cloud(100 + i, 40000 + 5000 * i, -1.f, 1.f));
+    voxel_expected.push_back(voxel_grid(clouds[i], voxel, 1));
+    csnb_expected.push_back(csnb(clouds[i], csnb_config, 1));
+  }
+  std::vector<Eigen::Matrix3Xf> voxel_out(2 * kClouds), csnb_out(2 * kClouds);
+  auto run_voxel = [&](int k) { voxel_out[k] = voxel_grid(clouds[k % kClouds], voxel, 2); };
+  auto run_csnb = [&](int k) { csnb_out[k] = csnb(clouds[k % kClouds], csnb_config, 3); };
+  auto run = [&](int k) {
+    run_voxel(k);
+    run_csnb(k);
+  };
+  auto check = [&](const char* how) {
+    for (int k = 0; k < 2 * kClouds; ++k) {
+      EXPECT_TRUE(test::same_bits(voxel_out[k], voxel_expected[k % kClouds])) << how << " voxel call " << k;
+      EXPECT_TRUE(test::same_bits(csnb_out[k], csnb_expected[k % kClouds])) << how << " csnb call " << k;
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int k = 0; k < 2 * kClouds; ++k) threads.emplace_back(run, k);
+  for (auto& thread : threads) thread.join();
+  check("std::thread");
+#if STVL_TEST_TBB
+  tbb::parallel_for(0, 2 * kClouds, run_voxel);
+  tbb::parallel_for(0, 2 * kClouds, run_csnb);
+  check("tbb::parallel_for");
+#endif
 }
 
 class CpuVsCuda : public ::testing::TestWithParam<MemoryMode> {};

@@ -3,52 +3,50 @@
 #include <array>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <stdexcept>
 
 #include "filter/passthrough.hpp"
+#include "filter/reference/voxel_grid.hpp"
 #include "filter/voxel_grid.hpp"
 #include "helpers.hpp"
 
 namespace stvl::filter {
 namespace {
 
-constexpr double kCentroidTolerance_m = 1e-5;
-
-// Reference: std::map over (z, y, x) voxel indices, double sums in index order.
-Eigen::Matrix3Xf reference_voxel_grid(const Eigen::Matrix3Xf& points, double voxel, int min_points) {
-  std::map<std::array<std::int64_t, 3>, std::pair<Eigen::Vector3d, int>> voxels;
-  for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    if (!points.col(i).allFinite()) continue;
-    std::array<std::int64_t, 3> key;
-    for (int a = 0; a < 3; ++a) key[2 - a] = static_cast<std::int64_t>(std::floor(double(points(a, i)) / voxel));
-    auto& v = voxels[key];
-    if (v.second == 0) v.first.setZero();
-    v.first += points.col(i).cast<double>();
-    ++v.second;
-  }
-  Eigen::Matrix3Xf out(3, 0);
-  for (const auto& [key, v] : voxels) {
-    if (v.second < std::max(min_points, 1)) continue;
-    out.conservativeResize(3, out.cols() + 1);
-    out.col(out.cols() - 1) = (v.first / v.second).cast<float>();
-  }
-  return out;
-}
-
-void expect_same(const Eigen::Matrix3Xf& actual, const Eigen::Matrix3Xf& expected) {
-  ASSERT_EQ(actual.cols(), expected.cols());
-  for (Eigen::Index i = 0; i < actual.cols(); ++i) {
-    ASSERT_LE((actual.col(i) - expected.col(i)).cwiseAbs().maxCoeff(), kCentroidTolerance_m) << "voxel " << i;
-  }
-}
-
 TEST(VoxelGrid, MatchesReferenceOnRandomClouds) {
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
     const Eigen::Matrix3Xf cloud = test::random_cloud(seed, 20000, -3.f, 2.f);
     for (double voxel : {0.05, 0.2, 1.0}) {
       for (int threads : {1, 2, 3}) {
-        expect_same(voxel_grid(cloud, {voxel, 1}, threads), reference_voxel_grid(cloud, voxel, 1));
+        EXPECT_TRUE(test::same_bits(voxel_grid(cloud, {voxel, 1}, threads), reference::voxel_grid(cloud, {voxel, 1})))
+            << "voxel " << voxel << " threads " << threads;
+      }
+    }
+  }
+}
+
+// Random clouds of every shape, size and density the kernels branch on (32- and 64-bit keys, buckets split
+// again or sorted by insertion, dense and sparse tables, NaN/Inf, negative and far-off coordinates), on 1 to
+// 3 threads with the SIMD paths on and off: bit for bit the reference's output.
+TEST(VoxelGrid, EqualsTheReferenceOnRandomClouds) {
+  test::Random r{2024};
+  const Eigen::Index sizes[] = {0, 1, 2, 3, 17, 100, 1000, 4000, 9000, 30000, 70000};
+  for (int trial = 0; trial < 90; ++trial) {
+    const Eigen::Index n = r.pick(sizes);
+    const double size_m = r.log_uniform(0.05, 200.0);
+    const bool tiny_voxels = trial % 10 == 0;  // 64-bit keys
+    const double voxel_m = size_m / r.log_uniform(1.0, tiny_voxels ? 3e5 : 2000.0);
+    const double lattice_m = voxel_m * r.pick({0.25, 0.5, 1.0, 3.0});
+    std::string what;
+    const Eigen::Matrix3Xf cloud = test::mixed_cloud(r, n, size_m, lattice_m, r.pick({0.0, 0.0, 0.001, 0.1}), &what);
+    const VoxelGridConfig config{voxel_m, tiny_voxels ? 1 : r.pick({0, 1, 1, 2, 3, 6})};
+    const Eigen::Matrix3Xf expected = reference::voxel_grid(cloud, config);
+    for (const bool simd : {true, false}) {
+      const test::SimdSetting setting(simd);
+      for (int threads : {1, 2, 3}) {
+        EXPECT_TRUE(test::same_bits(voxel_grid(cloud, config, threads), expected))
+            << "trial " << trial << ": " << what << ", voxel " << voxel_m << " m, min points "
+            << config.min_points_per_voxel << ", threads " << threads << ", simd " << simd;
       }
     }
   }
@@ -56,6 +54,7 @@ TEST(VoxelGrid, MatchesReferenceOnRandomClouds) {
 
 // The plain key loop (CPUs without AVX2, or the switch off) gives the same output as the AVX2 one.
 TEST(VoxelGrid, SameOutputWithoutSimd) {
+  if (!detail::cpu_has_avx2()) GTEST_SKIP() << "no AVX2: the plain key loop is the only one";
   const Eigen::Matrix3Xf cloud = test::random_cloud(8, 50000, -3.f, 2.f);
   for (double voxel : {0.02, 0.1}) {
     const Eigen::Matrix3Xf simd = voxel_grid(cloud, {voxel, 1}, 2);
@@ -63,7 +62,7 @@ TEST(VoxelGrid, SameOutputWithoutSimd) {
     const Eigen::Matrix3Xf out = voxel_grid(cloud, {voxel, 1}, 2);
     ASSERT_EQ(out.cols(), simd.cols());
     EXPECT_TRUE(out == simd) << "voxel " << voxel;
-    expect_same(out, reference_voxel_grid(cloud, voxel, 1));
+    EXPECT_TRUE(test::same_bits(out, reference::voxel_grid(cloud, {voxel, 1})));
   }
 }
 
@@ -81,7 +80,7 @@ TEST(VoxelGrid, MatchesReferenceOnBoundariesAndNegativeCoordinates) {
   with_nan.col(cloud.cols()).setConstant(std::numeric_limits<float>::quiet_NaN());
   for (double voxel : {0.25, 0.5, 0.1, 0.05, 0.02}) {
     const Eigen::Matrix3Xf out = voxel_grid(cloud, {voxel, 1}, 2);
-    expect_same(out, reference_voxel_grid(cloud, voxel, 1));
+    EXPECT_TRUE(test::same_bits(out, reference::voxel_grid(cloud, {voxel, 1})));
     const Eigen::Matrix3Xf same = voxel_grid(with_nan, {voxel, 1}, 2);
     ASSERT_EQ(same.cols(), out.cols());
     EXPECT_TRUE((same.array() == out.array()).all()) << "voxel " << voxel;
@@ -104,7 +103,8 @@ TEST(VoxelGrid, MatchesReferenceWhenOneSliceHoldsMostPoints) {
   }
   for (double voxel : {0.01, 0.02, 0.1}) {
     for (int threads : {1, 2}) {
-      expect_same(voxel_grid(cloud, {voxel, 2}, threads), reference_voxel_grid(cloud, voxel, 2));
+      EXPECT_TRUE(test::same_bits(voxel_grid(cloud, {voxel, 2}, threads), reference::voxel_grid(cloud, {voxel, 2})))
+          << "voxel " << voxel << " threads " << threads;
     }
   }
 }
@@ -122,7 +122,7 @@ TEST(VoxelGrid, BucketHoldingEveryKeyOfItsTable) {
   for (int threads : {1, 2}) {
     const Eigen::Matrix3Xf out = voxel_grid(cloud, {1.0, 1}, threads);
     ASSERT_EQ(out.cols(), 1026);
-    expect_same(out, reference_voxel_grid(cloud, 1.0, 1));
+    EXPECT_TRUE(test::same_bits(out, reference::voxel_grid(cloud, {1.0, 1})));
     EXPECT_FLOAT_EQ(out(0, 7), 7.5f);  // the mean of 7.25 and 7.75
   }
 }
@@ -130,7 +130,8 @@ TEST(VoxelGrid, BucketHoldingEveryKeyOfItsTable) {
 TEST(VoxelGrid, MinPointsPerVoxel) {
   const Eigen::Matrix3Xf cloud = test::random_cloud(7, 5000, 0.f, 1.f);
   for (int min_points : {0, 1, 2, 5, 40}) {
-    expect_same(voxel_grid(cloud, {0.1, min_points}, 2), reference_voxel_grid(cloud, 0.1, min_points));
+    const VoxelGridConfig config{0.1, min_points};
+    EXPECT_TRUE(test::same_bits(voxel_grid(cloud, config, 2), reference::voxel_grid(cloud, config))) << min_points;
   }
   EXPECT_EQ(voxel_grid(cloud, {0.1, 100000}).cols(), 0);
   EXPECT_THROW(voxel_grid(cloud, {0.1, -1}), std::invalid_argument);
@@ -176,7 +177,7 @@ TEST(VoxelGrid, HugeExtentWithTinyVoxels) {
       0.f, 0.0004f, 0.f, 0.f,       //
       0.f, 0.f, 0.f, 0.f;
   const Eigen::Matrix3Xf out = voxel_grid(line, {0.001, 1});
-  expect_same(out, reference_voxel_grid(line, 0.001, 1));
+  EXPECT_TRUE(test::same_bits(out, reference::voxel_grid(line, {0.001, 1})));
   EXPECT_EQ(out.cols(), 3);
   // 1e5 m in every axis at 1 mm needs 1e24 voxels: clear error.
   Eigen::Matrix3Xf cube(3, 2);
