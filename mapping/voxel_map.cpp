@@ -23,6 +23,7 @@
 
 #include "common/atomic_file.hpp"
 #include "mapping/frustum.hpp"
+#include "mapping/ray_walk.hpp"
 
 namespace stvl::mapping {
 namespace {
@@ -38,13 +39,6 @@ constexpr double kBackground = 0.0;
 constexpr double kMaxIndex = 1 << 30;  // keys beyond this are not representable; such points are skipped
 constexpr double kMinMarkDistanceSq = 1e-4;  // STVL skips points within 1 cm of the sensor
 const char* const kGridName = "stvl_voxels";
-
-// Branch-free (cmov) on purpose: the axis a ray steps along is unpredictable.
-inline int argmin3(const double t[3]) {
-  const int a01 = static_cast<int>(t[1] < t[0]);
-  const double m01 = std::min(t[0], t[1]);
-  return t[2] < m01 ? 2 : a01;
-}
 
 Coord leaf_origin(const Coord& c) { return Coord(c.x() & ~7, c.y() & ~7, c.z() & ~7); }
 
@@ -291,7 +285,7 @@ struct VoxelMap::Impl {
   struct LeafTable {
     Coord min_block;
     int n = 0;  // blocks per axis; 0 = not built (too large)
-    double free_radius = 0.0;  // voxel units: no leaf lies nearer than this to the centre
+    double free_radius_vox = 0.0;  // no leaf lies nearer than this to the centre
     std::vector<LeafT*> leaves;
     bool covers(const Coord& block) const {
       const Coord r = block - min_block;
@@ -331,7 +325,7 @@ struct VoxelMap::Impl {
           }
       }
     }
-    table.free_radius = std::sqrt(free_sq);
+    table.free_radius_vox = std::sqrt(free_sq);
     return table;
   }
 
@@ -341,92 +335,8 @@ struct VoxelMap::Impl {
     openvdb::Index offset;
   };
 
-  // Voxel DDA from s to e (voxel units) collecting every active voxel before the end voxel; absent leaves
-  // (8^3 blocks) are crossed in one jump. Every step or jump lowers the key distance to the end, which bounds
-  // the loop. Reads the tree only, so rays are walked in parallel.
-  template <typename Accessor>
-  static void walk_ray(const Eigen::Vector3d& s, const Eigen::Vector3d& e, const Coord& start, const Coord& end,
-                       const LeafTable& table, Accessor& accessor, std::vector<RayHit>& hits,
-                       std::size_t& visited) {
-    int cur[3] = {start.x(), start.y(), start.z()};
-    const int last[3] = {end.x(), end.y(), end.z()};
-    int step[3];
-    double d[3], inv_d[3], t_max[3], t_delta[3];
-    for (int a = 0; a < 3; ++a) {
-      d[a] = e[a] - s[a];
-      step[a] = d[a] > 0 ? 1 : d[a] < 0 ? -1 : 0;
-      inv_d[a] = step[a] != 0 ? 1.0 / d[a] : 0.0;
-      t_delta[a] = step[a] != 0 ? std::abs(inv_d[a]) : std::numeric_limits<double>::infinity();
-      t_max[a] = step[a] != 0 ? ((step[a] > 0 ? cur[a] + 1 : cur[a]) - s[a]) * inv_d[a] : t_delta[a];
-    }
-    long remaining = 3L + std::abs(last[0] - cur[0]) + std::abs(last[1] - cur[1]) + std::abs(last[2] - cur[2]);
-    int block[3] = {std::numeric_limits<int>::max(), 0, 0};
-    const LeafT* leaf = nullptr;
-    while ((cur[0] != last[0] || cur[1] != last[1] || cur[2] != last[2]) && remaining-- > 0) {
-      if ((cur[0] & ~7) != block[0] || (cur[1] & ~7) != block[1] || (cur[2] & ~7) != block[2]) {
-        for (int a = 0; a < 3; ++a) block[a] = cur[a] & ~7;
-        const Coord origin(block[0], block[1], block[2]);
-        leaf = table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
-      }
-      if (leaf == nullptr) {
-        // Block-level DDA until a block with a leaf, then re-enter the voxel walk where the ray enters it.
-        double tb_max[3];
-        for (int a = 0; a < 3; ++a)
-          tb_max[a] = step[a] != 0 ? ((step[a] > 0 ? block[a] + 8 : block[a]) - s[a]) * inv_d[a] : t_delta[a];
-        for (;;) {
-          const int a = argmin3(tb_max);
-          const double t = tb_max[a];
-          if (!(t < 1.0) || remaining-- <= 0) return;  // the ray ends inside an empty block
-          block[a] += 8 * step[a];
-          tb_max[a] += 8 * t_delta[a];
-          const Coord origin(block[0], block[1], block[2]);
-          leaf = table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
-          if (leaf == nullptr) continue;
-          for (int b = 0; b < 3; ++b) {
-            if (b == a) {
-              cur[b] = step[b] > 0 ? block[b] : block[b] + 7;
-            } else if (step[b] != 0) {
-              const double v = std::floor(s[b] + d[b] * t);
-              cur[b] = static_cast<int>(std::clamp(v, static_cast<double>(block[b]), block[b] + 7.0));
-            }
-            if (step[b] != 0) t_max[b] = ((step[b] > 0 ? cur[b] + 1 : cur[b]) - s[b]) * inv_d[b];
-          }
-          break;
-        }
-        continue;
-      }
-      // The voxels of this leaf, in scalars (indexing the arrays by the stepped axis costs a store-to-load
-      // round trip per step); the same steps and ties as argmin3, then back to the arrays at the leaf's end.
-      int cx = cur[0], cy = cur[1], cz = cur[2];
-      double tx = t_max[0], ty = t_max[1], tz = t_max[2];
-      for (;;) {
-        ++visited;
-        const openvdb::Index offset = ((cx & 7) << 6) | ((cy & 7) << 3) | (cz & 7);
-        if (leaf->isValueOn(offset)) hits.push_back({leaf, offset});
-        const bool y_first = ty < tx;
-        const bool z_first = tz < (y_first ? ty : tx);
-        const bool x_step = !z_first && !y_first, y_step = !z_first && y_first;
-        cx += x_step ? step[0] : 0;
-        tx = x_step ? tx + t_delta[0] : tx;
-        cy += y_step ? step[1] : 0;
-        ty = y_step ? ty + t_delta[1] : ty;
-        cz += z_first ? step[2] : 0;
-        tz = z_first ? tz + t_delta[2] : tz;
-        if (((cx ^ block[0]) | (cy ^ block[1]) | (cz ^ block[2])) & ~7) break;  // next leaf: the outer loop
-        if ((cx == last[0] && cy == last[1] && cz == last[2]) || remaining-- <= 0) return;
-      }
-      cur[0] = cx;
-      cur[1] = cy;
-      cur[2] = cz;
-      t_max[0] = tx;
-      t_max[1] = ty;
-      t_max[2] = tz;
-    }
-  }
-
   void raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats) {
     std::vector<Coord> touched;
-    const double inv = 1.0 / config.voxel_size_m;
     struct Walked {
       std::vector<RayHit> hits;
       std::size_t visited = 0;
@@ -434,37 +344,44 @@ struct VoxelMap::Impl {
     tbb::enumerable_thread_specific<Walked> walked;
     for (const ClearingObservation& obs : observations) {
       const Eigen::Vector3d origin_W = obs.T_world_camera.translation();
-      const Eigen::Vector3d s = origin_W * inv;  // voxel units
+      const Eigen::Vector3d s_vox = origin_W / config.voxel_size_m;  // as to_key divides: floor(s_vox) = start
       Coord start;
       if (!to_key(origin_W, start)) continue;
       const Eigen::Matrix3Xf& points = *obs.points_W;
-      const double max_range_sq = obs.source.max_z_m * obs.source.max_z_m;
-      const LeafTable table = leaf_table_around(s, start, static_cast<int>(std::ceil(obs.source.max_z_m * inv)) + 1);
+      const double max_range_sq_m2 = obs.source.max_z_m * obs.source.max_z_m;
+      const LeafTable table =
+          leaf_table_around(s_vox, start, static_cast<int>(std::ceil(obs.source.max_z_m / config.voxel_size_m)) + 1);
       // Rays only read the tree (in parallel, one accessor per chunk); the voxels they pass are cleared after.
       tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
                         [&](const tbb::blocked_range<Eigen::Index>& range) {
         Walked& mine = walked.local();
         auto accessor = grid->getConstAccessor();
+        auto leaf_at = [&](const VoxelKey& block) -> const LeafT* {
+          const Coord origin(block.x, block.y, block.z);
+          return table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
+        };
+        auto collect = [&](const LeafT* leaf, const VoxelKey& key) {
+          ++mine.visited;
+          const openvdb::Index offset = ((key.x & 7) << 6) | ((key.y & 7) << 3) | (key.z & 7);
+          if (leaf->isValueOn(offset)) mine.hits.push_back({leaf, offset});
+        };
         for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
-          Eigen::Vector3d p = points.col(i).cast<double>();
-          if (!p.allFinite()) continue;
-          const double length_sq = (p - origin_W).squaredNorm();
-          if (length_sq < 1e-18) continue;
-          if (length_sq > max_range_sq) p = origin_W + (p - origin_W) * (obs.source.max_z_m / std::sqrt(length_sq));
-          Coord end;
-          if (!to_key(p, end)) continue;
-          // Every block nearer than free_radius is empty: skip that part of the ray (or all of it).
-          const Eigen::Vector3d e = p * inv;
-          const double length = (e - s).norm();
-          if (length < table.free_radius) continue;
-          if (table.free_radius > 1.0) {
-            const Eigen::Vector3d s0 = s + (e - s) * ((table.free_radius - 0.5) / length);
-            const Coord start0(static_cast<int>(std::floor(s0.x())), static_cast<int>(std::floor(s0.y())),
-                               static_cast<int>(std::floor(s0.z())));
-            walk_ray(s0, e, start0, end, table, accessor, mine.hits, mine.visited);
-          } else {
-            walk_ray(s, e, start, end, table, accessor, mine.hits, mine.visited);
-          }
+          Eigen::Vector3d p_W = points.col(i).cast<double>();
+          if (!p_W.allFinite()) continue;
+          const double length_sq_m2 = (p_W - origin_W).squaredNorm();
+          if (length_sq_m2 < 1e-18) continue;
+          if (length_sq_m2 > max_range_sq_m2)
+            p_W = origin_W + (p_W - origin_W) * (obs.source.max_z_m / std::sqrt(length_sq_m2));
+          // The walk stops before the point's voxel floor(e_vox), the key mark() gives it.
+          const Eigen::Vector3d e_vox = p_W / config.voxel_size_m;
+          // Every block nearer than free_radius_vox is empty: skip that part of the ray (or all of it).
+          const double length_vox = (e_vox - s_vox).norm();
+          if (length_vox < table.free_radius_vox) continue;
+          if (table.free_radius_vox > 1.0)
+            walk_ray_blocks(s_vox + (e_vox - s_vox) * ((table.free_radius_vox - 0.5) / length_vox), e_vox, leaf_at,
+                            collect);
+          else
+            walk_ray_blocks(s_vox, e_vox, leaf_at, collect);
         }
       });
       // Clearing is idempotent and counted once per voxel, so the result does not depend on the split.
