@@ -114,7 +114,9 @@ void walk_ray_blocks(const Eigen::Vector3d& s_vox, const Eigen::Vector3d& e_vox,
   detail::RayAxes ray;
   if (!detail::setup_ray(s_vox, e_vox, ray)) return;
   const int end_block[3] = {ray.end[0] & ~7, ray.end[1] & ~7, ray.end[2] & ~7};
-  auto is_end_block = [&](const int b[3]) { return b[0] == end_block[0] && b[1] == end_block[1] && b[2] == end_block[2]; };
+  auto is_end_block = [&](const int b[3]) {
+    return b[0] == end_block[0] && b[1] == end_block[1] && b[2] == end_block[2];
+  };
   int cur[3] = {ray.start[0], ray.start[1], ray.start[2]};
   while (cur[0] != ray.end[0] || cur[1] != ray.end[1] || cur[2] != ray.end[2]) {
     int block[3] = {cur[0] & ~7, cur[1] & ~7, cur[2] & ~7};

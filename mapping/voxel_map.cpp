@@ -20,7 +20,7 @@ using detail::leaf_origin;
 
 namespace {
 
-constexpr double kMinMarkDistanceSq = 1e-4;  // STVL skips points within 1 cm of the sensor
+constexpr double kMinMarkDistanceSq_m2 = 1e-4;  // STVL skips points within 1 cm of the sensor
 
 }  // namespace
 
@@ -36,7 +36,7 @@ void ensure_openvdb_initialized() {
 
 }  // namespace detail
 
-VoxelMap::Impl::Impl(const StvlConfig& c) : config(c) {
+VoxelMap::Impl::Impl(const StvlConfig& map_config) : config(map_config) {
   detail::ensure_openvdb_initialized();
   grid = GridT::create(kBackground);
   grid->setName(kGridName);
@@ -71,26 +71,26 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
   impl_->check_time(time_s);
   if (!source.marking) return 0;
   const Eigen::Vector3d origin_W = T_world_camera.translation();
-  const double range_sq = source.obstacle_range_m * source.obstacle_range_m;
+  const double range_sq_m2 = source.obstacle_range_m * source.obstacle_range_m;
   const bool indexed = impl_->uses_expiry_index();
-  const double due = time_s + impl_->config.voxel_decay_s;
+  const double due_s = time_s + impl_->config.voxel_decay_s;
   auto accessor = impl_->grid->getAccessor();
   Coord last_leaf(std::numeric_limits<int>::max());
   std::size_t marked = 0;
   for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
-    const Eigen::Vector3d p = points_W.col(i).cast<double>();
-    if (!p.allFinite()) continue;
-    const double distance_sq = (p - origin_W).squaredNorm();
-    if (distance_sq > range_sq || distance_sq < kMinMarkDistanceSq) continue;
-    if (p.z() < source.min_obstacle_height_m || p.z() > source.max_obstacle_height_m) continue;
+    const Eigen::Vector3d p_W = points_W.col(i).cast<double>();
+    if (!p_W.allFinite()) continue;
+    const double distance_sq_m2 = (p_W - origin_W).squaredNorm();
+    if (distance_sq_m2 > range_sq_m2 || distance_sq_m2 < kMinMarkDistanceSq_m2) continue;
+    if (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m) continue;
     Coord key;
-    if (!impl_->to_key(p, key)) continue;
+    if (!impl_->to_key(p_W, key)) continue;
     accessor.setValueOn(key, time_s);
     ++marked;
     if (indexed) {
       const Coord leaf = leaf_origin(key);
       if (leaf != last_leaf) {
-        impl_->schedule(leaf, due);
+        impl_->schedule(leaf, due_s);
         last_leaf = leaf;
       }
     }
@@ -138,7 +138,7 @@ VoxelKey VoxelMap::key_of(const Eigen::Vector3d& p_W) const {
 }
 
 Eigen::Vector3d VoxelMap::center_of(const VoxelKey& key) const {
-  return impl_->centre(Coord(key.x, key.y, key.z));
+  return impl_->centre_W(Coord(key.x, key.y, key.z));
 }
 
 std::optional<double> VoxelMap::lookup(const Eigen::Vector3d& p_W) const {
@@ -168,9 +168,9 @@ std::vector<VoxelKey> VoxelMap::voxel_keys() const {
 
 Eigen::Matrix3Xf VoxelMap::voxel_centers() const {
   const auto keys = voxel_keys();
-  Eigen::Matrix3Xf centres(3, static_cast<Eigen::Index>(keys.size()));
-  for (std::size_t i = 0; i < keys.size(); ++i) centres.col(static_cast<Eigen::Index>(i)) = center_of(keys[i]).cast<float>();
-  return centres;
+  Eigen::Matrix3Xf centres_W(3, static_cast<Eigen::Index>(keys.size()));
+  for (std::size_t i = 0; i < keys.size(); ++i) centres_W.col(static_cast<Eigen::Index>(i)) = center_of(keys[i]).cast<float>();
+  return centres_W;
 }
 
 void VoxelMap::set_voxels(const std::vector<Voxel>& voxels) {
@@ -187,52 +187,55 @@ void VoxelMap::set_voxels(const std::vector<Voxel>& voxels) {
 }
 
 Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
-  const double resolution = options.resolution_m == 0.0 ? impl_->config.voxel_size_m : options.resolution_m;
-  if (!std::isfinite(resolution) || resolution <= 0.0)
+  const double resolution_m = options.resolution_m == 0.0 ? impl_->config.voxel_size_m : options.resolution_m;
+  if (!std::isfinite(resolution_m) || resolution_m <= 0.0)
     throw std::invalid_argument("costmap resolution = " + std::to_string(options.resolution_m) + " must be > 0");
   if (std::isnan(options.min_obstacle_height_m) || std::isnan(options.max_obstacle_height_m) ||
       options.min_obstacle_height_m > options.max_obstacle_height_m)
     throw std::invalid_argument("costmap min_obstacle_height = " + std::to_string(options.min_obstacle_height_m) +
                                 " must be <= max_obstacle_height = " + std::to_string(options.max_obstacle_height_m));
-  std::vector<Eigen::Vector2d> columns;
+  std::vector<Eigen::Vector2d> columns_W;  // x, y of each voxel centre inside the band
   for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
-    const Eigen::Vector3d c = impl_->centre(it.getCoord());
-    if (c.z() < options.min_obstacle_height_m || c.z() > options.max_obstacle_height_m) continue;
-    columns.push_back(c.head<2>());
+    const Eigen::Vector3d centre_W = impl_->centre_W(it.getCoord());
+    if (centre_W.z() < options.min_obstacle_height_m || centre_W.z() > options.max_obstacle_height_m) continue;
+    columns_W.push_back(centre_W.head<2>());
   }
   Costmap2D map;
-  map.resolution_m = resolution;
+  map.resolution_m = resolution_m;
   if (options.bounds_W) {
-    const Eigen::AlignedBox2d& b = *options.bounds_W;
-    if (!b.min().allFinite() || !b.max().allFinite() || (b.max() - b.min()).minCoeff() < 0.0)
+    const Eigen::AlignedBox2d& bounds_W = *options.bounds_W;
+    if (!bounds_W.min().allFinite() || !bounds_W.max().allFinite() ||
+        (bounds_W.max() - bounds_W.min()).minCoeff() < 0.0)
       throw std::invalid_argument("costmap bounds_W must be finite with min <= max");
-    map.origin_m.x() = b.min().x();
-    map.origin_m.y() = b.min().y();
-    const double w = std::max(1.0, std::ceil((b.max().x() - b.min().x()) / resolution - 1e-9));
-    const double h = std::max(1.0, std::ceil((b.max().y() - b.min().y()) / resolution - 1e-9));
-    if (!(w * h <= 1e8)) throw std::invalid_argument("costmap of " + std::to_string(w) + " x " + std::to_string(h) + " cells is too large");
-    map.width = static_cast<int>(w);
-    map.height = static_cast<int>(h);
-  } else if (columns.empty()) {
+    map.origin_m = bounds_W.min();
+    const Eigen::Vector2d size_m = bounds_W.max() - bounds_W.min();
+    const double width_cells = std::max(1.0, std::ceil(size_m.x() / resolution_m - 1e-9));
+    const double height_cells = std::max(1.0, std::ceil(size_m.y() / resolution_m - 1e-9));
+    if (!(width_cells * height_cells <= 1e8))
+      throw std::invalid_argument("costmap of " + std::to_string(width_cells) + " x " + std::to_string(height_cells) +
+                                  " cells is too large");
+    map.width = static_cast<int>(width_cells);
+    map.height = static_cast<int>(height_cells);
+  } else if (columns_W.empty()) {
     map.width = map.height = 1;
   } else {
-    Eigen::AlignedBox2d extent;
-    for (const auto& c : columns) extent.extend(c);
-    const Eigen::Vector2d lo = (extent.min() / resolution).array().floor();
-    const Eigen::Vector2d hi = (extent.max() / resolution).array().floor();
-    const Eigen::Vector2d cells = (hi - lo).array() + 1.0;
-    if (!(cells.prod() <= 1e8)) throw std::invalid_argument("costmap over the map's extent is too large; give bounds_W");
-    map.origin_m.x() = lo.x() * resolution;
-    map.origin_m.y() = lo.y() * resolution;
-    map.width = static_cast<int>(hi.x() - lo.x()) + 1;
-    map.height = static_cast<int>(hi.y() - lo.y()) + 1;
+    Eigen::AlignedBox2d extent_W;
+    for (const auto& column_W : columns_W) extent_W.extend(column_W);
+    const Eigen::Vector2d lo_cells = (extent_W.min() / resolution_m).array().floor();
+    const Eigen::Vector2d hi_cells = (extent_W.max() / resolution_m).array().floor();
+    const Eigen::Vector2d cells = (hi_cells - lo_cells).array() + 1.0;
+    if (!(cells.prod() <= 1e8))
+      throw std::invalid_argument("costmap over the map's extent is too large; give bounds_W");
+    map.origin_m = lo_cells * resolution_m;
+    map.width = static_cast<int>(cells.x());
+    map.height = static_cast<int>(cells.y());
   }
   std::vector<int> counts(static_cast<std::size_t>(map.width) * map.height, 0);
-  for (const auto& c : columns) {
-    const double fx = std::floor((c.x() - map.origin_m.x()) / resolution);
-    const double fy = std::floor((c.y() - map.origin_m.y()) / resolution);
-    if (fx < 0 || fy < 0 || fx >= map.width || fy >= map.height) continue;
-    ++counts[static_cast<std::size_t>(fy) * map.width + static_cast<std::size_t>(fx)];
+  for (const auto& column_W : columns_W) {
+    const double ix = std::floor((column_W.x() - map.origin_m.x()) / resolution_m);
+    const double iy = std::floor((column_W.y() - map.origin_m.y()) / resolution_m);
+    if (ix < 0 || iy < 0 || ix >= map.width || iy >= map.height) continue;
+    ++counts[static_cast<std::size_t>(iy) * map.width + static_cast<std::size_t>(ix)];
   }
   const int threshold = std::max(impl_->config.mark_threshold, 1);
   map.cells.resize(counts.size());

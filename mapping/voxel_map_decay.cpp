@@ -20,34 +20,35 @@ using detail::TreeT;
 
 namespace {
 
+// World box spanned by the centres of an index box's voxels.
 struct CentreBox {
-  double voxel_size;
+  double voxel_size_m;
   Eigen::AlignedBox3d operator()(const openvdb::CoordBBox& box) const {
-    const Eigen::Vector3d lo(box.min().x() + 0.5, box.min().y() + 0.5, box.min().z() + 0.5);
-    const Eigen::Vector3d hi(box.max().x() + 0.5, box.max().y() + 0.5, box.max().z() + 0.5);
-    return Eigen::AlignedBox3d(lo * voxel_size, hi * voxel_size);
+    const Eigen::Vector3d lo_vox(box.min().x() + 0.5, box.min().y() + 0.5, box.min().z() + 0.5);
+    const Eigen::Vector3d hi_vox(box.max().x() + 0.5, box.max().y() + 0.5, box.max().z() + 0.5);
+    return Eigen::AlignedBox3d(lo_vox * voxel_size_m, hi_vox * voxel_size_m);
   }
 };
 
 }  // namespace
 
-double VoxelMap::Impl::base_time_left(double age) const {
+double VoxelMap::Impl::base_time_left_s(double age_s) const {
   switch (config.decay_model) {
-    case DecayModel::kLinear: return config.voxel_decay_s - age;
-    case DecayModel::kExponential: return config.voxel_decay_s * std::exp(-age);
+    case DecayModel::kLinear: return config.voxel_decay_s - age_s;
+    case DecayModel::kExponential: return config.voxel_decay_s * std::exp(-age_s);
     case DecayModel::kPersistent: return config.voxel_decay_s;
   }
   return config.voxel_decay_s;
 }
 
-void VoxelMap::Impl::schedule(const Coord& leaf, double due) {
-  auto [it, inserted] = due_by_leaf.try_emplace(leaf, due);
+void VoxelMap::Impl::schedule(const Coord& leaf, double due_s) {
+  auto [it, inserted] = due_by_leaf.try_emplace(leaf, due_s);
   if (!inserted) {
-    if (due >= it->second) return;
+    if (due_s >= it->second) return;
     due_queue.erase({it->second, leaf});
-    it->second = due;
+    it->second = due_s;
   }
-  due_queue.emplace(due, leaf);
+  due_queue.emplace(due_s, leaf);
 }
 
 void VoxelMap::Impl::unschedule(const Coord& leaf) {
@@ -62,9 +63,9 @@ void VoxelMap::Impl::rebuild_expiry_index() {
   due_by_leaf.clear();
   if (!uses_expiry_index()) return;
   for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
-    double oldest = std::numeric_limits<double>::infinity();
-    for (auto v = leaf->cbeginValueOn(); v; ++v) oldest = std::min(oldest, *v);
-    if (std::isfinite(oldest)) schedule(leaf->origin(), oldest + config.voxel_decay_s);
+    double oldest_s = std::numeric_limits<double>::infinity();
+    for (auto v = leaf->cbeginValueOn(); v; ++v) oldest_s = std::min(oldest_s, *v);
+    if (std::isfinite(oldest_s)) schedule(leaf->origin(), oldest_s + config.voxel_decay_s);
   }
 }
 
@@ -91,28 +92,29 @@ void VoxelMap::Impl::delete_empty_leaves(std::vector<Coord>& leaf_origins) {
 }
 
 template <typename Iter>
-bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& frustums, double time_s, double* new_value) const {
-  const double value = *it;
-  const double age = time_s - value;
-  const double base = base_time_left(age);
-  *new_value = value;
+bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& frustums, double time_s,
+                                 double* new_value_s) const {
+  const double value_s = *it;
+  const double age_s = time_s - value_s;
+  const double time_left_s = base_time_left_s(age_s);
+  *new_value_s = value_s;
   if (!frustums.empty()) {
-    const Eigen::Vector3d c = centre(it.getCoord());
+    const Eigen::Vector3d centre = centre_W(it.getCoord());
     for (const Frustum& f : frustums) {
-      if (!f.shape.contains(c)) continue;
-      const double acceleration = f.decay_acceleration_per_s3 * age * age * age / 6.0;
-      if (base - acceleration < 0.0) {
+      if (!f.shape.contains(centre)) continue;
+      const double acceleration_s = f.decay_acceleration_per_s3 * age_s * age_s * age_s / 6.0;
+      if (time_left_s - acceleration_s < 0.0) {
         it.setValueOff();
         return true;
       }
-      if (acceleration != 0.0) {
-        *new_value = value - acceleration;
-        it.setValue(*new_value);
+      if (acceleration_s != 0.0) {
+        *new_value_s = value_s - acceleration_s;
+        it.setValue(*new_value_s);
       }
       return false;
     }
   }
-  if (base < 0.0) {
+  if (time_left_s < 0.0) {
     it.setValueOff();
     return true;
   }
@@ -151,19 +153,19 @@ void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double t
   const bool indexed = uses_expiry_index();
   for (LeafT* leaf : leaves) {
     ++stats.leaves_visited;
-    double oldest = std::numeric_limits<double>::infinity();
+    double oldest_s = std::numeric_limits<double>::infinity();
     for (auto it = leaf->beginValueOn(); it; ++it) {
       ++stats.voxels_visited;
-      double value = 0.0;
-      if (decay_voxel(it, frustums, time_s, &value))
+      double value_s = 0.0;
+      if (decay_voxel(it, frustums, time_s, &value_s))
         ++stats.voxels_removed;
       else
-        oldest = std::min(oldest, value);
+        oldest_s = std::min(oldest_s, value_s);
     }
     if (leaf->isEmpty())
       emptied.push_back(leaf->origin());
     else if (indexed)
-      schedule(leaf->origin(), oldest + config.voxel_decay_s);
+      schedule(leaf->origin(), oldest_s + config.voxel_decay_s);
   }
   delete_empty_leaves(emptied);
 }
@@ -171,10 +173,10 @@ void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double t
 void VoxelMap::Impl::expiry_pass(double time_s, ClearStats& stats) {
   if (!uses_expiry_index()) return;
   // Slack so that rounding in value + voxel_decay never hides a voxel the full walk would remove.
-  const double due_limit = time_s + 1e-9 * (1.0 + std::abs(time_s) + config.voxel_decay_s);
+  const double due_limit_s = time_s + 1e-9 * (1.0 + std::abs(time_s) + config.voxel_decay_s);
   std::vector<Coord> due_leaves;
   auto it = due_queue.begin();
-  for (; it != due_queue.end() && it->first <= due_limit; ++it) {
+  for (; it != due_queue.end() && it->first <= due_limit_s; ++it) {
     if (due_leaves.size() == config.expiry_leaves_per_update) break;
     due_leaves.push_back(it->second);
   }
@@ -185,20 +187,20 @@ void VoxelMap::Impl::expiry_pass(double time_s, ClearStats& stats) {
     LeafT* leaf = grid->tree().probeLeaf(origin);
     if (leaf == nullptr) continue;
     ++stats.leaves_visited;
-    double oldest = std::numeric_limits<double>::infinity();
+    double oldest_s = std::numeric_limits<double>::infinity();
     for (auto v = leaf->beginValueOn(); v; ++v) {
       ++stats.voxels_visited;
       if (time_s - *v > config.voxel_decay_s) {
         v.setValueOff();
         ++stats.voxels_removed;
       } else {
-        oldest = std::min(oldest, *v);
+        oldest_s = std::min(oldest_s, *v);
       }
     }
     if (leaf->isEmpty())
       emptied.push_back(origin);
     else
-      schedule(origin, oldest + config.voxel_decay_s);
+      schedule(origin, oldest_s + config.voxel_decay_s);
   }
   delete_empty_leaves(emptied);
 }

@@ -74,9 +74,9 @@ VoxelMap VoxelMap::load_vdb(const std::string& path) {
     if (auto m = grid->getMetadata<openvdb::Int64Metadata>("expiry_leaves_per_update"))
       config.expiry_leaves_per_update = static_cast<std::size_t>(std::max<openvdb::Int64>(m->value(), 0));
     config.validate();
-    const double transform_size = grid->voxelSize().x();
-    if (std::abs(transform_size - config.voxel_size_m) > 1e-9 * config.voxel_size_m)
-      throw std::invalid_argument("transform voxel size " + std::to_string(transform_size) +
+    const double transform_voxel_size_m = grid->voxelSize().x();
+    if (std::abs(transform_voxel_size_m - config.voxel_size_m) > 1e-9 * config.voxel_size_m)
+      throw std::invalid_argument("transform voxel size " + std::to_string(transform_voxel_size_m) +
                                   " differs from voxel_size metadata " + std::to_string(config.voxel_size_m));
     VoxelMap map(config);
     map.impl_->latest_time_s = meta_double("latest_time_s", -std::numeric_limits<double>::infinity());
@@ -106,8 +106,8 @@ void VoxelMap::save_ply(const std::string& path) const {
     }
   };
   for (const Voxel& v : all) {
-    const Eigen::Vector3f c = center_of(v.key).cast<float>();
-    for (int a = 0; a < 3; ++a) append(&c[a], sizeof(float));
+    const Eigen::Vector3f centre_W = center_of(v.key).cast<float>();
+    for (int a = 0; a < 3; ++a) append(&centre_W[a], sizeof(float));
     append(&v.time_s, sizeof(double));
   }
   write_file_atomically(path, bytes);

@@ -37,16 +37,17 @@ struct LeafTable {
   const LeafT* at(const Coord& block) const { return leaves[index(block)]; }
 };
 
-LeafTable leaf_table_around(const GridT& grid, const Eigen::Vector3d& centre, const Coord& centre_key, int radius_voxels) {
+LeafTable leaf_table_around(const GridT& grid, const Eigen::Vector3d& centre_vox, const Coord& centre_key,
+                            int radius_vox) {
   constexpr std::size_t kMaxEntries = 1u << 21;
   LeafTable table;
-  table.min_block = leaf_origin(centre_key - Coord(radius_voxels));
-  const Coord max_block = leaf_origin(centre_key + Coord(radius_voxels));
+  table.min_block = leaf_origin(centre_key - Coord(radius_vox));
+  const Coord max_block = leaf_origin(centre_key + Coord(radius_vox));
   const int n = (max_block.x() - table.min_block.x()) / 8 + 1;
   if (static_cast<std::size_t>(n) * n * n > kMaxEntries) return table;
   table.n = n;
   table.leaves.assign(static_cast<std::size_t>(n) * n * n, nullptr);
-  double free_sq = static_cast<double>(radius_voxels) * radius_voxels;
+  double free_sq_vox2 = static_cast<double>(radius_vox) * radius_vox;
   const openvdb::CoordBBox region(table.min_block, max_block + Coord(7));
   for (auto n2 = grid.tree().root().beginChildOn(); n2; ++n2) {
     if (!region.hasOverlap(n2->getNodeBoundingBox())) continue;
@@ -55,16 +56,17 @@ LeafTable leaf_table_around(const GridT& grid, const Eigen::Vector3d& centre, co
       for (auto leaf = n1->beginChildOn(); leaf; ++leaf)
         if (table.covers(leaf->origin())) {
           table.leaves[table.index(leaf->origin())] = &*leaf;
-          double distance_sq = 0.0;
+          double distance_sq_vox2 = 0.0;
           for (int a = 0; a < 3; ++a) {
-            const double gap = std::max({leaf->origin()[a] - centre[a], centre[a] - (leaf->origin()[a] + 8), 0.0});
-            distance_sq += gap * gap;
+            const double gap_vox =
+                std::max({leaf->origin()[a] - centre_vox[a], centre_vox[a] - (leaf->origin()[a] + 8), 0.0});
+            distance_sq_vox2 += gap_vox * gap_vox;
           }
-          free_sq = std::min(free_sq, distance_sq);
+          free_sq_vox2 = std::min(free_sq_vox2, distance_sq_vox2);
         }
     }
   }
-  table.free_radius_vox = std::sqrt(free_sq);
+  table.free_radius_vox = std::sqrt(free_sq_vox2);
   return table;
 }
 
@@ -90,8 +92,8 @@ void VoxelMap::Impl::raycast_pass(const std::vector<ClearingObservation>& observ
     if (!to_key(origin_W, start)) continue;
     const Eigen::Matrix3Xf& points = *obs.points_W;
     const double max_range_sq_m2 = obs.source.max_z_m * obs.source.max_z_m;
-    const LeafTable table =
-        leaf_table_around(*grid, s_vox, start, static_cast<int>(std::ceil(obs.source.max_z_m / config.voxel_size_m)) + 1);
+    const int radius_vox = static_cast<int>(std::ceil(obs.source.max_z_m / config.voxel_size_m)) + 1;
+    const LeafTable table = leaf_table_around(*grid, s_vox, start, radius_vox);
     // Rays only read the tree (in parallel, one accessor per chunk); the voxels they pass are cleared after.
     tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
                       [&](const tbb::blocked_range<Eigen::Index>& range) {

@@ -52,7 +52,7 @@ struct VoxelMap::Impl {
   std::set<std::pair<double, Coord>> due_queue;
   std::unordered_map<Coord, double> due_by_leaf;
 
-  explicit Impl(const StvlConfig& c);
+  explicit Impl(const StvlConfig& map_config);
 
   bool uses_expiry_index() const {
     return config.clearing_walk == ClearingWalk::kBounded && config.decay_model == DecayModel::kLinear;
@@ -66,20 +66,20 @@ struct VoxelMap::Impl {
     key = Coord(static_cast<int>(scaled.x()), static_cast<int>(scaled.y()), static_cast<int>(scaled.z()));
     return true;
   }
-  Eigen::Vector3d centre(const Coord& c) const {
-    return Eigen::Vector3d(c.x() + 0.5, c.y() + 0.5, c.z() + 0.5) * config.voxel_size_m;
+  Eigen::Vector3d centre_W(const Coord& key) const {
+    return Eigen::Vector3d(key.x() + 0.5, key.y() + 0.5, key.z() + 0.5) * config.voxel_size_m;
   }
 
   // ---- decay and expiry (voxel_map_decay.cpp)
-  double base_time_left(double age) const;
-  void schedule(const Coord& leaf, double due);
+  double base_time_left_s(double age_s) const;  // before frustum acceleration
+  void schedule(const Coord& leaf, double due_s);
   void unschedule(const Coord& leaf);
   void rebuild_expiry_index();
   // Replaces empty leaves by inactive tiles, and internal nodes left without children likewise.
   void delete_empty_leaves(std::vector<Coord>& leaf_origins);
   // STVL's per-voxel rule. Returns true when the voxel is removed; otherwise may pull its value back.
   template <typename Iter>
-  bool decay_voxel(Iter& it, const std::vector<detail::Frustum>& frustums, double time_s, double* new_value) const;
+  bool decay_voxel(Iter& it, const std::vector<detail::Frustum>& frustums, double time_s, double* new_value_s) const;
   void full_walk(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats);
   void frustum_pass(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats);
   void expiry_pass(double time_s, ClearStats& stats);

@@ -20,7 +20,9 @@ std::vector<VoxelKey> ray_voxels(const Eigen::Vector3d& s_vox, const Eigen::Vect
   for (const Eigen::Vector3d* p : {&s_vox, &e_vox})
     for (int a = 0; a < 3; ++a)
       if (!(std::abs((*p)[a]) < kMaxCoordinate)) return visited;  // also rejects NaN
-  auto fixed = [&](double t) { return t * kOne < kCap ? static_cast<std::int64_t>(t * kOne + 0.5) : std::int64_t{1} << 58; };
+  auto fixed = [&](double t) {
+    return t * kOne < kCap ? static_cast<std::int64_t>(t * kOne + 0.5) : static_cast<std::int64_t>(kCap);
+  };
   int voxel[3], last[3], step[3];
   std::int64_t t_max[3], t_delta[3];
   for (int a = 0; a < 3; ++a) {

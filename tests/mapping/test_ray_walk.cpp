@@ -155,7 +155,8 @@ struct RandomBlocks {
 VoxelKey block_of(const VoxelKey& k) { return {k.x & ~7, k.y & ~7, k.z & ~7}; }
 
 VoxelKey floor_key(const Eigen::Vector3d& p) {
-  return {static_cast<int>(std::floor(p.x())), static_cast<int>(std::floor(p.y())), static_cast<int>(std::floor(p.z()))};
+  return {static_cast<int>(std::floor(p.x())), static_cast<int>(std::floor(p.y())),
+          static_cast<int>(std::floor(p.z()))};
 }
 
 // True when the walk stopped on t >= 1 without reaching the end voxel (its last voxel is no neighbour of the end).
@@ -203,10 +204,7 @@ TEST(RayWalk, MissingBlocksAreSkippedAndTheRestMatchesReference) {
     Keys expected;
     for (const VoxelKey& k : reference::ray_voxels(s, e))
       if (blocks.present(block_of(k))) expected.push_back(k);
-    if (s.allFinite() && e.allFinite() && !blocks.present(block_of(VoxelKey{static_cast<int>(std::floor(e.x())),
-                                                                           static_cast<int>(std::floor(e.y())),
-                                                                           static_cast<int>(std::floor(e.z()))})))
-      ++end_block_missing;
+    if (e.allFinite() && !blocks.present(block_of(floor_key(e)))) ++end_block_missing;
     const int present = 1;
     Keys got;
     bool wrong_block = false;
@@ -252,11 +250,8 @@ TEST(RayWalk, PathIsSixConnectedFromTheStartVoxelAndNeverReachesTheEnd) {
     gen.next(s, e);
     const Keys keys = ray_voxels(s, e);
     if (keys.empty()) continue;
-    const VoxelKey start{static_cast<int>(std::floor(s.x())), static_cast<int>(std::floor(s.y())),
-                         static_cast<int>(std::floor(s.z()))};
-    const VoxelKey end{static_cast<int>(std::floor(e.x())), static_cast<int>(std::floor(e.y())),
-                       static_cast<int>(std::floor(e.z()))};
-    ASSERT_EQ(keys.front(), start) << describe(s, e);
+    const VoxelKey end = floor_key(e);
+    ASSERT_EQ(keys.front(), floor_key(s)) << describe(s, e);
     for (std::size_t j = 0; j < keys.size(); ++j) {
       ASSERT_NE(keys[j], end) << describe(s, e);
       if (j == 0) continue;
