@@ -21,6 +21,7 @@
 // - Non-finite coordinates or |coordinate| >= 2^30 visit nothing.
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -67,8 +68,41 @@ struct RayAxes {
   }
 };
 
-// False when nothing is to be visited (bad input, or start voxel == end voxel).
-bool setup_ray(const Eigen::Vector3d& s_vox, const Eigen::Vector3d& e_vox, RayAxes& ray);
+// floor() for |x| < 2^31, without a libm call (this runs once per ray and axis, twice).
+inline int floor_to_int(double x) {
+  const int i = static_cast<int>(x);
+  return i > x ? i - 1 : i;
+}
+
+// t (or t per voxel) as a double, to fixed point: round half up, capped at kTCap (beyond any t the walk uses).
+inline std::int64_t to_fixed(double t) {
+  const double scaled = t * static_cast<double>(kOne);
+  return scaled < static_cast<double>(kTCap) ? static_cast<std::int64_t>(scaled + 0.5) : kTCap;
+}
+
+// False when nothing is to be visited (bad input, or start voxel == end voxel). Inline: it costs as much as a
+// short walk.
+inline bool setup_ray(const Eigen::Vector3d& s_vox, const Eigen::Vector3d& e_vox, RayAxes& ray) {
+  constexpr double kMaxCoordinate = 1 << 30;  // keys and block origins (+ 8) stay far from int overflow
+  for (int a = 0; a < 3; ++a)
+    if (!(std::abs(s_vox[a]) < kMaxCoordinate) || !(std::abs(e_vox[a]) < kMaxCoordinate)) return false;  // NaN too
+  for (int a = 0; a < 3; ++a) {
+    const double d = e_vox[a] - s_vox[a];
+    const double inv_d = 1.0 / d;  // +-inf where d is 0 or subnormal: never stepped
+    ray.start[a] = floor_to_int(s_vox[a]);
+    ray.end[a] = floor_to_int(e_vox[a]);
+    ray.step[a] = !(std::abs(inv_d) <= std::numeric_limits<double>::max()) ? 0 : d > 0.0 ? 1 : -1;
+    if (ray.step[a] == 0) {
+      ray.t0[a] = kNever;
+      ray.dt[a] = 0;
+      continue;
+    }
+    const double exit_face = ray.start[a] + (ray.step[a] > 0 ? 1.0 : 0.0);
+    ray.t0[a] = to_fixed((exit_face - s_vox[a]) * inv_d);
+    ray.dt[a] = to_fixed(std::abs(inv_d));
+  }
+  return ray.start[0] != ray.end[0] || ray.start[1] != ray.end[1] || ray.start[2] != ray.end[2];
+}
 
 // Branch-free (cmov) on purpose: the axis a ray steps along is unpredictable. Ties go to the lower axis.
 inline int argmin3(const std::int64_t t[3]) {

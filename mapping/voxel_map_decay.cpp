@@ -32,15 +32,6 @@ struct CentreBox {
 
 }  // namespace
 
-double VoxelMap::Impl::base_time_left_s(double age_s) const {
-  switch (config.decay_model) {
-    case DecayModel::kLinear: return config.voxel_decay_s - age_s;
-    case DecayModel::kExponential: return config.voxel_decay_s * std::exp(-age_s);
-    case DecayModel::kPersistent: return config.voxel_decay_s;
-  }
-  return config.voxel_decay_s;
-}
-
 void VoxelMap::Impl::schedule(const Coord& leaf, double due_s) {
   auto [it, inserted] = due_by_leaf.try_emplace(leaf, due_s);
   if (!inserted) {
@@ -91,8 +82,9 @@ void VoxelMap::Impl::delete_empty_leaves(std::vector<Coord>& leaf_origins) {
   tree.clearAllAccessors();
 }
 
+// inline: called once per voxel by the walks below, as it was when it lived in the class body.
 template <typename Iter>
-bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& frustums, double time_s,
+inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& frustums, double time_s,
                                  double* new_value_s) const {
   const double value_s = *it;
   const double age_s = time_s - value_s;

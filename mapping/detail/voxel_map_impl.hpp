@@ -4,6 +4,7 @@
 // header: each file that does costs 10-20 s and 600 MB to compile.
 #include <openvdb/openvdb.h>
 
+#include <cmath>
 #include <limits>
 #include <set>
 #include <unordered_map>
@@ -71,7 +72,15 @@ struct VoxelMap::Impl {
   }
 
   // ---- decay and expiry (voxel_map_decay.cpp)
-  double base_time_left_s(double age_s) const;  // before frustum acceleration
+  // Defined here, not in the .cpp: it runs once per voxel in every walk and must inline.
+  double base_time_left_s(double age_s) const {  // before frustum acceleration
+    switch (config.decay_model) {
+      case DecayModel::kLinear: return config.voxel_decay_s - age_s;
+      case DecayModel::kExponential: return config.voxel_decay_s * std::exp(-age_s);
+      case DecayModel::kPersistent: return config.voxel_decay_s;
+    }
+    return config.voxel_decay_s;
+  }
   void schedule(const Coord& leaf, double due_s);
   void unschedule(const Coord& leaf);
   void rebuild_expiry_index();
