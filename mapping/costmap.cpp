@@ -8,11 +8,11 @@
 
 namespace stvl::mapping {
 
-std::optional<std::uint8_t> Costmap2D::at_world(double x, double y) const {
-  const double fx = std::floor((x - origin_m.x()) / resolution_m);
-  const double fy = std::floor((y - origin_m.y()) / resolution_m);
-  if (!(fx >= 0 && fy >= 0 && fx < width && fy < height)) return std::nullopt;
-  return at(static_cast<int>(fx), static_cast<int>(fy));
+std::optional<std::uint8_t> Costmap2D::at_world(double x_m, double y_m) const {
+  const double ix = std::floor((x_m - origin_m.x()) / resolution_m);
+  const double iy = std::floor((y_m - origin_m.y()) / resolution_m);
+  if (!(ix >= 0 && iy >= 0 && ix < width && iy < height)) return std::nullopt;
+  return at(static_cast<int>(ix), static_cast<int>(iy));
 }
 
 void write_costmap(const Costmap2D& costmap, const std::string& base_path) {

@@ -33,8 +33,8 @@ struct Costmap2D {
   std::vector<std::uint8_t> cells;
 
   std::uint8_t at(int ix, int iy) const { return cells.at(static_cast<std::size_t>(iy) * width + ix); }
-  // Cell holding the world point, or nullopt outside the grid.
-  std::optional<std::uint8_t> at_world(double x, double y) const;
+  // Cell holding the world point (x_m, y_m), or nullopt outside the grid.
+  std::optional<std::uint8_t> at_world(double x_m, double y_m) const;
 };
 
 // Writes <base>.pgm (P5, lethal black 0, free white 254, unknown 205, top row = highest y) and <base>.yaml

@@ -40,15 +40,16 @@ DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, 
       Eigen::Vector4d(0, cv, sv, 0),      // top
   };
   const Eigen::Matrix3d R = T_world_camera.linear();
-  const Eigen::Vector3d t = T_world_camera.translation();
+  const Eigen::Vector3d origin_W = T_world_camera.translation();
   for (std::size_t i = 0; i < planes_C.size(); ++i) {
     const Eigen::Vector3d n_W = R * planes_C[i].head<3>();
-    planes_W_[i] << n_W, planes_C[i][3] - n_W.dot(t);
+    planes_W_[i] << n_W, planes_C[i][3] - n_W.dot(origin_W);
   }
   const double th = std::tan(horizontal_fov_rad / 2), tv = std::tan(vertical_fov_rad / 2);
-  for (double z : {min_z_m, max_z_m})
+  for (double z_m : {min_z_m, max_z_m})
     for (double sx : {-1.0, 1.0})
-      for (double sy : {-1.0, 1.0}) bounds_W_.extend(T_world_camera * Eigen::Vector3d(sx * z * th, sy * z * tv, z));
+      for (double sy : {-1.0, 1.0})
+        bounds_W_.extend(T_world_camera * Eigen::Vector3d(sx * z_m * th, sy * z_m * tv, z_m));
 }
 
 bool DepthCameraFrustum::contains(const Eigen::Vector3d& p_W) const {

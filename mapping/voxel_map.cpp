@@ -1,66 +1,30 @@
-// The only translation unit that includes OpenVDB.
-#include "mapping/voxel_map.hpp"
-
-#include <openvdb/io/File.h>
-#include <openvdb/openvdb.h>
-#include <openvdb/tools/Prune.h>
-#include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-
+// VoxelMap's core: the grid, marking, lookups and keys, the clear() dispatch and the costmap projection. Decay and
+// expiry live in voxel_map_decay.cpp, ray-cast clearing in voxel_map_raycast.cpp, .vdb/.ply in voxel_map_io.cpp.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
 #include <limits>
-#include <map>
-#include <set>
-#include <sstream>
 #include <stdexcept>
-#include <unordered_map>
-#include <utility>
+#include <string>
+#include <vector>
 
-#include "common/atomic_file.hpp"
+#include "mapping/detail/voxel_map_impl.hpp"
 #include "mapping/frustum.hpp"
 
 namespace stvl::mapping {
+
+using detail::Coord;
+using detail::Frustum;
+using detail::kBackground;
+using detail::kGridName;
+using detail::leaf_origin;
+
 namespace {
 
-using GridT = openvdb::DoubleGrid;
-using TreeT = GridT::TreeType;
-using LeafT = TreeT::LeafNodeType;
-using Internal2T = TreeT::RootNodeType::ChildNodeType;
-using Internal1T = Internal2T::ChildNodeType;
-using openvdb::Coord;
+constexpr double kMinMarkDistanceSq_m2 = 1e-4;  // STVL skips points within 1 cm of the sensor
 
-constexpr double kBackground = 0.0;
-constexpr double kMaxIndex = 1 << 30;  // keys beyond this are not representable; such points are skipped
-constexpr double kMinMarkDistanceSq = 1e-4;  // STVL skips points within 1 cm of the sensor
-const char* const kGridName = "stvl_voxels";
+}  // namespace
 
-// Branch-free (cmov) on purpose: the axis a ray steps along is unpredictable.
-inline int argmin3(const double t[3]) {
-  const int a01 = static_cast<int>(t[1] < t[0]);
-  const double m01 = std::min(t[0], t[1]);
-  return t[2] < m01 ? 2 : a01;
-}
-
-Coord leaf_origin(const Coord& c) { return Coord(c.x() & ~7, c.y() & ~7, c.z() & ~7); }
-
-struct CentreBox {
-  double voxel_size;
-  Eigen::AlignedBox3d operator()(const openvdb::CoordBBox& box) const {
-    const Eigen::Vector3d lo(box.min().x() + 0.5, box.min().y() + 0.5, box.min().z() + 0.5);
-    const Eigen::Vector3d hi(box.max().x() + 0.5, box.max().y() + 0.5, box.max().z() + 0.5);
-    return Eigen::AlignedBox3d(lo * voxel_size, hi * voxel_size);
-  }
-};
-
-struct Frustum {
-  DepthCameraFrustum shape;
-  double decay_acceleration_per_s3;
-};
+namespace detail {
 
 void ensure_openvdb_initialized() {
   static const bool initialized = [] {
@@ -70,420 +34,24 @@ void ensure_openvdb_initialized() {
   (void)initialized;
 }
 
-}  // namespace
+}  // namespace detail
 
-struct VoxelMap::Impl {
-  StvlConfig config;
-  GridT::Ptr grid;
-  double latest_time_s = -std::numeric_limits<double>::infinity();
-  // Expiry index (bounded walk, linear decay): every leaf holds an entry due no later than its oldest
-  // voxel's expiry; `due_by_leaf` mirrors `due_queue` so an entry can be moved earlier.
-  std::set<std::pair<double, Coord>> due_queue;
-  std::unordered_map<Coord, double> due_by_leaf;
+VoxelMap::Impl::Impl(const StvlConfig& map_config) : config(map_config) {
+  detail::ensure_openvdb_initialized();
+  grid = GridT::create(kBackground);
+  grid->setName(kGridName);
+  auto transform = openvdb::math::Transform::createLinearTransform(config.voxel_size_m);
+  transform->postTranslate(openvdb::Vec3d(config.voxel_size_m / 2));
+  grid->setTransform(transform);
+}
 
-  explicit Impl(const StvlConfig& c) : config(c) {
-    ensure_openvdb_initialized();
-    grid = GridT::create(kBackground);
-    grid->setName(kGridName);
-    auto transform = openvdb::math::Transform::createLinearTransform(config.voxel_size_m);
-    transform->postTranslate(openvdb::Vec3d(config.voxel_size_m / 2));
-    grid->setTransform(transform);
-  }
-
-  bool uses_expiry_index() const {
-    return config.clearing_walk == ClearingWalk::kBounded && config.decay_model == DecayModel::kLinear;
-  }
-
-  void check_time(double time_s) {
-    if (!std::isfinite(time_s)) throw std::invalid_argument("time_s = " + std::to_string(time_s) + " is not finite");
-    if (time_s < latest_time_s)
-      throw std::invalid_argument("time_s = " + std::to_string(time_s) + " is earlier than the map's latest time " +
-                                  std::to_string(latest_time_s));
-    latest_time_s = time_s;
-  }
-
-  bool to_key(const Eigen::Vector3d& p_W, Coord& key) const {
-    const Eigen::Vector3d scaled = (p_W / config.voxel_size_m).array().floor();
-    if (!(scaled.cwiseAbs().maxCoeff() < kMaxIndex)) return false;
-    key = Coord(static_cast<int>(scaled.x()), static_cast<int>(scaled.y()), static_cast<int>(scaled.z()));
-    return true;
-  }
-
-  Eigen::Vector3d centre(const Coord& c) const {
-    return Eigen::Vector3d(c.x() + 0.5, c.y() + 0.5, c.z() + 0.5) * config.voxel_size_m;
-  }
-
-  double base_time_left(double age) const {
-    switch (config.decay_model) {
-      case DecayModel::kLinear: return config.voxel_decay_s - age;
-      case DecayModel::kExponential: return config.voxel_decay_s * std::exp(-age);
-      case DecayModel::kPersistent: return config.voxel_decay_s;
-    }
-    return config.voxel_decay_s;
-  }
-
-  void schedule(const Coord& leaf, double due) {
-    auto [it, inserted] = due_by_leaf.try_emplace(leaf, due);
-    if (!inserted) {
-      if (due >= it->second) return;
-      due_queue.erase({it->second, leaf});
-      it->second = due;
-    }
-    due_queue.emplace(due, leaf);
-  }
-
-  void unschedule(const Coord& leaf) {
-    auto it = due_by_leaf.find(leaf);
-    if (it == due_by_leaf.end()) return;
-    due_queue.erase({it->second, leaf});
-    due_by_leaf.erase(it);
-  }
-
-  void rebuild_expiry_index() {
-    due_queue.clear();
-    due_by_leaf.clear();
-    if (!uses_expiry_index()) return;
-    for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
-      double oldest = std::numeric_limits<double>::infinity();
-      for (auto v = leaf->cbeginValueOn(); v; ++v) oldest = std::min(oldest, *v);
-      if (std::isfinite(oldest)) schedule(leaf->origin(), oldest + config.voxel_decay_s);
-    }
-  }
-
-  // Replaces empty leaves by inactive tiles, and internal nodes left without children likewise.
-  void delete_empty_leaves(std::vector<Coord>& leaf_origins) {
-    std::sort(leaf_origins.begin(), leaf_origins.end());
-    leaf_origins.erase(std::unique(leaf_origins.begin(), leaf_origins.end()), leaf_origins.end());
-    TreeT& tree = grid->tree();
-    std::vector<Coord> parents;
-    for (const Coord& origin : leaf_origins) {
-      const LeafT* leaf = tree.probeConstLeaf(origin);
-      if (leaf == nullptr || !leaf->isEmpty()) continue;
-      tree.addTile(1, origin, kBackground, false);
-      if (uses_expiry_index()) unschedule(origin);
-      parents.push_back(Coord(origin.x() & ~127, origin.y() & ~127, origin.z() & ~127));
-    }
-    std::sort(parents.begin(), parents.end());
-    parents.erase(std::unique(parents.begin(), parents.end()), parents.end());
-    for (const Coord& origin : parents) {
-      const Internal1T* node = tree.probeConstNode<Internal1T>(origin);
-      if (node != nullptr && node->getChildMask().isOff() && node->getValueMask().isOff())
-        tree.addTile(2, origin, kBackground, false);
-    }
-    tree.clearAllAccessors();
-  }
-
-  // STVL's per-voxel rule. Returns true when the voxel is removed; otherwise may pull its value back.
-  template <typename Iter>
-  bool decay_voxel(Iter& it, const std::vector<Frustum>& frustums, double time_s, double* new_value) const {
-    const double value = *it;
-    const double age = time_s - value;
-    const double base = base_time_left(age);
-    *new_value = value;
-    if (!frustums.empty()) {
-      const Eigen::Vector3d c = centre(it.getCoord());
-      for (const Frustum& f : frustums) {
-        if (!f.shape.contains(c)) continue;
-        const double acceleration = f.decay_acceleration_per_s3 * age * age * age / 6.0;
-        if (base - acceleration < 0.0) {
-          it.setValueOff();
-          return true;
-        }
-        if (acceleration != 0.0) {
-          *new_value = value - acceleration;
-          it.setValue(*new_value);
-        }
-        return false;
-      }
-    }
-    if (base < 0.0) {
-      it.setValueOff();
-      return true;
-    }
-    return false;
-  }
-
-  void full_walk(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats) {
-    double unused = 0.0;
-    for (auto it = grid->beginValueOn(); it; ++it) {
-      ++stats.voxels_visited;
-      if (decay_voxel(it, frustums, time_s, &unused)) ++stats.voxels_removed;
-    }
-    openvdb::tools::pruneInactive(grid->tree());
-    stats.leaves_visited = grid->tree().leafCount();
-  }
-
-  void frustum_pass(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats) {
-    if (frustums.empty()) return;
-    const CentreBox box_of{config.voxel_size_m};
-    auto meets_any = [&](const openvdb::CoordBBox& box) {
-      const Eigen::AlignedBox3d box_W = box_of(box);
-      for (const Frustum& f : frustums)
-        if (f.shape.may_intersect(box_W)) return true;
-      return false;
-    };
-    std::vector<LeafT*> leaves;
-    for (auto n2 = grid->tree().root().beginChildOn(); n2; ++n2) {
-      if (!meets_any(n2->getNodeBoundingBox())) continue;
-      for (auto n1 = n2->beginChildOn(); n1; ++n1) {
-        if (!meets_any(n1->getNodeBoundingBox())) continue;
-        for (auto leaf = n1->beginChildOn(); leaf; ++leaf)
-          if (meets_any(leaf->getNodeBoundingBox())) leaves.push_back(&*leaf);
-      }
-    }
-    std::vector<Coord> emptied;
-    const bool indexed = uses_expiry_index();
-    for (LeafT* leaf : leaves) {
-      ++stats.leaves_visited;
-      double oldest = std::numeric_limits<double>::infinity();
-      for (auto it = leaf->beginValueOn(); it; ++it) {
-        ++stats.voxels_visited;
-        double value = 0.0;
-        if (decay_voxel(it, frustums, time_s, &value))
-          ++stats.voxels_removed;
-        else
-          oldest = std::min(oldest, value);
-      }
-      if (leaf->isEmpty())
-        emptied.push_back(leaf->origin());
-      else if (indexed)
-        schedule(leaf->origin(), oldest + config.voxel_decay_s);
-    }
-    delete_empty_leaves(emptied);
-  }
-
-  void expiry_pass(double time_s, ClearStats& stats) {
-    if (!uses_expiry_index()) return;
-    // Slack so that rounding in value + voxel_decay never hides a voxel the full walk would remove.
-    const double due_limit = time_s + 1e-9 * (1.0 + std::abs(time_s) + config.voxel_decay_s);
-    std::vector<Coord> due_leaves;
-    auto it = due_queue.begin();
-    for (; it != due_queue.end() && it->first <= due_limit; ++it) {
-      if (due_leaves.size() == config.expiry_leaves_per_update) break;
-      due_leaves.push_back(it->second);
-    }
-    for (; it != due_queue.end() && it->first < time_s; ++it) ++stats.expiry_backlog;
-    std::vector<Coord> emptied;
-    for (const Coord& origin : due_leaves) {
-      unschedule(origin);
-      LeafT* leaf = grid->tree().probeLeaf(origin);
-      if (leaf == nullptr) continue;
-      ++stats.leaves_visited;
-      double oldest = std::numeric_limits<double>::infinity();
-      for (auto v = leaf->beginValueOn(); v; ++v) {
-        ++stats.voxels_visited;
-        if (time_s - *v > config.voxel_decay_s) {
-          v.setValueOff();
-          ++stats.voxels_removed;
-        } else {
-          oldest = std::min(oldest, *v);
-        }
-      }
-      if (leaf->isEmpty())
-        emptied.push_back(origin);
-      else
-        schedule(origin, oldest + config.voxel_decay_s);
-    }
-    delete_empty_leaves(emptied);
-  }
-
-  // Dense table of leaf pointers over a cube of blocks, so the ray walk finds a block's leaf by indexing.
-  struct LeafTable {
-    Coord min_block;
-    int n = 0;  // blocks per axis; 0 = not built (too large)
-    double free_radius = 0.0;  // voxel units: no leaf lies nearer than this to the centre
-    std::vector<LeafT*> leaves;
-    bool covers(const Coord& block) const {
-      const Coord r = block - min_block;
-      return n > 0 && r.x() >= 0 && r.y() >= 0 && r.z() >= 0 && r.x() < 8 * n && r.y() < 8 * n && r.z() < 8 * n;
-    }
-    std::size_t index(const Coord& block) const {
-      const Coord r = block - min_block;
-      return (static_cast<std::size_t>(r.x() / 8) * n + r.y() / 8) * n + r.z() / 8;
-    }
-    LeafT* at(const Coord& block) const { return leaves[index(block)]; }
-  };
-
-  LeafTable leaf_table_around(const Eigen::Vector3d& centre, const Coord& centre_key, int radius_voxels) {
-    constexpr std::size_t kMaxEntries = 1u << 21;
-    LeafTable table;
-    table.min_block = leaf_origin(centre_key - Coord(radius_voxels));
-    const Coord max_block = leaf_origin(centre_key + Coord(radius_voxels));
-    const int n = (max_block.x() - table.min_block.x()) / 8 + 1;
-    if (static_cast<std::size_t>(n) * n * n > kMaxEntries) return table;
-    table.n = n;
-    table.leaves.assign(static_cast<std::size_t>(n) * n * n, nullptr);
-    double free_sq = static_cast<double>(radius_voxels) * radius_voxels;
-    const openvdb::CoordBBox region(table.min_block, max_block + Coord(7));
-    for (auto n2 = grid->tree().root().beginChildOn(); n2; ++n2) {
-      if (!region.hasOverlap(n2->getNodeBoundingBox())) continue;
-      for (auto n1 = n2->beginChildOn(); n1; ++n1) {
-        if (!region.hasOverlap(n1->getNodeBoundingBox())) continue;
-        for (auto leaf = n1->beginChildOn(); leaf; ++leaf)
-          if (table.covers(leaf->origin())) {
-            table.leaves[table.index(leaf->origin())] = &*leaf;
-            double distance_sq = 0.0;
-            for (int a = 0; a < 3; ++a) {
-              const double gap = std::max({leaf->origin()[a] - centre[a], centre[a] - (leaf->origin()[a] + 8), 0.0});
-              distance_sq += gap * gap;
-            }
-            free_sq = std::min(free_sq, distance_sq);
-          }
-      }
-    }
-    table.free_radius = std::sqrt(free_sq);
-    return table;
-  }
-
-  // An active voxel a ray passed through: cleared once every ray of the frame has been walked.
-  struct RayHit {
-    const LeafT* leaf;
-    openvdb::Index offset;
-  };
-
-  // Voxel DDA from s to e (voxel units) collecting every active voxel before the end voxel; absent leaves
-  // (8^3 blocks) are crossed in one jump. Every step or jump lowers the key distance to the end, which bounds
-  // the loop. Reads the tree only, so rays are walked in parallel.
-  template <typename Accessor>
-  static void walk_ray(const Eigen::Vector3d& s, const Eigen::Vector3d& e, const Coord& start, const Coord& end,
-                       const LeafTable& table, Accessor& accessor, std::vector<RayHit>& hits,
-                       std::size_t& visited) {
-    int cur[3] = {start.x(), start.y(), start.z()};
-    const int last[3] = {end.x(), end.y(), end.z()};
-    int step[3];
-    double d[3], inv_d[3], t_max[3], t_delta[3];
-    for (int a = 0; a < 3; ++a) {
-      d[a] = e[a] - s[a];
-      step[a] = d[a] > 0 ? 1 : d[a] < 0 ? -1 : 0;
-      inv_d[a] = step[a] != 0 ? 1.0 / d[a] : 0.0;
-      t_delta[a] = step[a] != 0 ? std::abs(inv_d[a]) : std::numeric_limits<double>::infinity();
-      t_max[a] = step[a] != 0 ? ((step[a] > 0 ? cur[a] + 1 : cur[a]) - s[a]) * inv_d[a] : t_delta[a];
-    }
-    long remaining = 3L + std::abs(last[0] - cur[0]) + std::abs(last[1] - cur[1]) + std::abs(last[2] - cur[2]);
-    int block[3] = {std::numeric_limits<int>::max(), 0, 0};
-    const LeafT* leaf = nullptr;
-    while ((cur[0] != last[0] || cur[1] != last[1] || cur[2] != last[2]) && remaining-- > 0) {
-      if ((cur[0] & ~7) != block[0] || (cur[1] & ~7) != block[1] || (cur[2] & ~7) != block[2]) {
-        for (int a = 0; a < 3; ++a) block[a] = cur[a] & ~7;
-        const Coord origin(block[0], block[1], block[2]);
-        leaf = table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
-      }
-      if (leaf == nullptr) {
-        // Block-level DDA until a block with a leaf, then re-enter the voxel walk where the ray enters it.
-        double tb_max[3];
-        for (int a = 0; a < 3; ++a)
-          tb_max[a] = step[a] != 0 ? ((step[a] > 0 ? block[a] + 8 : block[a]) - s[a]) * inv_d[a] : t_delta[a];
-        for (;;) {
-          const int a = argmin3(tb_max);
-          const double t = tb_max[a];
-          if (!(t < 1.0) || remaining-- <= 0) return;  // the ray ends inside an empty block
-          block[a] += 8 * step[a];
-          tb_max[a] += 8 * t_delta[a];
-          const Coord origin(block[0], block[1], block[2]);
-          leaf = table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
-          if (leaf == nullptr) continue;
-          for (int b = 0; b < 3; ++b) {
-            if (b == a) {
-              cur[b] = step[b] > 0 ? block[b] : block[b] + 7;
-            } else if (step[b] != 0) {
-              const double v = std::floor(s[b] + d[b] * t);
-              cur[b] = static_cast<int>(std::clamp(v, static_cast<double>(block[b]), block[b] + 7.0));
-            }
-            if (step[b] != 0) t_max[b] = ((step[b] > 0 ? cur[b] + 1 : cur[b]) - s[b]) * inv_d[b];
-          }
-          break;
-        }
-        continue;
-      }
-      // The voxels of this leaf, in scalars (indexing the arrays by the stepped axis costs a store-to-load
-      // round trip per step); the same steps and ties as argmin3, then back to the arrays at the leaf's end.
-      int cx = cur[0], cy = cur[1], cz = cur[2];
-      double tx = t_max[0], ty = t_max[1], tz = t_max[2];
-      for (;;) {
-        ++visited;
-        const openvdb::Index offset = ((cx & 7) << 6) | ((cy & 7) << 3) | (cz & 7);
-        if (leaf->isValueOn(offset)) hits.push_back({leaf, offset});
-        const bool y_first = ty < tx;
-        const bool z_first = tz < (y_first ? ty : tx);
-        const bool x_step = !z_first && !y_first, y_step = !z_first && y_first;
-        cx += x_step ? step[0] : 0;
-        tx = x_step ? tx + t_delta[0] : tx;
-        cy += y_step ? step[1] : 0;
-        ty = y_step ? ty + t_delta[1] : ty;
-        cz += z_first ? step[2] : 0;
-        tz = z_first ? tz + t_delta[2] : tz;
-        if (((cx ^ block[0]) | (cy ^ block[1]) | (cz ^ block[2])) & ~7) break;  // next leaf: the outer loop
-        if ((cx == last[0] && cy == last[1] && cz == last[2]) || remaining-- <= 0) return;
-      }
-      cur[0] = cx;
-      cur[1] = cy;
-      cur[2] = cz;
-      t_max[0] = tx;
-      t_max[1] = ty;
-      t_max[2] = tz;
-    }
-  }
-
-  void raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats) {
-    std::vector<Coord> touched;
-    const double inv = 1.0 / config.voxel_size_m;
-    struct Walked {
-      std::vector<RayHit> hits;
-      std::size_t visited = 0;
-    };
-    tbb::enumerable_thread_specific<Walked> walked;
-    for (const ClearingObservation& obs : observations) {
-      const Eigen::Vector3d origin_W = obs.T_world_camera.translation();
-      const Eigen::Vector3d s = origin_W * inv;  // voxel units
-      Coord start;
-      if (!to_key(origin_W, start)) continue;
-      const Eigen::Matrix3Xf& points = *obs.points_W;
-      const double max_range_sq = obs.source.max_z_m * obs.source.max_z_m;
-      const LeafTable table = leaf_table_around(s, start, static_cast<int>(std::ceil(obs.source.max_z_m * inv)) + 1);
-      // Rays only read the tree (in parallel, one accessor per chunk); the voxels they pass are cleared after.
-      tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
-                        [&](const tbb::blocked_range<Eigen::Index>& range) {
-        Walked& mine = walked.local();
-        auto accessor = grid->getConstAccessor();
-        for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
-          Eigen::Vector3d p = points.col(i).cast<double>();
-          if (!p.allFinite()) continue;
-          const double length_sq = (p - origin_W).squaredNorm();
-          if (length_sq < 1e-18) continue;
-          if (length_sq > max_range_sq) p = origin_W + (p - origin_W) * (obs.source.max_z_m / std::sqrt(length_sq));
-          Coord end;
-          if (!to_key(p, end)) continue;
-          // Every block nearer than free_radius is empty: skip that part of the ray (or all of it).
-          const Eigen::Vector3d e = p * inv;
-          const double length = (e - s).norm();
-          if (length < table.free_radius) continue;
-          if (table.free_radius > 1.0) {
-            const Eigen::Vector3d s0 = s + (e - s) * ((table.free_radius - 0.5) / length);
-            const Coord start0(static_cast<int>(std::floor(s0.x())), static_cast<int>(std::floor(s0.y())),
-                               static_cast<int>(std::floor(s0.z())));
-            walk_ray(s0, e, start0, end, table, accessor, mine.hits, mine.visited);
-          } else {
-            walk_ray(s, e, start, end, table, accessor, mine.hits, mine.visited);
-          }
-        }
-      });
-      // Clearing is idempotent and counted once per voxel, so the result does not depend on the split.
-      for (Walked& mine : walked) {
-        for (const RayHit& hit : mine.hits) {
-          LeafT* leaf = const_cast<LeafT*>(hit.leaf);  // the grid is ours and no ray is being walked now
-          if (!leaf->isValueOn(hit.offset)) continue;
-          leaf->setValueOff(hit.offset);
-          ++stats.voxels_removed;
-          touched.push_back(leaf->origin());
-        }
-        stats.voxels_visited += mine.visited;
-        mine.hits.clear();
-        mine.visited = 0;
-      }
-    }
-    delete_empty_leaves(touched);
-  }
-};
+void VoxelMap::Impl::check_time(double time_s) {
+  if (!std::isfinite(time_s)) throw std::invalid_argument("time_s = " + std::to_string(time_s) + " is not finite");
+  if (time_s < latest_time_s)
+    throw std::invalid_argument("time_s = " + std::to_string(time_s) + " is earlier than the map's latest time " +
+                                std::to_string(latest_time_s));
+  latest_time_s = time_s;
+}
 
 VoxelMap::VoxelMap(const StvlConfig& config) {
   config.validate();
@@ -503,26 +71,26 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
   impl_->check_time(time_s);
   if (!source.marking) return 0;
   const Eigen::Vector3d origin_W = T_world_camera.translation();
-  const double range_sq = source.obstacle_range_m * source.obstacle_range_m;
+  const double range_sq_m2 = source.obstacle_range_m * source.obstacle_range_m;
   const bool indexed = impl_->uses_expiry_index();
-  const double due = time_s + impl_->config.voxel_decay_s;
+  const double due_s = time_s + impl_->config.voxel_decay_s;
   auto accessor = impl_->grid->getAccessor();
   Coord last_leaf(std::numeric_limits<int>::max());
   std::size_t marked = 0;
   for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
-    const Eigen::Vector3d p = points_W.col(i).cast<double>();
-    if (!p.allFinite()) continue;
-    const double distance_sq = (p - origin_W).squaredNorm();
-    if (distance_sq > range_sq || distance_sq < kMinMarkDistanceSq) continue;
-    if (p.z() < source.min_obstacle_height_m || p.z() > source.max_obstacle_height_m) continue;
+    const Eigen::Vector3d p_W = points_W.col(i).cast<double>();
+    if (!p_W.allFinite()) continue;
+    const double distance_sq_m2 = (p_W - origin_W).squaredNorm();
+    if (distance_sq_m2 > range_sq_m2 || distance_sq_m2 < kMinMarkDistanceSq_m2) continue;
+    if (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m) continue;
     Coord key;
-    if (!impl_->to_key(p, key)) continue;
+    if (!impl_->to_key(p_W, key)) continue;
     accessor.setValueOn(key, time_s);
     ++marked;
     if (indexed) {
       const Coord leaf = leaf_origin(key);
       if (leaf != last_leaf) {
-        impl_->schedule(leaf, due);
+        impl_->schedule(leaf, due_s);
         last_leaf = leaf;
       }
     }
@@ -570,7 +138,7 @@ VoxelKey VoxelMap::key_of(const Eigen::Vector3d& p_W) const {
 }
 
 Eigen::Vector3d VoxelMap::center_of(const VoxelKey& key) const {
-  return impl_->centre(Coord(key.x, key.y, key.z));
+  return impl_->centre_W(Coord(key.x, key.y, key.z));
 }
 
 std::optional<double> VoxelMap::lookup(const Eigen::Vector3d& p_W) const {
@@ -600,9 +168,9 @@ std::vector<VoxelKey> VoxelMap::voxel_keys() const {
 
 Eigen::Matrix3Xf VoxelMap::voxel_centers() const {
   const auto keys = voxel_keys();
-  Eigen::Matrix3Xf centres(3, static_cast<Eigen::Index>(keys.size()));
-  for (std::size_t i = 0; i < keys.size(); ++i) centres.col(static_cast<Eigen::Index>(i)) = center_of(keys[i]).cast<float>();
-  return centres;
+  Eigen::Matrix3Xf centres_W(3, static_cast<Eigen::Index>(keys.size()));
+  for (std::size_t i = 0; i < keys.size(); ++i) centres_W.col(static_cast<Eigen::Index>(i)) = center_of(keys[i]).cast<float>();
+  return centres_W;
 }
 
 void VoxelMap::set_voxels(const std::vector<Voxel>& voxels) {
@@ -619,152 +187,60 @@ void VoxelMap::set_voxels(const std::vector<Voxel>& voxels) {
 }
 
 Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
-  const double resolution = options.resolution_m == 0.0 ? impl_->config.voxel_size_m : options.resolution_m;
-  if (!std::isfinite(resolution) || resolution <= 0.0)
+  const double resolution_m = options.resolution_m == 0.0 ? impl_->config.voxel_size_m : options.resolution_m;
+  if (!std::isfinite(resolution_m) || resolution_m <= 0.0)
     throw std::invalid_argument("costmap resolution = " + std::to_string(options.resolution_m) + " must be > 0");
   if (std::isnan(options.min_obstacle_height_m) || std::isnan(options.max_obstacle_height_m) ||
       options.min_obstacle_height_m > options.max_obstacle_height_m)
     throw std::invalid_argument("costmap min_obstacle_height = " + std::to_string(options.min_obstacle_height_m) +
                                 " must be <= max_obstacle_height = " + std::to_string(options.max_obstacle_height_m));
-  std::vector<Eigen::Vector2d> columns;
+  std::vector<Eigen::Vector2d> columns_W;  // x, y of each voxel centre inside the band
   for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
-    const Eigen::Vector3d c = impl_->centre(it.getCoord());
-    if (c.z() < options.min_obstacle_height_m || c.z() > options.max_obstacle_height_m) continue;
-    columns.push_back(c.head<2>());
+    const Eigen::Vector3d centre_W = impl_->centre_W(it.getCoord());
+    if (centre_W.z() < options.min_obstacle_height_m || centre_W.z() > options.max_obstacle_height_m) continue;
+    columns_W.push_back(centre_W.head<2>());
   }
   Costmap2D map;
-  map.resolution_m = resolution;
+  map.resolution_m = resolution_m;
   if (options.bounds_W) {
-    const Eigen::AlignedBox2d& b = *options.bounds_W;
-    if (!b.min().allFinite() || !b.max().allFinite() || (b.max() - b.min()).minCoeff() < 0.0)
+    const Eigen::AlignedBox2d& bounds_W = *options.bounds_W;
+    if (!bounds_W.min().allFinite() || !bounds_W.max().allFinite() ||
+        (bounds_W.max() - bounds_W.min()).minCoeff() < 0.0)
       throw std::invalid_argument("costmap bounds_W must be finite with min <= max");
-    map.origin_m.x() = b.min().x();
-    map.origin_m.y() = b.min().y();
-    const double w = std::max(1.0, std::ceil((b.max().x() - b.min().x()) / resolution - 1e-9));
-    const double h = std::max(1.0, std::ceil((b.max().y() - b.min().y()) / resolution - 1e-9));
-    if (!(w * h <= 1e8)) throw std::invalid_argument("costmap of " + std::to_string(w) + " x " + std::to_string(h) + " cells is too large");
-    map.width = static_cast<int>(w);
-    map.height = static_cast<int>(h);
-  } else if (columns.empty()) {
+    map.origin_m = bounds_W.min();
+    const Eigen::Vector2d size_m = bounds_W.max() - bounds_W.min();
+    const double width_cells = std::max(1.0, std::ceil(size_m.x() / resolution_m - 1e-9));
+    const double height_cells = std::max(1.0, std::ceil(size_m.y() / resolution_m - 1e-9));
+    if (!(width_cells * height_cells <= 1e8))
+      throw std::invalid_argument("costmap of " + std::to_string(width_cells) + " x " + std::to_string(height_cells) +
+                                  " cells is too large");
+    map.width = static_cast<int>(width_cells);
+    map.height = static_cast<int>(height_cells);
+  } else if (columns_W.empty()) {
     map.width = map.height = 1;
   } else {
-    Eigen::AlignedBox2d extent;
-    for (const auto& c : columns) extent.extend(c);
-    const Eigen::Vector2d lo = (extent.min() / resolution).array().floor();
-    const Eigen::Vector2d hi = (extent.max() / resolution).array().floor();
-    const Eigen::Vector2d cells = (hi - lo).array() + 1.0;
-    if (!(cells.prod() <= 1e8)) throw std::invalid_argument("costmap over the map's extent is too large; give bounds_W");
-    map.origin_m.x() = lo.x() * resolution;
-    map.origin_m.y() = lo.y() * resolution;
-    map.width = static_cast<int>(hi.x() - lo.x()) + 1;
-    map.height = static_cast<int>(hi.y() - lo.y()) + 1;
+    Eigen::AlignedBox2d extent_W;
+    for (const auto& column_W : columns_W) extent_W.extend(column_W);
+    const Eigen::Vector2d lo_cells = (extent_W.min() / resolution_m).array().floor();
+    const Eigen::Vector2d hi_cells = (extent_W.max() / resolution_m).array().floor();
+    const Eigen::Vector2d cells = (hi_cells - lo_cells).array() + 1.0;
+    if (!(cells.prod() <= 1e8))
+      throw std::invalid_argument("costmap over the map's extent is too large; give bounds_W");
+    map.origin_m = lo_cells * resolution_m;
+    map.width = static_cast<int>(cells.x());
+    map.height = static_cast<int>(cells.y());
   }
   std::vector<int> counts(static_cast<std::size_t>(map.width) * map.height, 0);
-  for (const auto& c : columns) {
-    const double fx = std::floor((c.x() - map.origin_m.x()) / resolution);
-    const double fy = std::floor((c.y() - map.origin_m.y()) / resolution);
-    if (fx < 0 || fy < 0 || fx >= map.width || fy >= map.height) continue;
-    ++counts[static_cast<std::size_t>(fy) * map.width + static_cast<std::size_t>(fx)];
+  for (const auto& column_W : columns_W) {
+    const double ix = std::floor((column_W.x() - map.origin_m.x()) / resolution_m);
+    const double iy = std::floor((column_W.y() - map.origin_m.y()) / resolution_m);
+    if (ix < 0 || iy < 0 || ix >= map.width || iy >= map.height) continue;
+    ++counts[static_cast<std::size_t>(iy) * map.width + static_cast<std::size_t>(ix)];
   }
   const int threshold = std::max(impl_->config.mark_threshold, 1);
   map.cells.resize(counts.size());
   for (std::size_t i = 0; i < counts.size(); ++i) map.cells[i] = counts[i] >= threshold ? kCostLethal : kCostFree;
   return map;
-}
-
-void VoxelMap::save_vdb(const std::string& path) const {
-  const StvlConfig& c = impl_->config;
-  GridT::Ptr out = impl_->grid->copy();  // shares the tree; metadata is the copy's own
-  out->setName(kGridName);
-  out->insertMeta("voxel_size", openvdb::DoubleMetadata(c.voxel_size_m));
-  out->insertMeta("voxel_decay", openvdb::DoubleMetadata(c.voxel_decay_s));
-  out->insertMeta("decay_model", openvdb::StringMetadata(to_string(c.decay_model)));
-  out->insertMeta("mark_threshold", openvdb::Int32Metadata(c.mark_threshold));
-  out->insertMeta("clearing_mode", openvdb::StringMetadata(to_string(c.clearing_mode)));
-  out->insertMeta("clearing_walk", openvdb::StringMetadata(to_string(c.clearing_walk)));
-  out->insertMeta("expiry_leaves_per_update", openvdb::Int64Metadata(static_cast<openvdb::Int64>(c.expiry_leaves_per_update)));
-  out->insertMeta("latest_time_s", openvdb::DoubleMetadata(impl_->latest_time_s));
-  write_via_temporary(path, [&](const std::filesystem::path& temp) {
-    try {
-      openvdb::io::File file(temp.string());
-      file.write(openvdb::GridCPtrVec{out});
-      file.close();
-    } catch (const openvdb::Exception& e) {
-      throw std::runtime_error("cannot write '" + path + "': " + e.what());
-    }
-  });
-}
-
-VoxelMap VoxelMap::load_vdb(const std::string& path) {
-  ensure_openvdb_initialized();
-  GridT::Ptr grid;
-  try {
-    openvdb::io::File file(path);
-    file.open();
-    if (!file.hasGrid(kGridName)) throw std::runtime_error("'" + path + "' holds no grid named " + kGridName);
-    grid = openvdb::gridPtrCast<GridT>(file.readGrid(kGridName));
-    file.close();
-  } catch (const openvdb::Exception& e) {
-    throw std::runtime_error("cannot read '" + path + "': " + e.what());
-  }
-  if (!grid) throw std::runtime_error("'" + path + "': grid " + kGridName + " is not a DoubleGrid");
-  StvlConfig config;
-  try {
-    auto meta_double = [&](const char* name, double fallback) {
-      auto m = grid->getMetadata<openvdb::DoubleMetadata>(name);
-      return m ? m->value() : fallback;
-    };
-    auto meta_string = [&](const char* name, const std::string& fallback) {
-      auto m = grid->getMetadata<openvdb::StringMetadata>(name);
-      return m ? m->value() : fallback;
-    };
-    if (!grid->getMetadata<openvdb::DoubleMetadata>("voxel_size")) throw std::invalid_argument("voxel_size metadata missing");
-    config.voxel_size_m = meta_double("voxel_size", config.voxel_size_m);
-    config.voxel_decay_s = meta_double("voxel_decay", config.voxel_decay_s);
-    config.decay_model = parse_decay_model(meta_string("decay_model", to_string(config.decay_model)));
-    if (auto m = grid->getMetadata<openvdb::Int32Metadata>("mark_threshold")) config.mark_threshold = m->value();
-    config.clearing_mode = parse_clearing_mode(meta_string("clearing_mode", to_string(config.clearing_mode)));
-    config.clearing_walk = parse_clearing_walk(meta_string("clearing_walk", to_string(config.clearing_walk)));
-    if (auto m = grid->getMetadata<openvdb::Int64Metadata>("expiry_leaves_per_update"))
-      config.expiry_leaves_per_update = static_cast<std::size_t>(std::max<openvdb::Int64>(m->value(), 0));
-    config.validate();
-    const double transform_size = grid->voxelSize().x();
-    if (std::abs(transform_size - config.voxel_size_m) > 1e-9 * config.voxel_size_m)
-      throw std::invalid_argument("transform voxel size " + std::to_string(transform_size) +
-                                  " differs from voxel_size metadata " + std::to_string(config.voxel_size_m));
-    VoxelMap map(config);
-    map.impl_->latest_time_s = meta_double("latest_time_s", -std::numeric_limits<double>::infinity());
-    for (auto it = grid->cbeginValueOn(); it; ++it)
-      if (!std::isfinite(*it)) throw std::invalid_argument("voxel holds a non-finite time");
-    map.impl_->grid = grid;
-    map.impl_->grid->tree().clearAllAccessors();
-    map.impl_->rebuild_expiry_index();
-    return map;
-  } catch (const std::invalid_argument& e) {
-    throw std::runtime_error("'" + path + "' is not a valid stvl map: " + e.what());
-  }
-}
-
-void VoxelMap::save_ply(const std::string& path) const {
-  const std::vector<Voxel> all = voxels();
-  std::string bytes = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(all.size()) +
-                      "\nproperty float x\nproperty float y\nproperty float z\nproperty double time\nend_header\n";
-  const std::uint16_t probe = 1;
-  const bool little_endian = *reinterpret_cast<const std::uint8_t*>(&probe) == 1;
-  auto append = [&](const void* data, std::size_t n) {
-    const char* p = static_cast<const char*>(data);
-    if (little_endian) {
-      bytes.append(p, n);
-    } else {
-      for (std::size_t i = n; i-- > 0;) bytes.push_back(p[i]);
-    }
-  };
-  for (const Voxel& v : all) {
-    const Eigen::Vector3f c = center_of(v.key).cast<float>();
-    for (int a = 0; a < 3; ++a) append(&c[a], sizeof(float));
-    append(&v.time_s, sizeof(double));
-  }
-  write_file_atomically(path, bytes);
 }
 
 }  // namespace stvl::mapping

@@ -14,8 +14,9 @@
 // Bounded walk: frustums visit only the leaf nodes (8^3 voxels) whose boxes meet them; linear expiry
 // elsewhere comes from a per-leaf expiry index, at most expiry_leaves_per_update leaves per call. After
 // ceil(backlog / expiry_leaves_per_update) further calls the map equals the full walk's.
-// Ray-cast mode: instead of frustum acceleration, every voxel strictly between the optical centre and a
-// point's voxel (up to max_z) is removed at once; linear expiry still applies.
+// Ray-cast mode: instead of frustum acceleration, every voxel the ray walk (mapping/ray_walk.hpp) visits from
+// the optical centre's voxel up to, not including, a point's voxel (rays cut at max_z) is removed at once;
+// linear expiry still applies.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 

@@ -1,0 +1,100 @@
+#pragma once
+// Private to mapping/: VoxelMap's state on OpenVDB. The only header that includes OpenVDB, included only by the
+// voxel_map*.cpp files (core; decay and expiry; ray-cast clearing; .vdb/.ply I/O). Never include it from a public
+// header: each file that does costs 10-20 s and 600 MB to compile.
+#include <openvdb/openvdb.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "mapping/frustum.hpp"
+#include "mapping/voxel_map.hpp"
+
+namespace stvl::mapping {
+namespace detail {
+
+using GridT = openvdb::DoubleGrid;
+using TreeT = GridT::TreeType;
+using LeafT = TreeT::LeafNodeType;
+using Internal2T = TreeT::RootNodeType::ChildNodeType;
+using Internal1T = Internal2T::ChildNodeType;
+using openvdb::Coord;
+
+constexpr double kBackground = 0.0;
+constexpr double kMaxIndex = 1 << 30;  // keys beyond this are not representable; such points are skipped
+constexpr const char* kGridName = "stvl_voxels";
+
+inline Coord leaf_origin(const Coord& c) { return Coord(c.x() & ~7, c.y() & ~7, c.z() & ~7); }
+
+// A clearing frustum with its source's decay acceleration.
+struct Frustum {
+  DepthCameraFrustum shape;
+  double decay_acceleration_per_s3;
+};
+
+void ensure_openvdb_initialized();  // voxel_map.cpp
+
+}  // namespace detail
+
+struct VoxelMap::Impl {
+  using GridT = detail::GridT;
+  using LeafT = detail::LeafT;
+  using Coord = detail::Coord;
+
+  StvlConfig config;
+  GridT::Ptr grid;
+  double latest_time_s = -std::numeric_limits<double>::infinity();
+  // Expiry index (bounded walk, linear decay): every leaf holds an entry due no later than its oldest
+  // voxel's expiry; `due_by_leaf` mirrors `due_queue` so an entry can be moved earlier.
+  std::set<std::pair<double, Coord>> due_queue;
+  std::unordered_map<Coord, double> due_by_leaf;
+
+  explicit Impl(const StvlConfig& map_config);
+
+  bool uses_expiry_index() const {
+    return config.clearing_walk == ClearingWalk::kBounded && config.decay_model == DecayModel::kLinear;
+  }
+
+  // ---- core (voxel_map.cpp)
+  void check_time(double time_s);
+  bool to_key(const Eigen::Vector3d& p_W, Coord& key) const {
+    const Eigen::Vector3d scaled = (p_W / config.voxel_size_m).array().floor();
+    if (!(scaled.cwiseAbs().maxCoeff() < detail::kMaxIndex)) return false;
+    key = Coord(static_cast<int>(scaled.x()), static_cast<int>(scaled.y()), static_cast<int>(scaled.z()));
+    return true;
+  }
+  Eigen::Vector3d centre_W(const Coord& key) const {
+    return Eigen::Vector3d(key.x() + 0.5, key.y() + 0.5, key.z() + 0.5) * config.voxel_size_m;
+  }
+
+  // ---- decay and expiry (voxel_map_decay.cpp)
+  // Defined here, not in the .cpp: it runs once per voxel in every walk and must inline.
+  double base_time_left_s(double age_s) const {  // before frustum acceleration
+    switch (config.decay_model) {
+      case DecayModel::kLinear: return config.voxel_decay_s - age_s;
+      case DecayModel::kExponential: return config.voxel_decay_s * std::exp(-age_s);
+      case DecayModel::kPersistent: return config.voxel_decay_s;
+    }
+    return config.voxel_decay_s;
+  }
+  void schedule(const Coord& leaf, double due_s);
+  void unschedule(const Coord& leaf);
+  void rebuild_expiry_index();
+  // Replaces empty leaves by inactive tiles, and internal nodes left without children likewise.
+  void delete_empty_leaves(std::vector<Coord>& leaf_origins);
+  // STVL's per-voxel rule. Returns true when the voxel is removed; otherwise may pull its value back.
+  template <typename Iter>
+  bool decay_voxel(Iter& it, const std::vector<detail::Frustum>& frustums, double time_s, double* new_value_s) const;
+  void full_walk(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats);
+  void frustum_pass(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats);
+  void expiry_pass(double time_s, ClearStats& stats);
+
+  // ---- ray-cast clearing (voxel_map_raycast.cpp)
+  void raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats);
+};
+
+}  // namespace stvl::mapping

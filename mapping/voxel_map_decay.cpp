@@ -1,0 +1,200 @@
+// Decay and expiry: STVL's per-voxel rule, the full walk, the frustum pass over the leaves that meet a frustum,
+// and the per-leaf expiry index of the bounded walk.
+#include <openvdb/tools/Prune.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "mapping/detail/voxel_map_impl.hpp"
+
+namespace stvl::mapping {
+
+using detail::Coord;
+using detail::Frustum;
+using detail::Internal1T;
+using detail::kBackground;
+using detail::LeafT;
+using detail::TreeT;
+
+namespace {
+
+// World box spanned by the centres of an index box's voxels.
+struct CentreBox {
+  double voxel_size_m;
+  Eigen::AlignedBox3d operator()(const openvdb::CoordBBox& box) const {
+    const Eigen::Vector3d lo_vox(box.min().x() + 0.5, box.min().y() + 0.5, box.min().z() + 0.5);
+    const Eigen::Vector3d hi_vox(box.max().x() + 0.5, box.max().y() + 0.5, box.max().z() + 0.5);
+    return Eigen::AlignedBox3d(lo_vox * voxel_size_m, hi_vox * voxel_size_m);
+  }
+};
+
+}  // namespace
+
+void VoxelMap::Impl::schedule(const Coord& leaf, double due_s) {
+  auto [it, inserted] = due_by_leaf.try_emplace(leaf, due_s);
+  if (!inserted) {
+    if (due_s >= it->second) return;
+    due_queue.erase({it->second, leaf});
+    it->second = due_s;
+  }
+  due_queue.emplace(due_s, leaf);
+}
+
+void VoxelMap::Impl::unschedule(const Coord& leaf) {
+  auto it = due_by_leaf.find(leaf);
+  if (it == due_by_leaf.end()) return;
+  due_queue.erase({it->second, leaf});
+  due_by_leaf.erase(it);
+}
+
+void VoxelMap::Impl::rebuild_expiry_index() {
+  due_queue.clear();
+  due_by_leaf.clear();
+  if (!uses_expiry_index()) return;
+  for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) {
+    double oldest_s = std::numeric_limits<double>::infinity();
+    for (auto v = leaf->cbeginValueOn(); v; ++v) oldest_s = std::min(oldest_s, *v);
+    if (std::isfinite(oldest_s)) schedule(leaf->origin(), oldest_s + config.voxel_decay_s);
+  }
+}
+
+void VoxelMap::Impl::delete_empty_leaves(std::vector<Coord>& leaf_origins) {
+  std::sort(leaf_origins.begin(), leaf_origins.end());
+  leaf_origins.erase(std::unique(leaf_origins.begin(), leaf_origins.end()), leaf_origins.end());
+  TreeT& tree = grid->tree();
+  std::vector<Coord> parents;
+  for (const Coord& origin : leaf_origins) {
+    const LeafT* leaf = tree.probeConstLeaf(origin);
+    if (leaf == nullptr || !leaf->isEmpty()) continue;
+    tree.addTile(1, origin, kBackground, false);
+    if (uses_expiry_index()) unschedule(origin);
+    parents.push_back(Coord(origin.x() & ~127, origin.y() & ~127, origin.z() & ~127));
+  }
+  std::sort(parents.begin(), parents.end());
+  parents.erase(std::unique(parents.begin(), parents.end()), parents.end());
+  for (const Coord& origin : parents) {
+    const Internal1T* node = tree.probeConstNode<Internal1T>(origin);
+    if (node != nullptr && node->getChildMask().isOff() && node->getValueMask().isOff())
+      tree.addTile(2, origin, kBackground, false);
+  }
+  tree.clearAllAccessors();
+}
+
+// inline: called once per voxel by the walks below, as it was when it lived in the class body.
+template <typename Iter>
+inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& frustums, double time_s,
+                                 double* new_value_s) const {
+  const double value_s = *it;
+  const double age_s = time_s - value_s;
+  const double time_left_s = base_time_left_s(age_s);
+  *new_value_s = value_s;
+  if (!frustums.empty()) {
+    const Eigen::Vector3d centre = centre_W(it.getCoord());
+    for (const Frustum& f : frustums) {
+      if (!f.shape.contains(centre)) continue;
+      const double acceleration_s = f.decay_acceleration_per_s3 * age_s * age_s * age_s / 6.0;
+      if (time_left_s - acceleration_s < 0.0) {
+        it.setValueOff();
+        return true;
+      }
+      if (acceleration_s != 0.0) {
+        *new_value_s = value_s - acceleration_s;
+        it.setValue(*new_value_s);
+      }
+      return false;
+    }
+  }
+  if (time_left_s < 0.0) {
+    it.setValueOff();
+    return true;
+  }
+  return false;
+}
+
+void VoxelMap::Impl::full_walk(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats) {
+  double unused = 0.0;
+  for (auto it = grid->beginValueOn(); it; ++it) {
+    ++stats.voxels_visited;
+    if (decay_voxel(it, frustums, time_s, &unused)) ++stats.voxels_removed;
+  }
+  openvdb::tools::pruneInactive(grid->tree());
+  stats.leaves_visited = grid->tree().leafCount();
+}
+
+void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats) {
+  if (frustums.empty()) return;
+  const CentreBox box_of{config.voxel_size_m};
+  auto meets_any = [&](const openvdb::CoordBBox& box) {
+    const Eigen::AlignedBox3d box_W = box_of(box);
+    for (const Frustum& f : frustums)
+      if (f.shape.may_intersect(box_W)) return true;
+    return false;
+  };
+  std::vector<LeafT*> leaves;
+  for (auto n2 = grid->tree().root().beginChildOn(); n2; ++n2) {
+    if (!meets_any(n2->getNodeBoundingBox())) continue;
+    for (auto n1 = n2->beginChildOn(); n1; ++n1) {
+      if (!meets_any(n1->getNodeBoundingBox())) continue;
+      for (auto leaf = n1->beginChildOn(); leaf; ++leaf)
+        if (meets_any(leaf->getNodeBoundingBox())) leaves.push_back(&*leaf);
+    }
+  }
+  std::vector<Coord> emptied;
+  const bool indexed = uses_expiry_index();
+  for (LeafT* leaf : leaves) {
+    ++stats.leaves_visited;
+    double oldest_s = std::numeric_limits<double>::infinity();
+    for (auto it = leaf->beginValueOn(); it; ++it) {
+      ++stats.voxels_visited;
+      double value_s = 0.0;
+      if (decay_voxel(it, frustums, time_s, &value_s))
+        ++stats.voxels_removed;
+      else
+        oldest_s = std::min(oldest_s, value_s);
+    }
+    if (leaf->isEmpty())
+      emptied.push_back(leaf->origin());
+    else if (indexed)
+      schedule(leaf->origin(), oldest_s + config.voxel_decay_s);
+  }
+  delete_empty_leaves(emptied);
+}
+
+void VoxelMap::Impl::expiry_pass(double time_s, ClearStats& stats) {
+  if (!uses_expiry_index()) return;
+  // Slack so that rounding in value + voxel_decay never hides a voxel the full walk would remove.
+  const double due_limit_s = time_s + 1e-9 * (1.0 + std::abs(time_s) + config.voxel_decay_s);
+  std::vector<Coord> due_leaves;
+  auto it = due_queue.begin();
+  for (; it != due_queue.end() && it->first <= due_limit_s; ++it) {
+    if (due_leaves.size() == config.expiry_leaves_per_update) break;
+    due_leaves.push_back(it->second);
+  }
+  for (; it != due_queue.end() && it->first < time_s; ++it) ++stats.expiry_backlog;
+  std::vector<Coord> emptied;
+  for (const Coord& origin : due_leaves) {
+    unschedule(origin);
+    LeafT* leaf = grid->tree().probeLeaf(origin);
+    if (leaf == nullptr) continue;
+    ++stats.leaves_visited;
+    double oldest_s = std::numeric_limits<double>::infinity();
+    for (auto v = leaf->beginValueOn(); v; ++v) {
+      ++stats.voxels_visited;
+      if (time_s - *v > config.voxel_decay_s) {
+        v.setValueOff();
+        ++stats.voxels_removed;
+      } else {
+        oldest_s = std::min(oldest_s, *v);
+      }
+    }
+    if (leaf->isEmpty())
+      emptied.push_back(origin);
+    else
+      schedule(origin, oldest_s + config.voxel_decay_s);
+  }
+  delete_empty_leaves(emptied);
+}
+
+}  // namespace stvl::mapping
