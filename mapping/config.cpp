@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/enum_names.hpp"
+
 namespace stvl::mapping {
 namespace {
 
@@ -19,38 +21,29 @@ void require_finite(const char* field, double value) {
 
 }  // namespace
 
-DecayModel parse_decay_model(const std::string& text) {
-  if (text == "linear" || text == "0") return DecayModel::kLinear;
-  if (text == "exponential" || text == "1") return DecayModel::kExponential;
-  if (text == "persistent" || text == "-1" || text == "2") return DecayModel::kPersistent;
-  throw std::invalid_argument("decay_model = '" + text +
-                              "' is invalid: expected linear|exponential|persistent or 0|1|-1");
-}
+namespace {
+// STVL's numeric codes are accepted too: "0", "1", "-1" and "2" (see config.hpp).
+constexpr EnumName<DecayModel> kDecayModelNames[] = {
+    {DecayModel::kLinear, "linear"},       {DecayModel::kExponential, "exponential"},
+    {DecayModel::kPersistent, "persistent"}, {DecayModel::kLinear, "0"},
+    {DecayModel::kExponential, "1"},       {DecayModel::kPersistent, "-1"},
+    {DecayModel::kPersistent, "2"}};
+}  // namespace
 
-std::string to_string(DecayModel model) {
-  switch (model) {
-    case DecayModel::kLinear: return "linear";
-    case DecayModel::kExponential: return "exponential";
-    case DecayModel::kPersistent: return "persistent";
-  }
-  return "unknown";
-}
+DecayModel parse_decay_model(const std::string& text) { return parse_enum(text, kDecayModelNames, "decay_model"); }
+std::string to_string(DecayModel model) { return enum_name(model, kDecayModelNames); }
 
-ClearingMode parse_clearing_mode(const std::string& text) {
-  if (text == "frustum") return ClearingMode::kFrustum;
-  if (text == "raycast") return ClearingMode::kRaycast;
-  throw std::invalid_argument("clearing_mode = '" + text + "' is invalid: expected frustum|raycast");
-}
+namespace {
+constexpr EnumName<ClearingMode> kClearingModeNames[] = {{ClearingMode::kFrustum, "frustum"},
+                                                         {ClearingMode::kRaycast, "raycast"}};
+constexpr EnumName<ClearingWalk> kClearingWalkNames[] = {{ClearingWalk::kBounded, "bounded"},
+                                                         {ClearingWalk::kFullWalk, "full_walk"}};
+}  // namespace
 
-std::string to_string(ClearingMode mode) { return mode == ClearingMode::kFrustum ? "frustum" : "raycast"; }
-
-ClearingWalk parse_clearing_walk(const std::string& text) {
-  if (text == "bounded") return ClearingWalk::kBounded;
-  if (text == "full_walk") return ClearingWalk::kFullWalk;
-  throw std::invalid_argument("clearing_walk = '" + text + "' is invalid: expected bounded|full_walk");
-}
-
-std::string to_string(ClearingWalk walk) { return walk == ClearingWalk::kBounded ? "bounded" : "full_walk"; }
+ClearingMode parse_clearing_mode(const std::string& text) { return parse_enum(text, kClearingModeNames, "clearing_mode"); }
+std::string to_string(ClearingMode mode) { return enum_name(mode, kClearingModeNames); }
+ClearingWalk parse_clearing_walk(const std::string& text) { return parse_enum(text, kClearingWalkNames, "clearing_walk"); }
+std::string to_string(ClearingWalk walk) { return enum_name(walk, kClearingWalkNames); }
 
 void StvlConfig::validate() const {
   require_finite("voxel_size", voxel_size_m);

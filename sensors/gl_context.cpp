@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/enum_names.hpp"
+
 namespace stvl::sensors {
 namespace {
 
@@ -151,20 +153,13 @@ std::unique_ptr<GlContext> make(GlBackend backend) {
 
 }  // namespace
 
-GlBackend parse_gl_backend(const std::string& name) {
-  if (name == "auto") return GlBackend::kAuto;
-  if (name == "egl") return GlBackend::kEgl;
-  if (name == "osmesa") return GlBackend::kOsmesa;
-  throw std::invalid_argument("GL backend '" + name + "' is not one of auto|egl|osmesa");
-}
+namespace {
+constexpr EnumName<GlBackend> kGlBackendNames[] = {
+    {GlBackend::kAuto, "auto"}, {GlBackend::kEgl, "egl"}, {GlBackend::kOsmesa, "osmesa"}};
+}  // namespace
 
-const char* to_string(GlBackend backend) {
-  switch (backend) {
-    case GlBackend::kEgl: return "egl";
-    case GlBackend::kOsmesa: return "osmesa";
-    default: return "auto";
-  }
-}
+GlBackend parse_gl_backend(const std::string& name) { return parse_enum(name, kGlBackendNames, "GL backend"); }
+const char* to_string(GlBackend backend) { return enum_name(backend, kGlBackendNames); }
 
 std::unique_ptr<GlContext> GlContext::create(GlBackend backend) {
   static std::mutex mutex;  // dlopen order decides MuJoCo's GL binding: keep creation serial

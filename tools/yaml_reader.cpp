@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/enum_names.hpp"
+
 namespace stvl::tools {
 
 template <> const char* YamlMap::type_name<bool>() { return "a boolean"; }
@@ -92,7 +94,9 @@ void YamlMap::finish() const {
     if (used_.count(key)) continue;
     std::string known;
     for (const auto& k : used_) known += (known.empty() ? "" : ", ") + k;
-    fail(entry.first, key, "unknown key (known: " + known + ")");
+    const std::string nearest = nearest_name(key, {used_.begin(), used_.end()});
+    fail(entry.first, key,
+         "unknown key" + (nearest.empty() ? std::string() : "; did you mean '" + nearest + "'?") + " (known: " + known + ")");
   }
 }
 

@@ -283,7 +283,7 @@ TEST(ScenarioOverrides, BadValuesAreRejectedNamingTheOptionAndChangeNothing) {
   cases[5].overrides.filter_type = "median", cases[5].expected = "--filter: filter: unknown";
   cases[6].overrides.device = "tpu", cases[6].expected = "--device:";
   cases[7].overrides.memory = "shared", cases[7].expected = "--memory:";
-  cases[8].overrides.gl_backend = "glx", cases[8].expected = "--gl: GL backend 'glx'";
+  cases[8].overrides.gl_backend = "glx", cases[8].expected = "--gl: unknown GL backend 'glx'";
   for (auto& c : cases) {
     SCOPED_TRACE(c.expected);
     c.overrides.seed = 99;  // applied before the bad value: must not stick either

@@ -20,6 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::MatchesRegex;
+using ::testing::Not;
 using namespace test;
 
 const std::string kScenarioDir = std::string(STVL_SOURCE_DIR) + "/scenarios";
@@ -61,7 +62,17 @@ TEST(ScenarioParse, ATypoIsReportedAsInTheExample) {
 
 TEST(ScenarioParse, UnknownKeyInAFlowMapping) {
   const Edited e = insert_after(kMinimal, "  speed_mps:", "  camera_mount: {height_m: 0.5, pitch_dg: 5}");
-  EXPECT_THAT(error_of(e.yaml), HasSubstr(at(e.line, "robot.camera_mount.pitch_dg") + "unknown key"));
+  EXPECT_THAT(error_of(e.yaml), HasSubstr(at(e.line, "robot.camera_mount.pitch_dg") + "unknown key; did you mean 'pitch_deg'?"));
+}
+
+TEST(ScenarioParse, TyposOfKeysAndNamesSuggestTheNearestKnownOne) {
+  const Edited key = replace_line(kFull, "  voxel_size:", "  voxel_sze: 0.04");
+  EXPECT_THAT(error_of(key.yaml), HasSubstr(at(key.line, "map.voxel_sze") + "unknown key; did you mean 'voxel_size'?"));
+  const Edited value = replace_line(kFull, "  clearing_mode:", "  clearing_mode: raycats");
+  EXPECT_THAT(error_of(value.yaml), HasSubstr(at(value.line, "map.clearing_mode") +
+                                              "unknown clearing_mode 'raycats' (expected frustum|raycast; did you mean 'raycast'?)"));
+  const Edited far = replace_line(kFull, "  voxel_size:", "  colour: 3");
+  EXPECT_THAT(error_of(far.yaml), Not(HasSubstr("did you mean")));
 }
 
 TEST(ScenarioParse, IntrinsicsWithAPresetAreRejected) {
@@ -159,7 +170,7 @@ TEST(ScenarioParse, OutOfRangeValuesNameKeyAndLine) {
       {"duration_s:", "duration_s: .nan", "duration_s: must lie in (0, 3600] s"},
       {"duration_s:", "duration_s: .inf", "duration_s: must lie in (0, 3600] s"},
       {"  preset:", "  preset: d999", "camera.preset: unknown preset 'd999'"},
-      {"  gl_backend:", "  gl_backend: glx", "camera.gl_backend: GL backend 'glx'"},
+      {"  gl_backend:", "  gl_backend: glx", "camera.gl_backend: unknown GL backend 'glx' (expected auto|egl|osmesa)"},
       {"  rate_hz:", "  rate_hz: 0", "camera.rate_hz:"},
       {"  max_range_m:", "  max_range_m: 0.1", "camera.max_range_m:"},
       {"    width:", "    width: 0", "camera.intrinsics.width:"},
