@@ -1,8 +1,30 @@
 #include "evaluation/evaluator.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <optional>
 
 namespace stvl::evaluation {
+
+namespace {
+
+// Adds the scope's wall time to a PhaseTimes field.
+class PhaseTimer {
+ public:
+  explicit PhaseTimer(double& total_ms) : total_ms_(total_ms), start_(std::chrono::steady_clock::now()) {}
+  ~PhaseTimer() {
+    total_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  }
+  PhaseTimer(const PhaseTimer&) = delete;
+  PhaseTimer& operator=(const PhaseTimer&) = delete;
+
+ private:
+  double& total_ms_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
 
 EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double warm_up_s) {
   EvaluationMean m;
@@ -35,6 +57,7 @@ Evaluator::Evaluator(const sim::World& world, const EvaluationConfig& config) : 
 }
 
 void Evaluator::update_truth(const sim::World& world) {
+  const PhaseTimer timer(times_.truth_ms);
   truth_.update(world);
   for (const auto* body : truth_.bodies()) {
     auto& result = obstacles_[body->body_name];
@@ -44,6 +67,8 @@ void Evaluator::update_truth(const sim::World& world) {
 }
 
 void Evaluator::observe(double time_s, const CameraView& view) {
+  const PhaseTimer timer(times_.observe_ms);
+  ++times_.frames;
   const sensors::DepthImage& depth = *view.clean_depth;
   const Eigen::Isometry3f T = view.T_world_camera.cast<float>();
   constexpr int kStride = 2;
@@ -69,33 +94,60 @@ void Evaluator::observe(double time_s, const CameraView& view) {
   }
 }
 
-void Evaluator::observe_clearing(double time_s, const sim::World& world, const CameraView& view,
-                                 const mapping::VoxelMap& map) {
-  if (!truth_.has_moving_bodies()) return;
-  update_truth(world);
-  const sensors::DepthImage& depth = *view.clean_depth;
-  const Eigen::Isometry3d T_camera_world = view.T_world_camera.inverse();
+void Evaluator::update_stale_candidates() {
+  if (stale_version_ == truth_.version()) return;
+  stale_version_ = truth_.version();
+  stale_rank_.clear();
+  stale_lo_ = {1, 1, 1}, stale_hi_ = {0, 0, 0};
+  std::uint32_t rank = 0;
   for (const VoxelKey& k : truth_.vacated()) {
-    if (clearing_.tracked(k) || truth_.near(k, config_.tolerance_voxels)) continue;
-    const Eigen::Vector3d c_W = voxel_center(k, config_.voxel_size_m);
-    if (!map.lookup(c_W)) continue;
-    const Eigen::Vector3d p_C = T_camera_world * c_W;
-    const auto pixel = sensors::project_to_pixel(view.intrinsics, p_C);
-    if (!pixel) continue;
-    const int u = static_cast<int>(std::lround(pixel->x())), v = static_cast<int>(std::lround(pixel->y()));
-    if (u < 0 || v < 0 || u >= depth.width || v >= depth.height) continue;
-    const float z = depth.at(u, v);
-    if (z > 0.0f && z > p_C.z() + config_.voxel_size_m) clearing_.seen_through(k, time_s);
+    ++rank;
+    const auto [near_static, fresh] = vacated_near_static_.try_emplace(k, false);
+    if (fresh) near_static->second = truth_.near_static(k);
+    if (near_static->second || truth_.near_moving(k)) continue;
+    if (stale_rank_.empty()) stale_lo_ = stale_hi_ = k;
+    stale_lo_ = {std::min(stale_lo_.x, k.x), std::min(stale_lo_.y, k.y), std::min(stale_lo_.z, k.z)};
+    stale_hi_ = {std::max(stale_hi_.x, k.x), std::max(stale_hi_.y, k.y), std::max(stale_hi_.z, k.z)};
+    stale_rank_.emplace(k, rank);
   }
 }
 
+void Evaluator::observe_clearing(double time_s, const sim::World& world, const CameraView& view,
+                                 const mapping::VoxelMap& map) {
+  if (!truth_.has_moving_bodies()) return;
+  const PhaseTimer timer(times_.clearing_ms);
+  update_truth(world);
+  update_stale_candidates();
+  // Stale voxels: in the map (as the previous update left it), where a moving body was, now far from every
+  // true surface; seen through when the noise-free depth at their pixel lies beyond them. The map's voxels in
+  // the candidates' box are visited (fewer than the candidates), then recorded in the candidates' own order.
+  const sensors::DepthImage& depth = *view.clean_depth;
+  const Eigen::Isometry3d T_camera_world = view.T_world_camera.inverse();
+  std::vector<std::pair<std::uint32_t, VoxelKey>> seen;
+  map.for_each_key_in(stale_lo_, stale_hi_, [&](const VoxelKey& k) {
+    const auto candidate = stale_rank_.find(k);
+    if (candidate == stale_rank_.end() || clearing_.tracked(k)) return;
+    const Eigen::Vector3d p_C = T_camera_world * voxel_center(k, config_.voxel_size_m);
+    const auto pixel = sensors::project_to_pixel(view.intrinsics, p_C);
+    if (!pixel) return;
+    const int u = static_cast<int>(std::lround(pixel->x())), v = static_cast<int>(std::lround(pixel->y()));
+    if (u < 0 || v < 0 || u >= depth.width || v >= depth.height) return;
+    const float z = depth.at(u, v);
+    if (z > 0.0f && z > p_C.z() + config_.voxel_size_m) seen.emplace_back(candidate->second, k);
+  });
+  std::sort(seen.begin(), seen.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [rank, k] : seen) clearing_.seen_through(k, time_s);
+}
+
 void Evaluator::after_update(double time_s, const mapping::VoxelMap& map) {
+  const PhaseTimer timer(times_.clearing_ms);
   clearing_.after_update(time_s, [&](const VoxelKey& k) {
     return map.lookup(voxel_center(k, config_.voxel_size_m)).has_value();
   });
 }
 
 VoxelMatches Evaluator::match_mapped_voxels(const VoxelSet& mapped) {
+  const PhaseTimer timer(times_.mapped_ms);
   VoxelMatches m;
   m.mapped = mapped.size();
   for (const auto& k : mapped) {
@@ -106,6 +158,7 @@ VoxelMatches Evaluator::match_mapped_voxels(const VoxelSet& mapped) {
 }
 
 VoxelMatches Evaluator::match_observed_truth(double time_s, const VoxelSet& mapped, CellSet& observed_cells) {
+  const PhaseTimer timer(times_.observed_ms);
   VoxelMatches m;
   const auto& bodies = truth_.bodies();
   std::vector<std::size_t> body_observed(bodies.size()), body_matched(bodies.size());
@@ -130,6 +183,7 @@ VoxelMatches Evaluator::match_observed_truth(double time_s, const VoxelSet& mapp
 
 void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap) {
   const double cell_m = config_.voxel_size_m;
+  std::optional<PhaseTimer> timer(std::in_place, times_.costmap_ms);
   const CellSet footprint = truth_.footprint();
   CellSet lethal;
   if (!map.empty()) {
@@ -140,6 +194,7 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& obser
     lethal = lethal_cells(map.project_costmap(options), cell_m);
   }
   CostmapMatches m = match_costmap(lethal, footprint, observed_cells, config_.tolerance_voxels);
+  timer.emplace(times_.phantoms_ms);
   snap.lethal_cells = m.lethal;
   snap.costmap_precision = m.precision;
   snap.costmap_recall = m.recall;
@@ -156,10 +211,14 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& obser
 
 const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& world, const mapping::VoxelMap& map) {
   update_truth(world);
+  ++times_.evaluations;
   EvaluationSnapshot snap;
   snap.time_s = time_s;
   VoxelSet mapped;
-  for (const auto& k : map.voxel_keys()) mapped.insert(k);
+  {
+    const PhaseTimer timer(times_.mapped_ms);
+    for (const auto& k : map.voxel_keys()) mapped.insert(k);
+  }
   const VoxelMatches mapped_matches = match_mapped_voxels(mapped);
   CellSet observed_cells;
   const VoxelMatches truth_matches = match_observed_truth(time_s, mapped, observed_cells);

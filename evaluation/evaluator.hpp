@@ -72,6 +72,19 @@ struct TopDown {
   std::vector<CellKey> truth, true_positive, false_positive, false_negative;
 };
 
+// Wall-clock milliseconds spent in each phase of the evaluation, summed over the run (profiling only: never
+// part of a result that is compared).
+struct PhaseTimes {
+  double observe_ms = 0;           // observe(): the noise-free view, per frame
+  double clearing_ms = 0;          // observe_clearing() and after_update(), per frame
+  double truth_ms = 0;             // moving bodies re-voxelized (inside the two above and evaluate())
+  double mapped_ms = 0;            // evaluate(): mapped voxels against truth, and their surface distances
+  double observed_ms = 0;          // evaluate(): observed truth against the map, per body
+  double costmap_ms = 0;           // evaluate(): projection, footprints, 2D matching
+  double phantoms_ms = 0;          // evaluate(): connected lethal groups
+  std::size_t frames = 0, evaluations = 0;
+};
+
 class Evaluator {
  public:
   // Throws std::invalid_argument for a bad config.
@@ -84,10 +97,14 @@ class Evaluator {
   EvaluationSummary finish(double time_s, const sim::World& world, const mapping::VoxelMap& map);
 
   const TopDown& top_down() const { return top_down_; }
+  const PhaseTimes& phase_times() const { return times_; }
   const Truth& truth() const { return truth_; }
 
  private:
   void update_truth(const sim::World& world);
+  // The vacated voxels far from every true surface (where stale voxels can be), with their rank in the vacated
+  // set's order, and their bounding box; rebuilt when the truth changes.
+  void update_stale_candidates();
   // evaluate(), step by step.
   VoxelMatches match_mapped_voxels(const VoxelSet& mapped);  // also pools the surface distances
   VoxelMatches match_observed_truth(double time_s, const VoxelSet& mapped, CellSet& observed_cells);
@@ -99,9 +116,14 @@ class Evaluator {
   std::unordered_map<VoxelKey, double, VoxelKeyHash> last_seen_;  // observed truth candidates -> last time
   VoxelSet off_truth_keys_;
   ClearingLatency clearing_;
+  std::unordered_map<VoxelKey, std::uint32_t, VoxelKeyHash> stale_rank_;
+  VoxelKey stale_lo_{1, 1, 1}, stale_hi_{0, 0, 0};  // empty
+  std::size_t stale_version_ = 0;
+  std::unordered_map<VoxelKey, bool, VoxelKeyHash> vacated_near_static_;  // static truth does not move
   std::vector<double> distances_m_;
   std::vector<EvaluationSnapshot> snapshots_;
   TopDown top_down_;
+  PhaseTimes times_;
 };
 
 }  // namespace stvl::evaluation

@@ -30,6 +30,16 @@ std::vector<sim::BodyVoxels> voxelize_in_band(const std::vector<sim::ObstacleGeo
   return bodies;
 }
 
+// Same geoms at the same poses (and so the same voxels, footprints and distances).
+bool same_placement(const std::vector<sim::ObstacleGeom>& a, const std::vector<sim::ObstacleGeom>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].geom_id != b[i].geom_id || !(a[i].T_world_geom.matrix() == b[i].T_world_geom.matrix()) ||
+        a[i].size_m != b[i].size_m)
+      return false;
+  return true;
+}
+
 }  // namespace
 
 Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(config) {
@@ -48,12 +58,17 @@ Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(
 }
 
 void Truth::update(const sim::World& world) {
-  geoms_ = sim::obstacle_geoms(world);
-  dynamic_geoms_.clear();
-  for (const auto& g : geoms_)
-    if (is_mocap(world, g.body_id)) dynamic_geoms_.push_back(g);
+  std::vector<sim::ObstacleGeom> geoms = sim::obstacle_geoms(world);
+  std::vector<sim::ObstacleGeom> dynamic;
+  for (const auto& g : geoms)
+    if (is_mocap(world, g.body_id)) dynamic.push_back(g);
+  if (version_ > 0 && same_placement(dynamic, dynamic_geoms_)) return;
+  ++version_;
+  geoms_ = std::move(geoms);
+  dynamic_geoms_ = std::move(dynamic);
   dynamic_bodies_ = voxelize_in_band(dynamic_geoms_, config_);
   dynamic_truth_.clear();
+  dynamic_near_.clear();
   dynamic_body_of_.clear();
   bodies_.clear();
   for (const auto& body : static_bodies_) bodies_.push_back(&body);
@@ -61,6 +76,11 @@ void Truth::update(const sim::World& world) {
     const int index = static_cast<int>(bodies_.size());
     bodies_.push_back(&body);
     dynamic_truth_.insert(body.voxels.begin(), body.voxels.end());
+    const int tol = config_.tolerance_voxels;
+    for (const auto& k : body.voxels)
+      for (int dx = -tol; dx <= tol; ++dx)
+        for (int dy = -tol; dy <= tol; ++dy)
+          for (int dz = -tol; dz <= tol; ++dz) dynamic_near_.insert({k.x + dx, k.y + dy, k.z + dz});
     for (const auto& k : body.voxels) {
       dynamic_body_of_.emplace(k, index);
       for (int dx = -1; dx <= 1; ++dx)
@@ -95,6 +115,16 @@ bool Truth::near(const VoxelKey& k, int tol) const {
     return false;
   };
   return near_set(static_truth_) || near_set(dynamic_truth_);
+}
+
+bool Truth::near_static(const VoxelKey& k) const {
+  const int tol = config_.tolerance_voxels;
+  if (static_truth_.count(k)) return true;
+  for (int dx = -tol; dx <= tol; ++dx)
+    for (int dy = -tol; dy <= tol; ++dy)
+      for (int dz = -tol; dz <= tol; ++dz)
+        if (static_truth_.count({k.x + dx, k.y + dy, k.z + dz})) return true;
+  return false;
 }
 
 int Truth::body_of(const VoxelKey& k) const {

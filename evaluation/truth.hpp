@@ -17,11 +17,17 @@ namespace stvl::evaluation {
 class Truth {
  public:
   Truth(const sim::World& world, const EvaluationConfig& config);
-  // Moving bodies at their poses in `world` now.
+  // Moving bodies at their poses in `world` now (nothing is recomputed when none of them moved).
   void update(const sim::World& world);
+  // Increases whenever the truth changes (a moving body moved); the same version, the same truth.
+  std::size_t version() const { return version_; }
 
   bool contains(const VoxelKey& key) const;
   bool near(const VoxelKey& key, int tol) const;  // within tol voxels (Chebyshev) of a truth voxel
+  // The two halves of near() at the config's tolerance_voxels: static bodies, and moving ones now (one lookup
+  // in the moving bodies' voxels grown by the tolerance).
+  bool near_static(const VoxelKey& key) const;
+  bool near_moving(const VoxelKey& key) const { return dynamic_near_.count(key) > 0; }
   // Index into bodies() of the first body holding `key` (static bodies first), -1 when none does.
   int body_of(const VoxelKey& key) const;
   // Static bodies, then moving ones; each with its voxels in the band.
@@ -47,12 +53,14 @@ class Truth {
   std::vector<sim::BodyVoxels> static_bodies_, dynamic_bodies_;
   std::vector<const sim::BodyVoxels*> bodies_;
   VoxelSet static_truth_, dynamic_truth_;
+  VoxelSet dynamic_near_;  // dynamic_truth_ grown by tolerance_voxels
   std::unordered_map<VoxelKey, int, VoxelKeyHash> static_body_of_, dynamic_body_of_;
   CellSet static_footprint_;
   VoxelSet vacated_;
   // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so a distance tests a few geoms.
   std::unordered_map<CellKey, std::vector<int>, CellKeyHash> geoms_near_;
   std::vector<Eigen::AlignedBox3d> boxes_;
+  std::size_t version_ = 0;
 };
 
 }  // namespace stvl::evaluation

@@ -166,6 +166,19 @@ std::vector<VoxelKey> VoxelMap::voxel_keys() const {
   return keys;
 }
 
+void VoxelMap::for_each_key_in(const VoxelKey& lo, const VoxelKey& hi,
+                               const std::function<void(const VoxelKey&)>& visit) const {
+  if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return;
+  const openvdb::CoordBBox box(Coord(lo.x, lo.y, lo.z), Coord(hi.x, hi.y, hi.z));
+  for (auto leaf = impl_->grid->tree().cbeginLeaf(); leaf; ++leaf) {
+    if (!box.hasOverlap(leaf->getNodeBoundingBox())) continue;
+    for (auto it = leaf->cbeginValueOn(); it; ++it) {
+      const Coord c = it.getCoord();
+      if (box.isInside(c)) visit({c.x(), c.y(), c.z()});
+    }
+  }
+}
+
 Eigen::Matrix3Xf VoxelMap::voxel_centers() const {
   const auto keys = voxel_keys();
   Eigen::Matrix3Xf centres_W(3, static_cast<Eigen::Index>(keys.size()));

@@ -21,6 +21,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -78,6 +79,9 @@ class VoxelMap {
   VoxelKey key_of(const Eigen::Vector3d& p_W) const;
   Eigen::Vector3d center_of(const VoxelKey& key) const;
   std::vector<VoxelKey> voxel_keys() const;  // sorted lexicographically (x, y, z)
+  // Calls visit(key) for every voxel with lo <= key <= hi on each axis, in the tree's order (leaf by leaf);
+  // leaves outside the box are skipped whole.
+  void for_each_key_in(const VoxelKey& lo, const VoxelKey& hi, const std::function<void(const VoxelKey&)>& visit) const;
   std::vector<Voxel> voxels() const;                // sorted by key
   Eigen::Matrix3Xf voxel_centers() const;           // in voxel_keys() order
   std::size_t leaf_count() const;

@@ -38,6 +38,7 @@ struct RunCommandOptions {
   std::string bag;
   std::string bag_compression = "none";
   bool no_progress = false;
+  bool profile = false;
   ScenarioOverrides overrides;
   std::string noise;
 };
@@ -66,6 +67,7 @@ int run(const RunCommandOptions& o) {
     return 128 + g_signal.load();
   }
   write_report(result, options.out_dir);
+  if (o.profile) std::printf("%s", profile_table(result).c_str());
   for (const auto& c : result.checks) std::printf("%s %-24s %s\n", c.passed ? "PASS" : "FAIL", c.name.c_str(), c.message.c_str());
   const auto& m = result.evaluation.mean;
   std::printf("%s: %zu frames, %.1f s simulated, real-time factor %.2f, F1 %.3f (P %.3f R %.3f), outputs in %s\n",
@@ -91,6 +93,7 @@ const CommandRegistration kRun{"run", [](CLI::App& app) {
   cmd->add_option("--gl", o->overrides.gl_backend, "Override the GL backend: auto | egl | osmesa");
   cmd->add_option("--noise", o->noise, "Override the depth noise: on | off");
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
+  cmd->add_flag("--profile", o->profile, "Print where the time went: per stage and per evaluation phase");
   return [o] { return run(*o); };
 }};
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <cstdio>
 #include <sstream>
 
 #include "common/atomic_file.hpp"
@@ -48,6 +49,17 @@ nlohmann::json mean_json(const evaluation::EvaluationMean& m) {
           {"costmap_recall", m.costmap_recall},
           {"phantom_obstacles", m.phantom_obstacles},
           {"max_phantom_obstacles", m.max_phantom_obstacles}};
+}
+
+// Totals over the run in ms, and per frame.
+nlohmann::json phases_json(const evaluation::PhaseTimes& p) {
+  const double frames = std::max<double>(1.0, static_cast<double>(p.frames));
+  nlohmann::json j = {{"frames", p.frames}, {"evaluations", p.evaluations}};
+  for (const auto& [name, ms] : {std::pair<const char*, double>{"observe", p.observe_ms}, {"clearing", p.clearing_ms},
+                                 {"truth_update", p.truth_ms}, {"mapped", p.mapped_ms}, {"observed", p.observed_ms},
+                                 {"costmap", p.costmap_ms}, {"phantoms", p.phantoms_ms}})
+    j[name] = {{"total", ms}, {"per_frame", ms / frames}};
+  return j;
 }
 
 // The final snapshot also says where its phantoms are.
@@ -163,9 +175,40 @@ nlohmann::json metrics_json(const RunResult& r) {
         {"evaluation", stage_stats(t.evaluation)},
         {"bag", stage_stats(t.bag)},
         {"frame", stage_stats(t.frame)}}},
+      {"evaluation_phases_ms", phases_json(r.evaluation_phases)},
       {"wall_time_s", r.wall_time_s},
       {"real_time_factor", r.real_time_factor},
   };
+}
+
+std::string profile_table(const RunResult& r) {
+  const auto& t = r.times;
+  const nlohmann::json frame = stage_stats(t.frame);
+  const double frame_mean = frame["mean"].get<double>();
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(2);
+  out << "profile: " << r.frames << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s
+      << " s (real-time factor " << r.real_time_factor << ")\n";
+  out << "  stage          mean ms   p95 ms   share of the frame\n";
+  for (const auto& [name, ms] : {std::pair<const char*, const std::vector<double>*>{"render", &t.render},
+                                 {"noise", &t.noise}, {"cloud", &t.cloud}, {"filter", &t.filter}, {"clear", &t.clear},
+                                 {"mark", &t.mark}, {"evaluation", &t.evaluation}, {"bag", &t.bag}, {"frame", &t.frame}}) {
+    const nlohmann::json s = stage_stats(*ms);
+    char line[128];
+    std::snprintf(line, sizeof line, "  %-12s %9.2f %8.2f   %5.1f %%\n", name, s["mean"].get<double>(), s["p95"].get<double>(),
+                  frame_mean > 0 ? 100.0 * s["mean"].get<double>() / frame_mean : 0.0);
+    out << line;
+  }
+  const nlohmann::json phases = phases_json(r.evaluation_phases);
+  out << "  evaluation phases, ms per frame (" << r.evaluation_phases.evaluations << " evaluations; truth_update is also\n"
+      << "  counted inside clearing and the evaluate phases):\n";
+  for (const char* name : {"observe", "clearing", "truth_update", "mapped", "observed", "costmap", "phantoms"}) {
+    char line[96];
+    std::snprintf(line, sizeof line, "  %-12s %9.2f\n", name, phases[name]["per_frame"].get<double>());
+    out << line;
+  }
+  return out.str();
 }
 
 std::string junit_xml(const RunResult& r) {

@@ -13,6 +13,9 @@ namespace stvl::tools {
 // Every figure of the run; timings under "timing_ms" (mean, p50, p95 per stage) and "real_time_factor".
 nlohmann::json metrics_json(const RunResult& result);
 std::string junit_xml(const RunResult& result);
+// Where a run's time went: per-stage mean and p95 ms per frame with each stage's share of the frame, then the
+// evaluation's phases per frame (`stvl-bench run --profile`).
+std::string profile_table(const RunResult& result);
 // Writes metrics.json, junit.xml, report.html and its PNGs into out_dir (each atomically).
 void write_report(const RunResult& result, const std::filesystem::path& out_dir);
 

@@ -170,6 +170,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   if (r.frames > 0) {
     r.evaluation = evaluator.finish(r.sim_time_s, pipeline.simulator().world(), pipeline.map());
     r.top_down = evaluator.top_down();
+    r.evaluation_phases = evaluator.phase_times();
     for (auto& check : evaluation_checks(s.checks, r.evaluation)) r.checks.push_back(std::move(check));
   }
   if (bag) {
