@@ -167,6 +167,33 @@ TEST(Evaluator, AStaleVoxelStillMappedAtTheEndIsNotCleared) {
   EXPECT_NEAR(summary.clearing.max_latency_s, 2.5, 1e-12);
 }
 
+TEST(Truth, ChangesVersionOnlyWhenAMovingBodyMoves) {
+  sim::World world = sim::World::from_string(kWorld);
+  Truth truth(world, config());
+  const std::size_t first = truth.version();
+  truth.update(world);
+  EXPECT_EQ(truth.version(), first);
+  EXPECT_TRUE(truth.near_moving({10, 0, 4}));  // the cart's voxel
+  world.data()->mocap_pos[0] = -5.0;
+  world.forward();
+  truth.update(world);
+  EXPECT_EQ(truth.version(), first + 1);
+  EXPECT_FALSE(truth.near_moving({10, 0, 4}));
+  for (const auto* body : truth.bodies())
+    if (body->body_name == "cart") {
+      ASSERT_FALSE(body->voxels.empty());
+      EXPECT_LT(body->voxels.front().x, -40);  // the cart's voxels are at its new place
+      EXPECT_TRUE(truth.near_moving(body->voxels.front()));
+    }
+  EXPECT_TRUE(truth.near_static({20, 0, 4}));  // the box's front face
+  EXPECT_FALSE(truth.near_static({19, 0, 4}));  // one voxel in front of it: tolerance 0 here
+  EvaluationConfig one = config();
+  one.tolerance_voxels = 1;
+  const Truth tolerant(world, one);
+  EXPECT_TRUE(tolerant.near_static({19, 0, 4}));
+  EXPECT_FALSE(tolerant.near_static({18, 0, 4}));
+}
+
 TEST(Evaluator, BadConfigIsRejected) {
   const sim::World world = sim::World::from_string(kWorld);
   EvaluationConfig c = config();

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -46,6 +47,26 @@ TEST(VoxelMapMark, KeysAtBoundariesAndNegativeCoordinates) {
   const Eigen::Matrix3Xf centres = map.voxel_centers();
   ASSERT_EQ(centres.cols(), 2);
   EXPECT_TRUE(centres.col(0).isApprox(Eigen::Vector3f(-0.0625f, -0.1875f, 0.3125f)));
+}
+
+TEST(VoxelMapKeys, ForEachKeyInVisitsExactlyTheVoxelsInsideTheBox) {
+  VoxelMap map;
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> coord(-40, 40);
+  std::vector<Voxel> voxels;
+  for (int i = 0; i < 3000; ++i) voxels.push_back({{coord(rng), coord(rng), coord(rng)}, 1.0});
+  map.set_voxels(voxels);
+  const VoxelKey lo{-9, -3, 0}, hi{17, 8, 30};  // not aligned to the 8^3 leaves
+  std::vector<VoxelKey> visited, expected;
+  map.for_each_key_in(lo, hi, [&](const VoxelKey& k) { visited.push_back(k); });
+  for (const auto& k : map.voxel_keys())
+    if (k.x >= lo.x && k.x <= hi.x && k.y >= lo.y && k.y <= hi.y && k.z >= lo.z && k.z <= hi.z) expected.push_back(k);
+  std::sort(visited.begin(), visited.end());
+  ASSERT_GT(expected.size(), 20u);
+  EXPECT_EQ(visited, expected);
+  std::size_t none = 0;
+  map.for_each_key_in(hi, lo, [&](const VoxelKey&) { ++none; });  // an empty box
+  EXPECT_EQ(none, 0u);
 }
 
 TEST(VoxelMapMark, SkipsOutOfRangeOutOfBandNonFiniteAndSensorOrigin) {
