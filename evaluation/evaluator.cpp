@@ -24,6 +24,16 @@ class PhaseTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
+// near_voxel() against the map itself.
+bool near_in_map(const mapping::VoxelMap& map, const VoxelKey& k, int tol) {
+  if (map.contains(k)) return true;
+  for (int dx = -tol; dx <= tol; ++dx)
+    for (int dy = -tol; dy <= tol; ++dy)
+      for (int dz = -tol; dz <= tol; ++dz)
+        if (map.contains({k.x + dx, k.y + dy, k.z + dz})) return true;
+  return false;
+}
+
 }  // namespace
 
 EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double warm_up_s) {
@@ -146,18 +156,18 @@ void Evaluator::after_update(double time_s, const mapping::VoxelMap& map) {
   });
 }
 
-VoxelMatches Evaluator::match_mapped_voxels(const VoxelSet& mapped) {
+VoxelMatches Evaluator::match_mapped_voxels(const mapping::VoxelMap& map) {
   const PhaseTimer timer(times_.mapped_ms);
   VoxelMatches m;
-  m.mapped = mapped.size();
-  for (const auto& k : mapped) {
+  map.for_each_key([&](const VoxelKey& k) {
+    ++m.mapped;
     if (truth_.near(k, config_.tolerance_voxels)) ++m.matched_mapped;
-    if (const auto d = truth_.distance_to_surface_m(voxel_center(k, config_.voxel_size_m))) distances_m_.push_back(*d);
-  }
+    if (const auto d = truth_.voxel_distance_to_surface_m(k)) distances_m_.push_back(*d);
+  });
   return m;
 }
 
-VoxelMatches Evaluator::match_observed_truth(double time_s, const VoxelSet& mapped, CellSet& observed_cells) {
+VoxelMatches Evaluator::match_observed_truth(double time_s, const mapping::VoxelMap& map, CellSet& observed_cells) {
   const PhaseTimer timer(times_.observed_ms);
   VoxelMatches m;
   const auto& bodies = truth_.bodies();
@@ -172,7 +182,7 @@ VoxelMatches Evaluator::match_observed_truth(double time_s, const VoxelSet& mapp
       ++m.observed_truth;
       ++body_observed[body];
       observed_cells.insert({it->first.x, it->first.y});
-      if (near_voxel(mapped, it->first, config_.tolerance_voxels)) ++m.matched_truth, ++body_matched[body];
+      if (near_in_map(map, it->first, config_.tolerance_voxels)) ++m.matched_truth, ++body_matched[body];
     }
     ++it;
   }
@@ -214,14 +224,9 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   ++times_.evaluations;
   EvaluationSnapshot snap;
   snap.time_s = time_s;
-  VoxelSet mapped;
-  {
-    const PhaseTimer timer(times_.mapped_ms);
-    for (const auto& k : map.voxel_keys()) mapped.insert(k);
-  }
-  const VoxelMatches mapped_matches = match_mapped_voxels(mapped);
+  const VoxelMatches mapped_matches = match_mapped_voxels(map);
   CellSet observed_cells;
-  const VoxelMatches truth_matches = match_observed_truth(time_s, mapped, observed_cells);
+  const VoxelMatches truth_matches = match_observed_truth(time_s, map, observed_cells);
   VoxelMatches matches = mapped_matches;
   matches.observed_truth = truth_matches.observed_truth;
   matches.matched_truth = truth_matches.matched_truth;

@@ -106,8 +106,8 @@ class Evaluator {
   // set's order, and their bounding box; rebuilt when the truth changes.
   void update_stale_candidates();
   // evaluate(), step by step.
-  VoxelMatches match_mapped_voxels(const VoxelSet& mapped);  // also pools the surface distances
-  VoxelMatches match_observed_truth(double time_s, const VoxelSet& mapped, CellSet& observed_cells);
+  VoxelMatches match_mapped_voxels(const mapping::VoxelMap& map);  // also pools the surface distances
+  VoxelMatches match_observed_truth(double time_s, const mapping::VoxelMap& map, CellSet& observed_cells);
   void score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap);
 
   EvaluationConfig config_;

@@ -98,8 +98,14 @@ void Truth::index_geoms() {
     boxes_.push_back(geoms_[g].aabb_W());
     const auto lo = cell_key(boxes_.back().min().head<2>().array() - kReach_m, kBucketCell_m);
     const auto hi = cell_key(boxes_.back().max().head<2>().array() + kReach_m, kBucketCell_m);
+    const bool moving = std::any_of(dynamic_geoms_.begin(), dynamic_geoms_.end(),
+                                    [&](const sim::ObstacleGeom& d) { return d.geom_id == geoms_[g].geom_id; });
     for (int x = lo.x; x <= hi.x; ++x)
-      for (int y = lo.y; y <= hi.y; ++y) geoms_near_[{x, y}].push_back(static_cast<int>(g));
+      for (int y = lo.y; y <= hi.y; ++y) {
+        Bucket& bucket = geoms_near_[{x, y}];
+        bucket.geoms.push_back(static_cast<int>(g));
+        bucket.has_moving = bucket.has_moving || moving;
+      }
   }
 }
 
@@ -141,18 +147,38 @@ CellSet Truth::footprint() const {
   return footprint;
 }
 
-std::optional<double> Truth::distance_to_surface_m(const Eigen::Vector3d& c) const {
+std::optional<double> Truth::distance_in(const Bucket* bucket, const Eigen::Vector3d& c, bool* fell_back) const {
   double best = std::numeric_limits<double>::infinity();
   const auto consider = [&](int g) {
     if (boxes_[g].exteriorDistance(c) < best) best = std::min(best, std::abs(geoms_[g].signed_distance_m(c)));
   };
-  const auto bucket = geoms_near_.find(cell_key(c.head<2>(), kBucketCell_m));
-  if (bucket != geoms_near_.end())
-    for (int g : bucket->second) consider(g);
-  if (!(best <= kReach_m))  // nothing within reach in this cell: fall back to every geom
+  if (bucket)
+    for (int g : bucket->geoms) consider(g);
+  *fell_back = !(best <= kReach_m);
+  if (*fell_back)  // nothing within reach in this cell: fall back to every geom
     for (std::size_t g = 0; g < geoms_.size(); ++g) consider(static_cast<int>(g));
   if (!std::isfinite(best)) return std::nullopt;
   return best;
+}
+
+std::optional<double> Truth::distance_to_surface_m(const Eigen::Vector3d& c) const {
+  const auto bucket = geoms_near_.find(cell_key(c.head<2>(), kBucketCell_m));
+  bool fell_back = false;
+  return distance_in(bucket == geoms_near_.end() ? nullptr : &bucket->second, c, &fell_back);
+}
+
+std::optional<double> Truth::voxel_distance_to_surface_m(const VoxelKey& key) {
+  const Eigen::Vector3d c = voxel_center(key, config_.voxel_size_m);
+  const auto bucket = geoms_near_.find(cell_key(c.head<2>(), kBucketCell_m));
+  // Only static geoms decide the distance of a voxel whose bucket holds no moving geom, unless the search falls
+  // back to every geom; those static geoms and their order never change.
+  const bool static_bucket = bucket != geoms_near_.end() && !bucket->second.has_moving;
+  if (static_bucket)
+    if (const auto cached = static_distance_m_.find(key); cached != static_distance_m_.end()) return cached->second;
+  bool fell_back = false;
+  const auto d = distance_in(bucket == geoms_near_.end() ? nullptr : &bucket->second, c, &fell_back);
+  if (static_bucket && !fell_back && d) static_distance_m_.emplace(key, *d);
+  return d;
 }
 
 Eigen::AlignedBox2d Truth::bounds_W() const {

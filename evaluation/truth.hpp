@@ -39,6 +39,9 @@ class Truth {
   CellSet footprint() const;
   // Distance from p_W to the nearest obstacle surface now; nullopt when there is no obstacle at all.
   std::optional<double> distance_to_surface_m(const Eigen::Vector3d& p_W) const;
+  // The same for a voxel's centre, remembered per voxel where no moving body can change it (no moving geom in
+  // its search bucket and a hit within reach): the same value, computed once.
+  std::optional<double> voxel_distance_to_surface_m(const VoxelKey& key);
   // x/y extent of every obstacle now.
   Eigen::AlignedBox2d bounds_W() const;
   // Truth voxel centres, sorted by key.
@@ -58,8 +61,14 @@ class Truth {
   CellSet static_footprint_;
   VoxelSet vacated_;
   // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so a distance tests a few geoms.
-  std::unordered_map<CellKey, std::vector<int>, CellKeyHash> geoms_near_;
+  struct Bucket {
+    std::vector<int> geoms;  // in geom order
+    bool has_moving = false;
+  };
+  std::optional<double> distance_in(const Bucket* bucket, const Eigen::Vector3d& p_W, bool* fell_back) const;
+  std::unordered_map<CellKey, Bucket, CellKeyHash> geoms_near_;
   std::vector<Eigen::AlignedBox3d> boxes_;
+  std::unordered_map<VoxelKey, double, VoxelKeyHash> static_distance_m_;
   std::size_t version_ = 0;
 };
 

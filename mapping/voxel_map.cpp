@@ -166,6 +166,17 @@ std::vector<VoxelKey> VoxelMap::voxel_keys() const {
   return keys;
 }
 
+bool VoxelMap::contains(const VoxelKey& key) const {
+  return impl_->grid->tree().isValueOn(Coord(key.x, key.y, key.z));
+}
+
+void VoxelMap::for_each_key(const std::function<void(const VoxelKey&)>& visit) const {
+  for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
+    const Coord c = it.getCoord();
+    visit({c.x(), c.y(), c.z()});
+  }
+}
+
 void VoxelMap::for_each_key_in(const VoxelKey& lo, const VoxelKey& hi,
                                const std::function<void(const VoxelKey&)>& visit) const {
   if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return;

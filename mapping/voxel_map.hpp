@@ -76,9 +76,12 @@ class VoxelMap {
   std::size_t size() const;  // active voxels
   bool empty() const { return size() == 0; }
   std::optional<double> lookup(const Eigen::Vector3d& p_W) const;  // time of the voxel holding p_W
+  bool contains(const VoxelKey& key) const;                         // the voxel is in the map
   VoxelKey key_of(const Eigen::Vector3d& p_W) const;
   Eigen::Vector3d center_of(const VoxelKey& key) const;
   std::vector<VoxelKey> voxel_keys() const;  // sorted lexicographically (x, y, z)
+  // Calls visit(key) for every voxel, in the tree's order (not sorted; cheaper than voxel_keys()).
+  void for_each_key(const std::function<void(const VoxelKey&)>& visit) const;
   // Calls visit(key) for every voxel with lo <= key <= hi on each axis, in the tree's order (leaf by leaf);
   // leaves outside the box are skipped whole.
   void for_each_key_in(const VoxelKey& lo, const VoxelKey& hi, const std::function<void(const VoxelKey&)>& visit) const;
