@@ -1,5 +1,7 @@
 #include "evaluation/evaluator.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -80,27 +82,47 @@ void Evaluator::observe(double time_s, const CameraView& view) {
   const PhaseTimer timer(times_.observe_ms);
   ++times_.frames;
   const sensors::DepthImage& depth = *view.clean_depth;
+  const sensors::CameraIntrinsics& k = view.intrinsics;
   const Eigen::Isometry3f T = view.T_world_camera.cast<float>();
   constexpr int kStride = 2;
-  // Neighbouring pixels mostly fall in one voxel, and recording a voxel twice in a frame changes nothing:
-  // skip the hash lookups when the key repeats.
-  bool have_last = false;
-  VoxelKey last{};
-  for (int v = 0; v < depth.height; v += kStride) {
-    for (int u = 0; u < depth.width; u += kStride) {
-      const float z = depth.at(u, v);
-      if (!(z > 0.0f)) continue;
-      const Eigen::Vector3f p_C = z * sensors::pixel_ray_C(view.intrinsics, u, v).cast<float>();
-      if (p_C.norm() > view.obstacle_range_m) continue;
-      const Eigen::Vector3d p_W = (T * p_C).cast<double>();
-      if (p_W.z() < config_.min_obstacle_height_m || p_W.z() > config_.max_obstacle_height_m) continue;
-      const VoxelKey key = voxel_key(p_W, config_.voxel_size_m);
-      if (have_last && key == last) continue;
-      have_last = true;
-      last = key;
-      last_seen_[key] = time_s;
-      if (!truth_.contains(key)) off_truth_keys_.insert(key);
+  // The pixel rays of pixel_ray_C(), per column and per row (the same values, computed once).
+  ray_x_.resize(static_cast<std::size_t>(depth.width));
+  for (int u = 0; u < depth.width; u += kStride) ray_x_[u] = static_cast<float>((u - k.cx) / k.fx);
+  // Rows in parallel, each block of rows keeping its own keys. Neighbouring pixels mostly fall in one voxel:
+  // a key that repeats is skipped, then each voxel is recorded once (in sorted order; the order of recording
+  // does not matter: a voxel's last-seen time is this frame's either way).
+  const int rows = (depth.height + kStride - 1) / kStride;
+  const int blocks = std::max(1, std::min(rows, 16));
+  std::vector<std::vector<VoxelKey>> block_keys(static_cast<std::size_t>(blocks));
+  tbb::parallel_for(0, blocks, [&](int b) {
+    std::vector<VoxelKey>& keys = block_keys[static_cast<std::size_t>(b)];
+    bool have_last = false;
+    VoxelKey last{};
+    for (int row = b * rows / blocks; row < (b + 1) * rows / blocks; ++row) {
+      const int v = row * kStride;
+      const float ray_y = static_cast<float>((v - k.cy) / k.fy);
+      for (int u = 0; u < depth.width; u += kStride) {
+        const float z = depth.at(u, v);
+        if (!(z > 0.0f)) continue;
+        const Eigen::Vector3f p_C = z * Eigen::Vector3f(ray_x_[u], ray_y, 1.0f);
+        if (p_C.norm() > view.obstacle_range_m) continue;
+        const Eigen::Vector3d p_W = (T * p_C).cast<double>();
+        if (p_W.z() < config_.min_obstacle_height_m || p_W.z() > config_.max_obstacle_height_m) continue;
+        const VoxelKey key = voxel_key(p_W, config_.voxel_size_m);
+        if (have_last && key == last) continue;
+        have_last = true;
+        last = key;
+        keys.push_back(key);
+      }
     }
+  });
+  frame_keys_.clear();
+  for (const auto& keys : block_keys) frame_keys_.insert(frame_keys_.end(), keys.begin(), keys.end());
+  std::sort(frame_keys_.begin(), frame_keys_.end());
+  frame_keys_.erase(std::unique(frame_keys_.begin(), frame_keys_.end()), frame_keys_.end());
+  for (const VoxelKey& key : frame_keys_) {
+    last_seen_[key] = time_s;
+    if (!truth_.contains(key)) off_truth_keys_.insert(key);
   }
 }
 

@@ -115,6 +115,8 @@ class Evaluator {
   std::map<std::string, ObstacleResult> obstacles_;
   std::unordered_map<VoxelKey, double, VoxelKeyHash> last_seen_;  // observed truth candidates -> last time
   VoxelSet off_truth_keys_;
+  std::vector<float> ray_x_;          // observe(): per-column ray slopes
+  std::vector<VoxelKey> frame_keys_;  // observe(): the voxels of one frame
   ClearingLatency clearing_;
   std::unordered_map<VoxelKey, std::uint32_t, VoxelKeyHash> stale_rank_;
   VoxelKey stale_lo_{1, 1, 1}, stale_hi_{0, 0, 0};  // empty
