@@ -66,6 +66,23 @@ RunResult synthetic_result() {
   return r;
 }
 
+TEST(ReportProfile, StagesWithTheirShareOfTheFrameAndEvaluationPhasesPerFrame) {
+  RunResult r = synthetic_result();
+  r.times.frame = {10, 10, 10, 10};
+  r.times.render = {4, 4, 4, 4};  // 40 % of the frame
+  r.evaluation_phases.frames = 4;
+  r.evaluation_phases.evaluations = 2;
+  r.evaluation_phases.observe_ms = 6.0;  // 1.5 ms per frame
+  const std::string table = profile_table(r);
+  EXPECT_THAT(table, HasSubstr("  render            4.00     4.00    40.0 %"));
+  EXPECT_THAT(table, HasSubstr("  frame            10.00    10.00   100.0 %"));
+  EXPECT_THAT(table, HasSubstr("(2 evaluations;"));
+  EXPECT_THAT(table, HasSubstr("  observe           1.50"));
+  const auto phases = metrics_json(r)["evaluation_phases_ms"];
+  EXPECT_DOUBLE_EQ(phases["observe"]["total"].get<double>(), 6.0);
+  EXPECT_DOUBLE_EQ(phases["observe"]["per_frame"].get<double>(), 1.5);
+}
+
 TEST(ReportJunit, OneTestcasePerCheckAndAFailureForEachFailedOne) {
   const std::string xml = junit_xml(synthetic_result());
   EXPECT_EQ(count_of(xml, "<testcase "), 3u);
