@@ -28,12 +28,7 @@ class PhaseTimer {
 
 // near_voxel() against the map itself.
 bool near_in_map(const mapping::VoxelMap& map, const VoxelKey& k, int tol) {
-  if (map.contains(k)) return true;
-  for (int dx = -tol; dx <= tol; ++dx)
-    for (int dy = -tol; dy <= tol; ++dy)
-      for (int dz = -tol; dz <= tol; ++dz)
-        if (map.contains({k.x + dx, k.y + dy, k.z + dz})) return true;
-  return false;
+  return any_within(k, tol, [&](const VoxelKey& n) { return map.contains(n); });
 }
 
 }  // namespace

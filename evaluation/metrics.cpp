@@ -13,12 +13,7 @@ double ratio(std::size_t num, std::size_t den) { return den == 0 ? 0.0 : static_
 }  // namespace
 
 bool near_voxel(const VoxelSet& set, const VoxelKey& k, int tol) {
-  if (set.count(k)) return true;  // the usual hit first
-  for (int dx = -tol; dx <= tol; ++dx)
-    for (int dy = -tol; dy <= tol; ++dy)
-      for (int dz = -tol; dz <= tol; ++dz)
-        if (set.count({k.x + dx, k.y + dy, k.z + dz})) return true;
-  return false;
+  return any_within(k, tol, [&](const VoxelKey& n) { return set.count(n) > 0; });
 }
 
 bool near_cell(const CellSet& set, const CellKey& c, int tol) {

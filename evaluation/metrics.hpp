@@ -11,6 +11,17 @@
 
 namespace stvl::evaluation {
 
+// True when contains(k') holds for some k' within tol of key (key itself tested first: the usual hit).
+template <class Contains>
+bool any_within(const VoxelKey& key, int tol, Contains&& contains) {
+  if (contains(key)) return true;
+  for (int dx = -tol; dx <= tol; ++dx)
+    for (int dy = -tol; dy <= tol; ++dy)
+      for (int dz = -tol; dz <= tol; ++dz)
+        if (contains(VoxelKey{key.x + dx, key.y + dy, key.z + dz})) return true;
+  return false;
+}
+
 bool near_voxel(const VoxelSet& set, const VoxelKey& key, int tol);
 bool near_cell(const CellSet& set, const CellKey& cell, int tol);
 

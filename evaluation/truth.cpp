@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "evaluation/metrics.hpp"
+
 namespace stvl::evaluation {
 namespace {
 
@@ -78,9 +80,7 @@ void Truth::update(const sim::World& world) {
     dynamic_truth_.insert(body.voxels.begin(), body.voxels.end());
     const int tol = config_.tolerance_voxels;
     for (const auto& k : body.voxels)
-      for (int dx = -tol; dx <= tol; ++dx)
-        for (int dy = -tol; dy <= tol; ++dy)
-          for (int dz = -tol; dz <= tol; ++dz) dynamic_near_.insert({k.x + dx, k.y + dy, k.z + dz});
+      any_within(k, tol, [&](const VoxelKey& n) { return dynamic_near_.insert(n), false; });
     for (const auto& k : body.voxels) {
       dynamic_body_of_.emplace(k, index);
       for (int dx = -1; dx <= 1; ++dx)
@@ -112,26 +112,10 @@ void Truth::index_geoms() {
 bool Truth::contains(const VoxelKey& k) const { return static_truth_.count(k) || dynamic_truth_.count(k); }
 
 bool Truth::near(const VoxelKey& k, int tol) const {
-  const auto near_set = [&](const VoxelSet& set) {
-    if (set.count(k)) return true;
-    for (int dx = -tol; dx <= tol; ++dx)
-      for (int dy = -tol; dy <= tol; ++dy)
-        for (int dz = -tol; dz <= tol; ++dz)
-          if (set.count({k.x + dx, k.y + dy, k.z + dz})) return true;
-    return false;
-  };
-  return near_set(static_truth_) || near_set(dynamic_truth_);
+  return near_voxel(static_truth_, k, tol) || near_voxel(dynamic_truth_, k, tol);
 }
 
-bool Truth::near_static(const VoxelKey& k) const {
-  const int tol = config_.tolerance_voxels;
-  if (static_truth_.count(k)) return true;
-  for (int dx = -tol; dx <= tol; ++dx)
-    for (int dy = -tol; dy <= tol; ++dy)
-      for (int dz = -tol; dz <= tol; ++dz)
-        if (static_truth_.count({k.x + dx, k.y + dy, k.z + dz})) return true;
-  return false;
-}
+bool Truth::near_static(const VoxelKey& k) const { return near_voxel(static_truth_, k, config_.tolerance_voxels); }
 
 int Truth::body_of(const VoxelKey& k) const {
   if (const auto it = static_body_of_.find(k); it != static_body_of_.end()) return it->second;

@@ -16,7 +16,9 @@ TEST(VoxelScores, OneFalseVoxelAmongNGivesPrecisionNMinusOneOverN) {
     EXPECT_DOUBLE_EQ(s.recall, 1.0);
     // IoU = matched truth / (observed truth + unmatched mapped) = 10 / 11.
     EXPECT_DOUBLE_EQ(s.iou, 10.0 / 11.0);
-    if (n > 1) EXPECT_DOUBLE_EQ(s.f1, 2 * s.precision / (s.precision + 1.0));
+    if (n > 1) {
+      EXPECT_DOUBLE_EQ(s.f1, 2 * s.precision / (s.precision + 1.0));
+    }
   }
 }
 
