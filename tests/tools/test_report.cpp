@@ -78,7 +78,7 @@ TEST(ReportProfile, StagesWithTheirShareOfTheFrameAndEvaluationPhasesPerFrame) {
   EXPECT_THAT(table, HasSubstr("  frame            10.00    10.00   100.0 %"));
   EXPECT_THAT(table, HasSubstr("(2 evaluations;"));
   EXPECT_THAT(table, HasSubstr("  observe           1.50"));
-  const auto phases = metrics_json(r)["evaluation_phases_ms"];
+  const auto phases = metrics_json(r)["timing_ms"]["evaluation_phases"];
   EXPECT_DOUBLE_EQ(phases["observe"]["total"].get<double>(), 6.0);
   EXPECT_DOUBLE_EQ(phases["observe"]["per_frame"].get<double>(), 1.5);
 }
