@@ -26,6 +26,7 @@ void EvaluationConfig::validate() const {
           "must be finite and > 0 s");
   require(std::isfinite(evaluate_every_s) && evaluate_every_s > 0, "evaluate_every_s", evaluate_every_s,
           "must be finite and > 0 s");
+  require(cameras >= 1 && cameras <= 64, "cameras", cameras, "must lie in 1..64");
   require(tolerance_voxels >= 0 && tolerance_voxels <= 3, "tolerance_voxels", tolerance_voxels, "must lie in 0..3");
   require(min_observed_voxels >= 1, "min_observed_voxels", min_observed_voxels, "must be >= 1");
   require(phantom_min_cells >= 1, "phantom_min_cells", phantom_min_cells, "must be >= 1");

@@ -1,5 +1,6 @@
 #pragma once
 // What the map is compared with and how. Lengths in metres, times in seconds of simulated time.
+#include <cstddef>
 #include <string>
 
 namespace stvl::evaluation {
@@ -10,6 +11,7 @@ struct EvaluationConfig {
   double voxel_size_m = 0.05;
   double min_obstacle_height_m = 0.0;
   double max_obstacle_height_m = 3.0;
+  std::size_t cameras = 1;  // recall is also reported per camera
 
   // YAML evaluation.*, same names.
   double recall_window_s = 2.0;     // recall counts truth voxels the noise-free camera saw this recently

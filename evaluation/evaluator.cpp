@@ -47,12 +47,15 @@ EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double 
     m.mapped_voxels += s.mapped_voxels, m.observed_truth_voxels += s.observed_truth_voxels;
     m.lethal_cells += s.lethal_cells;
     phantoms += s.phantom_obstacles;
+    m.camera_recall.resize(std::max(m.camera_recall.size(), s.cameras.size()));
+    for (std::size_t c = 0; c < s.cameras.size(); ++c) m.camera_recall[c] += s.cameras[c].recall;
     m.max_phantom_obstacles = std::max(m.max_phantom_obstacles, s.phantom_obstacles);
   }
   if (n > 0) {
     m.precision /= n, m.recall /= n, m.f1 /= n, m.iou /= n, m.costmap_precision /= n, m.costmap_recall /= n;
     m.mapped_voxels /= n, m.observed_truth_voxels /= n, m.lethal_cells /= n;
     m.phantom_obstacles = phantoms / n;
+    for (double& recall : m.camera_recall) recall /= n;
   }
   m.snapshots = n;
   m.time_s = snapshots.back().time_s;
@@ -60,6 +63,8 @@ EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double 
 }
 
 Evaluator::Evaluator(const sim::World& world, const EvaluationConfig& config) : config_(config), truth_(world, config) {
+  config_.validate();
+  if (config_.cameras > 1) last_seen_by_camera_.resize(config_.cameras);
   update_truth(world);
 }
 
@@ -75,6 +80,9 @@ void Evaluator::update_truth(const sim::World& world) {
 
 void Evaluator::observe(double time_s, const CameraView& view) {
   const PhaseTimer timer(times_.observe_ms);
+  if (view.camera_index >= config_.cameras)
+    throw std::invalid_argument("evaluation: camera index " + std::to_string(view.camera_index) + " of " +
+                                std::to_string(config_.cameras) + " cameras");
   ++times_.frames;
   const sensors::DepthImage& depth = *view.clean_depth;
   const sensors::CameraIntrinsics& k = view.intrinsics;
@@ -115,8 +123,10 @@ void Evaluator::observe(double time_s, const CameraView& view) {
   for (const auto& keys : block_keys) frame_keys_.insert(frame_keys_.end(), keys.begin(), keys.end());
   std::sort(frame_keys_.begin(), frame_keys_.end());
   frame_keys_.erase(std::unique(frame_keys_.begin(), frame_keys_.end()), frame_keys_.end());
+  auto* by_camera = last_seen_by_camera_.empty() ? nullptr : &last_seen_by_camera_[view.camera_index];
   for (const VoxelKey& key : frame_keys_) {
     last_seen_[key] = time_s;
+    if (by_camera) (*by_camera)[key] = time_s;
     if (!truth_.contains(key)) off_truth_keys_.insert(key);
   }
 }
@@ -208,6 +218,32 @@ VoxelMatches Evaluator::match_observed_truth(double time_s, const mapping::Voxel
   return m;
 }
 
+std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const mapping::VoxelMap& map,
+                                                    const VoxelMatches& total) {
+  const auto recall_of = [](CameraRecall r) {
+    r.recall = voxel_scores({0, 0, r.observed_truth_voxels, r.matched_truth}).recall;
+    return r;
+  };
+  if (last_seen_by_camera_.empty()) return {recall_of({total.observed_truth, total.matched_truth, 0.0})};
+  std::vector<CameraRecall> recalls;
+  for (auto& seen : last_seen_by_camera_) {
+    CameraRecall r;
+    for (auto it = seen.begin(); it != seen.end();) {
+      if (it->second < time_s - config_.recall_window_s) {
+        it = seen.erase(it);
+        continue;
+      }
+      if (truth_.body_of(it->first) >= 0) {
+        ++r.observed_truth_voxels;
+        if (near_in_map(map, it->first, config_.tolerance_voxels)) ++r.matched_truth;
+      }
+      ++it;
+    }
+    recalls.push_back(recall_of(r));
+  }
+  return recalls;
+}
+
 void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap) {
   const double cell_m = config_.voxel_size_m;
   std::optional<PhaseTimer> timer(std::in_place, times_.costmap_ms);
@@ -253,6 +289,10 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   snap.observed_truth_voxels = matches.observed_truth;
   snap.matched_truth = matches.matched_truth;
   snap.precision = scores.precision, snap.recall = scores.recall, snap.f1 = scores.f1, snap.iou = scores.iou;
+  {
+    const PhaseTimer timer(times_.observed_ms);
+    snap.cameras = camera_recalls(time_s, map, truth_matches);
+  }
   score_costmap(map, observed_cells, snap);
   snapshots_.push_back(snap);
   return snapshots_.back();

@@ -20,6 +20,12 @@
 
 namespace stvl::evaluation {
 
+// Recall over the truth voxels one camera saw within the recall window (the total's definition, per camera).
+struct CameraRecall {
+  std::size_t observed_truth_voxels = 0, matched_truth = 0;
+  double recall = 0;
+};
+
 struct EvaluationSnapshot {
   double time_s = 0;
   std::size_t mapped_voxels = 0;
@@ -31,6 +37,7 @@ struct EvaluationSnapshot {
   double costmap_precision = 0, costmap_recall = 0;
   int phantom_obstacles = 0;
   std::vector<Phantom> phantoms;  // phantom_obstacles of them, sorted by position
+  std::vector<CameraRecall> cameras;  // by camera index (config.cameras of them)
 };
 
 // Means over the snapshots after the first recall window (all of them when there is only one).
@@ -41,6 +48,7 @@ struct EvaluationMean {
   double precision = 0, recall = 0, f1 = 0, iou = 0, costmap_precision = 0, costmap_recall = 0;
   double phantom_obstacles = 0;   // mean
   int max_phantom_obstacles = 0;  // the most at one snapshot
+  std::vector<double> camera_recall;  // mean recall per camera index
 };
 
 struct EvaluationSummary {
@@ -62,6 +70,7 @@ struct CameraView {
   sensors::CameraIntrinsics intrinsics;
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
   double obstacle_range_m = 2.5;  // the source's marking range: farther hits are not expected in the map
+  std::size_t camera_index = 0;   // < config.cameras
 };
 
 // Top-down picture of the last evaluation: true footprints, lethal and true, lethal and false, observed
@@ -108,12 +117,15 @@ class Evaluator {
   // evaluate(), step by step.
   VoxelMatches match_mapped_voxels(const mapping::VoxelMap& map);  // also pools the surface distances
   VoxelMatches match_observed_truth(double time_s, const mapping::VoxelMap& map, CellSet& observed_cells);
+  std::vector<CameraRecall> camera_recalls(double time_s, const mapping::VoxelMap& map, const VoxelMatches& total);
   void score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap);
 
   EvaluationConfig config_;
   Truth truth_;
   std::map<std::string, ObstacleResult> obstacles_;
   std::unordered_map<VoxelKey, double, VoxelKeyHash> last_seen_;  // observed truth candidates -> last time
+  // The same per camera, when there are several (one camera's is last_seen_ itself).
+  std::vector<std::unordered_map<VoxelKey, double, VoxelKeyHash>> last_seen_by_camera_;
   VoxelSet off_truth_keys_;
   std::vector<float> ray_x_;          // observe(): per-column ray slopes
   std::vector<VoxelKey> frame_keys_;  // observe(): the voxels of one frame

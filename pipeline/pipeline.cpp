@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -20,6 +23,16 @@ Eigen::Matrix3Xf transform(const Eigen::Isometry3d& T, const Eigen::Matrix3Xf& p
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   return (R * points.leftCols(count)).colwise() + t;
+}
+
+// Camera 0 keeps the scenario's seed (its frames are what a one-camera run always had); the others get
+// splitmix64 of seed and index, so that no two cameras share noise.
+std::uint64_t camera_noise_seed(std::uint64_t seed, std::size_t index) {
+  if (index == 0) return seed;
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(index);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
 }
 
 bool upright(const sim::Simulator& sim) {
@@ -58,6 +71,55 @@ std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& c) {
   return sim;
 }
 
+HeightBand marking_band(const PipelineConfig& config) {
+  std::optional<HeightBand> band;
+  for (const auto& camera : config.cameras)
+    for (const auto& source : camera.sources) {
+      if (!source.params.marking) continue;
+      if (!band) band = HeightBand{source.params.min_obstacle_height_m, source.params.max_obstacle_height_m};
+      band->min_m = std::min(band->min_m, source.params.min_obstacle_height_m);
+      band->max_m = std::max(band->max_m, source.params.max_obstacle_height_m);
+    }
+  if (band) return *band;
+  if (config.cameras.empty() || config.cameras.front().sources.empty()) return {};
+  const auto& first = config.cameras.front().sources.front().params;
+  return {first.min_obstacle_height_m, first.max_obstacle_height_m};
+}
+
+void validate_cameras(const PipelineConfig& config) {
+  if (config.cameras.empty()) throw std::invalid_argument("pipeline: no camera");
+  std::set<std::string> cameras, sources;
+  for (const auto& c : config.cameras) {
+    const std::string who = "camera '" + c.name + "'";
+    if (c.name.empty()) throw std::invalid_argument("camera: empty name");
+    if (!cameras.insert(c.name).second) throw std::invalid_argument(who + ": two cameras have this name");
+    const auto rethrow = [&](const std::string& what, const auto& validate) {
+      try {
+        validate();
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(what + ": " + e.what());
+      }
+    };
+    rethrow(who, [&] { c.intrinsics.validate(); });
+    rethrow(who, [&] { c.noise.validate(); });
+    const auto& m = c.mount;
+    const double values[] = {m.forward_offset_m, m.lateral_offset_m, m.height_m, m.roll_rad, m.pitch_rad, m.yaw_rad};
+    for (double v : values)
+      if (!std::isfinite(v)) throw std::invalid_argument(who + ": mount values must be finite");
+    if (!(m.height_m > 0.0))
+      throw std::invalid_argument(who + ": mounted below the floor (height " + std::to_string(m.height_m) + " m)");
+    if (Eigen::Vector3d(m.forward_offset_m, m.lateral_offset_m, m.height_m).norm() > 2.0)
+      throw std::invalid_argument(who + ": mounted more than 2 m from base_link");
+    if (c.sources.empty()) throw std::invalid_argument(who + ": feeds no observation source");
+    for (const auto& source : c.sources) {
+      if (source.name.empty()) throw std::invalid_argument(who + ": a source has an empty name");
+      if (!sources.insert(source.name).second)
+        throw std::invalid_argument("observation source '" + source.name + "': the name is used twice");
+      rethrow(who + ", source '" + source.name + "'", [&] { source.params.validate(); });
+    }
+  }
+}
+
 filter::FilterConfig decimation_config(filter::FilterConfig config) {
   config.passthrough_enabled = false;
   if (config.type == filter::FilterType::kPassthrough) config.type = filter::FilterType::kNone;
@@ -65,11 +127,16 @@ filter::FilterConfig decimation_config(filter::FilterConfig config) {
 }
 
 struct Pipeline::Camera {
-  Camera(const mjModel* model, const CameraConfig& c)
-      : config(c), renderer(model, c.intrinsics, c.gl_backend), noise(c.noise, c.intrinsics) {}
+  Camera(const mjModel* model, const CameraConfig& c, std::uint64_t noise_seed)
+      : config(c), renderer(model, c.intrinsics, c.gl_backend), noise(c.noise, c.intrinsics), noise_seed(noise_seed) {
+    for (const auto& source : c.sources)
+      if (source.params.clearing) clearing.push_back({{}, source.params, nullptr});
+  }
   CameraConfig config;
+  std::vector<mapping::ClearingObservation> clearing;  // one per clearing source; pose and cloud set per frame
   sensors::DepthRenderer renderer;
   sensors::DepthNoise noise;
+  std::uint64_t noise_seed;
   std::size_t next_frame = 0;
   // k * period, not k / rate: the frame times the bench has always used (they differ in the last bit).
   double next_time_s() const { return static_cast<double>(next_frame) * (1.0 / config.intrinsics.rate_hz); }
@@ -80,17 +147,17 @@ Pipeline::Pipeline(PipelineConfig config)
       filter_(decimation_config(config_.filter)),
       passthrough_(config_.filter.passthrough_enabled || config_.filter.type == filter::FilterType::kPassthrough),
       map_(config_.map) {
-  if (config_.cameras.empty()) throw std::invalid_argument("pipeline: no camera");
-  if (config_.cameras.size() > 1)
-    throw std::invalid_argument("pipeline: " + std::to_string(config_.cameras.size()) +
-                                " cameras given; one camera per robot is supported so far");
-  for (const auto& c : config_.cameras) {
-    c.intrinsics.validate();
-    c.source.validate();
-  }
+  validate_cameras(config_);
   sim_ = make_simulator(config_);
   check_inside_world(config_, sim_->world());
-  for (const auto& c : config_.cameras) cameras_.push_back(std::make_unique<Camera>(sim_->world().model(), c));
+  for (std::size_t i = 0; i < config_.cameras.size(); ++i) {
+    const CameraConfig& c = config_.cameras[i];
+    const Eigen::Vector3d p_base = sim::T_base_camera_link(c.mount).translation();
+    const std::string geom = sim_->robot().geom_containing(p_base);
+    if (!geom.empty())
+      throw std::invalid_argument("camera '" + c.name + "': mounted inside the robot's body (geom '" + geom + "')");
+    cameras_.push_back(std::make_unique<Camera>(sim_->world().model(), c, camera_noise_seed(config_.seed, i)));
+  }
 }
 
 Pipeline::~Pipeline() = default;
@@ -100,12 +167,9 @@ const char* Pipeline::filter_device() const { return filter_.device_used(); }
 
 mapping::CostmapOptions Pipeline::costmap_options() const {
   mapping::CostmapOptions options;
-  options.min_obstacle_height_m = config_.cameras.front().source.min_obstacle_height_m;
-  options.max_obstacle_height_m = config_.cameras.front().source.max_obstacle_height_m;
-  for (const auto& c : config_.cameras) {
-    options.min_obstacle_height_m = std::min(options.min_obstacle_height_m, c.source.min_obstacle_height_m);
-    options.max_obstacle_height_m = std::max(options.max_obstacle_height_m, c.source.max_obstacle_height_m);
-  }
+  const HeightBand band = marking_band(config_);
+  options.min_obstacle_height_m = band.min_m;
+  options.max_obstacle_height_m = band.max_m;
   return options;
 }
 
@@ -134,7 +198,7 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   f.T_world_base = sim_->T_world_base();
   f.T_odom_base = sim_->T_odom_base();
   f.T_map_odom = sim_->T_map_odom();
-  f.T_world_camera = sim_->T_world_camera();
+  f.T_world_camera = sim_->T_world_camera(camera.config.mount);
   f.odom_v_mps = sim_->odometry().v_mps();
   f.odom_omega_radps = sim_->odometry().omega_radps();
   f.robot_upright = upright(*sim_);
@@ -147,7 +211,7 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
 
   start = Clock::now();
   f.depth = f.clean_depth;
-  camera.noise.apply(f.depth, config_.seed, f.frame_index);
+  camera.noise.apply(f.depth, camera.noise_seed, f.frame_index);
   f.times.noise_ms = ms_since(start);
 
   start = Clock::now();
@@ -163,11 +227,15 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   if (before_map_update) before_map_update(f, map_);
 
   start = Clock::now();
-  const mapping::ClearingObservation observation{f.T_world_camera, camera.config.source, &f.decimated_W};
-  map_.clear({observation}, f.time_s);
+  for (auto& observation : camera.clearing) {
+    observation.T_world_camera = f.T_world_camera;
+    observation.points_W = &f.decimated_W;
+  }
+  map_.clear(camera.clearing, f.time_s);
   f.times.clear_ms = ms_since(start);
   start = Clock::now();
-  map_.mark(f.marking_W, f.T_world_camera, camera.config.source, f.time_s);
+  for (const auto& source : camera.config.sources)
+    if (source.params.marking) map_.mark(f.marking_W, f.T_world_camera, source.params, f.time_s);
   f.times.mark_ms = ms_since(start);
   return f;
 }

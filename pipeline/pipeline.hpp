@@ -11,9 +11,11 @@
 //   }
 //
 // Frames: camera c takes frame k at k / rate_hz (its intrinsics' rate); step() takes the earliest pending
-// frame of any camera (ties: the lower camera index). A frame is cleared then marked into the map (STVL's
-// order): the whole decimated cloud clears (so ray-cast clearing also sees the floor behind a moved obstacle)
-// and the decimated cloud inside the passthrough band marks, as STVL applies its passthrough before marking.
+// frame of any camera (ties: the lower camera index), so cameras at different rates interleave in simulated
+// time. A frame is cleared then marked into the map (STVL's order): the camera's clearing sources clear with
+// the whole decimated cloud (so ray-cast clearing also sees the floor behind a moved obstacle), then its
+// marking sources mark the decimated cloud inside the passthrough band, as STVL applies its passthrough
+// before marking.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -32,24 +34,35 @@
 
 namespace stvl::pipeline {
 
-// One depth camera on the robot, and the STVL observation source it feeds.
+// One STVL observation source (a sensor topic in STVL) fed by a camera's frames. A marking source marks the
+// frame's decimated cloud with its own range and height band; a clearing source clears with its own frustum
+// (or rays). A marking source and a clearing source on one camera, each with its own ranges, is STVL's
+// common setup; one source that does both is this bench's default.
+struct SourceConfig {
+  std::string name = "camera";  // the source's name in STVL's observation_sources
+  mapping::ObservationSource params;
+};
+
+// One depth camera on the robot, and the STVL observation sources it feeds.
 struct CameraConfig {
-  std::string name = "camera";
+  std::string name = "camera";  // its frames are <name>_link, <name>_depth_optical_frame; its topics /<name>/...
+  sim::CameraMount mount;       // camera_link on base_link
   sensors::CameraIntrinsics intrinsics = sensors::CameraIntrinsics::d435_848x480();  // also its rate and range
   sensors::GlBackend gl_backend = sensors::GlBackend::kAuto;
   sensors::DepthNoiseConfig noise;
-  mapping::ObservationSource source;
+  std::vector<SourceConfig> sources{SourceConfig{}};  // at least one
 };
 
 struct PipelineConfig {
   std::string world_path;  // MJCF file holding the robot
-  std::uint64_t seed = 1;  // depth noise (per camera and frame); the filter's and odometry's seeds are their own
-  sim::SimulatorConfig sim;  // the robot's controller, odometry and camera mount
+  // Depth noise (per camera and frame; camera 0 uses it as it is, camera c > 0 a seed derived from it and c);
+  // the filter's and odometry's seeds are their own.
+  std::uint64_t seed = 1;
+  sim::SimulatorConfig sim;  // the robot's controller and odometry (its camera_mount moves the model's camera site only)
   sim::Pose2D start_pose;
   sim::Path path;
   std::vector<sim::MocapTrack> moving_bodies;
-  // One for now: several cameras on one robot need a mount each (not yet in sim::SimulatorConfig).
-  std::vector<CameraConfig> cameras{CameraConfig{}};
+  std::vector<CameraConfig> cameras{CameraConfig{}};  // names unique; mounts outside the robot and above the floor
   filter::FilterConfig filter;
   mapping::StvlConfig map;
 };
@@ -106,10 +119,10 @@ class Pipeline {
   const mapping::VoxelMap& map() const { return map_; }
   // The map's costmap at its voxel size over the occupied extent (1 x 1 when empty), counting voxels inside
   // the marking height band: from the lowest min_obstacle_height_m to the highest max_obstacle_height_m of
-  // the cameras' sources.
+  // the marking sources.
   mapping::Costmap2D costmap() const;
   mapping::CostmapOptions costmap_options() const;
-  const char* gl_backend() const;     // "egl" or "osmesa"
+  const char* gl_backend() const;     // "egl" or "osmesa" (the first camera's)
   const char* filter_device() const;  // "cpu" or "cuda"
 
  private:
@@ -130,5 +143,18 @@ std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& config);
 // The decimation the pipeline runs on the whole cloud: the filter without its passthrough (which applies to
 // the marking cloud only).
 filter::FilterConfig decimation_config(filter::FilterConfig config);
+
+// The marking height band of the config's marking sources (lowest min, highest max), as the costmap and the
+// evaluation's truth use it; the first source's band when none marks.
+struct HeightBand {
+  double min_m = 0.0, max_m = 3.0;
+};
+HeightBand marking_band(const PipelineConfig& config);
+
+// Throws std::invalid_argument naming the camera (and source) for: no camera, an empty or repeated camera
+// name, a camera without sources, a source name used twice, bad intrinsics, noise or source parameters, a
+// mount that is not finite, below the floor, or farther than 2 m from base_link. (A mount inside the robot's
+// body needs the world: the Pipeline checks that.)
+void validate_cameras(const PipelineConfig& config);
 
 }  // namespace stvl::pipeline

@@ -155,11 +155,60 @@ void DiffDriveRobot::set_camera_mount(const CameraMount& mount) {
   world_->forward();
 }
 
-Eigen::Isometry3d DiffDriveRobot::T_base_camera_link() const {
+Eigen::Isometry3d T_base_camera_link(const CameraMount& mount) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = Eigen::Vector3d(mount_.forward_offset_m, 0.0, mount_.height_m);
-  T.linear() = Eigen::AngleAxisd(mount_.pitch_rad, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(mount.forward_offset_m, mount.lateral_offset_m, mount.height_m);
+  T.linear() = Eigen::AngleAxisd(mount.pitch_rad, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  // Kept apart so that a mount without roll and yaw gives the same bits as before they existed.
+  if (mount.roll_rad != 0.0 || mount.yaw_rad != 0.0)
+    T.linear() = (Eigen::AngleAxisd(mount.yaw_rad, Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(mount.pitch_rad, Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(mount.roll_rad, Eigen::Vector3d::UnitX()))
+                      .toRotationMatrix();
   return T;
+}
+
+Eigen::Isometry3d DiffDriveRobot::T_base_camera_link() const { return sim::T_base_camera_link(mount_); }
+
+std::string DiffDriveRobot::geom_containing(const Eigen::Vector3d& p_base) const {
+  const mjModel* m = world_->model();
+  for (int g = 0; g < m->ngeom; ++g) {
+    // The geom's pose in base_link at rest: up its body chain to base_link.
+    int body = m->geom_bodyid[g];
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(m->geom_pos[3 * g], m->geom_pos[3 * g + 1], m->geom_pos[3 * g + 2]);
+    T.linear() = to_eigen_quat(m->geom_quat + 4 * g).normalized().toRotationMatrix();
+    while (body != base_body_ && body > 0) {
+      Eigen::Isometry3d T_parent_body = Eigen::Isometry3d::Identity();
+      T_parent_body.translation() =
+          Eigen::Vector3d(m->body_pos[3 * body], m->body_pos[3 * body + 1], m->body_pos[3 * body + 2]);
+      T_parent_body.linear() = to_eigen_quat(m->body_quat + 4 * body).normalized().toRotationMatrix();
+      T = T_parent_body * T;
+      body = m->body_parentid[body];
+    }
+    if (body != base_body_) continue;
+    const Eigen::Vector3d p = T.inverse() * p_base;
+    const mjtNum* size = m->geom_size + 3 * g;
+    bool inside = false;
+    switch (m->geom_type[g]) {
+      case mjGEOM_BOX:
+        inside = std::abs(p.x()) <= size[0] && std::abs(p.y()) <= size[1] && std::abs(p.z()) <= size[2];
+        break;
+      case mjGEOM_SPHERE:
+        inside = p.norm() <= size[0];
+        break;
+      case mjGEOM_CYLINDER:
+        inside = p.head<2>().norm() <= size[0] && std::abs(p.z()) <= size[1];
+        break;
+      default:
+        inside = p.norm() <= m->geom_rbound[g];
+    }
+    if (inside) {
+      const char* name = mj_id2name(m, mjOBJ_GEOM, g);
+      return name ? name : "geom " + std::to_string(g);
+    }
+  }
+  return {};
 }
 
 Eigen::Isometry3d DiffDriveRobot::T_camera_link_optical() {

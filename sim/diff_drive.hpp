@@ -24,13 +24,20 @@ struct DiffDriveConfig {
   double max_angular_accel_radps2 = 3.0;
 };
 
-// camera_link pose on base_link: `height_m` above the floor (base_link's origin is on the floor),
-// `forward_offset_m` along base x, pitched by `pitch_rad` about base y (positive looks down).
+// camera_link pose on base_link (x forward, y left, z up; its origin is on the floor): `forward_offset_m`
+// along x, `lateral_offset_m` along y, `height_m` above the floor; turned as URDF's rpy, R = Rz(yaw) Ry(pitch)
+// Rx(roll): positive pitch looks down, positive yaw looks left.
 struct CameraMount {
   double height_m = 0.5;
   double pitch_rad = 0.0;
   double forward_offset_m = 0.1;
+  double lateral_offset_m = 0.0;
+  double roll_rad = 0.0;
+  double yaw_rad = 0.0;
 };
+
+// camera_link on base_link for `mount`.
+Eigen::Isometry3d T_base_camera_link(const CameraMount& mount);
 
 class DiffDriveRobot {
  public:
@@ -66,6 +73,9 @@ class DiffDriveRobot {
   static Eigen::Isometry3d T_camera_link_optical();
   // World pose of the optical frame site.
   Eigen::Isometry3d T_world_camera() const;
+  // Name of the robot geom (base_link's and its wheels', at rest) that holds p_base, a point in base_link;
+  // empty when none does. Boxes, spheres and cylinders exactly, other shapes by their bounding spheres.
+  std::string geom_containing(const Eigen::Vector3d& p_base) const;
 
   int base_body_id() const { return base_body_; }
 

@@ -54,6 +54,10 @@ class Simulator {
   Eigen::Isometry3d T_odom_base() const { return odometry_.T_odom_base(); }
   Eigen::Isometry3d T_map_odom() const { return T_world_base() * T_odom_base().inverse(); }
   Eigen::Isometry3d T_world_camera() const { return robot_.T_world_camera(); }
+  // The optical frame of a camera on `mount` (the site above follows config.camera_mount only).
+  Eigen::Isometry3d T_world_camera(const CameraMount& mount) const {
+    return T_world_base() * T_base_camera_link(mount) * DiffDriveRobot::T_camera_link_optical();
+  }
 
  private:
   World world_;

@@ -110,6 +110,18 @@ RgbImage top_down_image(const RunResult& r) {
   return image;
 }
 
+nlohmann::json camera_list_json(const Scenario& s) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& c : s.pipeline.cameras) {
+    nlohmann::json sources = nlohmann::json::array();
+    for (const auto& source : c.sources)
+      sources.push_back({{"name", source.name}, {"marking", source.params.marking}, {"clearing", source.params.clearing}});
+    list.push_back({{"name", c.name}, {"width", c.intrinsics.width}, {"height", c.intrinsics.height},
+                    {"rate_hz", c.intrinsics.rate_hz}, {"noise", c.noise.enabled}, {"sources", sources}});
+  }
+  return list;
+}
+
 }  // namespace
 
 nlohmann::json metrics_json(const RunResult& r) {
@@ -124,6 +136,24 @@ nlohmann::json metrics_json(const RunResult& r) {
                          {"best_recall", o.best_recall}});
   nlohmann::json snapshots = nlohmann::json::array();
   for (const auto& s : e.snapshots) snapshots.push_back(snapshot_json(s));
+  // Recall per camera: the total's definition over the truth voxels each camera saw.
+  nlohmann::json cameras = nlohmann::json::array();
+  nlohmann::json camera_timing = nlohmann::json::object();
+  for (std::size_t c = 0; c < r.scenario.pipeline.cameras.size(); ++c) {
+    const std::string& name = r.scenario.pipeline.cameras[c].name;
+    const bool final_known = c < e.final.cameras.size();
+    cameras.push_back({{"name", name},
+                       {"mean_recall", c < e.mean.camera_recall.size() ? e.mean.camera_recall[c] : 0.0},
+                       {"final_recall", final_known ? e.final.cameras[c].recall : 0.0},
+                       {"final_observed_truth_voxels", final_known ? e.final.cameras[c].observed_truth_voxels : 0}});
+    if (c < r.camera_times.size()) {
+      const auto& ct = r.camera_times[c];
+      camera_timing[name] = {{"frames", ct.render.size()},   {"render", stage_stats(ct.render)},
+                             {"noise", stage_stats(ct.noise)}, {"cloud", stage_stats(ct.cloud)},
+                             {"filter", stage_stats(ct.filter)}, {"clear", stage_stats(ct.clear)},
+                             {"mark", stage_stats(ct.mark)}};
+    }
+  }
   nlohmann::json checks = nlohmann::json::array();
   for (const auto& c : r.checks) checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}});
   const auto& t = r.times;
@@ -139,6 +169,7 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"filter", {{"type", filter::to_string(r.scenario.pipeline.filter.type)}, {"device", r.filter_device}}},
       {"gl_backend", r.gl_backend},
       {"noise", r.scenario.camera().noise.enabled},
+      {"cameras", camera_list_json(r.scenario)},
       {"evaluation",
        {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
         {"recall_window_s", r.scenario.evaluation.recall_window_s},
@@ -159,7 +190,8 @@ nlohmann::json metrics_json(const RunResult& r) {
           {"not_cleared", e.clearing.not_cleared},
           {"max_latency_s", e.clearing.max_latency_s},
           {"mean_latency_s", e.clearing.mean_latency_s}}},
-        {"observed_off_truth_voxels", e.observed_off_truth_voxels}}},
+        {"observed_off_truth_voxels", e.observed_off_truth_voxels},
+        {"cameras", cameras}}},
       {"checks", checks},
       {"points",
        {{"raw_mean", r.points_raw.empty() ? 0.0 : std::accumulate(r.points_raw.begin(), r.points_raw.end(), 0.0) / r.points_raw.size()},
@@ -175,7 +207,8 @@ nlohmann::json metrics_json(const RunResult& r) {
         {"evaluation", stage_stats(t.evaluation)},
         {"bag", stage_stats(t.bag)},
         {"frame", stage_stats(t.frame)},
-        {"evaluation_phases", phases_json(r.evaluation_phases)}}},
+        {"evaluation_phases", phases_json(r.evaluation_phases)},
+        {"per_camera", camera_timing}}},
       {"wall_time_s", r.wall_time_s},
       {"real_time_factor", r.real_time_factor},
   };
@@ -296,13 +329,20 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     for (const auto& f : std::filesystem::directory_iterator(out / "frames"))
       if (f.path().filename().string().find("_color.png") != std::string::npos) frames.push_back(f.path().filename().string());
   std::sort(frames.begin(), frames.end());
-  for (const auto& f : frames) h << "<img src=\"frames/" << f << "\" width=\"424\" alt=\"" << f << "\"> ";
+  // Several cameras: a row per camera, its files named <camera>_depth_NNNNN.
+  const auto& cams = r.scenario.pipeline.cameras;
+  for (const auto& c : cams) {
+    const std::string prefix = cams.size() > 1 ? c.name + "_depth_" : "depth_";
+    if (cams.size() > 1) h << "<h3>" << xml_escape(c.name) << "</h3>\n";
+    for (const auto& f : frames)
+      if (f.rfind(prefix, 0) == 0) h << "<img src=\"frames/" << f << "\" width=\"424\" alt=\"" << f << "\"> ";
+  }
   h << "\n<h2>Timing</h2><img src=\"timing.png\" alt=\"per-frame timing\"><p>Per-frame wall time in ms: render "
        "(orange), filter (blue), clear (red), mark (green), whole frame (black).</p><table><tr><th>stage</th>"
        "<th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
   const nlohmann::json metrics = metrics_json(r);
   for (const auto& [stage, stats] : metrics["timing_ms"].items()) {
-    if (stage == "evaluation_phases") continue;
+    if (stage == "evaluation_phases" || stage == "per_camera") continue;
     h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()
       << "</td><td>" << stats["p95"].get<double>() << "</td></tr>\n";
   }

@@ -46,10 +46,11 @@ class Progress {
 };
 
 // Saves `count` depth frames evenly spread over the run (16-bit mm and colorized PNG) for the report.
+// With several cameras the files are named <camera>_depth_NNNNN.
 class FrameSampler {
  public:
-  FrameSampler(const std::filesystem::path& frames_dir, int count, double duration_s, double rate_hz)
-      : dir_(frames_dir) {
+  FrameSampler(const std::filesystem::path& frames_dir, int count, double duration_s, double rate_hz, std::string prefix)
+      : dir_(frames_dir), prefix_(std::move(prefix)) {
     const std::size_t expected = static_cast<std::size_t>(duration_s / (1.0 / rate_hz)) + 1;
     every_ = count > 0 && !frames_dir.empty() ? std::max<std::size_t>(1, expected / (count + 1)) : 0;
   }
@@ -57,12 +58,14 @@ class FrameSampler {
     if (!every_ || f.frame_index == 0 || f.frame_index % every_ != 0) return;
     char name[64];
     std::snprintf(name, sizeof name, "depth_%05zu", f.frame_index);
-    sensors::write_depth_png_mm(f.depth, (dir_ / (std::string(name) + ".png")).string());
-    sensors::write_depth_png_colorized(f.depth, (dir_ / (std::string(name) + "_color.png")).string(), min_range_m, 6.0);
+    const std::string base = prefix_ + name;
+    sensors::write_depth_png_mm(f.depth, (dir_ / (base + ".png")).string());
+    sensors::write_depth_png_colorized(f.depth, (dir_ / (base + "_color.png")).string(), min_range_m, 6.0);
   }
 
  private:
   std::filesystem::path dir_;
+  std::string prefix_;
   std::size_t every_ = 0;
 };
 
@@ -80,7 +83,6 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   const std::filesystem::path out = options.out_dir;
   pipeline::Pipeline pipeline(s.pipeline);
   evaluation::Evaluator evaluator(pipeline.simulator().world(), evaluation_config(s));
-  const auto& camera = s.camera();
   if (!options.out_dir.empty()) ensure_writable_directory(out / "frames");
   r.gl_backend = pipeline.gl_backend();
   r.filter_device = pipeline.filter_device();
@@ -88,8 +90,12 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   if (!options.bag_path.empty())
     bag = std::make_unique<BagRecorder>(options.bag_path, parse_bag_compression(options.bag_compression), pipeline,
                                         evaluator.truth().voxel_centers());
-  const FrameSampler sampler(options.out_dir.empty() ? std::filesystem::path() : out / "frames",
-                             s.outputs.sample_depth_frames, s.duration_s, camera.intrinsics.rate_hz);
+  std::vector<FrameSampler> samplers;
+  const bool several = s.pipeline.cameras.size() > 1;
+  for (const auto& c : s.pipeline.cameras)
+    samplers.emplace_back(options.out_dir.empty() ? std::filesystem::path() : out / "frames",
+                          s.outputs.sample_depth_frames, s.duration_s, c.intrinsics.rate_hz, several ? c.name + "_" : "");
+  r.camera_times.resize(s.pipeline.cameras.size());
 
   double next_evaluation_s = s.evaluation.evaluate_every_s;
   double next_publish_s = 0.0, last_publish_s = -1.0;
@@ -99,7 +105,10 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   double evaluation_ms = 0.0;
   const auto view_of = [&](const pipeline::FrameResult& f) {
     const auto& c = s.pipeline.cameras[f.camera_index];
-    return evaluation::CameraView{&f.clean_depth, c.intrinsics, f.T_world_camera, c.source.obstacle_range_m};
+    double range_m = 0.0;  // the farthest any of its marking sources marks
+    for (const auto& source : c.sources)
+      if (source.params.marking) range_m = std::max(range_m, source.params.obstacle_range_m);
+    return evaluation::CameraView{&f.clean_depth, c.intrinsics, f.T_world_camera, range_m, f.camera_index};
   };
   // The evaluation's look at the map before this frame's update (clearing latency).
   const auto before_map_update = [&](const pipeline::FrameResult& f, const mapping::VoxelMap& map) {
@@ -126,6 +135,13 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     r.times.filter.push_back(f.times.filter_ms);
     r.times.clear.push_back(f.times.clear_ms);
     r.times.mark.push_back(f.times.mark_ms);
+    StageTimes& own = r.camera_times[f.camera_index];
+    own.render.push_back(f.times.render_ms);
+    own.noise.push_back(f.times.noise_ms);
+    own.cloud.push_back(f.times.cloud_ms);
+    own.filter.push_back(f.times.filter_ms);
+    own.clear.push_back(f.times.clear_ms);
+    own.mark.push_back(f.times.mark_ms);
 
     auto start = Clock::now();
     evaluator.after_update(f.time_s, pipeline.map());
@@ -136,7 +152,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     }
     r.times.evaluation.push_back(evaluation_ms + ms_since(start));
 
-    sampler.offer(f, camera.intrinsics.min_range_m);
+    samplers[f.camera_index].offer(f, s.pipeline.cameras[f.camera_index].intrinsics.min_range_m);
 
     start = Clock::now();
     if (bag) {

@@ -29,6 +29,7 @@ struct RunResult {
   evaluation::EvaluationSummary evaluation;
   evaluation::TopDown top_down;
   StageTimes times;
+  std::vector<StageTimes> camera_times;  // per camera index: its frames' render .. mark
   evaluation::PhaseTimes evaluation_phases;  // totals over the run
   std::vector<CheckResult> checks;
   std::vector<Eigen::Vector2d> path_W;  // the robot's true position at each frame

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <memory>
 #include <sstream>
 
 #include "tools/yaml_reader.hpp"
@@ -66,12 +67,21 @@ void get_optional(YamlMap& map, const std::string& key, std::optional<T>& value)
   value = v;
 }
 
+// map.observation as read: every camera's source starts from it.
+struct ObservationDefaults {
+  mapping::ObservationSource source;
+  std::optional<double> hfov_rad, vfov_rad;
+  std::shared_ptr<YamlMap> yaml;  // null when the file has no map.observation
+};
+
 Eigen::Vector2d to_point2(const std::vector<double>& xy, YamlMap& map, const std::string& key) {
   if (xy.size() != 2) map.fail(map.raw(key), key, "expected [x, y] points");
   return {xy[0], xy[1]};
 }
 
-void read_robot(YamlMap robot, Scenario& s) {
+void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides);
+
+void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides) {
   std::vector<double> start{0.0, 0.0, 0.0};
   robot.get("start", start);
   if (start.size() != 3) robot.fail(robot.raw("start"), "start", "expected [x_m, y_m, yaw_deg]");
@@ -94,7 +104,9 @@ void read_robot(YamlMap robot, Scenario& s) {
     mount.get("forward_offset_m", m.forward_offset_m);
     m.pitch_rad = pitch_deg * kDegToRad;
     mount.finish();
+    s.camera().mount = m;  // the model's camera site follows it too (the legacy range checks come from there)
   }
+  if (robot.has("cameras")) read_cameras(robot, s, overrides);
   if (robot.has("odometry_drift")) {
     auto drift = robot.map("odometry_drift");
     auto& o = s.pipeline.sim.odometry;
@@ -144,8 +156,8 @@ void read_moving_bodies(YamlMap& root, Scenario& s) {
   }
 }
 
-void read_camera(YamlMap camera, Scenario& s) {
-  auto& c = s.camera();
+// The keys of a camera (top-level `camera` or an entry of robot.cameras) that describe the sensor itself.
+void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c) {
   std::string preset = "d435_848x480";
   camera.get("preset", preset);
   std::optional<YamlMap> in;
@@ -202,7 +214,52 @@ void read_camera(YamlMap camera, Scenario& s) {
                    {"hole_max_radius_px", &noise, "hole_max_radius_px"}},
                   [&] { n.validate(); });
   }
+}
+
+void read_camera(YamlMap camera, Scenario& s) {
+  read_camera_sensor(camera, s.camera());
   camera.finish();
+}
+
+void read_mount(YamlMap mount, sim::CameraMount& m) {
+  std::vector<double> xyz{m.forward_offset_m, m.lateral_offset_m, m.height_m};
+  double roll_deg = 0, pitch_deg = 0, yaw_deg = 0;
+  mount.require("xyz_m", xyz);
+  if (xyz.size() != 3) mount.fail(mount.raw("xyz_m"), "xyz_m", "expected [x, y, z] in metres on base_link");
+  mount.get("roll_deg", roll_deg);
+  mount.get("pitch_deg", pitch_deg);
+  mount.get("yaw_deg", yaw_deg);
+  mount.finish();
+  for (const char* key : {"xyz_m", "roll_deg", "pitch_deg", "yaw_deg"}) {
+    const bool finite = std::string(key) == "xyz_m" ? std::isfinite(xyz[0] + xyz[1] + xyz[2])
+                                                    : std::isfinite(roll_deg + pitch_deg + yaw_deg);
+    require_range(mount, key, "non-finite values", finite, "must be finite");
+  }
+  require_range(mount, "xyz_m", xyz[2], xyz[2] > 0, "z must be > 0 m (a camera below the floor sees nothing)");
+  m = {xyz[2], pitch_deg * kDegToRad, xyz[0], xyz[1], roll_deg * kDegToRad, yaw_deg * kDegToRad};
+}
+
+// robot.cameras: each entry a camera with its name and mount; its observation overrides (applied once the map's
+// observation defaults are known) stay in `overrides`.
+void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides) {
+  auto entries = robot.list_of_maps("cameras");
+  if (entries.empty()) robot.fail(robot.raw("cameras"), "cameras", "expected at least one camera");
+  if (robot.has("camera_mount"))
+    robot.fail(robot.raw("camera_mount"), "camera_mount", "give each camera its mount in robot.cameras instead");
+  s.pipeline.cameras.clear();
+  for (auto& entry : entries) {
+    pipeline::CameraConfig c;
+    entry.require("name", c.name);
+    require_range(entry, "name", "an empty name", !c.name.empty(), "must not be empty");
+    for (const auto& other : s.pipeline.cameras)
+      if (other.name == c.name) entry.fail(entry.raw("name"), "name", "two cameras are named '" + c.name + "'");
+    read_mount(entry.map("mount"), c.mount);
+    read_camera_sensor(entry, c);
+    c.sources.front().name = c.name;
+    overrides.push_back(entry.has("observation") ? std::optional<YamlMap>(entry.map("observation")) : std::nullopt);
+    entry.finish();
+    s.pipeline.cameras.push_back(std::move(c));
+  }
 }
 
 void read_filter(YamlMap filter, Scenario& s) {
@@ -255,9 +312,9 @@ void read_filter(YamlMap filter, Scenario& s) {
   filter.finish();
 }
 
-void read_observation(YamlMap o, Scenario& s) {
-  auto& src = s.camera().source;
-  std::optional<double> hfov, vfov;
+// map.observation (the defaults of every camera's source) or a camera's own observation overrides, read over
+// `src`; the FOV angles stay unset (the camera's) unless given.
+void read_observation(YamlMap& o, mapping::ObservationSource& src, std::optional<double>& hfov, std::optional<double>& vfov) {
   o.get("marking", src.marking);
   o.get("clearing", src.clearing);
   o.get("obstacle_range", src.obstacle_range_m);
@@ -269,16 +326,33 @@ void read_observation(YamlMap o, Scenario& s) {
   o.get("max_z", src.max_z_m);
   o.get("decay_acceleration", src.decay_acceleration_per_s3);
   o.finish();
-  src.horizontal_fov_rad = hfov.value_or(s.camera().intrinsics.hfov_rad());
-  src.vertical_fov_rad = vfov.value_or(s.camera().intrinsics.vfov_rad());
+}
+
+// A camera's source: the map's observation defaults, the camera's FOV unless given, then its own overrides.
+void apply_observation(pipeline::CameraConfig& camera, const ObservationDefaults& defaults, std::optional<YamlMap> own) {
+  auto& src = camera.sources.front().params;
+  src = defaults.source;
+  std::optional<double> hfov = defaults.hfov_rad, vfov = defaults.vfov_rad;
+  if (own) read_observation(*own, src, hfov, vfov);
+  src.horizontal_fov_rad = hfov.value_or(camera.intrinsics.hfov_rad());
+  src.vertical_fov_rad = vfov.value_or(camera.intrinsics.vfov_rad());
+  YamlMap* o = own ? &*own : defaults.yaml.get();
+  if (!o) {
+    try {
+      src.validate();
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("camera '" + camera.name + "': " + e.what());
+    }
+    return;
+  }
   const char* keys[] = {"obstacle_range", "min_obstacle_height", "max_obstacle_height", "horizontal_fov_angle",
                         "vertical_fov_angle", "min_z", "max_z", "decay_acceleration"};
-  validate_keys({{keys[0], &o, keys[0]}, {keys[1], &o, keys[1]}, {keys[2], &o, keys[2]}, {keys[3], &o, keys[3]},
-                 {keys[4], &o, keys[4]}, {keys[5], &o, keys[5]}, {keys[6], &o, keys[6]}, {keys[7], &o, keys[7]}},
+  validate_keys({{keys[0], o, keys[0]}, {keys[1], o, keys[1]}, {keys[2], o, keys[2]}, {keys[3], o, keys[3]},
+                 {keys[4], o, keys[4]}, {keys[5], o, keys[5]}, {keys[6], o, keys[6]}, {keys[7], o, keys[7]}},
                 [&] { src.validate(); });
 }
 
-void read_map(YamlMap map, Scenario& s) {
+void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation) {
   auto& m = s.pipeline.map;
   map.get("voxel_size", m.voxel_size_m);
   map.get("voxel_decay", m.voxel_decay_s);
@@ -301,7 +375,10 @@ void read_map(YamlMap map, Scenario& s) {
   validate_keys({{"voxel_size", &map, "voxel_size"}, {"voxel_decay", &map, "voxel_decay"},
                  {"decay_model", &map, "decay_model"}, {"mark_threshold", &map, "mark_threshold"}},
                 [&] { m.validate(); });
-  if (map.has("observation")) read_observation(map.map("observation"), s);
+  if (map.has("observation")) {
+    observation.yaml = std::make_shared<YamlMap>(map.map("observation"));
+    read_observation(*observation.yaml, observation.source, observation.hfov_rad, observation.vfov_rad);
+  }
   map.finish();
 }
 
@@ -372,23 +449,29 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   root.get("duration_s", s.duration_s);
   require_range(root, "duration_s", s.duration_s, s.duration_s > 0 && s.duration_s <= 3600, "must lie in (0, 3600] s");
   root.get("stop_at_path_end", s.stop_at_path_end);
-  read_robot(root.map("robot"), s);
+  std::vector<std::optional<YamlMap>> camera_overrides{std::nullopt};
+  read_robot(root.map("robot"), s, camera_overrides);
   read_moving_bodies(root, s);
-  if (root.has("camera")) read_camera(root.map("camera"), s);
+  if (root.has("camera")) {
+    if (camera_overrides.size() > 1 || root.map("robot").has("cameras"))
+      root.fail(root.raw("camera"), "camera", "robot.cameras gives the cameras; move these keys into its entries");
+    read_camera(root.map("camera"), s);
+  }
   if (root.has("filter")) read_filter(root.map("filter"), s);
-  s.camera().source.clearing = true;
-  s.camera().source.horizontal_fov_rad = s.camera().intrinsics.hfov_rad();
-  s.camera().source.vertical_fov_rad = s.camera().intrinsics.vfov_rad();
-  if (root.has("map")) read_map(root.map("map"), s);
+  ObservationDefaults observation;
+  observation.source.clearing = true;
+  if (root.has("map")) read_map(root.map("map"), s, observation);
+  for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i)
+    apply_observation(s.pipeline.cameras[i], observation, camera_overrides[i]);
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
   root.finish();
   s.pipeline.filter.csnb.seed = s.pipeline.seed;
   s.pipeline.sim.odometry.seed = s.pipeline.seed;
   try {
-    s.camera().source.validate();
+    pipeline::validate_cameras(s.pipeline);
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(s.file + ": map.observation: " + e.what());
+    throw std::invalid_argument(s.file + ": " + e.what());
   }
   return s;
 }
@@ -437,16 +520,22 @@ void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
       throw std::invalid_argument("--duration: must lie in (0, 3600] s, got " + std::to_string(*o.duration_s));
     r.duration_s = *o.duration_s;
   }
-  if (o.gl_backend) override_option("--gl", [&] { r.camera().gl_backend = sensors::parse_gl_backend(*o.gl_backend); });
-  if (o.noise) r.camera().noise.enabled = *o.noise;
+  if (o.gl_backend)
+    override_option("--gl", [&] {
+      for (auto& c : r.pipeline.cameras) c.gl_backend = sensors::parse_gl_backend(*o.gl_backend);
+    });
+  if (o.noise)
+    for (auto& c : r.pipeline.cameras) c.noise.enabled = *o.noise;
   s = std::move(r);
 }
 
 evaluation::EvaluationConfig evaluation_config(const Scenario& s) {
   evaluation::EvaluationConfig e = s.evaluation;
   e.voxel_size_m = s.pipeline.map.voxel_size_m;
-  e.min_obstacle_height_m = s.camera().source.min_obstacle_height_m;
-  e.max_obstacle_height_m = s.camera().source.max_obstacle_height_m;
+  const pipeline::HeightBand band = pipeline::marking_band(s.pipeline);
+  e.min_obstacle_height_m = band.min_m;
+  e.max_obstacle_height_m = band.max_m;
+  e.cameras = s.pipeline.cameras.size();
   return e;
 }
 

@@ -13,7 +13,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-// wall: x 2.5..2.7, y -2..2, z 0..1.5.
+// wall: x 2.5..2.7, y -2..2, z 0..1.5; back_wall: x -2.7..-2.5 (behind the robot).
 constexpr const char* kWorld = R"(
 <mujoco>
   <compiler autolimits="true"/>
@@ -22,6 +22,7 @@ constexpr const char* kWorld = R"(
   <worldbody>
     <geom name="floor" type="plane" size="6 6 0.1"/>
     <body name="wall" pos="2.6 0 0.75"><geom type="box" size="0.1 2 0.75"/></body>
+    <body name="back_wall" pos="-2.6 0 0.75"><geom type="box" size="0.1 2 0.75"/></body>
   </worldbody>
 </mujoco>)";
 
@@ -45,12 +46,12 @@ class PipelineTest : public ::testing::Test {
     CameraConfig& camera = c.cameras.front();
     camera.intrinsics = sensors::CameraIntrinsics::from_hfov(160, 120, 1.2, 0.2, 6.0, 10.0);
     camera.noise.enabled = false;
-    camera.source.clearing = true;
-    camera.source.obstacle_range_m = 4.0;
-    camera.source.min_obstacle_height_m = 0.1;
-    camera.source.max_obstacle_height_m = 1.2;
-    camera.source.horizontal_fov_rad = camera.intrinsics.hfov_rad();
-    camera.source.vertical_fov_rad = camera.intrinsics.vfov_rad();
+    camera.sources.front().params.clearing = true;
+    camera.sources.front().params.obstacle_range_m = 4.0;
+    camera.sources.front().params.min_obstacle_height_m = 0.1;
+    camera.sources.front().params.max_obstacle_height_m = 1.2;
+    camera.sources.front().params.horizontal_fov_rad = camera.intrinsics.hfov_rad();
+    camera.sources.front().params.vertical_fov_rad = camera.intrinsics.vfov_rad();
     c.sim.camera_mount.height_m = 0.5;
     c.filter.type = filter::FilterType::kVoxel;
     c.filter.device = filter::Device::kCpu;
@@ -129,14 +130,31 @@ TEST_F(PipelineTest, BadConfigsAreRejectedBeforeAnyFrame) {
   PipelineConfig none = config();
   none.cameras.clear();
   EXPECT_THROW(Pipeline{none}, std::invalid_argument);
-  PipelineConfig two = config();
-  two.cameras.push_back(two.cameras.front());
-  try {
-    Pipeline pipeline(two);
-    ADD_FAILURE() << "two cameras accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_THAT(e.what(), HasSubstr("2 cameras"));
-  }
+  const auto error_of = [](const PipelineConfig& c) -> std::string {
+    try {
+      Pipeline pipeline(c);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  PipelineConfig twins = config();
+  twins.cameras.push_back(twins.cameras.front());
+  EXPECT_THAT(error_of(twins), HasSubstr("camera 'camera': two cameras have this name"));
+  twins.cameras.back().name = "other";
+  EXPECT_THAT(error_of(twins), HasSubstr("observation source 'camera': the name is used twice"));
+  PipelineConfig inside = config();
+  inside.cameras.front().mount = {0.15, 0.0, 0.0};  // in the base's shell (cylinder r 0.225, z 0.04..0.24)
+  EXPECT_THAT(error_of(inside), HasSubstr("camera 'camera': mounted inside the robot's body (geom 'base_shell')"));
+  PipelineConfig below = config();
+  below.cameras.front().mount.height_m = -0.05;
+  EXPECT_THAT(error_of(below), HasSubstr("camera 'camera': mounted below the floor"));
+  PipelineConfig deaf = config();
+  deaf.cameras.front().sources.clear();
+  EXPECT_THAT(error_of(deaf), HasSubstr("camera 'camera': feeds no observation source"));
+  PipelineConfig bad_source = config();
+  bad_source.cameras.front().sources.front().params.max_z_m = -1;
+  EXPECT_THAT(error_of(bad_source), HasSubstr("camera 'camera', source 'camera': "));
   PipelineConfig far = config();
   far.path.waypoints_W.back() = {1e308, 0.0};
   try {
@@ -157,6 +175,89 @@ TEST(Decimation, ThePassthroughAppliesToMarkingOnly) {
   EXPECT_FALSE(d.passthrough_enabled);
   c.type = filter::FilterType::kCsnb;
   EXPECT_EQ(decimation_config(c).type, filter::FilterType::kCsnb);
+}
+
+CameraConfig looking_back(CameraConfig camera) {
+  camera.name = "back";
+  camera.sources.front().name = "back";
+  camera.mount.forward_offset_m = -0.1;
+  camera.mount.yaw_rad = M_PI;
+  return camera;
+}
+
+TEST_F(PipelineTest, CamerasAtTheirOwnRatesInterleaveInSimulatedTime) {
+  PipelineConfig c = config();
+  c.cameras.push_back(looking_back(c.cameras.front()));
+  c.cameras.back().intrinsics.rate_hz = 5.0;
+  Pipeline pipeline(c);
+  // Ties go to the lower index: front 0, back 0, front 0.1, front 0.2, back 0.2, front 0.3.
+  const std::vector<std::pair<std::string, double>> expected{{"camera", 0.0}, {"back", 0.0}, {"camera", 0.1},
+                                                             {"camera", 0.2}, {"back", 0.2}, {"camera", 0.3}};
+  for (const auto& [name, time_s] : expected) {
+    const FrameResult& f = pipeline.step();
+    EXPECT_EQ(f.camera, name);
+    EXPECT_NEAR(f.time_s, time_s, 1e-12);
+    ASSERT_GT(f.point_count, 0);
+    // Each camera sees its own wall: the front one's face at x = 2.5, the back one's at x = -2.5.
+    const double face_x = name == "back" ? -2.5 : 2.5;
+    EXPECT_NEAR(name == "back" ? f.cloud_W.row(0).minCoeff() : f.cloud_W.row(0).maxCoeff(), face_x, 0.05);
+  }
+  EXPECT_EQ(pipeline.step().camera, "camera");  // 0.4 (front) before 0.4 (back)
+  int front = 0, back = 0;
+  const mapping::Costmap2D costmap = pipeline.costmap();
+  for (int iy = 0; iy < costmap.height; ++iy)
+    for (int ix = 0; ix < costmap.width; ++ix)
+      if (costmap.at(ix, iy) == mapping::kCostLethal) {
+        const double x = costmap.origin_m.x() + (ix + 0.5) * costmap.resolution_m;
+        front += std::abs(x - 2.5) < 0.06;
+        back += std::abs(x + 2.5) < 0.06;
+      }
+  EXPECT_GT(front, 10);
+  EXPECT_GT(back, 10);
+}
+
+TEST_F(PipelineTest, MarkingAndClearingSourcesOnOneCameraKeepTheirOwnParameters) {
+  Pipeline both(config());
+  PipelineConfig split = config();
+  SourceConfig mark = split.cameras.front().sources.front(), clear = mark;
+  mark.name = "mark", mark.params.clearing = false;
+  clear.name = "clear", clear.params.marking = false, clear.params.obstacle_range_m = 1.0;
+  split.cameras.front().sources = {mark, clear};
+  Pipeline separate(split);
+  PipelineConfig clear_only = split;
+  clear_only.cameras.front().sources = {clear};
+  Pipeline no_marks(clear_only);
+  PipelineConfig short_range = split;
+  short_range.cameras.front().sources.front().params.obstacle_range_m = 2.0;  // the wall is 2.4 m away
+  Pipeline too_short(short_range);
+  for (int k = 0; k < 3; ++k) both.step(), separate.step(), no_marks.step(), too_short.step();
+  // A static scene and no decay acceleration: the marking source alone decides the map.
+  ASSERT_GT(both.map().size(), 100u);
+  EXPECT_EQ(separate.map().voxel_keys(), both.map().voxel_keys());
+  EXPECT_EQ(no_marks.map().size(), 0u);
+  EXPECT_EQ(too_short.map().size(), 0u);
+}
+
+TEST_F(PipelineTest, EachCameraHasItsOwnNoise) {
+  PipelineConfig c = config();
+  c.cameras.front().noise.enabled = true;
+  CameraConfig twin = c.cameras.front();
+  twin.name = twin.sources.front().name = "twin";
+  c.cameras.push_back(twin);
+  Pipeline pipeline(c);
+  const FrameResult& a = pipeline.step();
+  const std::vector<float> clean_a(a.clean_depth.depth_m.begin(), a.clean_depth.depth_m.end());
+  const std::vector<float> noisy_a(a.depth.depth_m.begin(), a.depth.depth_m.end());
+  const FrameResult& b = pipeline.step();
+  EXPECT_EQ(b.camera, "twin");
+  EXPECT_EQ(std::vector<float>(b.clean_depth.depth_m.begin(), b.clean_depth.depth_m.end()), clean_a);  // same view
+  EXPECT_NE(std::vector<float>(b.depth.depth_m.begin(), b.depth.depth_m.end()), noisy_a);              // other noise
+  // Camera 0's noise is the one-camera run's.
+  PipelineConfig one = config();
+  one.cameras.front().noise.enabled = true;
+  Pipeline alone(one);
+  const FrameResult& solo = alone.step();
+  EXPECT_EQ(std::vector<float>(solo.depth.depth_m.begin(), solo.depth.depth_m.end()), noisy_a);
 }
 
 }  // namespace

@@ -38,7 +38,7 @@ TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
     EXPECT_TRUE(c.f1_3d_min || c.iou_3d_min || c.costmap_precision_min || c.costmap_recall_min ||
                 c.all_obstacles_detected || c.phantom_obstacles_max || c.clearing_latency_max_s || c.accuracy_p90_max_m)
         << "a shipped scenario checks nothing";
-    EXPECT_DOUBLE_EQ(s.camera().source.horizontal_fov_rad, s.camera().intrinsics.hfov_rad());
+    EXPECT_DOUBLE_EQ(s.camera().sources.front().params.horizontal_fov_rad, s.camera().intrinsics.hfov_rad());
   }
   EXPECT_GE(count, 7);
 }
@@ -70,8 +70,8 @@ TEST(ScenarioParse, MinimalScenarioTakesTheDefaults) {
   EXPECT_EQ(s.pipeline.filter.device, filter::Device::kAuto);
   EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_size_m, defaults.pipeline.map.voxel_size_m);
   EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_decay_s, 15.0);
-  EXPECT_TRUE(s.camera().source.marking);
-  EXPECT_TRUE(s.camera().source.clearing);
+  EXPECT_TRUE(s.camera().sources.front().params.marking);
+  EXPECT_TRUE(s.camera().sources.front().params.clearing);
   EXPECT_DOUBLE_EQ(s.evaluation.recall_window_s, 2.0);
   EXPECT_FALSE(s.checks.f1_3d_min);
   EXPECT_FALSE(s.checks.all_obstacles_detected);
@@ -154,7 +154,7 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_EQ(m.clearing_walk, mapping::ClearingWalk::kFullWalk);
   EXPECT_EQ(m.expiry_leaves_per_update, 64u);
   EXPECT_DOUBLE_EQ(s.outputs.publish_period_s, 0.5);
-  const auto& o = s.camera().source;
+  const auto& o = s.camera().sources.front().params;
   EXPECT_TRUE(o.marking);
   EXPECT_FALSE(o.clearing);
   EXPECT_DOUBLE_EQ(o.obstacle_range_m, 3.5);
@@ -193,18 +193,18 @@ TEST(ScenarioParse, PresetsSetTheIntrinsics) {
 
 TEST(ScenarioParse, ClearingFrustumFovDefaultsToTheCamera) {
   const Scenario wide = parse(kMinimal);
-  EXPECT_DOUBLE_EQ(wide.camera().source.horizontal_fov_rad, sensors::CameraIntrinsics::d435_848x480().hfov_rad());
-  EXPECT_DOUBLE_EQ(wide.camera().source.vertical_fov_rad, sensors::CameraIntrinsics::d435_848x480().vfov_rad());
+  EXPECT_DOUBLE_EQ(wide.camera().sources.front().params.horizontal_fov_rad, sensors::CameraIntrinsics::d435_848x480().hfov_rad());
+  EXPECT_DOUBLE_EQ(wide.camera().sources.front().params.vertical_fov_rad, sensors::CameraIntrinsics::d435_848x480().vfov_rad());
 
   const Scenario narrow = parse(std::string(kMinimal) + "camera: {preset: d435_640x480}\nmap:\n  observation: {max_z: 4}\n");
-  EXPECT_DOUBLE_EQ(narrow.camera().source.horizontal_fov_rad, sensors::CameraIntrinsics::d435_640x480().hfov_rad());
-  EXPECT_DOUBLE_EQ(narrow.camera().source.vertical_fov_rad, sensors::CameraIntrinsics::d435_640x480().vfov_rad());
-  EXPECT_LT(narrow.camera().source.horizontal_fov_rad, wide.camera().source.horizontal_fov_rad);
-  EXPECT_DOUBLE_EQ(narrow.camera().source.max_z_m, 4.0);
+  EXPECT_DOUBLE_EQ(narrow.camera().sources.front().params.horizontal_fov_rad, sensors::CameraIntrinsics::d435_640x480().hfov_rad());
+  EXPECT_DOUBLE_EQ(narrow.camera().sources.front().params.vertical_fov_rad, sensors::CameraIntrinsics::d435_640x480().vfov_rad());
+  EXPECT_LT(narrow.camera().sources.front().params.horizontal_fov_rad, wide.camera().sources.front().params.horizontal_fov_rad);
+  EXPECT_DOUBLE_EQ(narrow.camera().sources.front().params.max_z_m, 4.0);
 
   const Scenario custom = parse(replace_line(kFull, "    vertical_fov_angle:", "").yaml);
-  EXPECT_DOUBLE_EQ(custom.camera().source.horizontal_fov_rad, 1.2);
-  EXPECT_DOUBLE_EQ(custom.camera().source.vertical_fov_rad, custom.camera().intrinsics.vfov_rad());
+  EXPECT_DOUBLE_EQ(custom.camera().sources.front().params.horizontal_fov_rad, 1.2);
+  EXPECT_DOUBLE_EQ(custom.camera().sources.front().params.vertical_fov_rad, custom.camera().intrinsics.vfov_rad());
 }
 
 TEST(ScenarioParse, RelativeWorldPathsResolveAgainstTheScenarioFolder) {
