@@ -9,7 +9,10 @@ namespace stvl::tools {
 BagRecorder::BagRecorder(const std::string& path, BagCompression compression, const pipeline::Pipeline& pipeline,
                          const Eigen::Matrix3Xf& truth_voxel_centers_W)
     : bag_(std::make_unique<BagWriter>(path, compression)), worker_(std::make_unique<SerialWorker>()) {
-  bag_->write_tf_static(pipeline.simulator().robot().T_base_camera_link(), sim::DiffDriveRobot::T_camera_link_optical());
+  std::vector<BagWriter::CameraFrames> frames;
+  for (const auto& c : pipeline.config().cameras)
+    frames.push_back({c.name, sim::T_base_camera_link(c.mount), sim::DiffDriveRobot::T_camera_link_optical()});
+  bag_->write_tf_static(frames);
   bag_->write_points("/ground_truth/occupancy", 0.0, kMapFrame, truth_voxel_centers_W, true);
 }
 
@@ -23,19 +26,29 @@ void BagRecorder::record(const pipeline::FrameResult& f, const pipeline::Pipelin
     if (!pipeline.map().empty()) costmap = pipeline.costmap();
   }
   const auto& intrinsics = pipeline.config().cameras[f.camera_index].intrinsics;
+  const std::string& camera = f.camera;
+  // One camera: /stvl/filtered_points; several: /stvl/<camera>/filtered_points (frames of one time would
+  // otherwise share a topic and a stamp).
+  const std::string filtered_topic =
+      pipeline.config().cameras.size() > 1 ? "/stvl/" + camera + "/filtered_points" : "/stvl/filtered_points";
+  // Cameras whose frames share a time share its robot messages (tf would warn of repeated data).
+  const bool robot_messages = !last_robot_time_s_ || f.time_s > *last_robot_time_s_;
+  last_robot_time_s_ = f.time_s;
   // The lambda copies what each message needs; the frame is overwritten by the next step().
   worker_->submit([bag = bag_.get(), t = f.time_s, T_world_base = f.T_world_base, T_map_odom = f.T_map_odom,
-                   T_odom_base = f.T_odom_base, v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics,
+                   T_odom_base = f.T_odom_base, v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics, camera, filtered_topic,
                    depth = f.depth, cloud_C = Eigen::Matrix3Xf(f.cloud_C()), marking_W = f.marking_W,
-                   voxels = std::move(voxels), publish_map, costmap = std::move(costmap)] {
-    bag->write_clock(t);
-    bag->write_tf(t, T_map_odom, T_odom_base);
-    bag->write_odometry(t, T_odom_base, v, omega);
-    bag->write_ground_truth_pose(t, T_world_base);
-    bag->write_depth_image(t, intrinsics, sensors::depth_to_millimetres(depth));
-    bag->write_camera_info(t, intrinsics);
-    bag->write_points("/camera/depth/points", t, kCameraOpticalFrame, cloud_C);
-    bag->write_points("/stvl/filtered_points", t, kMapFrame, marking_W);
+                   voxels = std::move(voxels), publish_map, costmap = std::move(costmap), robot_messages] {
+    if (robot_messages) {
+      bag->write_clock(t);
+      bag->write_tf(t, T_map_odom, T_odom_base);
+      bag->write_odometry(t, T_odom_base, v, omega);
+      bag->write_ground_truth_pose(t, T_world_base);
+    }
+    bag->write_depth_image(t, intrinsics, sensors::depth_to_millimetres(depth), camera);
+    bag->write_camera_info(t, intrinsics, camera);
+    bag->write_points(camera_topic(camera, "depth/points"), t, camera_optical_frame(camera), cloud_C);
+    bag->write_points(filtered_topic, t, kMapFrame, marking_W);
     if (publish_map) bag->write_points("/stvl/voxel_grid", t, kMapFrame, voxels);
     if (costmap) bag->write_costmap(t, *costmap);
   });

@@ -1,7 +1,8 @@
 #pragma once
-// A run's ROS 1 bag: per frame the robot's and the camera's topics, every publish period (and at the end) the
+// A run's ROS 1 bag: per frame the robot's topics (once per distinct time) and the frame's camera's topics, every publish period (and at the end) the
 // STVL map and costmap. Messages are packed on the frame loop's thread and written on a thread of their own.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "pipeline/pipeline.hpp"
@@ -30,6 +31,7 @@ class BagRecorder {
  private:
   std::unique_ptr<BagWriter> bag_;
   std::unique_ptr<SerialWorker> worker_;  // declared after the bag: stops first
+  std::optional<double> last_robot_time_s_;
 };
 
 }  // namespace stvl::tools

@@ -244,14 +244,16 @@ void BagWriter::write_tf(double t_s, const Eigen::Isometry3d& T_map_odom, const 
   impl_->write("/tf", stamp, msg);
 }
 
-void BagWriter::write_tf_static(const Eigen::Isometry3d& T_base_camera_link,
-                                const Eigen::Isometry3d& T_camera_link_optical) {
-  require_finite_pose(T_base_camera_link, "T_base_camera_link");
-  require_finite_pose(T_camera_link_optical, "T_camera_link_optical");
+void BagWriter::write_tf_static(const std::vector<CameraFrames>& cameras) {
   const ros::Time stamp = to_ros_time(0.0);
   tf2_msgs::TFMessage msg;
-  msg.transforms.push_back(to_transform(stamp, kBaseFrame, kCameraLinkFrame, T_base_camera_link));
-  msg.transforms.push_back(to_transform(stamp, kCameraLinkFrame, kCameraOpticalFrame, T_camera_link_optical));
+  for (const auto& c : cameras) {
+    require_finite_pose(c.T_base_camera_link, "T_base_camera_link");
+    require_finite_pose(c.T_camera_link_optical, "T_camera_link_optical");
+    const std::string link = camera_link_frame(c.camera);
+    msg.transforms.push_back(to_transform(stamp, kBaseFrame, link, c.T_base_camera_link));
+    msg.transforms.push_back(to_transform(stamp, link, camera_optical_frame(c.camera), c.T_camera_link_optical));
+  }
   impl_->write("/tf_static", stamp, msg, /*latched=*/true);
 }
 
@@ -282,13 +284,13 @@ void BagWriter::write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_m
 }
 
 void BagWriter::write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
-                                  const std::vector<std::uint16_t>& depth_mm) {
+                                  const std::vector<std::uint16_t>& depth_mm, const std::string& camera) {
   const int width = intrinsics.width, height = intrinsics.height;
   require_image_size(width, height, depth_mm.size(), "depth image");
-  const std::string topic = "/camera/depth/image_rect_raw";
+  const std::string topic = camera_topic(camera, "depth/image_rect_raw");
   const ros::Time stamp = to_ros_time(t_s);
   sensor_msgs::Image& msg = impl_->image;
-  msg.header = impl_->header(topic, stamp, kCameraOpticalFrame);
+  msg.header = impl_->header(topic, stamp, camera_optical_frame(camera));
   msg.width = static_cast<std::uint32_t>(width);
   msg.height = static_cast<std::uint32_t>(height);
   msg.encoding = "16UC1";
@@ -299,7 +301,7 @@ void BagWriter::write_depth_image(double t_s, const sensors::CameraIntrinsics& i
   impl_->write(topic, stamp, msg);
 }
 
-void BagWriter::write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics) {
+void BagWriter::write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics, const std::string& camera) {
   const int width = intrinsics.width, height = intrinsics.height;
   const double fx_px = intrinsics.fx, fy_px = intrinsics.fy, cx_px = intrinsics.cx, cy_px = intrinsics.cy;
   if (width <= 0 || height <= 0) {
@@ -309,10 +311,10 @@ void BagWriter::write_camera_info(double t_s, const sensors::CameraIntrinsics& i
       !std::isfinite(cx_px) || !std::isfinite(cy_px)) {
     throw std::invalid_argument("BagWriter: camera_info needs finite intrinsics with fx, fy > 0");
   }
-  const std::string topic = "/camera/depth/camera_info";
+  const std::string topic = camera_topic(camera, "depth/camera_info");
   const ros::Time stamp = to_ros_time(t_s);
   sensor_msgs::CameraInfo msg;
-  msg.header = impl_->header(topic, stamp, kCameraOpticalFrame);
+  msg.header = impl_->header(topic, stamp, camera_optical_frame(camera));
   msg.width = static_cast<std::uint32_t>(width);
   msg.height = static_cast<std::uint32_t>(height);
   msg.distortion_model = "plumb_bob";

@@ -24,6 +24,11 @@ inline constexpr const char* kOdomFrame = "odom";
 inline constexpr const char* kBaseFrame = "base_link";
 inline constexpr const char* kCameraLinkFrame = "camera_link";
 inline constexpr const char* kCameraOpticalFrame = "camera_depth_optical_frame";
+// A camera's frames and topics by its name: <camera>_link, <camera>_depth_optical_frame, /<camera>/<what>
+// ("camera" gives the names above and /camera/depth/...).
+inline std::string camera_link_frame(const std::string& camera) { return camera + "_link"; }
+inline std::string camera_optical_frame(const std::string& camera) { return camera + "_depth_optical_frame"; }
+inline std::string camera_topic(const std::string& camera, const std::string& what) { return "/" + camera + "/" + what; }
 
 enum class BagCompression { kNone, kBz2, kLz4 };
 
@@ -48,19 +53,27 @@ class BagWriter {
   void write_clock(double t_s);
   // /tf: map -> odom and odom -> base_link in one tf2_msgs/TFMessage.
   void write_tf(double t_s, const Eigen::Isometry3d& T_map_odom, const Eigen::Isometry3d& T_odom_base);
-  // /tf_static (latched), stamped at t = 0: base_link -> camera_link -> camera_depth_optical_frame.
-  void write_tf_static(const Eigen::Isometry3d& T_base_camera_link,
-                       const Eigen::Isometry3d& T_camera_link_optical);
+  // /tf_static (latched), stamped at t = 0, one message for every camera: base_link -> <camera>_link ->
+  // <camera>_depth_optical_frame.
+  struct CameraFrames {
+    std::string camera = "camera";
+    Eigen::Isometry3d T_base_camera_link = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_camera_link_optical = Eigen::Isometry3d::Identity();
+  };
+  void write_tf_static(const std::vector<CameraFrames>& cameras);
+  void write_tf_static(const Eigen::Isometry3d& T_base_camera_link, const Eigen::Isometry3d& T_camera_link_optical) {
+    write_tf_static({{"camera", T_base_camera_link, T_camera_link_optical}});
+  }
   // /odom nav_msgs/Odometry, frame odom, child base_link; twist in base_link (v along x, omega about z).
   void write_odometry(double t_s, const Eigen::Isometry3d& T_odom_base, double v_mps, double omega_radps);
   // /ground_truth/pose geometry_msgs/PoseStamped, frame map.
   void write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_map_base);
-  // /camera/depth/image_rect_raw 16UC1 (mm, 0 = invalid; sensors::depth_to_millimetres), row-major top row
-  // first, frame camera_depth_optical_frame. depth_mm.size() must be the intrinsics' width * height.
+  // /<camera>/depth/image_rect_raw 16UC1 (mm, 0 = invalid; sensors::depth_to_millimetres), row-major top row
+  // first, frame <camera>_depth_optical_frame. depth_mm.size() must be the intrinsics' width * height.
   void write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
-                         const std::vector<std::uint16_t>& depth_mm);
-  // /camera/depth/camera_info: plumb_bob with zero distortion, K, R = I, P = [K | 0].
-  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics);
+                         const std::vector<std::uint16_t>& depth_mm, const std::string& camera = "camera");
+  // /<camera>/depth/camera_info: plumb_bob with zero distortion, K, R = I, P = [K | 0].
+  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics, const std::string& camera = "camera");
   // sensor_msgs/PointCloud2 with fields x y z float32, unorganized (height 1); is_dense when all finite.
   void write_points(const std::string& topic, double t_s, const std::string& frame_id,
                     const Eigen::Matrix3Xf& points, bool latched = false);

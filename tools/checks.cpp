@@ -19,7 +19,8 @@ CheckResult at_least(const char* name, const char* what, double value, double mi
 
 }  // namespace
 
-std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e) {
+std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e,
+                                           const std::vector<std::string>& camera_names) {
   std::vector<CheckResult> r;
   const auto& mean = e.mean;
   if (c.f1_3d_min) r.push_back(at_least("f1_3d", "mean 3D F1", mean.f1, *c.f1_3d_min));
@@ -28,6 +29,16 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
     r.push_back(at_least("costmap_precision", "mean costmap precision", mean.costmap_precision, *c.costmap_precision_min));
   if (c.costmap_recall_min)
     r.push_back(at_least("costmap_recall", "mean costmap recall", mean.costmap_recall, *c.costmap_recall_min));
+  if (c.camera_recall_min) {
+    const auto& recalls = mean.camera_recall;
+    std::size_t lowest = 0;
+    for (std::size_t i = 1; i < recalls.size(); ++i)
+      if (recalls[i] < recalls[lowest]) lowest = i;
+    const std::string name = lowest < camera_names.size() ? camera_names[lowest] : "camera " + std::to_string(lowest);
+    r.push_back(recalls.empty() ? CheckResult{"camera_recall", false, "no camera was evaluated"}
+                                : at_least("camera_recall", ("lowest mean recall of one camera (" + name + ")").c_str(),
+                                           recalls[lowest], *c.camera_recall_min));
+  }
   if (c.all_obstacles_detected) {
     std::string missed;
     int observed = 0;

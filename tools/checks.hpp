@@ -14,9 +14,11 @@ struct CheckResult {
   std::string message;  // value and threshold, or why it failed
 };
 
-// One result per threshold the scenario sets (f1_3d, iou_3d, costmap_precision, costmap_recall,
-// all_obstacles_detected, phantom_obstacles, clearing_latency, accuracy_p90), in that order.
-std::vector<CheckResult> evaluation_checks(const ChecksConfig& checks, const evaluation::EvaluationSummary& summary);
+// One result per threshold the scenario sets (f1_3d, iou_3d, costmap_precision, costmap_recall, camera_recall,
+// all_obstacles_detected, phantom_obstacles, clearing_latency, accuracy_p90), in that order. camera_names
+// name the cameras by index in messages.
+std::vector<CheckResult> evaluation_checks(const ChecksConfig& checks, const evaluation::EvaluationSummary& summary,
+                                           const std::vector<std::string>& camera_names = {});
 
 // robot_upright: the robot fell over or left the world at fell_at_s (when it did).
 CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad);

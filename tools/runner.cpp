@@ -187,7 +187,9 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     r.evaluation = evaluator.finish(r.sim_time_s, pipeline.simulator().world(), pipeline.map());
     r.top_down = evaluator.top_down();
     r.evaluation_phases = evaluator.phase_times();
-    for (auto& check : evaluation_checks(s.checks, r.evaluation)) r.checks.push_back(std::move(check));
+    std::vector<std::string> names;
+    for (const auto& c : s.pipeline.cameras) names.push_back(c.name);
+    for (auto& check : evaluation_checks(s.checks, r.evaluation, names)) r.checks.push_back(std::move(check));
   }
   if (bag) {
     // The bag ends with the final map, the one map.vdb and costmap.pgm hold.

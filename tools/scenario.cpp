@@ -247,6 +247,7 @@ void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap
   if (robot.has("camera_mount"))
     robot.fail(robot.raw("camera_mount"), "camera_mount", "give each camera its mount in robot.cameras instead");
   s.pipeline.cameras.clear();
+  overrides.clear();
   for (auto& entry : entries) {
     pipeline::CameraConfig c;
     entry.require("name", c.name);
@@ -414,7 +415,8 @@ void read_checks(YamlMap c, Scenario& s) {
       {"f1_3d_min", &ch.f1_3d_min},
       {"iou_3d_min", &ch.iou_3d_min},
       {"costmap_precision_min", &ch.costmap_precision_min},
-      {"costmap_recall_min", &ch.costmap_recall_min}};
+      {"costmap_recall_min", &ch.costmap_recall_min},
+      {"camera_recall_min", &ch.camera_recall_min}};
   for (const auto& [key, value] : fractions) {
     get_optional(c, key, *value);
     if (*value) require_range(c, key, **value, **value >= 0.0 && **value <= 1.0, "must lie in [0, 1]");

@@ -17,6 +17,7 @@ struct ChecksConfig {
   std::optional<double> iou_3d_min;
   std::optional<double> costmap_precision_min;
   std::optional<double> costmap_recall_min;
+  std::optional<double> camera_recall_min;  // every camera's mean recall (over the truth voxels it saw)
   bool all_obstacles_detected = false;
   std::optional<int> phantom_obstacles_max;
   std::optional<double> clearing_latency_max_s;

@@ -18,6 +18,7 @@ Expectations (every key optional):
   "reprojection": false | {"image": ..., "info": ..., "cloud": ..., "tolerance_m": 0.002,
                            "tolerance_rel": 0.001, "tolerance_px": 0.05, "min_fraction": 0.99,
                            "complete": false, "max_frames": 3}
+                  | [{...}, ...]        # one per camera
 }
 Checks made whenever the data is present, without expectations: the bag opens and `/usr/bin/rosbag info`
 exits 0; header stamps (TF: transform stamps, Clock: clock) strictly increase per topic and equal the record
@@ -255,12 +256,10 @@ def main(argv):
         tf_edges = set()
         by_stamp = {}  # topic -> {stamp ns: msg} for the reprojection topics
         depth_msgs = []
-        conf = expect.get("reprojection", {})
-        if conf is not False:
-            conf = dict(DEFAULT_REPROJECTION, **conf)
-            wanted = {conf["image"], conf["info"], conf["cloud"]}
-        else:
-            wanted = set()
+        given = expect.get("reprojection", {})
+        confs = [] if given is False else [dict(DEFAULT_REPROJECTION, **g) for g in
+                                           (given if isinstance(given, list) else [given])]
+        wanted = {conf[k] for conf in confs for k in ("image", "info", "cloud")}
         depth_spec = expect.get("depth")
 
         for topic, msg, t in bag.read_messages():
@@ -303,19 +302,21 @@ def main(argv):
                             if len(got) == len(values) else None
                         print("  first difference at index %s (sizes %d, %d)" % (bad, len(got), len(values)))
 
-        if conf is not False and all(t in by_stamp for t in wanted):
-            frames = []
-            images, infos, clouds = by_stamp[conf["image"]], by_stamp[conf["info"]], by_stamp[conf["cloud"]]
-            for ns in sorted(clouds):
-                if ns in images and ns in infos:
-                    frames.append((images[ns], infos[ns], clouds[ns]))
-            c.check(frames or not clouds, "reprojection: no cloud shares a stamp with an image and a camera_info")
-            if conf["max_frames"] and len(frames) > conf["max_frames"]:
-                step = len(frames) / conf["max_frames"]
-                frames = [frames[int(i * step)] for i in range(conf["max_frames"])]
-            reproject(frames, conf, c)
-        elif "reprojection" in expect and conf is not False:
-            c.check(False, "reprojection requested but topics %s are not all in the bag" % sorted(wanted))
+        for conf in confs:
+            own = [conf["image"], conf["info"], conf["cloud"]]
+            if all(t in by_stamp for t in own):
+                frames = []
+                images, infos, clouds = by_stamp[conf["image"]], by_stamp[conf["info"]], by_stamp[conf["cloud"]]
+                for ns in sorted(clouds):
+                    if ns in images and ns in infos:
+                        frames.append((images[ns], infos[ns], clouds[ns]))
+                c.check(frames or not clouds, "reprojection: no cloud shares a stamp with an image and a camera_info")
+                if conf["max_frames"] and len(frames) > conf["max_frames"]:
+                    step = len(frames) / conf["max_frames"]
+                    frames = [frames[int(i * step)] for i in range(conf["max_frames"])]
+                reproject(frames, conf, c)
+            elif "reprojection" in expect:
+                c.check(False, "reprojection requested but topics %s are not all in the bag" % sorted(own))
 
     print("%s: %d checks passed, %d failed" % (bag_path, c.passed, len(c.failures)))
     return 1 if c.failures else 0
