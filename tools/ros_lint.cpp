@@ -28,7 +28,7 @@ bool contains(const std::vector<std::string>& keys, const std::string& key) {
 
 class Linter {
  public:
-  Linter(const ros_detail::ReadLayer& read) : layer_(read.layer), nodes_(read.nodes) {}
+  explicit Linter(const ros_detail::ReadLayer& read) : layer_(read.layer), nodes_(read.nodes) {}
 
   void add(int line, const std::string& key, const std::string& what, const std::string& instead) {
     findings_.push_back({layer_.file, line, key, what, instead});
