@@ -7,6 +7,7 @@
 #include <string>
 
 #include "tools/command.hpp"
+#include "tools/ros_binding.hpp"
 #include "tools/report.hpp"
 #include "tools/runner.hpp"
 
@@ -51,6 +52,14 @@ int run(const RunCommandOptions& o) {
     overrides.noise = o.noise == "on";
   }
   apply_overrides(scenario, overrides);
+  if (const auto& ros = scenario.ros_params) {
+    // The linter's findings on the parameter file, with the FOV of the camera each source is bound to.
+    const auto findings = lint_ros_stvl_layer(ros->path, ros->layer, ros->costmap, bound_cameras(scenario.pipeline));
+    for (const auto& f : findings) std::printf("lint: %s\n", format_finding(f).c_str());
+    if (!findings.empty())
+      std::printf("lint: %zu finding%s on %s (stvl-bench lint %s)\n", findings.size(), findings.size() == 1 ? "" : "s",
+                  ros->path.c_str(), ros->path.c_str());
+  }
   RunOptions options;
   options.out_dir = o.out_dir.empty() ? "out/" + scenario.name : o.out_dir;
   options.bag_path = o.bag;

@@ -8,6 +8,7 @@
 #include <memory>
 #include <sstream>
 
+#include "tools/ros_binding.hpp"
 #include "tools/yaml_reader.hpp"
 
 namespace stvl::tools {
@@ -353,8 +354,25 @@ void apply_observation(pipeline::CameraConfig& camera, const ObservationDefaults
                 [&] { src.validate(); });
 }
 
-void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation) {
+// map.ros_params: STVL's own keys come from the file, the bench's (clearing_mode, ...) stay here.
+void read_ros_params(YamlMap& map, Scenario& s, const std::string& base_dir) {
+  RosParamsRef ref;
+  map.require("ros_params", ref.path);
+  require_range(map, "ros_params", "an empty path", !ref.path.empty(), "must not be empty");
+  map.get("layer", ref.layer);
+  map.get("costmap", ref.costmap);
+  ref.path = std::filesystem::path(ref.path).is_absolute()
+                 ? ref.path
+                 : (std::filesystem::path(base_dir) / ref.path).lexically_normal().string();
+  for (const char* key : {"voxel_size", "voxel_decay", "decay_model", "mark_threshold", "observation"})
+    if (map.has(key))
+      map.fail(map.raw(key), key, "comes from the ROS parameter file (map.ros_params: " + ref.path + "); remove it here");
+  s.ros_params = ref;
+}
+
+void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const std::string& base_dir) {
   auto& m = s.pipeline.map;
+  if (map.has("ros_params")) read_ros_params(map, s, base_dir);
   map.get("voxel_size", m.voxel_size_m);
   map.get("voxel_decay", m.voxel_decay_s);
   std::string decay = mapping::to_string(m.decay_model), mode = mapping::to_string(m.clearing_mode),
@@ -462,9 +480,15 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   if (root.has("filter")) read_filter(root.map("filter"), s);
   ObservationDefaults observation;
   observation.source.clearing = true;
-  if (root.has("map")) read_map(root.map("map"), s, observation);
+  if (root.has("map")) read_map(root.map("map"), s, observation, base_dir);
   for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i)
     apply_observation(s.pipeline.cameras[i], observation, camera_overrides[i]);
+  for (const auto& own : camera_overrides)
+    if (own && s.ros_params) own->fail(YAML::Node(), "", "the sources come from map.ros_params; remove this observation");
+  if (s.ros_params) {
+    const RosStvlLayer layer = load_ros_stvl_layer(s.ros_params->path, s.ros_params->layer, s.ros_params->costmap);
+    apply_ros_layer(layer, s.pipeline, !root.has("filter"));
+  }
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
   root.finish();

@@ -30,6 +30,12 @@ struct OutputConfig {
   int sample_depth_frames = 3;    // evaluation.sample_depth_frames: depth frames saved as PNG for the report
 };
 
+// map.ros_params: the STVL layer comes from a ROS parameter file.
+struct RosParamsRef {
+  std::string path;  // resolved against the scenario file's folder
+  std::string layer, costmap;  // "" = the only one
+};
+
 struct Scenario {
   std::string name;
   std::string file;  // where it was loaded from
@@ -42,6 +48,7 @@ struct Scenario {
   evaluation::EvaluationConfig evaluation;
   ChecksConfig checks;
   OutputConfig outputs;
+  std::optional<RosParamsRef> ros_params;
 
   pipeline::CameraConfig& camera() { return pipeline.cameras.front(); }
   const pipeline::CameraConfig& camera() const { return pipeline.cameras.front(); }
