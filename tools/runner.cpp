@@ -69,6 +69,19 @@ class FrameSampler {
   std::size_t every_ = 0;
 };
 
+// The pipeline; a mount it rejects once the world is loaded is blamed on the scenario's line.
+std::unique_ptr<pipeline::Pipeline> build_pipeline(const Scenario& s) {
+  try {
+    return std::make_unique<pipeline::Pipeline>(s.pipeline);
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    for (std::size_t i = 0; i < s.camera_mount_locations.size() && i < s.pipeline.cameras.size(); ++i)
+      if (message.rfind("camera '" + s.pipeline.cameras[i].name + "': mounted", 0) == 0)
+        throw std::invalid_argument(s.camera_mount_locations[i] + ": " + message);
+    throw;
+  }
+}
+
 }  // namespace
 
 bool RunResult::passed() const {
@@ -81,7 +94,8 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   RunResult r;
   r.scenario = s;
   const std::filesystem::path out = options.out_dir;
-  pipeline::Pipeline pipeline(s.pipeline);
+  const std::unique_ptr<pipeline::Pipeline> owned = build_pipeline(s);
+  pipeline::Pipeline& pipeline = *owned;
   evaluation::Evaluator evaluator(pipeline.simulator().world(), evaluation_config(s));
   if (!options.out_dir.empty()) ensure_writable_directory(out / "frames");
   r.gl_backend = pipeline.gl_backend();

@@ -255,6 +255,7 @@ void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap
     require_range(entry, "name", "an empty name", !c.name.empty(), "must not be empty");
     for (const auto& other : s.pipeline.cameras)
       if (other.name == c.name) entry.fail(entry.raw("name"), "name", "two cameras are named '" + c.name + "'");
+    s.camera_mount_locations.push_back(entry.where("mount"));
     read_mount(entry.map("mount"), c.mount);
     read_camera_sensor(entry, c);
     c.sources.front().name = c.name;

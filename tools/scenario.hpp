@@ -49,6 +49,9 @@ struct Scenario {
   ChecksConfig checks;
   OutputConfig outputs;
   std::optional<RosParamsRef> ros_params;
+  // "file:line: robot.cameras[i].mount" per camera ("" for the one-camera form), for errors the pipeline finds
+  // only once the world is loaded (a camera inside the robot's body).
+  std::vector<std::string> camera_mount_locations;
 
   pipeline::CameraConfig& camera() { return pipeline.cameras.front(); }
   const pipeline::CameraConfig& camera() const { return pipeline.cameras.front(); }

@@ -100,6 +100,12 @@ void YamlMap::finish() const {
   }
 }
 
+std::string YamlMap::where(const std::string& key) const {
+  int line = line_;
+  if (const YAML::Node k = key_node(key); !k.IsNull()) line = line_of(k.Mark());
+  return file_ + ":" + std::to_string(line) + ": " + location(key);
+}
+
 void YamlMap::fail(const YAML::Node& at, const std::string& key, const std::string& message) const {
   std::ostringstream text;
   int line = line_;

@@ -234,6 +234,61 @@ EOF
     expect_no_results "$tmp"
     ;;
 
+  ros_params_malformed | ros_layer_missing | ros_plugin_not_stvl | ros_source_unbound)
+    # The nav2 tutorial scenario with its parameter file edited: each edit exits 2 naming file, line and key.
+    params=$src/scenarios/ros/nav2_stvl_tutorial.yaml
+    layer=stvl_layer pattern=""
+    case $case_name in
+      ros_params_malformed) sed 's#^        voxel_size: 0.05#        voxel_size: [0.05#' "$params" >"$tmp/p.yaml"
+                            pattern="p\.yaml:[0-9]+: YAML syntax error" ;;
+      ros_layer_missing) cp "$params" "$tmp/p.yaml"; layer=stvl
+                         pattern="p\.yaml:[0-9]+: .*stvl.*(stvl_layer)" ;;
+      ros_plugin_not_stvl) sed 's#spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer#nav2_costmap_2d::VoxelLayer#' \
+                             "$params" >"$tmp/p.yaml"
+                           pattern="p\.yaml:24: stvl_layer\.plugin: .*nav2_costmap_2d::VoxelLayer" ;;
+      ros_source_unbound) sed 's#topic: /intel_realsense_r200_depth/points#topic: /other_camera/points#' \
+                            "$params" >"$tmp/p.yaml"
+                          pattern="p\.yaml:42: stvl_layer\.pointcloud: bound to no camera" ;;
+    esac
+    sed -e "s#^world: .*#world: $src/worlds/office_corridor.xml#" -e "s#ros_params: .*#ros_params: $tmp/p.yaml#" \
+      -e "s#layer: stvl_layer#layer: $layer#" "$src/scenarios/nav2_stvl_tutorial.yaml" >"$tmp/s.yaml"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "$pattern"
+    expect_no_results "$tmp"
+    ;;
+
+  cameras_same_name | camera_inside_body | camera_below_floor)
+    three=$src/scenarios/delivery_robot_3cams.yaml
+    case $case_name in
+      cameras_same_name) sed 's#name: left_camera#name: front_camera#' "$three" >"$tmp/s.yaml"
+                         pattern="s\.yaml:[0-9]+: robot\.cameras\[1\]\.name: two cameras are named 'front_camera'" ;;
+      camera_inside_body) sed 's#xyz_m: \[0.15, 0.0, 0.5\]#xyz_m: [0.1, 0.0, 0.2]#' "$three" >"$tmp/s.yaml"
+                          pattern="s\.yaml:15: robot\.cameras\[0\]\.mount: camera 'front_camera': mounted inside the robot's body \(geom 'base_shell'\)" ;;
+      camera_below_floor) sed 's#xyz_m: \[0.15, 0.0, 0.5\]#xyz_m: [0.15, 0.0, -0.2]#' "$three" >"$tmp/s.yaml"
+                          pattern="s\.yaml:[0-9]+: robot\.cameras\[0\]\.mount\.xyz_m: z must be > 0 m" ;;
+    esac
+    sed -i "s#^world: .*#world: $src/worlds/office_corridor.xml#" "$tmp/s.yaml"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "$pattern"
+    expect_no_results "$tmp"
+    ;;
+
+  lint_exit_codes)
+    # 1 with findings (the tutorial file), 0 clean, 2 unreadable.
+    run_bench lint "$src/scenarios/ros/nav2_stvl_tutorial.yaml"
+    expect_rc 1
+    grep -q "nav2_stvl_tutorial.yaml:52: stvl_layer.pointcloud.voxel_filter: " "$tmp/stdout" || fail "no voxel_filter finding"
+    printf 'observation_sources: cam\nvoxel_size: 0.05\nvoxel_decay: 15.0\ncam:\n  topic: /cam/points\n  clearing: true\n  min_obstacle_height: 0.1\n  max_z: 4.0\n  obstacle_range: 3.0\n  decay_acceleration: 5.0\n' >"$tmp/clean.yaml"
+    run_bench lint "$tmp/clean.yaml"
+    expect_rc 0
+    printf 'observation_sources: [\n' >"$tmp/broken.yaml"
+    run_bench lint "$tmp/broken.yaml"
+    expect_rc 2
+    expect_error_line "broken\.yaml:[0-9]+"
+    ;;
+
   *)
     echo "faults.sh: unknown case '$case_name'" >&2
     exit 2
