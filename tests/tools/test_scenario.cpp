@@ -39,9 +39,11 @@ TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
                 c.all_obstacles_detected || c.phantom_obstacles_max || c.clearing_latency_max_s || c.accuracy_p90_max_m)
         << "a shipped scenario checks nothing";
     // Native scenarios clear with each camera's own FOV (a ROS parameter file gives its own: lint compares).
-    if (!s.ros_params)
-      for (const auto& camera : s.pipeline.cameras)
+    if (!s.ros_params) {
+      for (const auto& camera : s.pipeline.cameras) {
         EXPECT_DOUBLE_EQ(camera.sources.front().params.horizontal_fov_rad, camera.intrinsics.hfov_rad());
+      }
+    }
   }
   EXPECT_GE(count, 9);
 }
