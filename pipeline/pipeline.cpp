@@ -8,6 +8,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "sensors/depth_renderer.hpp"
 
 namespace stvl::pipeline {
@@ -19,10 +22,16 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-Eigen::Matrix3Xf transform(const Eigen::Isometry3d& T, const Eigen::Matrix3Xf& points, Eigen::Index count) {
+// The first `count` points to the world frame, blocks of columns in parallel (TBB); each column's arithmetic is
+// the same whatever the blocks.
+void transform(const Eigen::Isometry3d& T, const Eigen::Matrix3Xf& points, Eigen::Index count, Eigen::Matrix3Xf& out) {
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
-  return (R * points.leftCols(count)).colwise() + t;
+  out.resize(3, count);
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, count, 16384), [&](const tbb::blocked_range<Eigen::Index>& r) {
+    const Eigen::Index n = Eigen::Index(r.size());
+    out.middleCols(r.begin(), n) = (R * points.middleCols(r.begin(), n)).colwise() + t;
+  });
 }
 
 // Camera 0 keeps the scenario's seed (its frames are what a one-camera run always had); the others get
@@ -216,7 +225,7 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
 
   start = Clock::now();
   f.point_count = sensors::depth_to_cloud(f.depth, intrinsics, f.points_C);
-  f.cloud_W = transform(f.T_world_camera, f.points_C, f.point_count);
+  transform(f.T_world_camera, f.points_C, f.point_count, f.cloud_W);
   f.times.cloud_ms = ms_since(start);
 
   start = Clock::now();

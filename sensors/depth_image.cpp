@@ -1,5 +1,7 @@
 #include "sensors/depth_image.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -54,19 +56,33 @@ Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& int
   const float cx = float(intrinsics.cx), cy = float(intrinsics.cy);
   float* out = points_C.data();
   const float* depth = image.depth_m.data();
-  Eigen::Index n = 0;
-  for (int v = 0; v < image.height; ++v) {
-    const float y_over_z = (float(v) - cy) * inv_fy;
-    for (int u = 0; u < image.width; ++u) {
-      const float z = depth[size_t(v) * image.width + u];
-      if (!(z > 0.0f) || !std::isfinite(z)) continue;
-      out[3 * n + 0] = (float(u) - cx) * inv_fx * z;
-      out[3 * n + 1] = y_over_z * z;
-      out[3 * n + 2] = z;
-      ++n;
+  const auto valid = [](float z) { return z > 0.0f && std::isfinite(z); };
+  // Two passes over blocks of rows in parallel (TBB): count each block's valid pixels, then write each block's
+  // points from its offset, so that the points keep row-major pixel order whatever the threads.
+  constexpr int kRowsPerBlock = 16;
+  const int blocks = (image.height + kRowsPerBlock - 1) / kRowsPerBlock;
+  std::vector<Eigen::Index> offset(size_t(blocks) + 1, 0);
+  tbb::parallel_for(0, blocks, [&](int b) {
+    const float* row = depth + size_t(b) * kRowsPerBlock * image.width;
+    const float* end = depth + size_t(std::min(image.height, (b + 1) * kRowsPerBlock)) * image.width;
+    offset[size_t(b) + 1] = std::count_if(row, end, valid);
+  });
+  for (int b = 0; b < blocks; ++b) offset[size_t(b) + 1] += offset[size_t(b)];
+  tbb::parallel_for(0, blocks, [&](int b) {
+    Eigen::Index n = offset[size_t(b)];
+    for (int v = b * kRowsPerBlock; v < std::min(image.height, (b + 1) * kRowsPerBlock); ++v) {
+      const float y_over_z = (float(v) - cy) * inv_fy;
+      for (int u = 0; u < image.width; ++u) {
+        const float z = depth[size_t(v) * image.width + u];
+        if (!valid(z)) continue;
+        out[3 * n + 0] = (float(u) - cx) * inv_fx * z;
+        out[3 * n + 1] = y_over_z * z;
+        out[3 * n + 2] = z;
+        ++n;
+      }
     }
-  }
-  return n;
+  });
+  return offset.back();
 }
 
 Eigen::Matrix3Xf depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics) {

@@ -6,6 +6,9 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace stvl::sensors {
 namespace {
 
@@ -105,7 +108,7 @@ double DepthNoise::rms_error_m(double z_m) const {
   return z_m * z_m * config_.subpixel / (intrinsics_.fx * config_.baseline_m);
 }
 
-void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index) {
+void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, bool parallel) {
   if (!config_.enabled) return;
   const int W = intrinsics_.width, H = intrinsics_.height;
   if (image.width != W || image.height != H || image.depth_m.size() != size_t(W) * H) {
@@ -125,52 +128,59 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index) {
   const uint64_t dropout_threshold = threshold(config_.dropout_probability);
 
   const std::array<float, kNormalBins>& normal = normal_table();
-  uint64_t normal_bits = 0;  // four 16-bit fields per draw, 12 bits used each
-  for (int v = 0; v < H; ++v) {
-    for (int u = 0; u < W; ++u) {
-      const size_t i = size_t(v) * W + u;
-      if ((i & 3) == 0) normal_bits = draw(key, i >> 2, kGauss);
-      const float z_true = truth_[i];
-      if (!(z_true > 0.0f)) {
-        image.depth_m[i] = 0.0f;
-        continue;
-      }
-      double z = z_true;
-
-      if (config_.edge_probability > 0.0) {
-        float z_other = z_true, jump = 0.0f;
-        auto consider = [&](int uu, int vv) {
-          if (uu < 0 || vv < 0 || uu >= W || vv >= H) return;
-          const float zn = truth_[size_t(vv) * W + uu];
-          if (zn > 0.0f && std::abs(zn - z_true) > jump) {
-            jump = std::abs(zn - z_true);
-            z_other = zn;
-          }
-        };
-        consider(u - 1, v);
-        consider(u + 1, v);
-        consider(u, v - 1);
-        consider(u, v + 1);
-        if (jump > edge_jump && draw(key, i, kEdge) < edge_threshold) {
-          if (uniform(key, i, kEdgeKind) < config_.edge_invalid_fraction) {
-            image.depth_m[i] = 0.0f;
-            continue;
-          }
-          z += uniform(key, i, kEdgeBlend) * (double(z_other) - z);
+  // Every pixel is a function of the frame key, its index and the clean image, so rows run in parallel (TBB)
+  // and give the same image as one thread does.
+  const auto noise_rows = [&](const tbb::blocked_range<int>& rows) {
+    uint64_t normal_bits = 0;  // four 16-bit fields per draw, 12 bits used each: those of pixel group i / 4
+    for (int v = rows.begin(); v < rows.end(); ++v) {
+      for (int u = 0; u < W; ++u) {
+        const size_t i = size_t(v) * W + u;
+        if ((i & 3) == 0 || u == 0) normal_bits = draw(key, i >> 2, kGauss);
+        const float z_true = truth_[i];
+        if (!(z_true > 0.0f)) {
+          image.depth_m[i] = 0.0f;
+          continue;
         }
-      }
+        double z = z_true;
 
-      if (stereo) {
-        double disparity = fb / z + config_.subpixel * double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
-        if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
-        z = disparity > 0.0 ? fb / disparity : 0.0;
+        if (config_.edge_probability > 0.0) {
+          float z_other = z_true, jump = 0.0f;
+          auto consider = [&](int uu, int vv) {
+            if (uu < 0 || vv < 0 || uu >= W || vv >= H) return;
+            const float zn = truth_[size_t(vv) * W + uu];
+            if (zn > 0.0f && std::abs(zn - z_true) > jump) {
+              jump = std::abs(zn - z_true);
+              z_other = zn;
+            }
+          };
+          consider(u - 1, v);
+          consider(u + 1, v);
+          consider(u, v - 1);
+          consider(u, v + 1);
+          if (jump > edge_jump && draw(key, i, kEdge) < edge_threshold) {
+            if (uniform(key, i, kEdgeKind) < config_.edge_invalid_fraction) {
+              image.depth_m[i] = 0.0f;
+              continue;
+            }
+            z += uniform(key, i, kEdgeBlend) * (double(z_other) - z);
+          }
+        }
+
+        if (stereo) {
+          double disparity = fb / z + config_.subpixel * double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
+          if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
+          z = disparity > 0.0 ? fb / disparity : 0.0;
+        }
+        if (!(z >= min_m && z <= max_m)) z = 0.0;
+        if (dropout_threshold > 0 && draw(key, i, kDropout) < dropout_threshold) z = 0.0;
+        image.depth_m[i] = float(z);
       }
-      if (!(z >= min_m && z <= max_m)) z = 0.0;
-      if (dropout_threshold > 0 && draw(key, i, kDropout) < dropout_threshold) z = 0.0;
-      image.depth_m[i] = float(z);
     }
-  }
-
+  };
+  if (parallel)
+    tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), noise_rows);
+  else
+    noise_rows(tbb::blocked_range<int>(0, H));
   const double whole = std::floor(config_.holes_per_frame);
   const int holes = int(whole) + (uniform(key, 0, kHoleCount) < config_.holes_per_frame - whole ? 1 : 0);
   for (int h = 0; h < holes; ++h) {

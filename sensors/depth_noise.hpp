@@ -42,7 +42,9 @@ class DepthNoise {
 
   // In place; no allocation after the first call for a given image size. Identity when config.enabled is false.
   // Throws std::invalid_argument when the image size does not match the intrinsics.
-  void apply(DepthImage& image, uint64_t seed, uint64_t frame_index);
+  // Rows run in parallel (TBB); parallel = false runs them in one pass on this thread, the plain reference the
+  // tests compare with (the images are equal).
+  void apply(DepthImage& image, uint64_t seed, uint64_t frame_index, bool parallel = true);
 
   // Intel's RMS depth error at depth z (m): z^2 * subpixel / (fx * baseline).
   double rms_error_m(double z_m) const;

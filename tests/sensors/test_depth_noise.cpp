@@ -1,6 +1,7 @@
 #include "sensors/depth_noise.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <cstdio>
@@ -70,6 +71,28 @@ TEST(DepthNoise, DeterministicPerSeedAndFrame) {
   DepthImage image = truth;
   other.apply(image, 7, 3);
   EXPECT_EQ(image.depth_m, noisy(7, 3));
+}
+
+// Rows run in parallel: the image must equal the one-pass reference however they are split (an odd width puts block starts in the
+// middle of a four-pixel group of normal draws; a step in depth makes edge pixels).
+TEST(DepthNoise, SameImageOnOneThreadAndOnMany) {
+  const CameraIntrinsics k = CameraIntrinsics::from_hfov(101, 37, 1.2, 0.2, 8.0, 30.0);
+  DepthImage truth = flat_wall(k, 2.0f);
+  for (int v = 0; v < k.height; ++v)
+    for (int u = k.width / 2; u < k.width; ++u) truth.at(u, v) = 3.5f;
+  DepthNoise noise(DepthNoiseConfig{}, k);
+  const auto noisy = [&](bool parallel) {
+    DepthImage image = truth;
+    noise.apply(image, 11, 5, parallel);
+    return image.depth_m;
+  };
+  const std::vector<float> reference = noisy(false);  // one pass over all rows
+  for (int repeat = 0; repeat < 5; ++repeat) EXPECT_EQ(noisy(true), reference);
+  {
+    const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    EXPECT_EQ(noisy(true), reference);
+  }
+  EXPECT_NE(reference, truth.depth_m);
 }
 
 TEST(DepthNoise, DisabledIsIdentity) {
