@@ -176,8 +176,10 @@ void Evaluator::observe_clearing(double time_s, const sim::World& world, const C
   for (const auto& [rank, k] : seen) clearing_.seen_through(k, time_s);
 }
 
-void Evaluator::after_update(double time_s, const mapping::VoxelMap& map) {
+void Evaluator::after_update(double time_s, const mapping::VoxelMap& map, const std::vector<VoxelKey>& cleared_keys) {
   const PhaseTimer timer(times_.clearing_ms);
+  // A true voxel the rays removed and no point marked again in the same update: gone from the map.
+  for (const VoxelKey& k : cleared_keys) false_clears_ += truth_.contains(k) && !map.contains(k);
   clearing_.after_update(time_s, [&](const VoxelKey& k) {
     return map.lookup(voxel_center(k, config_.voxel_size_m)).has_value();
   });
@@ -307,6 +309,7 @@ EvaluationSummary Evaluator::finish(double time_s, const sim::World& world, cons
   summary.accuracy = distance_stats(distances_m_);
   summary.clearing = clearing_.result(time_s);
   summary.observed_off_truth_voxels = off_truth_keys_.size();
+  summary.false_clears = false_clears_;
   return summary;
 }
 

@@ -59,6 +59,10 @@ struct EvaluationSummary {
   DistanceStats accuracy;    // mapped voxel centre to the nearest true surface, all snapshots pooled
   ClearingResult clearing;
   std::size_t observed_off_truth_voxels = 0;  // noise-free hits outside every truth voxel (render vs geometry)
+  // Truth voxels (static, or of a moving body where it is now) that ray-cast clearing removed and the same
+  // update did not mark again, summed over the frames: obstacles the rays wrongly cleared (noisy rays through a
+  // surface, no-return pixels in front of one).
+  std::size_t false_clears = 0;
 };
 
 // Averages the snapshots as EvaluationMean says; warm_up_s is the recall window.
@@ -101,7 +105,8 @@ class Evaluator {
 
   void observe(double time_s, const CameraView& view);
   void observe_clearing(double time_s, const sim::World& world, const CameraView& view, const mapping::VoxelMap& map);
-  void after_update(double time_s, const mapping::VoxelMap& map);
+  // cleared_keys: the voxels the update's clearing removed (pipeline::FrameResult::cleared_keys).
+  void after_update(double time_s, const mapping::VoxelMap& map, const std::vector<VoxelKey>& cleared_keys = {});
   const EvaluationSnapshot& evaluate(double time_s, const sim::World& world, const mapping::VoxelMap& map);
   EvaluationSummary finish(double time_s, const sim::World& world, const mapping::VoxelMap& map);
 
@@ -130,6 +135,7 @@ class Evaluator {
   std::vector<float> ray_x_;          // observe(): per-column ray slopes
   std::vector<VoxelKey> frame_keys_;  // observe(): the voxels of one frame
   ClearingLatency clearing_;
+  std::size_t false_clears_ = 0;
   std::unordered_map<VoxelKey, std::uint32_t, VoxelKeyHash> stale_rank_;
   VoxelKey stale_lo_{1, 1, 1}, stale_hi_{0, 0, 0};  // empty
   std::size_t stale_version_ = 0;

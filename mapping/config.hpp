@@ -63,6 +63,10 @@ struct ObservationSource {
   double min_z_m = 0.0;                  // min_z: frustum near plane along the optical axis, >= 0
   double max_z_m = 10.0;                 // max_z: frustum far plane (and the ray-cast clearing range)
   double decay_acceleration_per_s3 = 0.0;  // decay_acceleration: >= 0, 1/s^3
+  // clear_on_no_return (ours; STVL clears nothing along a pixel that returns nothing): in ray-cast mode the rays
+  // of pixels without a return are walked to max_z too. A camera cannot tell "too far" from a dropout or a
+  // too-near obstacle, so this also clears what such pixels hide.
+  bool clear_on_no_return = false;
 
   void validate() const;
 };

@@ -98,7 +98,8 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
   return marked;
 }
 
-ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations, double time_s) {
+ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations, double time_s,
+                           std::vector<VoxelKey>* cleared_keys) {
   std::vector<ClearingObservation> clearing;
   for (const ClearingObservation& obs : observations) {
     obs.source.validate();
@@ -106,6 +107,8 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
     if (!obs.source.clearing) continue;
     if (impl_->config.clearing_mode == ClearingMode::kRaycast && obs.points_W == nullptr)
       throw std::invalid_argument("clearing_mode = raycast needs ClearingObservation::points_W, got null");
+    if (obs.source.clear_on_no_return && impl_->config.clearing_mode != ClearingMode::kRaycast)
+      throw std::invalid_argument("clear_on_no_return needs clearing_mode = raycast");
     clearing.push_back(obs);
   }
   impl_->check_time(time_s);
@@ -115,7 +118,7 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
     for (const ClearingObservation& obs : clearing)
       frustums.push_back({DepthCameraFrustum(obs.T_world_camera, obs.source), obs.source.decay_acceleration_per_s3});
   } else {
-    impl_->raycast_pass(clearing, stats);
+    impl_->raycast_pass(clearing, stats, cleared_keys);
   }
   if (impl_->config.clearing_walk == ClearingWalk::kFullWalk) {
     impl_->full_walk(frustums, time_s, stats);

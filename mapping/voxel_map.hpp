@@ -37,6 +37,9 @@ struct ClearingObservation {
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
   ObservationSource source;
   const Eigen::Matrix3Xf* points_W = nullptr;  // required in ray-cast mode; must outlive the clear() call
+  // With source.clear_on_no_return (ray-cast mode only): one point per ray of the pixels that returned nothing,
+  // at max_z along it; walked as points_W are. Null: none.
+  const Eigen::Matrix3Xf* no_return_W = nullptr;
 };
 
 struct Voxel {
@@ -71,7 +74,10 @@ class VoxelMap {
                    const ObservationSource& source, double time_s);
 
   // Decay + clearing for one update at time_s. Observations with source.clearing == false are ignored.
-  ClearStats clear(const std::vector<ClearingObservation>& observations, double time_s);
+  // cleared_keys, when given, receives the voxels the rays removed (ray-cast mode; not those that expired), in
+  // no particular order. Throws std::invalid_argument for clear_on_no_return in frustum mode.
+  ClearStats clear(const std::vector<ClearingObservation>& observations, double time_s,
+                   std::vector<VoxelKey>* cleared_keys = nullptr);
 
   std::size_t size() const;  // active voxels
   bool empty() const { return size() == 0; }

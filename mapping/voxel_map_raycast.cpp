@@ -78,7 +78,8 @@ struct RayHit {
 
 }  // namespace
 
-void VoxelMap::Impl::raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats) {
+void VoxelMap::Impl::raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats,
+                                  std::vector<VoxelKey>* cleared_keys) {
   std::vector<Coord> touched;
   struct Walked {
     std::vector<RayHit> hits;
@@ -90,43 +91,46 @@ void VoxelMap::Impl::raycast_pass(const std::vector<ClearingObservation>& observ
     const Eigen::Vector3d s_vox = origin_W / config.voxel_size_m;  // as to_key divides: floor(s_vox) = start
     Coord start;
     if (!to_key(origin_W, start)) continue;
-    const Eigen::Matrix3Xf& points = *obs.points_W;
     const double max_range_sq_m2 = obs.source.max_z_m * obs.source.max_z_m;
     const int radius_vox = static_cast<int>(std::ceil(obs.source.max_z_m / config.voxel_size_m)) + 1;
     const LeafTable table = leaf_table_around(*grid, s_vox, start, radius_vox);
     // Rays only read the tree (in parallel, one accessor per chunk); the voxels they pass are cleared after.
-    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
-                      [&](const tbb::blocked_range<Eigen::Index>& range) {
-      Walked& mine = walked.local();
-      auto accessor = grid->getConstAccessor();
-      auto leaf_at = [&](const VoxelKey& block) -> const LeafT* {
-        const Coord origin(block.x, block.y, block.z);
-        return table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
-      };
-      auto collect = [&](const LeafT* leaf, const VoxelKey& key) {
-        ++mine.visited;
-        const openvdb::Index offset = ((key.x & 7) << 6) | ((key.y & 7) << 3) | (key.z & 7);
-        if (leaf->isValueOn(offset)) mine.hits.push_back({leaf, offset});
-      };
-      for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
-        Eigen::Vector3d p_W = points.col(i).cast<double>();
-        if (!p_W.allFinite()) continue;
-        const double length_sq_m2 = (p_W - origin_W).squaredNorm();
-        if (length_sq_m2 < 1e-18) continue;
-        if (length_sq_m2 > max_range_sq_m2)
-          p_W = origin_W + (p_W - origin_W) * (obs.source.max_z_m / std::sqrt(length_sq_m2));
-        // The walk stops before the point's voxel floor(e_vox), the key mark() gives it.
-        const Eigen::Vector3d e_vox = p_W / config.voxel_size_m;
-        // Every block nearer than free_radius_vox is empty: skip that part of the ray (or all of it).
-        const double length_vox = (e_vox - s_vox).norm();
-        if (length_vox < table.free_radius_vox) continue;
-        if (table.free_radius_vox > 1.0)
-          walk_ray_blocks(s_vox + (e_vox - s_vox) * ((table.free_radius_vox - 0.5) / length_vox), e_vox, leaf_at,
-                          collect);
-        else
-          walk_ray_blocks(s_vox, e_vox, leaf_at, collect);
-      }
-    });
+    const auto walk = [&](const Eigen::Matrix3Xf& points) {
+      tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
+                        [&](const tbb::blocked_range<Eigen::Index>& range) {
+        Walked& mine = walked.local();
+        auto accessor = grid->getConstAccessor();
+        auto leaf_at = [&](const VoxelKey& block) -> const LeafT* {
+          const Coord origin(block.x, block.y, block.z);
+          return table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
+        };
+        auto collect = [&](const LeafT* leaf, const VoxelKey& key) {
+          ++mine.visited;
+          const openvdb::Index offset = ((key.x & 7) << 6) | ((key.y & 7) << 3) | (key.z & 7);
+          if (leaf->isValueOn(offset)) mine.hits.push_back({leaf, offset});
+        };
+        for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
+          Eigen::Vector3d p_W = points.col(i).cast<double>();
+          if (!p_W.allFinite()) continue;
+          const double length_sq_m2 = (p_W - origin_W).squaredNorm();
+          if (length_sq_m2 < 1e-18) continue;
+          if (length_sq_m2 > max_range_sq_m2)
+            p_W = origin_W + (p_W - origin_W) * (obs.source.max_z_m / std::sqrt(length_sq_m2));
+          // The walk stops before the point's voxel floor(e_vox), the key mark() gives it.
+          const Eigen::Vector3d e_vox = p_W / config.voxel_size_m;
+          // Every block nearer than free_radius_vox is empty: skip that part of the ray (or all of it).
+          const double length_vox = (e_vox - s_vox).norm();
+          if (length_vox < table.free_radius_vox) continue;
+          if (table.free_radius_vox > 1.0)
+            walk_ray_blocks(s_vox + (e_vox - s_vox) * ((table.free_radius_vox - 0.5) / length_vox), e_vox, leaf_at,
+                            collect);
+          else
+            walk_ray_blocks(s_vox, e_vox, leaf_at, collect);
+        }
+      });
+    };
+    walk(*obs.points_W);
+    if (obs.source.clear_on_no_return && obs.no_return_W) walk(*obs.no_return_W);
     // Clearing is idempotent and counted once per voxel, so the result does not depend on the split.
     for (Walked& mine : walked) {
       for (const RayHit& hit : mine.hits) {
@@ -134,6 +138,10 @@ void VoxelMap::Impl::raycast_pass(const std::vector<ClearingObservation>& observ
         if (!leaf->isValueOn(hit.offset)) continue;
         leaf->setValueOff(hit.offset);
         ++stats.voxels_removed;
+        if (cleared_keys) {
+          const Coord key = leaf->offsetToGlobalCoord(hit.offset);
+          cleared_keys->push_back({key.x(), key.y(), key.z()});
+        }
         touched.push_back(leaf->origin());
       }
       stats.voxels_visited += mine.visited;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <set>
+#include <unordered_set>
 #include <sstream>
 #include <stdexcept>
 
@@ -42,6 +43,23 @@ std::uint64_t camera_noise_seed(std::uint64_t seed, std::size_t index) {
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
   return z ^ (z >> 31);
+}
+
+// One point per voxel of size voxel_m that the rays of depth's pixels without a return reach at range_m from
+// the optical centre (the first pixel's in row-major order), in the world frame.
+void no_return_points(const sensors::DepthImage& depth, const sensors::CameraIntrinsics& k,
+                      const Eigen::Isometry3d& T_world_camera, double range_m, double voxel_m, Eigen::Matrix3Xf& out) {
+  std::unordered_set<VoxelKey, VoxelKeyHash> seen;
+  std::vector<Eigen::Vector3f> points;
+  for (int v = 0; v < depth.height; ++v)
+    for (int u = 0; u < depth.width; ++u) {
+      if (depth.at(u, v) > 0.0f) continue;
+      const Eigen::Vector3d ray_C((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+      const Eigen::Vector3d p_W = T_world_camera * (ray_C * (range_m / ray_C.norm()));
+      if (seen.insert(voxel_key(p_W, voxel_m)).second) points.push_back(p_W.cast<float>());
+    }
+  out.resize(3, Eigen::Index(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) out.col(Eigen::Index(i)) = points[i];
 }
 
 bool upright(const sim::Simulator& sim) {
@@ -139,10 +157,14 @@ struct Pipeline::Camera {
   Camera(const mjModel* model, const CameraConfig& c, std::uint64_t noise_seed)
       : config(c), renderer(model, c.intrinsics, c.gl_backend), noise(c.noise, c.intrinsics), noise_seed(noise_seed) {
     for (const auto& source : c.sources)
-      if (source.params.clearing) clearing.push_back({{}, source.params, nullptr});
+      if (source.params.clearing) {
+        clearing.push_back({{}, source.params, nullptr});
+        if (source.params.clear_on_no_return) no_return_range_m = std::max(no_return_range_m, source.params.max_z_m);
+      }
   }
   CameraConfig config;
   std::vector<mapping::ClearingObservation> clearing;  // one per clearing source; pose and cloud set per frame
+  double no_return_range_m = 0.0;  // > 0: the longest max_z of its clear_on_no_return sources
   sensors::DepthRenderer renderer;
   sensors::DepthNoise noise;
   std::uint64_t noise_seed;
@@ -236,11 +258,17 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   if (before_map_update) before_map_update(f, map_);
 
   start = Clock::now();
+  f.no_return_W.resize(3, 0);
+  if (camera.no_return_range_m > 0.0)
+    no_return_points(f.depth, intrinsics, f.T_world_camera, camera.no_return_range_m, config_.map.voxel_size_m,
+                     f.no_return_W);
   for (auto& observation : camera.clearing) {
     observation.T_world_camera = f.T_world_camera;
     observation.points_W = &f.decimated_W;
+    observation.no_return_W = &f.no_return_W;
   }
-  map_.clear(camera.clearing, f.time_s);
+  f.cleared_keys.clear();
+  map_.clear(camera.clearing, f.time_s, &f.cleared_keys);
   f.times.clear_ms = ms_since(start);
   start = Clock::now();
   for (const auto& source : camera.config.sources)

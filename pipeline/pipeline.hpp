@@ -94,6 +94,10 @@ struct FrameResult {
   Eigen::Matrix3Xf cloud_W;      // the same points in the world frame
   Eigen::Matrix3Xf decimated_W;  // after the voxel grid or CSNB: clears
   Eigen::Matrix3Xf marking_W;    // decimated and inside the passthrough band: marks
+  // With a clear_on_no_return source: one point per map voxel reached, at the source's max_z, by the rays of
+  // the noisy image's pixels without a return (empty otherwise).
+  Eigen::Matrix3Xf no_return_W;
+  std::vector<VoxelKey> cleared_keys;  // voxels this frame's ray-cast clearing removed (not those that expired)
   StageTimes times;
 };
 

@@ -189,7 +189,8 @@ nlohmann::json metrics_json(const RunResult& r) {
          {{"stale_voxels_seen_through", e.clearing.stale_voxels_seen_through},
           {"not_cleared", e.clearing.not_cleared},
           {"max_latency_s", e.clearing.max_latency_s},
-          {"mean_latency_s", e.clearing.mean_latency_s}}},
+          {"mean_latency_s", e.clearing.mean_latency_s},
+          {"false_clears", e.false_clears}}},
         {"observed_off_truth_voxels", e.observed_off_truth_voxels},
         {"cameras", cameras}}},
       {"checks", checks},
@@ -322,7 +323,8 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
       << (o.detected ? "pass\">yes" : (o.observed ? "fail\">MISSED" : "\">-")) << "</td><td>" << o.best_recall << "</td></tr>\n";
   h << "</table>\n<h2>Clearing</h2><p>" << e.clearing.stale_voxels_seen_through
     << " stale voxels of moved bodies were seen through; max latency " << e.clearing.max_latency_s << " s, mean "
-    << e.clearing.mean_latency_s << " s, " << e.clearing.not_cleared << " never cleared.</p>\n";
+    << e.clearing.mean_latency_s << " s, " << e.clearing.not_cleared << " never cleared; ray-cast clearing removed "
+    << e.false_clears << " true obstacle voxels (false clears).</p>\n";
   h << "<h2>Sample depth frames</h2>\n";
   std::vector<std::string> frames;
   if (std::filesystem::is_directory(out / "frames"))

@@ -328,11 +328,13 @@ void read_observation(YamlMap& o, mapping::ObservationSource& src, std::optional
   o.get("min_z", src.min_z_m);
   o.get("max_z", src.max_z_m);
   o.get("decay_acceleration", src.decay_acceleration_per_s3);
+  o.get("clear_on_no_return", src.clear_on_no_return);
   o.finish();
 }
 
 // A camera's source: the map's observation defaults, the camera's FOV unless given, then its own overrides.
-void apply_observation(pipeline::CameraConfig& camera, const ObservationDefaults& defaults, std::optional<YamlMap> own) {
+void apply_observation(pipeline::CameraConfig& camera, const ObservationDefaults& defaults, std::optional<YamlMap> own,
+                       mapping::ClearingMode mode) {
   auto& src = camera.sources.front().params;
   src = defaults.source;
   std::optional<double> hfov = defaults.hfov_rad, vfov = defaults.vfov_rad;
@@ -340,6 +342,11 @@ void apply_observation(pipeline::CameraConfig& camera, const ObservationDefaults
   src.horizontal_fov_rad = hfov.value_or(camera.intrinsics.hfov_rad());
   src.vertical_fov_rad = vfov.value_or(camera.intrinsics.vfov_rad());
   YamlMap* o = own ? &*own : defaults.yaml.get();
+  if (src.clear_on_no_return && mode != mapping::ClearingMode::kRaycast) {
+    YamlMap* where = own && own->has("clear_on_no_return") ? &*own : defaults.yaml.get();
+    where->fail(where->raw("clear_on_no_return"), "clear_on_no_return",
+                "needs map.clearing_mode: raycast (frustum clearing walks no rays)");
+  }
   if (!o) {
     try {
       src.validate();
@@ -483,7 +490,7 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   observation.source.clearing = true;
   if (root.has("map")) read_map(root.map("map"), s, observation, base_dir);
   for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i)
-    apply_observation(s.pipeline.cameras[i], observation, camera_overrides[i]);
+    apply_observation(s.pipeline.cameras[i], observation, camera_overrides[i], s.pipeline.map.clearing_mode);
   for (const auto& own : camera_overrides)
     if (own && s.ros_params) own->fail(YAML::Node(), "", "the sources come from map.ros_params; remove this observation");
   if (s.ros_params) {

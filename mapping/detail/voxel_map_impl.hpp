@@ -94,7 +94,8 @@ struct VoxelMap::Impl {
   void expiry_pass(double time_s, ClearStats& stats);
 
   // ---- ray-cast clearing (voxel_map_raycast.cpp)
-  void raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats);
+  void raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats,
+                    std::vector<VoxelKey>* cleared_keys);
 };
 
 }  // namespace stvl::mapping

@@ -436,6 +436,37 @@ TEST(VoxelMapErrors, BadParametersNameTheField) {
   raycast.clearing_mode = ClearingMode::kRaycast;
   VoxelMap ray_map(raycast);
   expect_message([&] { ray_map.clear({{camera, wide_source(), nullptr}}, 1.0); }, "points_W");
+  ObservationSource no_return = wide_source();
+  no_return.clear_on_no_return = true;
+  expect_message([&] { map.clear({{camera, no_return, &points}}, 6.0); }, "clear_on_no_return needs clearing_mode = raycast");
+}
+
+// clear_on_no_return: the ray of a pixel that returned nothing clears what it passes up to max_z, and the
+// voxels it removed are reported; without the option (STVL) it clears nothing.
+TEST(VoxelMap, NoReturnRaysClearOnlyWithTheOption) {
+  StvlConfig config;
+  config.clearing_mode = ClearingMode::kRaycast;
+  const Eigen::Isometry3d camera = test::camera_looking_along_x({0.0, 0.0, 0.5});
+  const Eigen::Matrix3Xf none(3, 0);
+  const Eigen::Matrix3Xf far_end = test::cloud({{5.0f, 0.0f, 0.5f}});  // a no-return ray's point at max_z = 5 m
+  const std::vector<Voxel> stale{{{40, 0, 10}, 0.5}, {{60, 0, 10}, 0.5}};  // 2.0 m and 3.0 m along the ray
+  for (const bool option : {false, true}) {
+    SCOPED_TRACE(option);
+    VoxelMap map(config);
+    map.set_voxels(stale);
+    ObservationSource source = test::wide_source();
+    source.max_z_m = 5.0;
+    source.clear_on_no_return = option;
+    ClearingObservation observation{camera, source, &none};
+    observation.no_return_W = &far_end;
+    std::vector<VoxelKey> cleared;
+    const ClearStats stats = map.clear({observation}, 1.0, &cleared);
+    EXPECT_EQ(map.size(), option ? 0u : 2u);
+    EXPECT_EQ(stats.voxels_removed, option ? 2u : 0u);
+    std::sort(cleared.begin(), cleared.end());
+    const std::vector<VoxelKey> expected = option ? std::vector<VoxelKey>{{40, 0, 10}, {60, 0, 10}} : std::vector<VoxelKey>{};
+    EXPECT_EQ(cleared, expected);
+  }
 }
 
 }  // namespace

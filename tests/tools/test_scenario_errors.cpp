@@ -210,5 +210,12 @@ TEST(ScenarioParse, OutOfRangeValuesNameKeyAndLine) {
   }
 }
 
+TEST(ScenarioParse, ClearOnNoReturnNeedsRaycastClearing) {
+  const std::string frustum = std::string(kMinimal) + "map:\n  observation:\n    clear_on_no_return: true\n";
+  EXPECT_THAT(error_of(frustum), HasSubstr(at(8, "map.observation.clear_on_no_return") + "needs map.clearing_mode: raycast"));
+  const Scenario ok = parse(std::string(kMinimal) + "map:\n  clearing_mode: raycast\n  observation:\n    clear_on_no_return: true\n");
+  EXPECT_TRUE(ok.camera().sources.front().params.clear_on_no_return);
+}
+
 }  // namespace
 }  // namespace stvl::tools
