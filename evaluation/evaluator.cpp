@@ -37,6 +37,10 @@ EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double 
   EvaluationMean m;
   if (snapshots.empty()) return m;
   const double warm_up_end = snapshots.front().time_s + warm_up_s;
+  for (const auto& s : snapshots) {
+    m.max_lethal_without_voxels = std::max(m.max_lethal_without_voxels, s.projection.lethal_without_voxels);
+    m.max_columns_without_lethal = std::max(m.max_columns_without_lethal, s.projection.columns_without_lethal);
+  }
   std::size_t n = 0;
   double phantoms = 0;
   for (const auto& s : snapshots) {
@@ -257,6 +261,7 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& obser
     options.min_obstacle_height_m = config_.min_obstacle_height_m;
     options.max_obstacle_height_m = config_.max_obstacle_height_m;
     lethal = lethal_cells(map.project_costmap(options), cell_m);
+    snap.projection = guard_projection(map, lethal, options.min_obstacle_height_m, options.max_obstacle_height_m);
   }
   CostmapMatches m = match_costmap(lethal, footprint, observed_cells, config_.tolerance_voxels);
   timer.emplace(times_.phantoms_ms);

@@ -38,6 +38,7 @@ struct EvaluationSnapshot {
   int phantom_obstacles = 0;
   std::vector<Phantom> phantoms;  // phantom_obstacles of them, sorted by position
   std::vector<CameraRecall> cameras;  // by camera index (config.cameras of them)
+  ProjectionGuard projection;         // the costmap against the voxels it was projected from
 };
 
 // Means over the snapshots after the first recall window (all of them when there is only one).
@@ -49,6 +50,8 @@ struct EvaluationMean {
   double phantom_obstacles = 0;   // mean
   int max_phantom_obstacles = 0;  // the most at one snapshot
   std::vector<double> camera_recall;  // mean recall per camera index
+  // The projection guard's worst counts over every snapshot (warm-up included).
+  std::size_t max_lethal_without_voxels = 0, max_columns_without_lethal = 0;
 };
 
 struct EvaluationSummary {

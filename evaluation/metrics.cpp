@@ -1,5 +1,7 @@
 #include "evaluation/metrics.hpp"
 
+#include <unordered_map>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -68,6 +70,24 @@ CellSet lethal_cells(const mapping::Costmap2D& costmap, double cell_m) {
                                 costmap.origin_m.y() + (iy + 0.5) * costmap.resolution_m},
                                cell_m));
   return lethal;
+}
+
+ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m) {
+  const double s = map.voxel_size_m();
+  std::unordered_map<CellKey, int, CellKeyHash> counts;
+  map.for_each_key([&](const VoxelKey& k) {
+    const double z_m = (k.z + 0.5) * s;
+    if (z_m >= min_z_m && z_m <= max_z_m) ++counts[{k.x, k.y}];
+  });
+  const int needed = std::max(map.config().mark_threshold, 1);
+  ProjectionGuard guard;
+  for (const auto& cell : lethal) {
+    const auto it = counts.find(cell);
+    if (it == counts.end() || it->second < needed) ++guard.lethal_without_voxels;
+  }
+  for (const auto& [cell, count] : counts)
+    if (count >= needed && !lethal.count(cell)) ++guard.columns_without_lethal;
+  return guard;
 }
 
 std::vector<Phantom> find_phantoms(const CellSet& lethal, const CellSet& footprint, double cell_m, double clearance_m,

@@ -8,6 +8,7 @@
 
 #include "common/voxel_key.hpp"
 #include "mapping/costmap.hpp"
+#include "mapping/voxel_map.hpp"
 
 namespace stvl::evaluation {
 
@@ -61,6 +62,15 @@ struct CostmapMatches {
 CostmapMatches match_costmap(const CellSet& lethal, const CellSet& footprint, const CellSet& observed, int tol);
 // Cell keys (at cell_m, the costmap's own resolution) of the lethal cells of a costmap.
 CellSet lethal_cells(const mapping::Costmap2D& costmap, double cell_m);
+
+// A guard on the projection (costmap ghosts, STVL #199/#94/#60), recomputed from the voxels themselves: a column
+// (cell of the voxel size) should be lethal exactly where it holds >= max(mark_threshold, 1) voxels whose centre
+// z lies in [min_z_m, max_z_m].
+struct ProjectionGuard {
+  std::size_t lethal_without_voxels = 0;  // lethal cells whose column holds too few voxels in the band
+  std::size_t columns_without_lethal = 0; // columns with enough voxels in the band and no lethal cell
+};
+ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m);
 
 // A phantom obstacle: an 8-connected group of at least min_cells lethal cells with no true footprint cell
 // centre within clearance_m of any of its cell centres (Chebyshev, ceil(clearance_m / cell_m) cells).

@@ -55,6 +55,13 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
     r.push_back({"phantom_obstacles", e.final.phantom_obstacles <= *c.phantom_obstacles_max,
                  std::to_string(e.final.phantom_obstacles) + " phantom obstacles in the final costmap, allowed " +
                      std::to_string(*c.phantom_obstacles_max)});
+  if (c.costmap_ghosts_max) {
+    const std::size_t ghosts = mean.max_lethal_without_voxels, missing = mean.max_columns_without_lethal;
+    const auto allowed = static_cast<std::size_t>(*c.costmap_ghosts_max);
+    r.push_back({"costmap_ghosts", ghosts <= allowed && missing <= allowed,
+                 "at worst " + std::to_string(ghosts) + " lethal cells without voxels and " + std::to_string(missing) +
+                     " columns of voxels without a lethal cell at one evaluation, allowed " + std::to_string(allowed)});
+  }
   if (c.clearing_latency_max_s) {
     const auto& cl = e.clearing;
     const bool ok = cl.stale_voxels_seen_through > 0 && cl.not_cleared == 0 && cl.max_latency_s <= *c.clearing_latency_max_s;

@@ -31,7 +31,9 @@ nlohmann::json snapshot_json(const evaluation::EvaluationSnapshot& s) {
           {"lethal_cells", s.lethal_cells},
           {"costmap_precision", s.costmap_precision},
           {"costmap_recall", s.costmap_recall},
-          {"phantom_obstacles", s.phantom_obstacles}};
+          {"phantom_obstacles", s.phantom_obstacles},
+          {"lethal_without_voxels", s.projection.lethal_without_voxels},
+          {"columns_without_lethal", s.projection.columns_without_lethal}};
 }
 
 // The means over the run; phantom_obstacles is the mean count, max_phantom_obstacles the most at one snapshot.
@@ -48,7 +50,9 @@ nlohmann::json mean_json(const evaluation::EvaluationMean& m) {
           {"costmap_precision", m.costmap_precision},
           {"costmap_recall", m.costmap_recall},
           {"phantom_obstacles", m.phantom_obstacles},
-          {"max_phantom_obstacles", m.max_phantom_obstacles}};
+          {"max_phantom_obstacles", m.max_phantom_obstacles},
+          {"max_lethal_without_voxels", m.max_lethal_without_voxels},
+          {"max_columns_without_lethal", m.max_columns_without_lethal}};
 }
 
 // Totals over the run in ms, and per frame.

@@ -451,6 +451,9 @@ void read_checks(YamlMap c, Scenario& s) {
   get_optional(c, "phantom_obstacles_max", ch.phantom_obstacles_max);
   if (ch.phantom_obstacles_max)
     require_range(c, "phantom_obstacles_max", *ch.phantom_obstacles_max, *ch.phantom_obstacles_max >= 0, "must be >= 0");
+  get_optional(c, "costmap_ghosts_max", ch.costmap_ghosts_max);
+  if (ch.costmap_ghosts_max)
+    require_range(c, "costmap_ghosts_max", *ch.costmap_ghosts_max, *ch.costmap_ghosts_max >= 0, "must be >= 0");
   get_optional(c, "clearing_latency_max_s", ch.clearing_latency_max_s);
   if (ch.clearing_latency_max_s)
     require_range(c, "clearing_latency_max_s", *ch.clearing_latency_max_s,

@@ -20,6 +20,7 @@ struct ChecksConfig {
   std::optional<double> camera_recall_min;  // every camera's mean recall (over the truth voxels it saw)
   bool all_obstacles_detected = false;
   std::optional<int> phantom_obstacles_max;
+  std::optional<int> costmap_ghosts_max;  // the projection guard's worst count (either kind) at any evaluation
   std::optional<double> clearing_latency_max_s;
   std::optional<double> accuracy_p90_max_m;
 };

@@ -113,6 +113,34 @@ TEST(Phantoms, GroupsAreEightConnectedSortedAndAtLeastMinCells) {
   EXPECT_EQ(find_phantoms(lethal, footprint, 0.05, 0.10, 1).size(), 3u);
 }
 
+// The projection guard counts both kinds of mismatch between lethal cells and the voxel columns, in the band and
+// at the mark threshold; the map's own projection passes it.
+TEST(ProjectionGuard, CountsGhostsAndColumnsWithoutLethal) {
+  mapping::StvlConfig config;
+  config.voxel_size_m = 0.1;
+  config.mark_threshold = 2;
+  mapping::VoxelMap map(config);
+  // Column (1, 1): 2 voxels in the band (lethal at threshold 2); (2, 1): 1 voxel (not lethal); (3, 1): 2 voxels
+  // but one above the band (z = 2.05 m).
+  map.set_voxels({{{1, 1, 2}, 1.0}, {{1, 1, 3}, 1.0}, {{2, 1, 2}, 1.0}, {{3, 1, 2}, 1.0}, {{3, 1, 20}, 1.0}});
+  mapping::CostmapOptions options;
+  options.min_obstacle_height_m = 0.1;
+  options.max_obstacle_height_m = 2.0;
+  const CellSet projected = lethal_cells(map.project_costmap(options), 0.1);
+  EXPECT_EQ(projected, (CellSet{{1, 1}}));
+  ProjectionGuard g = guard_projection(map, projected, 0.1, 2.0);
+  EXPECT_EQ(g.lethal_without_voxels, 0u);
+  EXPECT_EQ(g.columns_without_lethal, 0u);
+  g = guard_projection(map, {{1, 1}, {2, 1}, {3, 1}, {9, 9}}, 0.1, 2.0);  // three ghosts
+  EXPECT_EQ(g.lethal_without_voxels, 3u);
+  EXPECT_EQ(g.columns_without_lethal, 0u);
+  g = guard_projection(map, {}, 0.1, 2.0);  // the lethal column lost
+  EXPECT_EQ(g.lethal_without_voxels, 0u);
+  EXPECT_EQ(g.columns_without_lethal, 1u);
+  g = guard_projection(map, {}, 0.1, 3.0);  // a wider band makes (3, 1) count too
+  EXPECT_EQ(g.columns_without_lethal, 2u);
+}
+
 TEST(DistanceStats, NearestRankQuantiles) {
   std::vector<double> d;
   for (int i = 100; i >= 0; --i) d.push_back(i * 0.001);  // 0 .. 0.1 m, unsorted

@@ -20,6 +20,30 @@ evaluation::EvaluationSummary summary() {
   return s;
 }
 
+TEST(Checks, CostmapGhostsAndCameraRecallFailOnTheirWorstValue) {
+  ChecksConfig c;
+  c.camera_recall_min = 0.8;
+  c.costmap_ghosts_max = 0;
+  evaluation::EvaluationSummary s = summary();
+  s.mean.camera_recall = {0.99, 0.79, 0.95};
+  s.mean.max_columns_without_lethal = 1;
+  auto r = evaluation_checks(c, s, {"front", "left", "right"});
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].name, "camera_recall");
+  EXPECT_FALSE(r[0].passed);
+  EXPECT_EQ(r[0].message, "lowest mean recall of one camera (left) 0.7900, required >= 0.8000");
+  EXPECT_EQ(r[1].name, "costmap_ghosts");
+  EXPECT_FALSE(r[1].passed);
+  EXPECT_THAT(r[1].message, HasSubstr("0 lethal cells without voxels and 1 columns of voxels without a lethal cell"));
+  s.mean.camera_recall = {0.99, 0.81};
+  s.mean.max_columns_without_lethal = 0;
+  r = evaluation_checks(c, s, {"front", "left"});
+  EXPECT_TRUE(r[0].passed);
+  EXPECT_TRUE(r[1].passed);
+  s.mean.max_lethal_without_voxels = 2;
+  EXPECT_FALSE(evaluation_checks(c, s)[1].passed);
+}
+
 TEST(Checks, OneResultPerThresholdInOrderWithValueAndThreshold) {
   ChecksConfig c;
   c.f1_3d_min = 0.85;
