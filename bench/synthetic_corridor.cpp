@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "common/splitmix.hpp"
+
 namespace stvl::bench {
 namespace {
 
@@ -19,12 +21,6 @@ constexpr double kEndWall = 30.0;
 
 // Counter-based generator (splitmix64 chained over the inputs): the same (seed, a, b) gives the same value
 // anywhere. The same construction as filter's detail::hash3, kept here so that bench/ uses no filter internals.
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 std::uint64_t hash3(std::uint64_t seed, std::uint64_t a, std::uint64_t b) {
   return splitmix64(splitmix64(splitmix64(seed) ^ a) ^ b);
 }

@@ -12,6 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "common/splitmix.hpp"
 #include "sensors/depth_renderer.hpp"
 
 namespace stvl::pipeline {
@@ -39,10 +40,7 @@ void transform(const Eigen::Isometry3d& T, const Eigen::Matrix3Xf& points, Eigen
 // splitmix64 of seed and index, so that no two cameras share noise.
 std::uint64_t camera_noise_seed(std::uint64_t seed, std::size_t index) {
   if (index == 0) return seed;
-  std::uint64_t z = seed + 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(index);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
+  return splitmix64_mix(seed + 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(index));
 }
 
 // One point per voxel of size voxel_m that the rays of depth's pixels without a return reach at range_m from
@@ -54,7 +52,7 @@ void no_return_points(const sensors::DepthImage& depth, const sensors::CameraInt
   for (int v = 0; v < depth.height; ++v)
     for (int u = 0; u < depth.width; ++u) {
       if (depth.at(u, v) > 0.0f) continue;
-      const Eigen::Vector3d ray_C((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+      const Eigen::Vector3d ray_C = sensors::pixel_ray_C(k, u, v);
       const Eigen::Vector3d p_W = T_world_camera * (ray_C * (range_m / ray_C.norm()));
       if (seen.insert(voxel_key(p_W, voxel_m)).second) points.push_back(p_W.cast<float>());
     }

@@ -9,30 +9,24 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "common/splitmix.hpp"
+
 namespace stvl::sensors {
 namespace {
 
 constexpr double kTwoPi = 6.28318530717958647692;
 
-// splitmix64 finalizer: a bijective 64-bit mix with good avalanche.
-inline uint64_t mix(uint64_t x) {
-  x ^= x >> 30;
-  x *= 0xBF58476D1CE4E5B9ULL;
-  x ^= x >> 27;
-  x *= 0x94D049BB133111EBULL;
-  return x ^ (x >> 31);
-}
 
 enum Stream : uint64_t { kGauss = 0, kEdge, kEdgeKind, kEdgeBlend, kDropout, kHoleCount, kHole, kStreams };
 
 // Frame key, computed once per frame; draws then cost one mix each.
 inline uint64_t frame_key(uint64_t seed, uint64_t frame_index) {
-  return mix(mix(seed + 0x9E3779B97F4A7C15ULL) ^ (frame_index * 0xD1B54A32D192ED03ULL + 0x632BE59BD9B4E019ULL));
+  return splitmix64_mix(splitmix64(seed) ^ (frame_index * 0xD1B54A32D192ED03ULL + 0x632BE59BD9B4E019ULL));
 }
 
 // splitmix64 over the counter (index, stream): one mix per draw.
 inline uint64_t draw(uint64_t key, uint64_t index, Stream stream) {
-  return mix(key + (index * kStreams + stream + 1) * 0x9E3779B97F4A7C15ULL);
+  return splitmix64_mix(key + (index * kStreams + stream + 1) * 0x9E3779B97F4A7C15ULL);
 }
 
 inline double uniform(uint64_t key, uint64_t index, Stream stream) {

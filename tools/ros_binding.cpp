@@ -32,15 +32,16 @@ const char* filter_name(RosSourceFilter filter) {
 }  // namespace
 
 int bound_camera_index(const RosObservationSource& source, const std::vector<pipeline::CameraConfig>& cameras) {
-  for (const auto& names : {topic_names, frame_names}) {
-    const std::string& value = names == topic_names ? source.topic : source.sensor_frame;
+  // The camera with the longest name that `names(value, name)` accepts; -1 when none does.
+  const auto longest = [&](const std::string& value, bool (*names)(const std::string&, const std::string&)) {
     int best = -1;
     for (std::size_t i = 0; i < cameras.size(); ++i)
       if (names(value, cameras[i].name) && (best < 0 || cameras[i].name.size() > cameras[best].name.size()))
         best = static_cast<int>(i);
-    if (best >= 0) return best;
-  }
-  return -1;
+    return best;
+  };
+  const int by_topic = longest(source.topic, topic_names);
+  return by_topic >= 0 ? by_topic : longest(source.sensor_frame, frame_names);
 }
 
 void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config, bool derive_filter) {

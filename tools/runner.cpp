@@ -69,6 +69,16 @@ class FrameSampler {
   std::size_t every_ = 0;
 };
 
+// The pipeline's stage times of one frame, appended to a run's (or a camera's) series.
+void append_stages(StageTimes& series, const pipeline::StageTimes& frame) {
+  series.render.push_back(frame.render_ms);
+  series.noise.push_back(frame.noise_ms);
+  series.cloud.push_back(frame.cloud_ms);
+  series.filter.push_back(frame.filter_ms);
+  series.clear.push_back(frame.clear_ms);
+  series.mark.push_back(frame.mark_ms);
+}
+
 // The pipeline; a mount it rejects once the world is loaded is blamed on the scenario's line.
 std::unique_ptr<pipeline::Pipeline> build_pipeline(const Scenario& s) {
   try {
@@ -143,19 +153,8 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
       break;
     }
     r.path_W.emplace_back(f.T_world_base.translation().head<2>());
-    r.times.render.push_back(f.times.render_ms);
-    r.times.noise.push_back(f.times.noise_ms);
-    r.times.cloud.push_back(f.times.cloud_ms);
-    r.times.filter.push_back(f.times.filter_ms);
-    r.times.clear.push_back(f.times.clear_ms);
-    r.times.mark.push_back(f.times.mark_ms);
-    StageTimes& own = r.camera_times[f.camera_index];
-    own.render.push_back(f.times.render_ms);
-    own.noise.push_back(f.times.noise_ms);
-    own.cloud.push_back(f.times.cloud_ms);
-    own.filter.push_back(f.times.filter_ms);
-    own.clear.push_back(f.times.clear_ms);
-    own.mark.push_back(f.times.mark_ms);
+    append_stages(r.times, f.times);
+    append_stages(r.camera_times[f.camera_index], f.times);
 
     auto start = Clock::now();
     evaluator.after_update(f.time_s, pipeline.map(), f.cleared_keys);

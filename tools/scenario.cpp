@@ -484,7 +484,7 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   read_robot(root.map("robot"), s, camera_overrides);
   read_moving_bodies(root, s);
   if (root.has("camera")) {
-    if (camera_overrides.size() > 1 || root.map("robot").has("cameras"))
+    if (root.map("robot").has("cameras"))
       root.fail(root.raw("camera"), "camera", "robot.cameras gives the cameras; move these keys into its entries");
     read_camera(root.map("camera"), s);
   }
@@ -492,10 +492,10 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   ObservationDefaults observation;
   observation.source.clearing = true;
   if (root.has("map")) read_map(root.map("map"), s, observation, base_dir);
-  for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i)
-    apply_observation(s.pipeline.cameras[i], observation, camera_overrides[i], s.pipeline.map.clearing_mode);
   for (const auto& own : camera_overrides)
     if (own && s.ros_params) own->fail(YAML::Node(), "", "the sources come from map.ros_params; remove this observation");
+  for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i)
+    apply_observation(s.pipeline.cameras[i], observation, camera_overrides[i], s.pipeline.map.clearing_mode);
   if (s.ros_params) {
     const RosStvlLayer layer = load_ros_stvl_layer(s.ros_params->path, s.ros_params->layer, s.ros_params->costmap);
     apply_ros_layer(layer, s.pipeline, !root.has("filter"));

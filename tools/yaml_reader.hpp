@@ -40,7 +40,10 @@ class YamlMap {
   // is absent too.
   [[noreturn]] void fail(const YAML::Node& at, const std::string& key, const std::string& message) const;
   const std::string& file() const { return file_; }
-  std::string location(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  // Dotted location of `key`; of this mapping itself for an empty key.
+  std::string location(const std::string& key) const {
+    return path_.empty() ? key : key.empty() ? path_ : path_ + "." + key;
+  }
   // "file:line: dotted.key" of `key` (of this mapping's line when absent), as fail() would name it.
   std::string where(const std::string& key) const;
 

@@ -95,6 +95,9 @@ TEST(ScenarioCameras, BadCamerasNameLineAndKey) {
               HasSubstr("robot.camera_mount: give each camera its mount in robot.cameras instead"));
   EXPECT_THAT(error_of(kTwoCameras + "camera: {rate_hz: 15}\n"),
               HasSubstr("camera: robot.cameras gives the cameras; move these keys into its entries"));
+  EXPECT_THAT(error_of(replaced(kTwoCameras, "map:\n  observation:\n    obstacle_range: 3.0\n    max_z: 4.0\n",
+                                "map:\n  ros_params: /some/params.yaml\n")),
+              HasSubstr(at(15, "robot.cameras[1].observation") + "the sources come from map.ros_params"));
   EXPECT_THAT(error_of(replaced(kTwoCameras, "  cameras:\n", "  cameras: []\n  old:\n")),
               HasSubstr("robot.cameras: expected at least one camera"));
 }
