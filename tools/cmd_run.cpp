@@ -41,11 +41,12 @@ struct RunCommandOptions {
   bool no_progress = false;
   bool profile = false;
   ScenarioOverrides overrides;
+  std::vector<std::string> sets;
   std::string noise;
 };
 
 int run(const RunCommandOptions& o) {
-  Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario);
+  Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario, o.sets);
   ScenarioOverrides overrides = o.overrides;
   if (!o.noise.empty()) {
     if (o.noise != "on" && o.noise != "off") throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
@@ -92,6 +93,11 @@ const CommandRegistration kRun{"run", [](CLI::App& app) {
   cmd->add_option("--out", o->out_dir, "Output directory (default: out/<scenario name>)");
   cmd->add_option("--bag", o->bag, "Also write a ROS 1 bag to this file");
   cmd->add_option("--bag-compression", o->bag_compression, "none | bz2 | lz4")->check(CLI::IsMember({"none", "bz2", "lz4"}));
+  cmd->add_option("--set", o->sets,
+                  "Set a scenario key before it is read, KEY=VALUE (dotted keys, list items as [i]; repeatable), e.g. "
+                  "--set map.observation.clear_on_no_return=false")
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--seed", o->overrides.seed, "Override the scenario's seed (a non-negative integer)")
       ->check(CLI::Validator(seed_error, "UINT"));
   cmd->add_option("--filter", o->overrides.filter_type, "Override the filter: none | passthrough | voxel | csnb");

@@ -519,9 +519,21 @@ Scenario parse_scenario(const std::string& yaml_text, const std::string& file_na
   return parse_root(YamlMap(load_yaml_string(yaml_text, file_name), file_name, ""), base_dir);
 }
 
-Scenario load_scenario(const std::string& path) {
-  const YAML::Node node = load_yaml_file(path);
-  return parse_root(YamlMap(node, path, ""), std::filesystem::path(path).parent_path().string());
+Scenario load_scenario(const std::string& path, const std::vector<std::string>& sets) {
+  YAML::Node node = load_yaml_file(path);
+  for (const auto& assignment : sets) set_yaml_path(node, assignment);
+  try {
+    return parse_root(YamlMap(node, path, ""), std::filesystem::path(path).parent_path().string());
+  } catch (const std::invalid_argument& e) {
+    // "file:line: dotted.key: message" about a key an assignment set: the assignment is to blame, not the line.
+    const std::string message = e.what();
+    for (const auto& assignment : sets) {
+      const std::string key = ": " + assignment.substr(0, assignment.find('=')) + ": ";
+      if (const std::size_t at = message.find(key); at != std::string::npos)
+        throw std::invalid_argument("--set " + assignment + ": " + message.substr(at + key.size()) + " (in " + path + ")");
+    }
+    throw;
+  }
 }
 
 std::string default_scenario_path() { return std::string(STVL_SOURCE_DIR) + "/scenarios/office_corridor.yaml"; }

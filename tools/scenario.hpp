@@ -64,7 +64,9 @@ evaluation::EvaluationConfig evaluation_config(const Scenario& scenario);
 
 // Throws std::invalid_argument naming the file, line and key for malformed files, unknown keys, wrong types
 // and out-of-range values.
-Scenario load_scenario(const std::string& path);
+// `sets`: "dotted.key=VALUE" assignments applied to the document before it is read (stvl-bench run --set; see
+// set_yaml_path); an error about a key one of them set starts "--set KEY=VALUE: ".
+Scenario load_scenario(const std::string& path, const std::vector<std::string>& sets = {});
 Scenario parse_scenario(const std::string& yaml_text, const std::string& file_name, const std::string& base_dir);
 
 // Path of the default scenario (scenarios/office_corridor.yaml in the source tree).

@@ -21,6 +21,7 @@ template <> const char* YamlMap::type_name<std::vector<std::string>>() { return 
 
 namespace {
 int line_of(const YAML::Mark& mark) { return mark.is_null() || mark.line < 0 ? 1 : mark.line + 1; }
+std::string describe_scalar(const YAML::Node& node) { return node.IsScalar() ? node.Scalar() : "a list"; }
 }  // namespace
 
 YamlMap::YamlMap(YAML::Node node, std::string file, std::string path)
@@ -123,6 +124,65 @@ std::string YamlMap::describe(const YAML::Node& node) {
   if (node.IsSequence()) return "a list";
   if (node.IsMap()) return "a mapping";
   return "nothing";
+}
+
+void set_yaml_path(YAML::Node& root, const std::string& assignment) {
+  const auto fail = [&](const std::string& message) { throw std::invalid_argument("--set " + assignment + ": " + message); };
+  const std::size_t equals = assignment.find('=');
+  if (equals == std::string::npos || equals == 0) fail("expected KEY=VALUE");
+  const std::string path = assignment.substr(0, equals);
+  YAML::Node value;
+  try {
+    value = YAML::Load(assignment.substr(equals + 1));
+  } catch (const YAML::Exception& e) {
+    fail("the value is not YAML: " + e.msg);
+  }
+  if (!root.IsMap()) fail("the document is not a mapping");
+  // Steps: a key, then any number of [index]; separated by dots.
+  YAML::Node node = root;
+  std::size_t at = 0;
+  std::string walked;
+  while (at < path.size()) {
+    const std::size_t end = path.find_first_of(".[", at);
+    const std::string key = path.substr(at, end == std::string::npos ? std::string::npos : end - at);
+    if (key.empty() || key.find_first_of("] ") != std::string::npos) fail("malformed key '" + path + "'");
+    walked += (walked.empty() ? "" : ".") + key;
+    if (!node.IsMap()) fail(walked + ": its parent holds '" + describe_scalar(node) + "', not a mapping");
+    at = end == std::string::npos ? path.size() : end;
+    const bool last_key = at == path.size();
+    if (last_key) {
+      node[key] = value;
+      return;
+    }
+    YAML::Node child = node[key];
+    if (!child || child.IsNull()) {
+      if (path[at] == '[') fail(walked + ": no such list");
+      node[key] = YAML::Node(YAML::NodeType::Map);
+      child.reset(node[key]);
+    }
+    while (at < path.size() && path[at] == '[') {
+      const std::size_t close = path.find(']', at);
+      const std::string digits = close == std::string::npos ? "" : path.substr(at + 1, close - at - 1);
+      if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 6)
+        fail("malformed index in '" + path + "'");
+      const std::size_t index = std::stoul(digits);
+      if (!child.IsSequence()) fail(walked + ": not a list");
+      if (index >= child.size())
+        fail(walked + "[" + digits + "]: the list has " + std::to_string(child.size()) + " items");
+      walked += "[" + digits + "]";
+      at = close + 1;
+      if (at == path.size()) {
+        child[index] = value;
+        return;
+      }
+      YAML::Node item = child[index];
+      child.reset(item);
+    }
+    if (path[at] != '.') fail("malformed key '" + path + "'");
+    ++at;
+    node.reset(child);  // operator= would overwrite the node's contents (yaml-cpp's reference semantics)
+  }
+  fail("malformed key '" + path + "'");
 }
 
 YAML::Node load_yaml_string(const std::string& text, const std::string& file_name) {

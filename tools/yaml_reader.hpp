@@ -70,6 +70,13 @@ class YamlMap {
   int line_;  // 1-based line of the key that holds this mapping (of the mapping itself for the root)
 };
 
+// Applies one command-line assignment "dotted.key[index].key=VALUE" to a document: VALUE is read as YAML (so
+// "0.1", "true", "[[0, 0], [8, 0]]" keep their types), missing mappings on the way are created, list indices
+// must exist. Throws std::invalid_argument starting "--set ASSIGNMENT: " for a malformed assignment, a path
+// through a value that is not a mapping or list, or an index out of range. Unknown keys are left to the
+// strict reader, which names them as it names a file's.
+void set_yaml_path(YAML::Node& root, const std::string& assignment);
+
 // Loads a YAML file or text; parse errors name the file and line.
 YAML::Node load_yaml_file(const std::string& file);
 YAML::Node load_yaml_string(const std::string& text, const std::string& file_name);

@@ -235,6 +235,25 @@ TEST(ScenarioParse, LoadScenarioResolvesAgainstTheFilesFolder) {
   EXPECT_THAT(invalid_argument_of([&] { load_scenario(file.string()); }), HasSubstr(file.string() + ": no such file"));
 }
 
+TEST(ScenarioParse, SetAssignmentsChangeTheDocumentBeforeItIsRead) {
+  const fs::path dir = fs::temp_directory_path() / ("stvl_scenario_set_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path file = dir / "s.yaml";
+  std::ofstream(file) << kMinimal;
+  const Scenario plain = load_scenario(file.string());
+  const Scenario set = load_scenario(file.string(), {"duration_s=3.5", "map.voxel_size=0.1", "map.observation.max_z=4"});
+  EXPECT_NE(plain.duration_s, 3.5);
+  EXPECT_DOUBLE_EQ(set.duration_s, 3.5);
+  EXPECT_DOUBLE_EQ(set.pipeline.map.voxel_size_m, 0.1);
+  EXPECT_DOUBLE_EQ(set.camera().sources.front().params.max_z_m, 4.0);
+  // Errors about a key an assignment set blame the assignment, with the nearest known name.
+  EXPECT_THAT(invalid_argument_of([&] { load_scenario(file.string(), {"map.voxel_sze=0.1"}); }),
+              HasSubstr("--set map.voxel_sze=0.1: unknown key; did you mean 'voxel_size'?"));
+  EXPECT_THAT(invalid_argument_of([&] { load_scenario(file.string(), {"duration_s=[1, 2]"}); }),
+              HasSubstr("--set duration_s=[1, 2]: expected a number"));
+  fs::remove_all(dir);
+}
+
 TEST(ScenarioOverrides, EmptyOverridesChangeNothing) {
   Scenario s = parse(kFull);
   apply_overrides(s, {});

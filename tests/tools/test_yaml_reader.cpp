@@ -163,6 +163,41 @@ class YamlFile : public ::testing::Test {
   fs::path dir_;
 };
 
+YAML::Node with_sets(const std::string& text, const std::vector<std::string>& sets) {
+  YAML::Node node = load_yaml_string(text, "t.yaml");
+  for (const auto& s : sets) set_yaml_path(node, s);
+  return node;
+}
+
+TEST(YamlSet, ReplacesAndAddsValuesWithTheirYamlTypes) {
+  const YAML::Node n = with_sets("a: {b: 1, c: keep}\nl: [{x: 1}, {x: 2}]\n",
+                                 {"a.b=0.25", "a.d=true", "new.deep.key=[[0, 0], [8, 0]]", "l[1].x=7", "top=text"});
+  EXPECT_DOUBLE_EQ(n["a"]["b"].as<double>(), 0.25);
+  EXPECT_EQ(n["a"]["c"].as<std::string>(), "keep");  // the rest of the mapping untouched
+  EXPECT_TRUE(n["a"]["d"].as<bool>());
+  EXPECT_DOUBLE_EQ(n["new"]["deep"]["key"][1][0].as<double>(), 8.0);
+  EXPECT_EQ(n["l"][0]["x"].as<int>(), 1);
+  EXPECT_EQ(n["l"][1]["x"].as<int>(), 7);
+  EXPECT_EQ(n["top"].as<std::string>(), "text");
+  // A whole list item can be replaced too.
+  EXPECT_EQ(with_sets("l: [1, 2]\n", {"l[0]=5"})["l"][0].as<int>(), 5);
+}
+
+TEST(YamlSet, MalformedAssignmentsAndPathsNameTheAssignment) {
+  const auto error = [](const std::string& assignment) {
+    return invalid_argument_of([&] { with_sets("a: {b: 1}\nl: [1, 2]\n", {assignment}); });
+  };
+  EXPECT_EQ(error("a.b"), "--set a.b: expected KEY=VALUE");
+  EXPECT_EQ(error("=1"), "--set =1: expected KEY=VALUE");
+  EXPECT_EQ(error("a..b=1"), "--set a..b=1: malformed key 'a..b'");
+  EXPECT_EQ(error("a.b.c=1"), "--set a.b.c=1: a.b.c: its parent holds '1', not a mapping");
+  EXPECT_EQ(error("l[2]=1"), "--set l[2]=1: l[2]: the list has 2 items");
+  EXPECT_EQ(error("a[0]=1"), "--set a[0]=1: a: not a list");
+  EXPECT_EQ(error("l[x]=1"), "--set l[x]=1: malformed index in 'l[x]'");
+  EXPECT_EQ(error("m[0].k=1"), "--set m[0].k=1: m: no such list");
+  EXPECT_THAT(error("a.b={x: 1"), HasSubstr("--set a.b={x: 1: the value is not YAML"));
+}
+
 TEST_F(YamlFile, LoadsAFile) {
   const std::string path = write("ok.yaml", "a: 1\n");
   EXPECT_EQ(load_yaml_file(path)["a"].as<int>(), 1);
