@@ -126,7 +126,46 @@ nlohmann::json camera_list_json(const Scenario& s) {
   return list;
 }
 
+// Every leaf under `j` as "a.b[2].c" -> value text, in the document's order.
+void flatten(const nlohmann::json& j, const std::string& path, std::vector<std::pair<std::string, std::string>>& out) {
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) flatten(value, path.empty() ? key : path + "." + key, out);
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) flatten(j[i], path + "[" + std::to_string(i) + "]", out);
+    if (j.empty()) out.emplace_back(path, "(none)");
+  } else {
+    out.emplace_back(path, j.is_string() ? j.get<std::string>() : j.dump());
+  }
+}
+
 }  // namespace
+
+// STVL's known failure modes as this run measured them: the figures every run has (phantoms, rays' false clears,
+// the projection guard) and every figure under evaluation.failure_modes.
+std::string failure_modes_html(const nlohmann::json& metrics) {
+  const nlohmann::json& e = metrics.at("evaluation");
+  std::ostringstream h;
+  h << "<h2>Failure modes</h2><p>STVL's known failure modes as this run measured them against truth (the table in "
+       "docs/fidelity.md says which scenario reproduces each and which option fixes it).</p>"
+       "<table><tr><th>failure mode</th><th>figure</th><th>value</th></tr>\n";
+  const auto row = [&](const std::string& mode, const std::string& figure, const std::string& value) {
+    h << "<tr><td>" << xml_escape(mode) << "</td><td>" << xml_escape(figure) << "</td><td>" << xml_escape(value) << "</td></tr>\n";
+  };
+  const auto text = [](const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); };
+  row("ghosts (phantom obstacles)", "final phantoms", text(e.at("final").at("phantom_obstacles")));
+  row("ghosts (phantom obstacles)", "most at one evaluation", text(e.at("mean").at("max_phantom_obstacles")));
+  row("rays clearing true voxels", "evaluation.clearing.false_clears", text(e.at("clearing").at("false_clears")));
+  row("costmap ghosts", "lethal cells without voxels (worst)", text(e.at("mean").at("max_lethal_without_voxels")));
+  row("costmap ghosts", "voxel columns without a lethal cell (worst)", text(e.at("mean").at("max_columns_without_lethal")));
+  if (e.contains("failure_modes"))
+    for (const auto& [mode, figures] : e.at("failure_modes").items()) {
+      std::vector<std::pair<std::string, std::string>> leaves;
+      flatten(figures, "", leaves);
+      for (const auto& [figure, value] : leaves) row(mode, figure, value);
+    }
+  h << "</table>\n";
+  return h.str();
+}
 
 nlohmann::json metrics_json(const RunResult& r) {
   const auto& e = r.evaluation;
@@ -270,7 +309,8 @@ std::string junit_xml(const RunResult& r) {
 }
 
 void write_report(const RunResult& r, const std::filesystem::path& out) {
-  write_file_atomically(out / "metrics.json", metrics_json(r).dump(2) + "\n");
+  const nlohmann::json metrics = metrics_json(r);
+  write_file_atomically(out / "metrics.json", metrics.dump(2) + "\n");
   write_file_atomically(out / "junit.xml", junit_xml(r));
   write_png(out / "top_down.png", top_down_image(r));
   const auto& t = r.times;
@@ -329,6 +369,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     << " stale voxels of moved bodies were seen through; max latency " << e.clearing.max_latency_s << " s, mean "
     << e.clearing.mean_latency_s << " s, " << e.clearing.not_cleared << " never cleared; ray-cast clearing removed "
     << e.false_clears << " true obstacle voxels (false clears).</p>\n";
+  h << failure_modes_html(metrics);
   h << "<h2>Sample depth frames</h2>\n";
   std::vector<std::string> frames;
   if (std::filesystem::is_directory(out / "frames"))
@@ -346,7 +387,6 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   h << "\n<h2>Timing</h2><img src=\"timing.png\" alt=\"per-frame timing\"><p>Per-frame wall time in ms: render "
        "(orange), filter (blue), clear (red), mark (green), whole frame (black).</p><table><tr><th>stage</th>"
        "<th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
-  const nlohmann::json metrics = metrics_json(r);
   for (const auto& [stage, stats] : metrics["timing_ms"].items()) {
     if (stage == "evaluation_phases" || stage == "per_camera") continue;
     h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()

@@ -12,6 +12,9 @@ namespace stvl::tools {
 
 // Every figure of the run; timings under "timing_ms" (mean, p50, p95 per stage) and "real_time_factor".
 nlohmann::json metrics_json(const RunResult& result);
+// report.html's "Failure modes" section from a run's metrics: phantoms, the rays' false clears, the projection
+// guard, and every figure under evaluation.failure_modes (one row per leaf, named by its dotted path).
+std::string failure_modes_html(const nlohmann::json& metrics);
 std::string junit_xml(const RunResult& result);
 // Where a run's time went: per-stage mean and p95 ms per frame with each stage's share of the frame, then the
 // evaluation's phases per frame (`stvl-bench run --profile`).

@@ -155,6 +155,25 @@ TEST(ReportMetrics, HoldsEveryFigureOfTheRun) {
   EXPECT_EQ(m["points"]["map_voxels_final"], 9);
 }
 
+TEST(ReportFailureModes, EveryRunsFiguresAndEachFigureUnderFailureModes) {
+  nlohmann::json m = metrics_json(synthetic_result());
+  std::string html = failure_modes_html(m);
+  EXPECT_THAT(html, HasSubstr("<td>ghosts (phantom obstacles)</td><td>final phantoms</td><td>3</td>"));
+  EXPECT_THAT(html, HasSubstr("<td>evaluation.clearing.false_clears</td>"));
+  EXPECT_THAT(html, Not(HasSubstr("<td>occlusion</td>")));
+  m["evaluation"]["failure_modes"] = {{"occlusion", {{"hidden_false_clears", 4}, {"box", {{"gone_s", 2.5}}}}},
+                                      {"outage", {{"cameras", {{{"name", "front<1>"}, {"stale_s", 1}}}}}},
+                                      {"empty", {{"list", nlohmann::json::array()}}}};
+  html = failure_modes_html(m);
+  EXPECT_THAT(html, HasSubstr("<td>occlusion</td><td>hidden_false_clears</td><td>4</td>"));
+  EXPECT_THAT(html, HasSubstr("<td>occlusion</td><td>box.gone_s</td><td>2.5</td>"));
+  EXPECT_THAT(html, HasSubstr("<td>outage</td><td>cameras[0].name</td><td>front&lt;1&gt;</td>"));
+  EXPECT_THAT(html, HasSubstr("<td>outage</td><td>cameras[0].stale_s</td><td>1</td>"));
+  EXPECT_THAT(html, HasSubstr("<td>empty</td><td>list</td><td>(none)</td>"));
+  m["evaluation"].erase("clearing");
+  EXPECT_THROW(failure_modes_html(m), nlohmann::json::exception);  // a figure every run has is missing
+}
+
 TEST(ReportMetrics, TimingStatsPerStage) {
   const nlohmann::json t = metrics_json(synthetic_result())["timing_ms"];
   for (const char* stage : {"render", "noise", "cloud", "filter", "clear", "mark", "evaluation", "bag", "frame"})
@@ -272,6 +291,7 @@ TEST(ReportFiles, WriteReportWritesEveryOutput) {
   for (const char* name : {"metrics.json", "junit.xml", "report.html", "top_down.png", "timing.png", "quality.png"})
     EXPECT_TRUE(fs::is_regular_file(dir.path() / name)) << name;
   EXPECT_EQ(nlohmann::json::parse(test::TempDir::read(dir.path() / "metrics.json"))["frames"], 5);
+  EXPECT_THAT(test::TempDir::read(dir.path() / "report.html"), HasSubstr("<h2>Failure modes</h2>"));
   for (const auto& name : dir.names()) EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
 }
 
