@@ -12,7 +12,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev liboctomap-dev
   clang libclang-rt-14-dev
-  parallel libjs-chart.js
+  parallel libjs-chart.js libjs-three chromium
 )
 [[ "${1:-}" == "--with-pcl" ]] && packages+=(libpcl-dev)
 

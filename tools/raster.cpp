@@ -67,25 +67,4 @@ void write_png(const std::filesystem::path& path, const RgbImage& image) {
   write_file_atomically(path, encode_png(image));
 }
 
-RgbImage plot_series(const std::vector<PlotSeries>& series, int width, int height) {
-  RgbImage image(width, height);
-  double max_value = 0.0;
-  std::size_t max_count = 1;
-  for (const auto& s : series) {
-    for (double v : s.values)
-      if (std::isfinite(v)) max_value = std::max(max_value, v);
-    max_count = std::max(max_count, s.values.size());
-  }
-  if (max_value <= 0.0) max_value = 1.0;
-  const Rgb grid{225, 225, 225};
-  for (int i = 1; i < 4; ++i) image.line(0, i * height / 4, width - 1, i * height / 4, grid);
-  const auto to_x = [&](std::size_t i) { return static_cast<int>(i * (width - 1) / std::max<std::size_t>(1, max_count - 1)); };
-  const auto to_y = [&](double v) { return height - 1 - static_cast<int>(v / max_value * (height - 1)); };
-  for (const auto& s : series)
-    for (std::size_t i = 1; i < s.values.size(); ++i)
-      if (std::isfinite(s.values[i - 1]) && std::isfinite(s.values[i]))
-        image.line(to_x(i - 1), to_y(s.values[i - 1]), to_x(i), to_y(s.values[i]), s.color);
-  return image;
-}
-
 }  // namespace stvl::tools

@@ -33,12 +33,5 @@ std::string encode_png(const RgbImage& image);
 // Writes atomically (temporary name, then rename).
 void write_png(const std::filesystem::path& path, const RgbImage& image);
 
-struct PlotSeries {
-  std::string label;
-  std::vector<double> values;
-  Rgb color;
-};
-// A line plot of several series against their index, with a light grid; axis values go in the caption.
-RgbImage plot_series(const std::vector<PlotSeries>& series, int width, int height);
 
 }  // namespace stvl::tools

@@ -8,6 +8,7 @@
 
 #include "common/atomic_file.hpp"
 #include "tools/raster.hpp"
+#include "tools/report_page.hpp"
 
 namespace stvl::tools {
 namespace {
@@ -313,18 +314,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   write_file_atomically(out / "metrics.json", metrics.dump(2) + "\n");
   write_file_atomically(out / "junit.xml", junit_xml(r));
   write_png(out / "top_down.png", top_down_image(r));
-  const auto& t = r.times;
-  write_png(out / "timing.png", plot_series({{"render", t.render, {230, 120, 20}},
-                                             {"filter", t.filter, {30, 120, 220}},
-                                             {"clear", t.clear, {200, 40, 40}},
-                                             {"mark", t.mark, {40, 160, 60}},
-                                             {"frame", t.frame, {0, 0, 0}}},
-                                            900, 260));
-  std::vector<double> f1, recall, precision;
-  for (const auto& s : r.evaluation.snapshots) f1.push_back(s.f1), recall.push_back(s.recall), precision.push_back(s.precision);
-  write_png(out / "quality.png", plot_series({{"f1", f1, {0, 0, 0}}, {"precision", precision, {220, 40, 40}},
-                                              {"recall", recall, {40, 90, 230}}},
-                                             900, 200));
+  const ReportScripts scripts = load_report_scripts();
 
   const auto& e = r.evaluation;
   std::ostringstream h;
@@ -332,7 +322,8 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench: " << xml_escape(r.scenario.name)
     << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
        "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}"
-       "img{max-width:100%;border:1px solid #ddd}</style></head><body>\n";
+       "img{max-width:100%;border:1px solid #ddd}</style>\n"
+    << interactive_head_html(scripts) << "</head><body>\n";
   h << "<h1>" << xml_escape(r.scenario.name) << " <span class=\"" << (r.passed() ? "pass\">PASSED" : "fail\">FAILED")
     << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.pipeline.seed << ", " << r.frames
     << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s << " s (real-time factor "
@@ -356,11 +347,12 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   row("final", e.final, std::to_string(e.final.phantom_obstacles));
   h << "</table><p>Distance of mapped voxel centres to the true surface: mean " << e.accuracy.mean_m << " m, median "
     << e.accuracy.median_m << " m, p90 " << e.accuracy.p90_m << " m, p99 " << e.accuracy.p99_m << " m.</p>\n";
-  h << "<img src=\"quality.png\" alt=\"F1 (black), precision (red), recall (blue) over time\"><p>F1 (black), precision "
-       "(red) and recall (blue) at each evaluation, 0 to 1.</p>\n";
-  h << "<h2>Top-down: truth vs map</h2><img src=\"top_down.png\" alt=\"top-down map\"><p>Grey: true footprints in the "
-       "height band; green: lethal and true; red: lethal and false; blue: observed footprint missed; black: the "
-       "robot's path.</p>\n";
+  h << interactive_body_html(r, scripts);
+  h << "<h2>Top-down: truth vs map</h2>";
+  if (scripts.complete()) h << "<p>Zoom <input type=\"range\" id=\"topdown-zoom\" min=\"1\" max=\"8\" step=\"0.5\" value=\"1\"></p>";
+  h << "<div style=\"overflow:auto;max-height:75vh\"><img id=\"topdown\" src=\"top_down.png\" alt=\"top-down map\" "
+       "style=\"width:100%;image-rendering:pixelated\"></div><p>Grey: true footprints in the height band; green: lethal "
+       "and true; red: lethal and false; blue: observed footprint missed; black: the robot's path.</p>\n";
   h << "<h2>Obstacles</h2><table><tr><th>body</th><th>observed</th><th>detected</th><th>best recall</th></tr>\n";
   for (const auto& o : e.obstacles)
     h << "<tr><td>" << xml_escape(o.name) << "</td><td>" << (o.observed ? "yes" : "no") << "</td><td class=\""
@@ -384,9 +376,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     for (const auto& f : frames)
       if (f.rfind(prefix, 0) == 0) h << "<img src=\"frames/" << f << "\" width=\"424\" alt=\"" << f << "\"> ";
   }
-  h << "\n<h2>Timing</h2><img src=\"timing.png\" alt=\"per-frame timing\"><p>Per-frame wall time in ms: render "
-       "(orange), filter (blue), clear (red), mark (green), whole frame (black).</p><table><tr><th>stage</th>"
-       "<th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
+  h << "\n<h2>Timing</h2><table><tr><th>stage</th><th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
   for (const auto& [stage, stats] : metrics["timing_ms"].items()) {
     if (stage == "evaluation_phases" || stage == "per_camera") continue;
     h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()

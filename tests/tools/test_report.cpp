@@ -288,7 +288,7 @@ TEST(Raster, LongLinesStartingFarOutsideStillCrossTheImage) {
 TEST(ReportFiles, WriteReportWritesEveryOutput) {
   const test::TempDir dir("report_files");
   write_report(synthetic_result(), dir.path());
-  for (const char* name : {"metrics.json", "junit.xml", "report.html", "top_down.png", "timing.png", "quality.png"})
+  for (const char* name : {"metrics.json", "junit.xml", "report.html", "top_down.png"})
     EXPECT_TRUE(fs::is_regular_file(dir.path() / name)) << name;
   EXPECT_EQ(nlohmann::json::parse(test::TempDir::read(dir.path() / "metrics.json"))["frames"], 5);
   EXPECT_THAT(test::TempDir::read(dir.path() / "report.html"), HasSubstr("<h2>Failure modes</h2>"));

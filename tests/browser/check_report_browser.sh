@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# report.html in a real browser: a short run of the default corridor, then headless Chromium (Debian's) loads its
+# report.html. The page must log no script error, every chart canvas and the 3D view must have painted pixels
+# (the page counts them itself once drawn: <pre id="selftest">), and the checks table must say what
+# metrics.json says. Leaves report.png (a screenshot) beside the report.
+set -euo pipefail
+bin=$1 out=$2 scenario=$3
+rm -rf "$out" && mkdir -p "$out"
+command -v chromium >/dev/null || { echo "FAIL: chromium is not installed (scripts/install-deps.sh installs it)"; exit 1; }
+"$bin" run "$scenario" --duration 4 --out "$out/run" --no-progress >"$out/run.log" 2>&1 || true
+[[ -f "$out/run/report.html" ]] || { echo "FAIL: the run wrote no report.html"; cat "$out/run.log"; exit 1; }
+browser=(chromium --headless=new --no-sandbox --disable-gpu --use-gl=swiftshader --enable-unsafe-swiftshader
+         --window-size=1400,4000 --user-data-dir="$out/profile")
+url="file://$(realpath "$out/run/report.html")"
+timeout 120 "${browser[@]}" --enable-logging=stderr --v=0 --dump-dom "$url" >"$out/dom.html" 2>"$out/browser.log"
+timeout 120 "${browser[@]}" --screenshot="$out/run/report.png" "$url" >/dev/null 2>&1 || true
+if grep -E "CONSOLE.*(Uncaught|Error)" "$out/browser.log" | grep -v "GL Driver Message"; then
+  echo "FAIL: the page logged errors (above)"; exit 1
+fi
+/usr/bin/python3 - "$out/dom.html" "$out/run/metrics.json" <<'PY'
+import html, json, re, sys
+dom = open(sys.argv[1]).read()
+metrics = json.load(open(sys.argv[2]))
+m = re.search(r'<pre id="selftest"[^>]*>(.*?)</pre>', dom, re.S)
+assert m and m.group(1).strip(), "the page did not finish drawing (empty selftest)"
+t = json.loads(html.unescape(m.group(1)))
+assert t["errors"] == [], f"script errors: {t['errors']}"
+charts = t["charts"]
+assert sorted(charts) == ["chart-points", "chart-quality", "chart-stages", "chart-voxels"], charts
+for name, painted in charts.items():
+    assert painted > 2000, f"{name}: only {painted} painted pixels"
+assert t["view3d"] > 2000, f"3D view: only {t['view3d']} painted pixels"
+assert t["view3d_points"]["tp"] > 0 and t["view3d_points"]["truth"] > 0, t["view3d_points"]
+table = re.search(r"<h2>Checks</h2><table>(.*?)</table>", dom, re.S).group(1)
+rows = re.findall(r"<tr><td>(.*?)</td><td[^>]*>(pass|FAIL)</td>", table)
+expected = [(c["name"], "pass" if c["passed"] else "FAIL") for c in metrics["checks"]]
+assert [(html.unescape(n), r) for n, r in rows] == expected, f"checks table {rows} != metrics.json {expected}"
+print(f"PASS: charts {charts}, 3D view {t['view3d']} px, {len(rows)} checks as in metrics.json")
+PY
