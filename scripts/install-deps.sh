@@ -13,6 +13,7 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev liboctomap-dev
   clang libclang-rt-14-dev
   parallel libjs-chart.js libjs-three chromium
+  rviz ros-core xvfb x11-apps netpbm python3-yaml
 )
 [[ "${1:-}" == "--with-pcl" ]] && packages+=(libpcl-dev)
 
