@@ -14,6 +14,7 @@ packages=(
   clang libclang-rt-14-dev
   parallel libjs-chart.js libjs-three chromium
   rviz ros-core xvfb x11-apps netpbm python3-yaml
+  slurm-wlm munge
 )
 [[ "${1:-}" == "--with-pcl" ]] && packages+=(libpcl-dev)
 
