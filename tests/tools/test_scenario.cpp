@@ -25,7 +25,11 @@ const std::string kScenarioDir = std::string(STVL_SOURCE_DIR) + "/scenarios";
 
 TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
   int count = 0;
-  for (const auto& entry : fs::directory_iterator(kScenarioDir)) {
+  std::vector<fs::path> files;  // the shipped scenarios and the sweeps' base files
+  for (const auto& dir : {fs::path(kScenarioDir), fs::path(kScenarioDir) / "sweeps"})
+    for (const auto& entry : fs::directory_iterator(dir)) files.push_back(entry.path());
+  for (const auto& path : files) {
+    const fs::directory_entry entry(path);
     if (entry.path().extension() != ".yaml") continue;
     ++count;
     SCOPED_TRACE(entry.path().string());
