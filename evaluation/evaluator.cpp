@@ -182,11 +182,23 @@ void Evaluator::observe_clearing(double time_s, const sim::World& world, const C
 
 void Evaluator::after_update(double time_s, const mapping::VoxelMap& map, const std::vector<VoxelKey>& cleared_keys) {
   const PhaseTimer timer(times_.clearing_ms);
-  // A true voxel the rays removed and no point marked again in the same update: gone from the map.
-  for (const VoxelKey& k : cleared_keys) false_clears_ += truth_.contains(k) && !map.contains(k);
+  // A true voxel the rays removed and no point marked again in the same update: gone from the map. (In frustum
+  // mode cleared_keys holds what the acceleration removed: observe_hidden_clears() looks at those.)
+  if (map.config().clearing_mode == mapping::ClearingMode::kRaycast)
+    for (const VoxelKey& k : cleared_keys) false_clears_ += truth_.contains(k) && !map.contains(k);
   clearing_.after_update(time_s, [&](const VoxelKey& k) {
     return map.lookup(voxel_center(k, config_.voxel_size_m)).has_value();
   });
+}
+
+void Evaluator::observe_hidden_clears(double time_s, const CameraView& view, const mapping::VoxelMap& map,
+                                      const std::vector<VoxelKey>& cleared_keys) {
+  const PhaseTimer timer(times_.clearing_ms);
+  const double s = config_.voxel_size_m;
+  hidden_clears_.after_update(
+      time_s, cleared_keys, truth_.bodies(), [&](const VoxelKey& k) { return truth_.body_of(k); },
+      [&](const VoxelKey& k) { return map.contains(k); },
+      [&](const VoxelKey& k) { return voxel_sight(k, s, *view.clean_depth, view.intrinsics, view.T_world_camera, s); });
 }
 
 VoxelMatches Evaluator::match_mapped_voxels(const mapping::VoxelMap& map) {
@@ -315,6 +327,7 @@ EvaluationSummary Evaluator::finish(double time_s, const sim::World& world, cons
   summary.clearing = clearing_.result(time_s);
   summary.observed_off_truth_voxels = off_truth_keys_.size();
   summary.false_clears = false_clears_;
+  summary.occlusion = hidden_clears_.result();
   return summary;
 }
 

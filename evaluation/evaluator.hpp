@@ -13,6 +13,7 @@
 #include "evaluation/clearing.hpp"
 #include "evaluation/config.hpp"
 #include "evaluation/metrics.hpp"
+#include "evaluation/occlusion.hpp"
 #include "evaluation/truth.hpp"
 #include "mapping/voxel_map.hpp"
 #include "sensors/camera.hpp"
@@ -66,6 +67,8 @@ struct EvaluationSummary {
   // update did not mark again, summed over the frames: obstacles the rays wrongly cleared (noisy rays through a
   // surface, no-return pixels in front of one).
   std::size_t false_clears = 0;
+  // Occluded obstacles erased: true voxels the clearing removed while the camera did not see them (occlusion.hpp).
+  OcclusionResult occlusion;
 };
 
 // Averages the snapshots as EvaluationMean says; warm_up_s is the recall window.
@@ -108,8 +111,13 @@ class Evaluator {
 
   void observe(double time_s, const CameraView& view);
   void observe_clearing(double time_s, const sim::World& world, const CameraView& view, const mapping::VoxelMap& map);
-  // cleared_keys: the voxels the update's clearing removed (pipeline::FrameResult::cleared_keys).
+  // cleared_keys: the voxels the update's clearing removed (pipeline::FrameResult::cleared_keys); false_clears
+  // counts them in ray-cast mode only.
   void after_update(double time_s, const mapping::VoxelMap& map, const std::vector<VoxelKey>& cleared_keys = {});
+  // After after_update(): the true voxels the update's clearing removed unseen by view's noise-free camera
+  // (behind a nearer surface or out of view, to within one voxel; occlusion.hpp), in both clearing modes.
+  void observe_hidden_clears(double time_s, const CameraView& view, const mapping::VoxelMap& map,
+                             const std::vector<VoxelKey>& cleared_keys);
   const EvaluationSnapshot& evaluate(double time_s, const sim::World& world, const mapping::VoxelMap& map);
   EvaluationSummary finish(double time_s, const sim::World& world, const mapping::VoxelMap& map);
 
@@ -139,6 +147,7 @@ class Evaluator {
   std::vector<VoxelKey> frame_keys_;  // observe(): the voxels of one frame
   ClearingLatency clearing_;
   std::size_t false_clears_ = 0;
+  HiddenClears hidden_clears_;
   std::unordered_map<VoxelKey, std::uint32_t, VoxelKeyHash> stale_rank_;
   VoxelKey stale_lo_{1, 1, 1}, stale_hi_{0, 0, 0};  // empty
   std::size_t stale_version_ = 0;

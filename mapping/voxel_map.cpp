@@ -121,9 +121,9 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
     impl_->raycast_pass(clearing, stats, cleared_keys);
   }
   if (impl_->config.clearing_walk == ClearingWalk::kFullWalk) {
-    impl_->full_walk(frustums, time_s, stats);
+    impl_->full_walk(frustums, time_s, stats, cleared_keys);
   } else {
-    impl_->frustum_pass(frustums, time_s, stats);
+    impl_->frustum_pass(frustums, time_s, stats, cleared_keys);
     impl_->expiry_pass(time_s, stats);
   }
   return stats;

@@ -74,8 +74,10 @@ class VoxelMap {
                    const ObservationSource& source, double time_s);
 
   // Decay + clearing for one update at time_s. Observations with source.clearing == false are ignored.
-  // cleared_keys, when given, receives the voxels the rays removed (ray-cast mode; not those that expired), in
-  // no particular order. Throws std::invalid_argument for clear_on_no_return in frustum mode.
+  // cleared_keys, when given, receives the voxels the clearing removed: those the rays removed (ray-cast mode)
+  // or the frustums' decay_acceleration removed (frustum mode: voxels plain decay would have kept), never those
+  // that expired by plain decay, in no particular order. Throws std::invalid_argument for clear_on_no_return in
+  // frustum mode.
   ClearStats clear(const std::vector<ClearingObservation>& observations, double time_s,
                    std::vector<VoxelKey>* cleared_keys = nullptr);
 

@@ -30,6 +30,11 @@ struct CentreBox {
   }
 };
 
+// A voxel the frustums' acceleration removed, for clear()'s cleared_keys.
+void report(std::vector<VoxelKey>* cleared_keys, const Coord& c) {
+  if (cleared_keys) cleared_keys->push_back({c.x(), c.y(), c.z()});
+}
+
 }  // namespace
 
 void VoxelMap::Impl::schedule(const Coord& leaf, double due_s) {
@@ -85,11 +90,12 @@ void VoxelMap::Impl::delete_empty_leaves(std::vector<Coord>& leaf_origins) {
 // inline: called once per voxel by the walks below, as it was when it lived in the class body.
 template <typename Iter>
 inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& frustums, double time_s,
-                                 double* new_value_s) const {
+                                 double* new_value_s, bool* by_frustum) const {
   const double value_s = *it;
   const double age_s = time_s - value_s;
   const double time_left_s = base_time_left_s(age_s);
   *new_value_s = value_s;
+  *by_frustum = false;
   if (!frustums.empty()) {
     const Eigen::Vector3d centre = centre_W(it.getCoord());
     for (const Frustum& f : frustums) {
@@ -97,6 +103,7 @@ inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& fr
       const double acceleration_s = f.decay_acceleration_per_s3 * age_s * age_s * age_s / 6.0;
       if (time_left_s - acceleration_s < 0.0) {
         it.setValueOff();
+        *by_frustum = time_left_s >= 0.0;  // plain decay would have kept it
         return true;
       }
       if (acceleration_s != 0.0) {
@@ -113,17 +120,22 @@ inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& fr
   return false;
 }
 
-void VoxelMap::Impl::full_walk(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats) {
+void VoxelMap::Impl::full_walk(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats,
+                               std::vector<VoxelKey>* cleared_keys) {
   double unused = 0.0;
+  bool by_frustum = false;
   for (auto it = grid->beginValueOn(); it; ++it) {
     ++stats.voxels_visited;
-    if (decay_voxel(it, frustums, time_s, &unused)) ++stats.voxels_removed;
+    if (!decay_voxel(it, frustums, time_s, &unused, &by_frustum)) continue;
+    ++stats.voxels_removed;
+    if (by_frustum) report(cleared_keys, it.getCoord());
   }
   openvdb::tools::pruneInactive(grid->tree());
   stats.leaves_visited = grid->tree().leafCount();
 }
 
-void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats) {
+void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats,
+                                  std::vector<VoxelKey>* cleared_keys) {
   if (frustums.empty()) return;
   const CentreBox box_of{config.voxel_size_m};
   auto meets_any = [&](const openvdb::CoordBBox& box) {
@@ -149,10 +161,13 @@ void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double t
     for (auto it = leaf->beginValueOn(); it; ++it) {
       ++stats.voxels_visited;
       double value_s = 0.0;
-      if (decay_voxel(it, frustums, time_s, &value_s))
+      bool by_frustum = false;
+      if (decay_voxel(it, frustums, time_s, &value_s, &by_frustum)) {
         ++stats.voxels_removed;
-      else
+        if (by_frustum) report(cleared_keys, it.getCoord());
+      } else {
         oldest_s = std::min(oldest_s, value_s);
+      }
     }
     if (leaf->isEmpty())
       emptied.push_back(leaf->origin());

@@ -97,7 +97,9 @@ struct FrameResult {
   // With a clear_on_no_return source: one point per map voxel reached, at the source's max_z, by the rays of
   // the noisy image's pixels without a return (empty otherwise).
   Eigen::Matrix3Xf no_return_W;
-  std::vector<VoxelKey> cleared_keys;  // voxels this frame's ray-cast clearing removed (not those that expired)
+  // Voxels this frame's clearing removed: the rays (ray-cast mode) or the frustum's acceleration (frustum mode);
+  // not those that expired by plain decay.
+  std::vector<VoxelKey> cleared_keys;
   StageTimes times;
 };
 

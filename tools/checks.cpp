@@ -75,6 +75,13 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
     r.push_back({"accuracy_p90", e.accuracy.p90_m <= *c.accuracy_p90_max_m,
                  "p90 distance to the true surface " + fixed(e.accuracy.p90_m, 4) + " m, required <= " +
                      fixed(*c.accuracy_p90_max_m, 4) + " m"});
+  if (c.hidden_false_clears_max) {
+    const auto& o = e.occlusion;
+    r.push_back({"hidden_false_clears", o.hidden_false_clears <= static_cast<std::size_t>(*c.hidden_false_clears_max),
+                 std::to_string(o.hidden_false_clears) + " true voxels cleared while the camera did not see them" +
+                     (o.first_s ? " (first at t = " + fixed(*o.first_s, 2) + " s)" : "") + ", allowed " +
+                     std::to_string(*c.hidden_false_clears_max)});
+  }
   return r;
 }
 

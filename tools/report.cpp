@@ -139,6 +139,17 @@ void flatten(const nlohmann::json& j, const std::string& path, std::vector<std::
   }
 }
 
+// evaluation.failure_modes.occlusion: occluded obstacles erased (STVL #134); null times: never.
+nlohmann::json occlusion_json(const evaluation::OcclusionResult& o) {
+  const auto time = [](const std::optional<double>& t) { return t ? nlohmann::json(*t) : nlohmann::json(); };
+  nlohmann::json bodies = nlohmann::json::array();
+  for (const auto& b : o.bodies)
+    bodies.push_back({{"name", b.name}, {"hidden_false_clears", b.hidden_false_clears}, {"first_s", b.first_s},
+                      {"last_s", b.last_s}, {"vanished_s", time(b.vanished_s)}});
+  return {{"hidden_false_clears", o.hidden_false_clears}, {"behind_surface", o.behind_surface},
+          {"out_of_view", o.out_of_view}, {"first_s", time(o.first_s)}, {"bodies", bodies}};
+}
+
 }  // namespace
 
 // STVL's known failure modes as this run measured them: the figures every run has (phantoms, rays' false clears,
@@ -201,7 +212,7 @@ nlohmann::json metrics_json(const RunResult& r) {
   nlohmann::json checks = nlohmann::json::array();
   for (const auto& c : r.checks) checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}});
   const auto& t = r.times;
-  return {
+  nlohmann::json metrics = {
       {"scenario", r.scenario.name},
       {"scenario_file", r.scenario.file},
       {"seed", r.scenario.pipeline.seed},
@@ -257,6 +268,8 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"wall_time_s", r.wall_time_s},
       {"real_time_factor", r.real_time_factor},
   };
+  metrics["evaluation"]["failure_modes"]["occlusion"] = occlusion_json(e.occlusion);
+  return metrics;
 }
 
 std::string profile_table(const RunResult& r) {

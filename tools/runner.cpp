@@ -195,6 +195,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
 
     auto start = Clock::now();
     evaluator.after_update(f.time_s, pipeline.map(), f.cleared_keys);
+    evaluator.observe_hidden_clears(f.time_s, view_of(f), pipeline.map(), f.cleared_keys);
     evaluator.observe(f.time_s, view_of(f));
     if (f.time_s + 1e-9 >= next_evaluation_s) {
       evaluator.evaluate(f.time_s, pipeline.simulator().world(), pipeline.map());

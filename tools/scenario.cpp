@@ -462,6 +462,10 @@ void read_checks(YamlMap c, Scenario& s) {
   if (ch.accuracy_p90_max_m)
     require_range(c, "accuracy_p90_max_m", *ch.accuracy_p90_max_m,
                   std::isfinite(*ch.accuracy_p90_max_m) && *ch.accuracy_p90_max_m > 0, "must be finite and > 0 m");
+  get_optional(c, "hidden_false_clears_max", ch.hidden_false_clears_max);
+  if (ch.hidden_false_clears_max)
+    require_range(c, "hidden_false_clears_max", *ch.hidden_false_clears_max, *ch.hidden_false_clears_max >= 0,
+                  "must be >= 0");
   c.finish();
 }
 

@@ -86,11 +86,16 @@ struct VoxelMap::Impl {
   void rebuild_expiry_index();
   // Replaces empty leaves by inactive tiles, and internal nodes left without children likewise.
   void delete_empty_leaves(std::vector<Coord>& leaf_origins);
-  // STVL's per-voxel rule. Returns true when the voxel is removed; otherwise may pull its value back.
+  // STVL's per-voxel rule. Returns true when the voxel is removed (then *by_frustum says whether the frustum's
+  // acceleration removed it, i.e. it would have survived plain decay); otherwise may pull its value back.
   template <typename Iter>
-  bool decay_voxel(Iter& it, const std::vector<detail::Frustum>& frustums, double time_s, double* new_value_s) const;
-  void full_walk(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats);
-  void frustum_pass(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats);
+  bool decay_voxel(Iter& it, const std::vector<detail::Frustum>& frustums, double time_s, double* new_value_s,
+                   bool* by_frustum) const;
+  // cleared_keys (may be null) receives the voxels the frustums' acceleration removed.
+  void full_walk(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats,
+                 std::vector<VoxelKey>* cleared_keys);
+  void frustum_pass(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats,
+                    std::vector<VoxelKey>* cleared_keys);
   void expiry_pass(double time_s, ClearStats& stats);
 
   // ---- ray-cast clearing (voxel_map_raycast.cpp)

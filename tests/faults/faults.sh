@@ -289,6 +289,18 @@ EOF
     expect_error_line "broken\.yaml:[0-9]+"
     ;;
 
+  hidden_false_clears_negative)
+    # A negative bound of the occlusion check names its line in the scenario file.
+    sed -e "s#^world: .*#world: $src/worlds/cart_crossing.xml#" \
+      -e "s#^  hidden_false_clears_max: .*#  hidden_false_clears_max: -1#" "$src/scenarios/cart_crossing.yaml" >"$tmp/s.yaml"
+    line=$(grep -n "^  hidden_false_clears_max: -1" "$tmp/s.yaml" | cut -d: -f1)
+    [[ -n "$line" ]] || fail "no hidden_false_clears_max line in cart_crossing.yaml"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "s\.yaml:$line: checks\.hidden_false_clears_max: .*must be >= 0"
+    expect_no_results "$tmp"
+    ;;
+
   *)
     echo "faults.sh: unknown case '$case_name'" >&2
     exit 2

@@ -469,5 +469,39 @@ TEST(VoxelMap, NoReturnRaysClearOnlyWithTheOption) {
   }
 }
 
+// Frustum mode reports in cleared_keys the voxels the frustum's acceleration removed (those plain decay would have
+// kept), never those that expired by plain decay, inside the frustum or outside it; in both walks.
+TEST(VoxelMapClear, FrustumReportsOnlyWhatItsAccelerationRemoved) {
+  for (const ClearingWalk walk : {ClearingWalk::kBounded, ClearingWalk::kFullWalk}) {
+    SCOPED_TRACE(to_string(walk));
+    StvlConfig config = exact_config();
+    config.voxel_decay_s = 10.0;
+    config.clearing_walk = walk;
+    VoxelMap map(config);
+    const auto camera = camera_looking_along_x({0, 0, 0});
+    ObservationSource source = wide_source();
+    source.decay_acceleration_per_s3 = 100.0;
+    const VoxelKey accelerated = map.key_of({2.0, 0.0, 0.0});  // age 1.5: 8.5 s left, 100 * 1.5^3 / 6 = 56 s taken
+    const VoxelKey expired_inside = map.key_of({3.0, 0.0, 0.0});  // age 21.5: plain decay removes it
+    const VoxelKey expired_behind = map.key_of({-2.0, 0.0, 0.0});  // outside the frustum, age 21.5
+    const VoxelKey fresh = map.key_of({2.5, 0.0, 0.0});            // age 0.1: 0.017 s taken, survives
+    const VoxelKey beside = map.key_of({2.0, 5.0, 0.0});           // outside the FOV, age 1.5: kept
+    map.set_voxels({{accelerated, 0.0}, {expired_inside, -20.0}, {expired_behind, -20.0}, {fresh, 1.4}, {beside, 0.0}});
+    std::vector<VoxelKey> cleared;
+    const ClearStats stats = map.clear({{camera, source, nullptr}}, 1.5, &cleared);
+    EXPECT_EQ(stats.voxels_removed, 3u);
+    EXPECT_EQ(cleared, std::vector<VoxelKey>{accelerated});
+    EXPECT_TRUE(map.contains(fresh));
+    EXPECT_TRUE(map.contains(beside));
+    EXPECT_EQ(map.size(), 2u);
+    // No acceleration, nothing reported: the same map empties by plain decay alone.
+    source.decay_acceleration_per_s3 = 0.0;
+    cleared.clear();
+    map.clear({{camera, source, nullptr}}, 100.0, &cleared);
+    EXPECT_TRUE(map.empty());
+    EXPECT_TRUE(cleared.empty());
+  }
+}
+
 }  // namespace
 }  // namespace stvl::mapping

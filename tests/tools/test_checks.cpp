@@ -93,5 +93,23 @@ TEST(Checks, RobotAndPathMessagesCarryTheirTimes) {
   EXPECT_EQ(fixed(0.5, 0), "0");  // round half to even, as printf
 }
 
+TEST(Checks, HiddenFalseClearsAboveTheBoundFailWithTheirFirstTime) {
+  ChecksConfig c;
+  c.hidden_false_clears_max = 0;
+  evaluation::EvaluationSummary s = summary();
+  auto r = evaluation_checks(c, s);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].name, "hidden_false_clears");
+  EXPECT_TRUE(r[0].passed);
+  EXPECT_EQ(r[0].message, "0 true voxels cleared while the camera did not see them, allowed 0");
+  s.occlusion.hidden_false_clears = 1;
+  s.occlusion.first_s = 5.25;
+  r = evaluation_checks(c, s);
+  EXPECT_FALSE(r[0].passed);
+  EXPECT_EQ(r[0].message, "1 true voxels cleared while the camera did not see them (first at t = 5.25 s), allowed 0");
+  c.hidden_false_clears_max = 1;
+  EXPECT_TRUE(evaluation_checks(c, s)[0].passed);
+}
+
 }  // namespace
 }  // namespace stvl::tools

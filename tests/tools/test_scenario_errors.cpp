@@ -217,5 +217,16 @@ TEST(ScenarioParse, ClearOnNoReturnNeedsRaycastClearing) {
   EXPECT_TRUE(ok.camera().sources.front().params.clear_on_no_return);
 }
 
+TEST(ScenarioParse, HiddenFalseClearsMaxIsACountOfAtLeastZero) {
+  for (const auto& [value, expected] : {std::pair<const char*, const char*>{"-1", "must be >= 0"},
+                                        {"0.5", "expected an integer"}}) {
+    SCOPED_TRACE(value);
+    const Edited e = insert_after(kFull, "  accuracy_p90_max_m:", std::string("  hidden_false_clears_max: ") + value);
+    EXPECT_THAT(error_of(e.yaml), HasSubstr(at(e.line, "checks.hidden_false_clears_max") + expected));
+  }
+  const Edited ok = insert_after(kFull, "  accuracy_p90_max_m:", "  hidden_false_clears_max: 0");
+  EXPECT_EQ(parse(ok.yaml).checks.hidden_false_clears_max, 0);
+}
+
 }  // namespace
 }  // namespace stvl::tools
