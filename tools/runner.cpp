@@ -157,6 +157,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     append_stages(r.camera_times[f.camera_index], f.times);
 
     auto start = Clock::now();
+    evaluator.set_robot_pose(f.T_world_base);
     evaluator.after_update(f.time_s, pipeline.map(), f.cleared_keys);
     evaluator.observe(f.time_s, view_of(f));
     if (f.time_s + 1e-9 >= next_evaluation_s) {

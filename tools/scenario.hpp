@@ -23,6 +23,7 @@ struct ChecksConfig {
   std::optional<int> costmap_ghosts_max;  // the projection guard's worst count (either kind) at any evaluation
   std::optional<double> clearing_latency_max_s;
   std::optional<double> accuracy_p90_max_m;
+  std::optional<int> self_lethal_cells_max;  // lethal cells on the robot (footprint + ring) at any evaluation
 };
 
 // What a run writes besides its metrics.
