@@ -40,9 +40,9 @@ TEST(Footprint, MovesWithTheRobotsYaw) {
 }
 
 TEST(Footprint, CellsAreNav2sConvexFill) {
-  // A square from 0 to 0.3 m at 0.1 m cells: vertex cells 0 and 3, so columns 0..3 and rows 0..3 (the outline
-  // cells included, as nav2's convexFillCells takes them).
-  const std::vector<Eigen::Vector2d> square{{0.0, 0.0}, {0.3, 0.0}, {0.3, 0.3}, {0.0, 0.3}};
+  // A square from 0.01 to 0.35 m at 0.1 m cells: vertex cells 0 and 3, so columns 0..3 and rows 0..3 (the
+  // outline cells included, as nav2's convexFillCells takes them).
+  const std::vector<Eigen::Vector2d> square{{0.01, 0.01}, {0.35, 0.01}, {0.35, 0.35}, {0.01, 0.35}};
   const auto cells = footprint_cells(square, Eigen::Vector2d::Zero(), 0.1);
   EXPECT_EQ(cells.size(), 16u);
   // A triangle: the column of its apex holds one cell, the columns of its base edge all rows between.
@@ -61,7 +61,7 @@ TEST(Footprint, ClearingFreesTheFootprintsCellsAtAnyHeightAndKeepsTheVoxels) {
   VoxelMap map(config);
   const Eigen::Isometry3d T_world_base = pose(1.0, 1.0, 0.5);
   // Columns inside the robot's 0.25 m circle at three heights in the band, and columns 0.4 m away.
-  std::vector<std::pair<VoxelKey, double>> voxels;
+  std::vector<Voxel> voxels;
   const auto key_at = [&](const Eigen::Vector3d& p_B) {
     const Eigen::Vector3d p_W = T_world_base * p_B;
     return VoxelKey{int(std::floor(p_W.x() / 0.05)), int(std::floor(p_W.y() / 0.05)), int(std::floor(p_W.z() / 0.05))};
