@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "mapping/footprint.hpp"
+#include "sim/world.hpp"
 #include "tools/ros_binding.hpp"
 #include "tools/yaml_reader.hpp"
 
@@ -110,6 +111,11 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   }
   if (robot.has("cameras")) read_cameras(robot, s, overrides);
   robot.get("geoms_seen_by_cameras", s.pipeline.robot_geoms_seen);
+  if (!s.pipeline.robot_geoms_seen.empty()) try {  // names checked against the world here, for file:line
+      sim::World::from_file(s.pipeline.world_path).show_robot_geoms_to_cameras(s.pipeline.robot_geoms_seen);
+    } catch (const std::invalid_argument& e) {
+      robot.fail(robot.raw("geoms_seen_by_cameras"), "geoms_seen_by_cameras", e.what());
+    }
   if (robot.has("odometry_drift")) {
     auto drift = robot.map("odometry_drift");
     auto& o = s.pipeline.sim.odometry;
