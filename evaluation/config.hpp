@@ -2,6 +2,9 @@
 // What the map is compared with and how. Lengths in metres, times in seconds of simulated time.
 #include <cstddef>
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 namespace stvl::evaluation {
 
@@ -23,6 +26,12 @@ struct EvaluationConfig {
   // its cell centres (Chebyshev, rounded up to whole cells). Metres, so that the meaning does not change
   // with the voxel size; 0.10 m is below a small robot's inflation radius.
   double phantom_clearance_m = 0.10;
+
+  // The robot's footprint in base_link (the map's, mapping::StvlConfig::footprint_B) and whether the costmap
+  // frees it (update_footprint_enabled): self-marking is counted in it and in a ring of self_ring_m around it.
+  std::vector<Eigen::Vector2d> robot_footprint_B;
+  bool footprint_clearing = false;
+  double self_ring_m = 0.10;
 
   // Throws std::invalid_argument naming the field (by its YAML key) and value.
   void validate() const;

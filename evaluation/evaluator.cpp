@@ -1,5 +1,7 @@
 #include "evaluation/evaluator.hpp"
 
+#include "mapping/footprint.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -40,6 +42,9 @@ EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double 
   for (const auto& s : snapshots) {
     m.max_lethal_without_voxels = std::max(m.max_lethal_without_voxels, s.projection.lethal_without_voxels);
     m.max_columns_without_lethal = std::max(m.max_columns_without_lethal, s.projection.columns_without_lethal);
+    m.max_self_inside = std::max(m.max_self_inside, s.self_marking.inside);
+    m.max_self_ring = std::max(m.max_self_ring, s.self_marking.ring);
+    m.max_self_lethal = std::max(m.max_self_lethal, s.self_marking.total());
   }
   std::size_t n = 0;
   double phantoms = 0;
@@ -266,15 +271,22 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& obser
   const double cell_m = config_.voxel_size_m;
   std::optional<PhaseTimer> timer(std::in_place, times_.costmap_ms);
   const CellSet footprint = truth_.footprint();
+  const std::vector<Eigen::Vector2d> footprint_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
   CellSet lethal;
   if (!map.empty()) {
     mapping::CostmapOptions options;
     options.resolution_m = cell_m;
     options.min_obstacle_height_m = config_.min_obstacle_height_m;
     options.max_obstacle_height_m = config_.max_obstacle_height_m;
+    CellSet freed;
+    if (config_.footprint_clearing && !footprint_W.empty()) {
+      options.free_polygon_W = footprint_W;
+      for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m)) freed.insert({x, y});
+    }
     lethal = lethal_cells(map.project_costmap(options), cell_m);
-    snap.projection = guard_projection(map, lethal, options.min_obstacle_height_m, options.max_obstacle_height_m);
+    snap.projection = guard_projection(map, lethal, options.min_obstacle_height_m, options.max_obstacle_height_m, freed);
   }
+  snap.self_marking = count_self_marking(lethal, footprint_W, cell_m, config_.self_ring_m, footprint, config_.tolerance_voxels);
   CostmapMatches m = match_costmap(lethal, footprint, observed_cells, config_.tolerance_voxels);
   timer.emplace(times_.phantoms_ms);
   snap.lethal_cells = m.lethal;

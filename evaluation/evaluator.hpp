@@ -40,6 +40,7 @@ struct EvaluationSnapshot {
   std::vector<Phantom> phantoms;  // phantom_obstacles of them, sorted by position
   std::vector<CameraRecall> cameras;  // by camera index (config.cameras of them)
   ProjectionGuard projection;         // the costmap against the voxels it was projected from
+  SelfMarking self_marking;           // lethal cells on the robot (config.robot_footprint_B; 0 without one)
 };
 
 // Means over the snapshots after the first recall window (all of them when there is only one).
@@ -53,6 +54,9 @@ struct EvaluationMean {
   std::vector<double> camera_recall;  // mean recall per camera index
   // The projection guard's worst counts over every snapshot (warm-up included).
   std::size_t max_lethal_without_voxels = 0, max_columns_without_lethal = 0;
+  // The most self-marking lethal cells at one snapshot (warm-up included): inside the footprint, in the ring,
+  // both together.
+  std::size_t max_self_inside = 0, max_self_ring = 0, max_self_lethal = 0;
 };
 
 struct EvaluationSummary {
@@ -118,6 +122,9 @@ class Evaluator {
   // (behind a nearer surface or out of view, to within one voxel; occlusion.hpp), in both clearing modes.
   void observe_hidden_clears(double time_s, const CameraView& view, const mapping::VoxelMap& map,
                              const std::vector<VoxelKey>& cleared_keys);
+
+  // The robot's pose at the map's last update (the footprint's place for clearing and self-marking).
+  void set_robot_pose(const Eigen::Isometry3d& T_world_base) { T_world_base_ = T_world_base; }
   const EvaluationSnapshot& evaluate(double time_s, const sim::World& world, const mapping::VoxelMap& map);
   EvaluationSummary finish(double time_s, const sim::World& world, const mapping::VoxelMap& map);
 
@@ -137,6 +144,7 @@ class Evaluator {
   void score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap);
 
   EvaluationConfig config_;
+  Eigen::Isometry3d T_world_base_ = Eigen::Isometry3d::Identity();
   Truth truth_;
   std::map<std::string, ObstacleResult> obstacles_;
   std::unordered_map<VoxelKey, double, VoxelKeyHash> last_seen_;  // observed truth candidates -> last time

@@ -1,10 +1,13 @@
 #include "evaluation/metrics.hpp"
 
+#include "mapping/footprint.hpp"
+
 #include <unordered_map>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <limits>
 #include <tuple>
 
 namespace stvl::evaluation {
@@ -72,7 +75,8 @@ CellSet lethal_cells(const mapping::Costmap2D& costmap, double cell_m) {
   return lethal;
 }
 
-ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m) {
+ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m,
+                                 const CellSet& freed) {
   const double s = map.voxel_size_m();
   std::unordered_map<CellKey, int, CellKeyHash> counts;
   map.for_each_key([&](const VoxelKey& k) {
@@ -86,8 +90,47 @@ ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& le
     if (it == counts.end() || it->second < needed) ++guard.lethal_without_voxels;
   }
   for (const auto& [cell, count] : counts)
-    if (count >= needed && !lethal.count(cell)) ++guard.columns_without_lethal;
+    if (count >= needed && !lethal.count(cell) && !freed.count(cell)) ++guard.columns_without_lethal;
   return guard;
+}
+
+namespace {
+
+double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double t = length2 > 0.0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+}  // namespace
+
+SelfMarking count_self_marking(const CellSet& lethal, const std::vector<Eigen::Vector2d>& footprint_W, double cell_m,
+                               double ring_m, const CellSet& truth_footprint, int tol) {
+  SelfMarking self;
+  if (footprint_W.size() < 3) return self;
+  CellSet inside;
+  for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m)) inside.insert({x, y});
+  const auto is_self = [&](const CellKey& c) { return lethal.count(c) && !near_cell(truth_footprint, c, tol); };
+  for (const auto& c : inside) self.inside += is_self(c);
+  Eigen::AlignedBox2d box;
+  for (const auto& p : footprint_W) box.extend(p);
+  const int x0 = static_cast<int>(std::floor((box.min().x() - ring_m) / cell_m)),
+            x1 = static_cast<int>(std::floor((box.max().x() + ring_m) / cell_m)),
+            y0 = static_cast<int>(std::floor((box.min().y() - ring_m) / cell_m)),
+            y1 = static_cast<int>(std::floor((box.max().y() + ring_m) / cell_m));
+  for (int x = x0; x <= x1; ++x)
+    for (int y = y0; y <= y1; ++y) {
+      const CellKey c{x, y};
+      if (inside.count(c) || !is_self(c)) continue;
+      const Eigen::Vector2d centre_m((x + 0.5) * cell_m, (y + 0.5) * cell_m);
+      double distance_m = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < footprint_W.size(); ++i)
+        distance_m = std::min(distance_m,
+                              distance_to_segment(centre_m, footprint_W[i], footprint_W[(i + 1) % footprint_W.size()]));
+      if (distance_m <= ring_m + 1e-9) ++self.ring;
+    }
+  return self;
 }
 
 std::vector<Phantom> find_phantoms(const CellSet& lethal, const CellSet& footprint, double cell_m, double clearance_m,

@@ -70,7 +70,20 @@ struct ProjectionGuard {
   std::size_t lethal_without_voxels = 0;  // lethal cells whose column holds too few voxels in the band
   std::size_t columns_without_lethal = 0; // columns with enough voxels in the band and no lethal cell
 };
-ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m);
+// freed: cells the costmap set free on purpose (STVL's footprint clearing); their columns are not counted.
+ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m,
+                                 const CellSet& freed = {});
+
+// The robot marking itself (STVL issue #214): lethal cells inside the footprint's convex fill (the cells STVL's
+// footprint clearing frees, mapping::footprint_cells) and in a ring of cells whose centres lie within ring_m
+// outside the polygon. A cell with a true footprint cell within tol cells is an obstacle beside the robot,
+// not the robot, and is not counted. footprint_W: the robot's polygon in the world; fewer than 3 points: 0, 0.
+struct SelfMarking {
+  std::size_t inside = 0, ring = 0;
+  std::size_t total() const { return inside + ring; }
+};
+SelfMarking count_self_marking(const CellSet& lethal, const std::vector<Eigen::Vector2d>& footprint_W, double cell_m,
+                               double ring_m, const CellSet& truth_footprint, int tol);
 
 // A phantom obstacle: an 8-connected group of at least min_cells lethal cells with no true footprint cell
 // centre within clearance_m of any of its cell centres (Chebyshev, ceil(clearance_m / cell_m) cells).

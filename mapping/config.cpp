@@ -59,6 +59,10 @@ void StvlConfig::validate() const {
     reject("clearing_walk", static_cast<int>(clearing_walk), "must be bounded or full_walk");
   if (expiry_leaves_per_update < 1)
     reject("expiry_leaves_per_update", static_cast<double>(expiry_leaves_per_update), "must be >= 1");
+  if (!footprint_B.empty() && footprint_B.size() < 3)
+    reject("footprint", static_cast<double>(footprint_B.size()), "needs at least three points (or none)");
+  for (const auto& p : footprint_B)
+    if (!p.allFinite()) reject("footprint", p.x() + p.y(), "points must be finite");
 }
 
 void ObservationSource::validate() const {

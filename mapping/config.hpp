@@ -4,6 +4,9 @@
 // radians, times in seconds of simulated time.
 #include <cstddef>
 #include <string>
+#include <vector>
+
+#include <Eigen/Core>
 
 namespace stvl::mapping {
 
@@ -45,6 +48,12 @@ struct StvlConfig {
   // Bound on expiry work per update in bounded mode; a backlog larger than this is worked off over the next
   // updates (lag = ceil(backlog / expiry_leaves_per_update) updates).
   std::size_t expiry_leaves_per_update = 256;
+  // update_footprint_enabled (STVL's default true): each costmap projection frees the cells of the footprint's
+  // convex fill at the robot's pose (mapping/footprint.hpp); the voxels stay. footprint_B: the robot's
+  // polygon in base_link (nav2's `footprint`, or footprint_from_radius(`robot_radius`)); empty = none, and then
+  // nothing is cleared (nav2 would fall back to its robot_radius default of 0.1 m).
+  bool update_footprint_enabled = true;
+  std::vector<Eigen::Vector2d> footprint_B;
 
   void validate() const;  // throws std::invalid_argument naming the offending field and value
 };

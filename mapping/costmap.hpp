@@ -21,6 +21,9 @@ struct CostmapOptions {
   // Voxels count toward a column when their centre z lies in this band (inclusive).
   double min_obstacle_height_m = -std::numeric_limits<double>::infinity();
   double max_obstacle_height_m = std::numeric_limits<double>::infinity();
+  // STVL's update_footprint_enabled: the cells of this polygon's convex fill (mapping/footprint.hpp) are set
+  // free after the projection; the voxels stay. Empty: nothing is cleared.
+  std::vector<Eigen::Vector2d> free_polygon_W;
 };
 
 // Cell (ix, iy) covers [origin_m.x + ix*resolution_m, +resolution_m) x [origin_m.y + iy*resolution_m, +resolution_m);

@@ -9,6 +9,7 @@
 
 #include "mapping/detail/voxel_map_impl.hpp"
 #include "mapping/frustum.hpp"
+#include "mapping/footprint.hpp"
 
 namespace stvl::mapping {
 
@@ -267,6 +268,7 @@ Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
   const int threshold = std::max(impl_->config.mark_threshold, 1);
   map.cells.resize(counts.size());
   for (std::size_t i = 0; i < counts.size(); ++i) map.cells[i] = counts[i] >= threshold ? kCostLethal : kCostFree;
+  clear_footprint(map, options.free_polygon_W);
   return map;
 }
 

@@ -14,6 +14,7 @@
 
 #include "common/splitmix.hpp"
 #include "sensors/depth_renderer.hpp"
+#include "mapping/footprint.hpp"
 
 namespace stvl::pipeline {
 namespace {
@@ -89,7 +90,9 @@ void check_inside_world(const PipelineConfig& c, const sim::World& world) {
 }  // namespace
 
 std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& c) {
-  auto sim = std::make_unique<sim::Simulator>(sim::World::from_file(c.world_path), c.sim);
+  sim::World world = sim::World::from_file(c.world_path);
+  world.show_robot_geoms_to_cameras(c.robot_geoms_seen);
+  auto sim = std::make_unique<sim::Simulator>(std::move(world), c.sim);
   sim->set_start_pose(c.start_pose);
   sim->set_path(c.path);
   if (!c.moving_bodies.empty()) sim->set_mocap_tracks(c.moving_bodies);
@@ -199,6 +202,8 @@ mapping::CostmapOptions Pipeline::costmap_options() const {
   const HeightBand band = marking_band(config_);
   options.min_obstacle_height_m = band.min_m;
   options.max_obstacle_height_m = band.max_m;
+  if (config_.map.update_footprint_enabled)  // STVL: at the robot's pose of the last update
+    options.free_polygon_W = mapping::footprint_in_world(config_.map.footprint_B, sim_->T_world_base());
   return options;
 }
 

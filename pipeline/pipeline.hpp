@@ -65,6 +65,9 @@ struct PipelineConfig {
   std::vector<CameraConfig> cameras{CameraConfig{}};  // names unique; mounts outside the robot and above the floor
   filter::FilterConfig filter;
   mapping::StvlConfig map;
+  // Robot geoms the cameras see (sim::World::show_robot_geoms_to_cameras): drawn by the depth renderer, so
+  // the map marks the robot's own body as STVL would; ground truth still skips them. Default: none.
+  std::vector<std::string> robot_geoms_seen;
 };
 
 // Wall-clock milliseconds of one frame's stages (the only part of a run that is not deterministic).
@@ -125,7 +128,8 @@ class Pipeline {
   const mapping::VoxelMap& map() const { return map_; }
   // The map's costmap at its voxel size over the occupied extent (1 x 1 when empty), counting voxels inside
   // the marking height band: from the lowest min_obstacle_height_m to the highest max_obstacle_height_m of
-  // the marking sources.
+  // the marking sources; with map.update_footprint_enabled, the footprint's cells at the robot's current pose
+  // are free (STVL's footprint clearing).
   mapping::Costmap2D costmap() const;
   mapping::CostmapOptions costmap_options() const;
   const char* gl_backend() const;     // "egl" or "osmesa" (the first camera's)

@@ -18,7 +18,8 @@ class DepthRenderer {
   // model: not null; must outlive nothing (a copy configures the GL context: MSAA off, offscreen buffer enlarged to
   // the image, finer sphere/cylinder tessellation), but render() must be given the same model or one with the same
   // geoms and meshes. intrinsics: validated, square pixels required (fx == fy; MuJoCo 2.2.2 only renders square
-  // pixels). visible_geom_groups[g]: render geoms of group g (the robot's own geoms are in group 2).
+  // pixels). visible_geom_groups[g]: render geoms of group g (the robot's own geoms are in group 2, those
+  // a scenario lets the cameras see in group 3: sim::World::show_robot_geoms_to_cameras).
   // Throws std::invalid_argument for bad input, std::runtime_error when no GL context can be made.
   DepthRenderer(const mjModel* model, const CameraIntrinsics& intrinsics, GlBackend backend = GlBackend::kAuto,
                 std::array<bool, 6> visible_geom_groups = {true, true, false, true, true, true});

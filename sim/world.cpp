@@ -45,7 +45,7 @@ Eigen::AlignedBox2d World::extent_xy() const {
   Eigen::AlignedBox2d extent;
   const mjModel* m = model_.get();
   for (int g = 0; g < m->ngeom; ++g) {
-    if (m->geom_group[g] == 2) continue;
+    if (m->geom_group[g] == kRobotGeomGroup || m->geom_group[g] == kRobotSeenGeomGroup) continue;
     const Eigen::Vector2d centre(data_->geom_xpos[3 * g], data_->geom_xpos[3 * g + 1]);
     if (m->geom_type[g] == mjGEOM_PLANE) {
       const double hx = m->geom_size[3 * g], hy = m->geom_size[3 * g + 1];
@@ -118,6 +118,17 @@ std::string World::body_name(int body_id) const {
   }
   const char* name = mj_id2name(model_.get(), mjOBJ_BODY, body_id);
   return name ? std::string(name) : "body_" + std::to_string(body_id);
+}
+
+void World::show_robot_geoms_to_cameras(const std::vector<std::string>& geom_names) {
+  for (const auto& name : geom_names) {
+    const int g = geom_id(name);
+    int& group = model_->geom_group[g];
+    if (group != kRobotGeomGroup && group != kRobotSeenGeomGroup)
+      throw std::invalid_argument("geom '" + name + "' is not the robot's (group " + std::to_string(group) +
+                                  ", the robot's geoms are in group 2)");
+    group = kRobotSeenGeomGroup;
+  }
 }
 
 }  // namespace stvl::sim

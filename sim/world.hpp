@@ -3,11 +3,17 @@
 // step(), the kinematic quantities in data() (xpos, geom_xpos, site_xpos, ...) match time_s().
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <mujoco/mujoco.h>
 
 namespace stvl::sim {
+
+// Geom groups of the robot: 2 for its geoms (hidden from the depth renderer, skipped by ground truth), 3 for
+// the robot geoms the cameras see (drawn, still skipped by ground truth: the robot is no obstacle).
+constexpr int kRobotGeomGroup = 2;
+constexpr int kRobotSeenGeomGroup = 3;
 
 class World {
  public:
@@ -37,7 +43,7 @@ class World {
   // Recomputes everything from qpos/qvel/mocap (mj_forward), e.g. after editing the state.
   void forward();
 
-  // x/y extent (world frame, m) of the geoms outside group 2 (the robot's) at their current poses: finite
+  // x/y extent (world frame, m) of the geoms outside groups 2 and 3 (the robot's) at their current poses: finite
   // planes as their rectangles, other geoms as their bounding spheres; infinite planes are left out. Empty
   // when there is no such geom.
   Eigen::AlignedBox2d extent_xy() const;
@@ -50,6 +56,10 @@ class World {
   int geom_id(const std::string& name) const;
   int camera_id(const std::string& name) const;
   std::string body_name(int body_id) const;
+
+  // Lets the depth cameras see these robot geoms (group 2 -> 3; see kRobotSeenGeomGroup). Throws
+  // std::invalid_argument for a name that is no geom or a geom that is not the robot's (not in group 2 or 3).
+  void show_robot_geoms_to_cameras(const std::vector<std::string>& geom_names);
 
  private:
   struct ModelDeleter { void operator()(mjModel* m) const { mj_deleteModel(m); } };

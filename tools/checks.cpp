@@ -62,6 +62,14 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
                  "at worst " + std::to_string(ghosts) + " lethal cells without voxels and " + std::to_string(missing) +
                      " columns of voxels without a lethal cell at one evaluation, allowed " + std::to_string(allowed)});
   }
+  if (c.self_lethal_cells_max) {
+    const auto allowed = static_cast<std::size_t>(*c.self_lethal_cells_max);
+    r.push_back({"self_lethal_cells", mean.max_self_lethal <= allowed,
+                 "at worst " + std::to_string(mean.max_self_lethal) + " lethal cells on the robot (" +
+                     std::to_string(mean.max_self_inside) + " inside its footprint, " +
+                     std::to_string(mean.max_self_ring) + " in the ring) at one evaluation, allowed " +
+                     std::to_string(allowed)});
+  }
   if (c.clearing_latency_max_s) {
     const auto& cl = e.clearing;
     const bool ok = cl.stale_voxels_seen_through > 0 && cl.not_cleared == 0 && cl.max_latency_s <= *c.clearing_latency_max_s;

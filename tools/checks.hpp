@@ -15,8 +15,8 @@ struct CheckResult {
 };
 
 // One result per threshold the scenario sets (f1_3d, iou_3d, costmap_precision, costmap_recall, camera_recall,
-// all_obstacles_detected, phantom_obstacles, costmap_ghosts, clearing_latency, accuracy_p90, hidden_false_clears),
-// in that order. camera_names name the cameras by index in messages.
+// all_obstacles_detected, phantom_obstacles, costmap_ghosts, clearing_latency, accuracy_p90, hidden_false_clears,
+// self_lethal_cells), in that order. camera_names name the cameras by index in messages.
 std::vector<CheckResult> evaluation_checks(const ChecksConfig& checks, const evaluation::EvaluationSummary& summary,
                                            const std::vector<std::string>& camera_names = {});
 

@@ -34,7 +34,9 @@ nlohmann::json snapshot_json(const evaluation::EvaluationSnapshot& s) {
           {"costmap_recall", s.costmap_recall},
           {"phantom_obstacles", s.phantom_obstacles},
           {"lethal_without_voxels", s.projection.lethal_without_voxels},
-          {"columns_without_lethal", s.projection.columns_without_lethal}};
+          {"columns_without_lethal", s.projection.columns_without_lethal},
+          {"self_lethal_inside", s.self_marking.inside},
+          {"self_lethal_ring", s.self_marking.ring}};
 }
 
 // The means over the run; phantom_obstacles is the mean count, max_phantom_obstacles the most at one snapshot.
@@ -148,6 +150,20 @@ nlohmann::json occlusion_json(const evaluation::OcclusionResult& o) {
                       {"last_s", b.last_s}, {"vanished_s", time(b.vanished_s)}});
   return {{"hidden_false_clears", o.hidden_false_clears}, {"behind_surface", o.behind_surface},
           {"out_of_view", o.out_of_view}, {"first_s", time(o.first_s)}, {"bodies", bodies}};
+}
+
+// The robot marking itself (STVL issue #214): lethal cells inside its footprint and in the ring around it.
+nlohmann::json self_marking_json(const RunResult& r) {
+  const auto& map = r.scenario.pipeline.map;
+  const auto& e = r.evaluation;
+  return {{"footprint_points", map.footprint_B.size()},
+          {"update_footprint_enabled", map.update_footprint_enabled},
+          {"ring_m", evaluation_config(r.scenario).self_ring_m},
+          {"max_inside", e.mean.max_self_inside},
+          {"max_ring", e.mean.max_self_ring},
+          {"max_self_lethal_cells", e.mean.max_self_lethal},
+          {"final_inside", e.final.self_marking.inside},
+          {"final_ring", e.final.self_marking.ring}};
 }
 
 }  // namespace
@@ -269,6 +285,7 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"real_time_factor", r.real_time_factor},
   };
   metrics["evaluation"]["failure_modes"]["occlusion"] = occlusion_json(e.occlusion);
+  metrics["evaluation"]["failure_modes"]["self_marking"] = self_marking_json(r);
   return metrics;
 }
 

@@ -1,5 +1,7 @@
 #include "tools/ros_binding.hpp"
 
+#include "mapping/footprint.hpp"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -49,6 +51,11 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
   config.map.voxel_decay_s = layer.map.voxel_decay_s;
   config.map.decay_model = layer.map.decay_model;
   config.map.mark_threshold = layer.map.mark_threshold;
+  // STVL's footprint clearing with the costmap's footprint (nav2: a non-empty footprint wins over robot_radius).
+  config.map.update_footprint_enabled = layer.update_footprint_enabled;
+  config.map.footprint_B.clear();
+  if (layer.footprint && !layer.footprint->empty()) config.map.footprint_B = *layer.footprint;
+  else if (layer.robot_radius_m) config.map.footprint_B = mapping::footprint_from_radius(*layer.robot_radius_m);
   std::string names;
   for (const auto& c : config.cameras) names += (names.empty() ? "" : ", ") + c.name;
   for (auto& c : config.cameras) c.sources.clear();

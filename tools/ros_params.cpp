@@ -1,6 +1,7 @@
 #include "tools/ros_params.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 #include <type_traits>
 #include <stdexcept>
@@ -133,6 +134,7 @@ std::optional<std::vector<Eigen::Vector2d>> read_footprint(YamlMap& costmap) {
   std::vector<Eigen::Vector2d> footprint;
   for (const auto& p : points) {
     if (p.size() != 2) costmap.fail(YAML::Node(), "footprint", "each point must be [x, y]");
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1])) costmap.fail(YAML::Node(), "footprint", "points must be finite");
     footprint.emplace_back(p[0], p[1]);
   }
   return footprint;
@@ -155,6 +157,9 @@ void read_costmap(const LayerNodes& nodes, const std::string& file, RosStvlLayer
   };
   optional_of("resolution", out.resolution_m);
   optional_of("robot_radius", out.robot_radius_m);
+  if (out.robot_radius_m && !(std::isfinite(*out.robot_radius_m) && *out.robot_radius_m > 0.0))
+    for (auto& scope : scopes)
+      if (scope.has("robot_radius")) scope.fail(scope.raw("robot_radius"), "robot_radius", "must be finite and > 0 m");
   optional_of("width", out.width_m);
   optional_of("height", out.height_m);
   optional_of("rolling_window", out.rolling_window);

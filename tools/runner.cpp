@@ -194,6 +194,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     append_stages(r.camera_times[f.camera_index], f.times);
 
     auto start = Clock::now();
+    evaluator.set_robot_pose(f.T_world_base);
     evaluator.after_update(f.time_s, pipeline.map(), f.cleared_keys);
     evaluator.observe_hidden_clears(f.time_s, view_of(f), pipeline.map(), f.cleared_keys);
     evaluator.observe(f.time_s, view_of(f));

@@ -8,6 +8,8 @@
 #include <memory>
 #include <sstream>
 
+#include "mapping/footprint.hpp"
+#include "sim/world.hpp"
 #include "tools/ros_binding.hpp"
 #include "tools/yaml_reader.hpp"
 
@@ -108,6 +110,12 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
     s.camera().mount = m;  // the model's camera site follows it too (the legacy range checks come from there)
   }
   if (robot.has("cameras")) read_cameras(robot, s, overrides);
+  robot.get("geoms_seen_by_cameras", s.pipeline.robot_geoms_seen);
+  if (!s.pipeline.robot_geoms_seen.empty()) try {  // names checked against the world here, for file:line
+      sim::World::from_file(s.pipeline.world_path).show_robot_geoms_to_cameras(s.pipeline.robot_geoms_seen);
+    } catch (const std::invalid_argument& e) {
+      robot.fail(robot.raw("geoms_seen_by_cameras"), "geoms_seen_by_cameras", e.what());
+    }
   if (robot.has("odometry_drift")) {
     auto drift = robot.map("odometry_drift");
     auto& o = s.pipeline.sim.odometry;
@@ -372,10 +380,35 @@ void read_ros_params(YamlMap& map, Scenario& s, const std::string& base_dir) {
   ref.path = std::filesystem::path(ref.path).is_absolute()
                  ? ref.path
                  : (std::filesystem::path(base_dir) / ref.path).lexically_normal().string();
-  for (const char* key : {"voxel_size", "voxel_decay", "decay_model", "mark_threshold", "observation"})
+  for (const char* key : {"voxel_size", "voxel_decay", "decay_model", "mark_threshold", "observation",
+                          "update_footprint_enabled", "robot_radius", "footprint"})
     if (map.has(key))
       map.fail(map.raw(key), key, "comes from the ROS parameter file (map.ros_params: " + ref.path + "); remove it here");
   s.ros_params = ref;
+}
+
+// map.update_footprint_enabled, map.robot_radius, map.footprint (STVL's footprint clearing; nav2's keys).
+void read_footprint(YamlMap& map, mapping::StvlConfig& m) {
+  map.get("update_footprint_enabled", m.update_footprint_enabled);
+  if (map.has("robot_radius") && map.has("footprint"))
+    map.fail(map.raw("footprint"), "footprint", "give either footprint or robot_radius, not both");
+  if (map.has("robot_radius")) {
+    double radius_m = 0.0;
+    map.get("robot_radius", radius_m);
+    require_range(map, "robot_radius", radius_m, std::isfinite(radius_m) && radius_m > 0.0, "must be finite and > 0 m");
+    m.footprint_B = mapping::footprint_from_radius(radius_m);
+  }
+  if (map.has("footprint")) {
+    std::vector<std::vector<double>> points;
+    map.get("footprint", points);
+    if (points.size() < 3) map.fail(map.raw("footprint"), "footprint", "needs at least three [x, y] points");
+    m.footprint_B.clear();
+    for (const auto& xy : points) {
+      const Eigen::Vector2d p = to_point2(xy, map, "footprint");
+      if (!p.allFinite()) map.fail(map.raw("footprint"), "footprint", "points must be finite");
+      m.footprint_B.push_back(p);
+    }
+  }
 }
 
 void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const std::string& base_dir) {
@@ -402,6 +435,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   validate_keys({{"voxel_size", &map, "voxel_size"}, {"voxel_decay", &map, "voxel_decay"},
                  {"decay_model", &map, "decay_model"}, {"mark_threshold", &map, "mark_threshold"}},
                 [&] { m.validate(); });
+  read_footprint(map, m);
   if (map.has("observation")) {
     observation.yaml = std::make_shared<YamlMap>(map.map("observation"));
     read_observation(*observation.yaml, observation.source, observation.hfov_rad, observation.vfov_rad);
@@ -466,6 +500,12 @@ void read_checks(YamlMap c, Scenario& s) {
   if (ch.hidden_false_clears_max)
     require_range(c, "hidden_false_clears_max", *ch.hidden_false_clears_max, *ch.hidden_false_clears_max >= 0,
                   "must be >= 0");
+
+  get_optional(c, "self_lethal_cells_max", ch.self_lethal_cells_max);
+  if (ch.self_lethal_cells_max)
+    require_range(c, "self_lethal_cells_max", *ch.self_lethal_cells_max, *ch.self_lethal_cells_max >= 0, "must be >= 0");
+  if (ch.self_lethal_cells_max && s.pipeline.map.footprint_B.empty())
+    c.fail(c.raw("self_lethal_cells_max"), "self_lethal_cells_max", "needs the robot's footprint (map.robot_radius or map.footprint)");
   c.finish();
 }
 
@@ -589,6 +629,8 @@ evaluation::EvaluationConfig evaluation_config(const Scenario& s) {
   e.min_obstacle_height_m = band.min_m;
   e.max_obstacle_height_m = band.max_m;
   e.cameras = s.pipeline.cameras.size();
+  e.robot_footprint_B = s.pipeline.map.footprint_B;
+  e.footprint_clearing = s.pipeline.map.update_footprint_enabled;
   return e;
 }
 

@@ -24,6 +24,8 @@ struct ChecksConfig {
   std::optional<double> clearing_latency_max_s;
   std::optional<double> accuracy_p90_max_m;
   std::optional<int> hidden_false_clears_max;  // evaluation.failure_modes.occlusion.hidden_false_clears
+
+  std::optional<int> self_lethal_cells_max;  // lethal cells on the robot (footprint + ring) at any evaluation
 };
 
 // What a run writes besides its metrics.

@@ -141,6 +141,39 @@ TEST(ProjectionGuard, CountsGhostsAndColumnsWithoutLethal) {
   EXPECT_EQ(g.columns_without_lethal, 2u);
 }
 
+// Footprint clearing frees columns on purpose: the guard does not count them as lost.
+TEST(ProjectionGuard, ColumnsFreedByTheFootprintAreNotLost) {
+  mapping::StvlConfig config;
+  config.voxel_size_m = 0.1;
+  mapping::VoxelMap map(config);
+  map.set_voxels({{{1, 1, 5}, 1.0}, {{4, 1, 5}, 1.0}});
+  EXPECT_EQ(guard_projection(map, {}, 0.0, 2.0).columns_without_lethal, 2u);
+  EXPECT_EQ(guard_projection(map, {}, 0.0, 2.0, {{1, 1}}).columns_without_lethal, 1u);
+}
+
+// A square footprint 0.05..0.35 m at 0.1 m cells: its convex fill is cells 0..3 x 0..3; the ring takes cells
+// whose centres lie within 0.10 m outside it.
+TEST(SelfMarking, CountsLethalCellsInsideTheFootprintAndInItsRing) {
+  const std::vector<Eigen::Vector2d> square{{0.05, 0.05}, {0.35, 0.05}, {0.35, 0.35}, {0.05, 0.35}};
+  const CellSet lethal{{1, 1}, {2, 3},   // inside
+                       {4, 1}, {-1, 1},  // centres 0.10 m outside the edges x = 0.35 and x = 0.05
+                       {5, 1},           // 0.20 m outside
+                       {4, 4},           // 0.14 m from the corner
+                       {20, 20}};
+  SelfMarking s = count_self_marking(lethal, square, 0.1, 0.10, {}, 1);
+  EXPECT_EQ(s.inside, 2u);
+  EXPECT_EQ(s.ring, 2u);
+  EXPECT_EQ(s.total(), 4u);
+  // A true obstacle beside the robot at (5, 2): (4, 1) within one cell of it is the obstacle, not the robot.
+  s = count_self_marking(lethal, square, 0.1, 0.10, {{5, 2}}, 1);
+  EXPECT_EQ(s.inside, 2u);
+  EXPECT_EQ(s.ring, 1u);
+  s = count_self_marking(lethal, square, 0.1, 0.25, {}, 0);  // a wider ring reaches (5, 1) and (4, 4)
+  EXPECT_EQ(s.ring, 4u);
+  EXPECT_EQ(count_self_marking({}, square, 0.1, 0.10, {}, 1).total(), 0u);
+  EXPECT_EQ(count_self_marking(lethal, {{0, 0}, {1, 1}}, 0.1, 0.10, {}, 1).total(), 0u);  // no footprint
+}
+
 TEST(DistanceStats, NearestRankQuantiles) {
   std::vector<double> d;
   for (int i = 100; i >= 0; --i) d.push_back(i * 0.001);  // 0 .. 0.1 m, unsorted

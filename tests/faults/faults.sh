@@ -275,6 +275,35 @@ EOF
     expect_no_results "$tmp"
     ;;
 
+  self_radius_negative | self_radius_inf | self_footprint_short | self_footprint_nan | self_geom_unknown | \
+  self_check_no_footprint | self_ros_radius_negative)
+    # The robot seeing itself: a bad footprint, robot radius or seen geom names its file, line and key.
+    self=$src/scenarios/robot_sees_itself.yaml
+    case $case_name in
+      self_radius_negative) sed 's#  footprint: .*#  robot_radius: -0.1#' "$self" >"$tmp/s.yaml"
+                            pattern="s\.yaml:[0-9]+: map\.robot_radius: must be finite and > 0 m" ;;
+      self_radius_inf) sed 's#  footprint: .*#  robot_radius: .inf#' "$self" >"$tmp/s.yaml"
+                       pattern="s\.yaml:[0-9]+: map\.robot_radius: must be finite and > 0 m" ;;
+      self_footprint_short) sed 's#  footprint: .*#  footprint: [[0.3, 0.2], [0.3, -0.2]]#' "$self" >"$tmp/s.yaml"
+                            pattern="s\.yaml:[0-9]+: map\.footprint: needs at least three" ;;
+      self_footprint_nan) sed 's#  footprint: .*#  footprint: [[0.3, .nan], [0.3, -0.2], [-0.2, 0.0]]#' "$self" >"$tmp/s.yaml"
+                          pattern="s\.yaml:[0-9]+: map\.footprint: points must be finite" ;;
+      self_geom_unknown) sed 's#geoms_seen_by_cameras: .*#geoms_seen_by_cameras: [no_such_geom]#' "$self" >"$tmp/s.yaml"
+                         pattern="s\.yaml:[0-9]+: robot\.geoms_seen_by_cameras: no geom named 'no_such_geom'" ;;
+      self_check_no_footprint) sed 's#  footprint: .*##' "$self" >"$tmp/s.yaml"
+                               pattern="s\.yaml:[0-9]+: checks\.self_lethal_cells_max: needs the robot's footprint" ;;
+      self_ros_radius_negative)
+        sed 's#robot_radius: 0.22#robot_radius: -0.22#' "$src/scenarios/ros/nav2_stvl_tutorial.yaml" >"$tmp/p.yaml"
+        sed "s#ros_params: .*#ros_params: $tmp/p.yaml#" "$src/scenarios/nav2_stvl_tutorial.yaml" >"$tmp/s.yaml"
+        pattern="p\.yaml:[0-9]+: local_costmap\.robot_radius: must be finite and > 0 m" ;;
+    esac
+    sed -i "s#^world: .*#world: $src/worlds/office_corridor.xml#" "$tmp/s.yaml"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "$pattern"
+    expect_no_results "$tmp"
+    ;;
+
   lint_exit_codes)
     # 1 with findings (the tutorial file), 0 clean, 2 unreadable.
     run_bench lint "$src/scenarios/ros/nav2_stvl_tutorial.yaml"

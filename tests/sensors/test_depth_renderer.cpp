@@ -158,6 +158,29 @@ TEST_P(Renderer, HiddenGeomGroupsAreNotRendered) {
   EXPECT_NEAR(hidden->render(world.model, world.data, T).at(u, v), 5.9f, 1e-3);
 }
 
+// A robot with two geoms in group 2 (hidden); the scenario lets the cameras see one of them by moving it to group
+// 3 (sim::World::show_robot_geoms_to_cameras, after the renderer was made): that one is drawn, the other is not.
+TEST_P(Renderer, RobotGeomMovedToGroupThreeIsDrawnOthersAreNot) {
+  World world(R"(
+<mujoco>
+  <worldbody>
+    <geom type="box" size="0.1 4 3" pos="6 0 1"/>
+    <geom name="bumper" type="box" size="0.05 0.3 0.05" pos="1 0 0.5" group="2"/>
+    <geom name="mast" type="box" size="0.05 0.05 0.5" pos="1.5 0 1.5" group="2"/>
+  </worldbody>
+</mujoco>)");
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  std::string why;
+  auto renderer = try_renderer(world, k, GetParam(), why);
+  if (!renderer) GTEST_SKIP() << why;
+  const Eigen::Isometry3d T_bumper = looking_along_x({0.0, 0.0, 0.5}), T_mast = looking_along_x({0.0, 0.0, 1.5});
+  const int u = int(k.cx), v = int(k.cy);
+  EXPECT_NEAR(renderer->render(world.model, world.data, T_bumper).at(u, v), 5.9f, 1e-3);  // both hidden
+  world.model->geom_group[mj_name2id(world.model, mjOBJ_GEOM, "bumper")] = 3;
+  EXPECT_NEAR(renderer->render(world.model, world.data, T_bumper).at(u, v), 0.95f, 1e-3);  // the bumper's face
+  EXPECT_NEAR(renderer->render(world.model, world.data, T_mast).at(u, v), 5.9f, 1e-3);     // the mast still hidden
+}
+
 TEST_P(Renderer, TwoRenderersInOneProcess) {
   World world(kShapes);
   std::string why;

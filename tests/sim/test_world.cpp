@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "fixture.hpp"
+#include "sim/ground_truth.hpp"
 #include "sim/mocap_script.hpp"
 #include "sim/simulator.hpp"
 #include "sim/world.hpp"
@@ -79,6 +80,25 @@ TEST(World, RobotGeomsAreAllInGroupTwo) {
       EXPECT_EQ(m->geom_group[g], 2) << "geom " << g;
     }
   }
+}
+
+// robot.geoms_seen_by_cameras: the named robot geoms move to group 3 (drawn by the renderer), ground truth still
+// skips them (and the rest of the robot); other geoms and unknown names are errors.
+TEST(World, ShowsChosenRobotGeomsToCamerasOnly) {
+  World world = test::flat_world();
+  const mjModel* m = world.model();
+  const int bumper = world.geom_id("front_bumper"), mast = world.geom_id("mast");
+  EXPECT_EQ(m->geom_group[bumper], kRobotGeomGroup);
+  world.show_robot_geoms_to_cameras({"front_bumper"});
+  EXPECT_EQ(m->geom_group[bumper], kRobotSeenGeomGroup);
+  EXPECT_EQ(m->geom_group[mast], kRobotGeomGroup);
+  world.show_robot_geoms_to_cameras({"front_bumper"});  // again: still seen
+  EXPECT_EQ(m->geom_group[bumper], kRobotSeenGeomGroup);
+  for (const auto& g : obstacle_geoms(world)) EXPECT_NE(g.geom_id, bumper);
+  EXPECT_THAT([&] { world.show_robot_geoms_to_cameras({"no_such_geom"}); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("no_such_geom")));
+  EXPECT_THAT([&] { world.show_robot_geoms_to_cameras({"floor"}); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("not the robot's")));
 }
 
 const char* kMocapWorld = R"(

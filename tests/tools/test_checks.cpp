@@ -80,6 +80,23 @@ TEST(Checks, ClearingWithNothingSeenThroughFailsAndSaysWhy) {
   EXPECT_EQ(r[0].message, "no stale voxel of a moved body was seen through");
 }
 
+TEST(Checks, SelfLethalCellsTakesTheWorstEvaluation) {
+  ChecksConfig c;
+  c.self_lethal_cells_max = 0;
+  evaluation::EvaluationSummary s;
+  auto r = evaluation_checks(c, s);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_TRUE(r[0].passed);
+  s.mean.max_self_inside = 3, s.mean.max_self_ring = 1, s.mean.max_self_lethal = 4;
+  r = evaluation_checks(c, s);
+  EXPECT_FALSE(r[0].passed);
+  EXPECT_EQ(r[0].name, "self_lethal_cells");
+  EXPECT_EQ(r[0].message, "at worst 4 lethal cells on the robot (3 inside its footprint, 1 in the ring) at one "
+                          "evaluation, allowed 0");
+  c.self_lethal_cells_max = 4;
+  EXPECT_TRUE(evaluation_checks(c, s)[0].passed);
+}
+
 TEST(Checks, RobotAndPathMessagesCarryTheirTimes) {
   // These used a printf format with "%.0s" fed a double (undefined behaviour); now plain text.
   EXPECT_EQ(path_completed_check(true, 12.345, 30).message, "reached the end of the path at t = 12.35 s");

@@ -122,6 +122,28 @@ TEST(RosBinding, BadBindingsNameFileLineAndSource) {
               HasSubstr("FILE:19: stvl_layer.front_clear: filter none differs from front_mark's voxel"));
 }
 
+// nav2: a non-empty footprint wins over robot_radius; neither: no footprint (nothing cleared).
+TEST(RosBinding, TheCostmapsFootprintFeedsFootprintClearing) {
+  RosStvlLayer layer;
+  layer.sources.push_back(source("/front/depth/points"));
+  layer.update_footprint_enabled = false;
+  pipeline::PipelineConfig config = cameras({"front"});
+  const auto bind = [&] {
+    config.map.footprint_B = {{9, 9}, {9, 8}, {8, 8}};
+    apply_ros_layer(layer, config, false);
+  };
+  bind();
+  EXPECT_FALSE(config.map.update_footprint_enabled);
+  EXPECT_TRUE(config.map.footprint_B.empty());
+  layer.robot_radius_m = 0.3;
+  bind();
+  ASSERT_EQ(config.map.footprint_B.size(), 16u);
+  EXPECT_NEAR(config.map.footprint_B[4].y(), 0.3, 1e-12);
+  layer.footprint = std::vector<Eigen::Vector2d>{{0.3, 0.2}, {0.3, -0.2}, {-0.2, -0.2}, {-0.2, 0.2}};
+  bind();
+  EXPECT_EQ(config.map.footprint_B.size(), 4u);
+}
+
 TEST(RosBinding, AScenarioTakesItsMapFromRosParams) {
   const Scenario s = load_scenario(std::string(STVL_SOURCE_DIR) + "/scenarios/nav2_stvl_tutorial.yaml");
   ASSERT_TRUE(s.ros_params);
@@ -135,6 +157,13 @@ TEST(RosBinding, AScenarioTakesItsMapFromRosParams) {
   EXPECT_EQ(s.pipeline.filter.type, filter::FilterType::kNone);  // passthrough: ROS 2's default filter
   EXPECT_TRUE(s.pipeline.filter.passthrough_enabled);
   EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_decay_s, 15.0);
+  // The tutorial's robot_radius 0.22 and update_footprint_enabled true: STVL's footprint clearing.
+  EXPECT_TRUE(s.pipeline.map.update_footprint_enabled);
+  ASSERT_EQ(s.pipeline.map.footprint_B.size(), 16u);
+  EXPECT_NEAR(s.pipeline.map.footprint_B[0].x(), 0.22, 1e-12);
+  for (const char* key : {"update_footprint_enabled: false", "robot_radius: 0.3", "footprint: [[1, 0], [0, 1], [0, 0]]"})
+    EXPECT_THAT(error_of(std::string(kMinimal) + "map:\n  ros_params: p.yaml\n  " + key + "\n"),
+                HasSubstr("comes from the ROS parameter file")) << key;
   const std::string with_size = std::string(kMinimal) + "map:\n  ros_params: p.yaml\n  voxel_size: 0.1\n";
   EXPECT_THAT(error_of(with_size), HasSubstr(at(8, "map.voxel_size") + "comes from the ROS parameter file"));
   EXPECT_THAT(error_of(std::string(kMinimal) + "map:\n  ros_params: /nonexistent/p.yaml\n"),

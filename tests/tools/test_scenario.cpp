@@ -40,7 +40,8 @@ TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
     EXPECT_GE(s.pipeline.path.waypoints_W.size(), 2u);
     const auto& c = s.checks;
     EXPECT_TRUE(c.f1_3d_min || c.iou_3d_min || c.costmap_precision_min || c.costmap_recall_min ||
-                c.all_obstacles_detected || c.phantom_obstacles_max || c.clearing_latency_max_s || c.accuracy_p90_max_m)
+                c.all_obstacles_detected || c.phantom_obstacles_max || c.clearing_latency_max_s || c.accuracy_p90_max_m ||
+                c.self_lethal_cells_max)
         << "a shipped scenario checks nothing";
     // Native scenarios clear with each camera's own FOV (a ROS parameter file gives its own: lint compares).
     if (!s.ros_params) {
@@ -191,6 +192,36 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_EQ(c.phantom_obstacles_max, 1);
   EXPECT_EQ(c.clearing_latency_max_s, 1.5);
   EXPECT_EQ(c.accuracy_p90_max_m, 0.05);
+}
+
+TEST(ScenarioParse, FootprintClearingKeys) {
+  const Scenario plain = parse(kMinimal);
+  EXPECT_TRUE(plain.pipeline.map.update_footprint_enabled);  // STVL's default
+  EXPECT_TRUE(plain.pipeline.map.footprint_B.empty());
+  EXPECT_TRUE(plain.pipeline.robot_geoms_seen.empty());
+  const Scenario round = parse(std::string(kMinimal) + "map:\n  update_footprint_enabled: false\n  robot_radius: 0.25\n");
+  EXPECT_FALSE(round.pipeline.map.update_footprint_enabled);
+  ASSERT_EQ(round.pipeline.map.footprint_B.size(), 16u);
+  EXPECT_NEAR(round.pipeline.map.footprint_B[0].x(), 0.25, 1e-12);
+  const Scenario polygon = parse(std::string(kMinimal) + "map:\n  footprint: [[0.3, 0.2], [0.3, -0.2], [-0.2, 0]]\n"
+                                 "checks:\n  self_lethal_cells_max: 0\n");
+  ASSERT_EQ(polygon.pipeline.map.footprint_B.size(), 3u);
+  EXPECT_DOUBLE_EQ(polygon.pipeline.map.footprint_B[1].y(), -0.2);
+  EXPECT_EQ(polygon.checks.self_lethal_cells_max, 0);
+  EXPECT_EQ(evaluation_config(polygon).robot_footprint_B.size(), 3u);
+  EXPECT_TRUE(evaluation_config(polygon).footprint_clearing);
+  const std::string base = std::string(kMinimal) + "map:\n";
+  EXPECT_THAT(error_of(base + "  robot_radius: -0.1\n"), HasSubstr(at(7, "map.robot_radius") + "must be finite and > 0 m"));
+  EXPECT_THAT(error_of(base + "  robot_radius: .nan\n"), HasSubstr(at(7, "map.robot_radius")));
+  EXPECT_THAT(error_of(base + "  footprint: [[0, 1], [1, 0]]\n"), HasSubstr(at(7, "map.footprint") + "needs at least three"));
+  EXPECT_THAT(error_of(base + "  footprint: [[0, 1], [1, 0], [0, .inf]]\n"), HasSubstr(at(7, "map.footprint") + "points must be finite"));
+  EXPECT_THAT(error_of(base + "  footprint: [[0, 1], [1, 0], [0]]\n"), HasSubstr(at(7, "map.footprint")));
+  EXPECT_THAT(error_of(base + "  robot_radius: 0.2\n  footprint: [[0, 1], [1, 0], [0, 0]]\n"),
+              HasSubstr("give either footprint or robot_radius"));
+  EXPECT_THAT(error_of(std::string(kMinimal) + "checks:\n  self_lethal_cells_max: 0\n"),
+              HasSubstr(at(7, "checks.self_lethal_cells_max") + "needs the robot's footprint"));
+  EXPECT_THAT(error_of(base + "  robot_radius: 0.2\nchecks:\n  self_lethal_cells_max: -1\n"),
+              HasSubstr("must be >= 0"));
 }
 
 TEST(ScenarioParse, PresetsSetTheIntrinsics) {
