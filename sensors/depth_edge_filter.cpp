@@ -16,10 +16,10 @@ namespace {
 inline float threshold_m(double max_jump_at_1m_m, float z_m) { return float(max_jump_at_1m_m * double(z_m) * double(z_m)); }
 
 // Valid: a finite depth > 0 (0, negative, NaN and infinity are invalid), as depth_to_cloud reads it.
-inline bool valid(float z_m) { return z_m > 0.0f && z_m <= std::numeric_limits<float>::max(); }
+inline bool valid(float z_m) { return (z_m > 0.0f) & (z_m <= std::numeric_limits<float>::max()); }
 
 // True when the neighbour's depth zn is valid and differs from z by more than the threshold.
-inline bool jumps(float z_m, float zn_m, float threshold) { return valid(zn_m) && std::abs(zn_m - z_m) > threshold; }
+inline bool jumps(float z_m, float zn_m, float threshold) { return valid(zn_m) & (std::abs(zn_m - z_m) > threshold); }
 
 void check_input(const DepthImage& in, const DepthImage& out) {
   if (in.width < 0 || in.height < 0 || in.depth_m.size() != size_t(in.width) * size_t(in.height))
@@ -82,7 +82,7 @@ std::size_t filter_depth_edges(const DepthEdgeFilterConfig& config, const DepthI
   const float* src = in.depth_m.data();
   float* dst = out.depth_m.data();
   // Rows in parallel: every output pixel reads the input only. Interior pixels check their 8 neighbours without
-  // bounds tests and stop at the first jump; the border rows and columns take the checked path.
+  // bounds tests or branches; the border rows and columns take the checked path.
   const auto rows = [&](const tbb::blocked_range<int>& range, std::size_t dropped) {
     for (int v = range.begin(); v < range.end(); ++v) {
       const float* row = src + size_t(v) * W;
@@ -97,9 +97,9 @@ std::size_t filter_depth_edges(const DepthEdgeFilterConfig& config, const DepthI
         if (inner_row && u > 0 && u + 1 < W) {
           const float* up = row - W;
           const float* down = row + W;
-          drop = jumps(z, row[u - 1], t) || jumps(z, row[u + 1], t) || jumps(z, up[u - 1], t) ||
-                 jumps(z, up[u], t) || jumps(z, up[u + 1], t) || jumps(z, down[u - 1], t) ||
-                 jumps(z, down[u], t) || jumps(z, down[u + 1], t);
+          drop = jumps(z, row[u - 1], t) | jumps(z, row[u + 1], t) | jumps(z, up[u - 1], t) |
+                 jumps(z, up[u], t) | jumps(z, up[u + 1], t) | jumps(z, down[u - 1], t) |
+                 jumps(z, down[u], t) | jumps(z, down[u + 1], t);
         } else {
           drop = false;
           for (int dv = -1; dv <= 1 && !drop; ++dv)

@@ -10,7 +10,8 @@
 // z / (f * tan(angle)), linear in z): a stereo camera's depth noise grows with z^2 (sigma_z = z^2 * subpixel /
 // (f * baseline), sensors/depth_noise.hpp), so a threshold linear in z falls below the noise of neighbouring
 // pixels beyond a metre or two and thins flat surfaces; one growing with z^2 stays the same number of sigmas at
-// every depth (default 0.03 m at 1 m: 8 sigma of the D435 model, 5.7 sigma of the difference of two pixels).
+// every depth (default 0.03 m at 1 m: 8 sigma of the D435 model at fx 433 px, baseline 0.05 m, subpixel 0.08,
+// and 5.7 sigma of the difference of two pixels; another camera's 8 sigma is 8 * subpixel / (fx * baseline)).
 // The geometry of a plane scales the same way: neighbouring pixels on a plane at perpendicular distance d from
 // the optical centre differ by at most about z^2 / (f * d) (sqrt(2) times that diagonally), so the filter thins
 // only planes passing within about sqrt(2) / (f * max_jump_at_1m_m) of the camera (0.11 m at f = 433 px),
