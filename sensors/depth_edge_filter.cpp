@@ -13,7 +13,7 @@ namespace stvl::sensors {
 namespace {
 
 // The same float arithmetic in both versions, so that their images are equal bit for bit.
-inline float threshold_m(double max_jump_at_1m_m, float z_m) { return float(max_jump_at_1m_m * double(z_m) * double(z_m)); }
+inline float threshold_m(float max_jump_at_1m_m, float z_m) { return max_jump_at_1m_m * z_m * z_m; }
 
 // Valid: a finite depth > 0 (0, negative, NaN and infinity are invalid), as depth_to_cloud reads it.
 inline bool valid(float z_m) { return (z_m > 0.0f) & (z_m <= std::numeric_limits<float>::max()); }
@@ -52,7 +52,7 @@ std::size_t filter_depth_edges_reference(const DepthEdgeFilterConfig& config, co
     for (int u = 0; u < in.width; ++u) {
       const float z = in.at(u, v);
       if (!valid(z)) continue;
-      const float threshold = threshold_m(config.max_jump_at_1m_m, z);
+      const float threshold = threshold_m(float(config.max_jump_at_1m_m), z);
       bool drop = false;
       for (int dv = -1; dv <= 1; ++dv)
         for (int du = -1; du <= 1; ++du) {
@@ -78,42 +78,53 @@ std::size_t filter_depth_edges(const DepthEdgeFilterConfig& config, const DepthI
     return 0;
   }
   const int W = in.width, H = in.height;
-  const double c = config.max_jump_at_1m_m;
+  const float c = float(config.max_jump_at_1m_m);
   const float* src = in.depth_m.data();
   float* dst = out.depth_m.data();
   // Rows in parallel: every output pixel reads the input only. Interior pixels check their 8 neighbours without
-  // bounds tests or branches; the border rows and columns take the checked path.
+  // bounds tests or branches (a loop the compiler vectorizes); the border rows and columns take the checked path.
+  const auto checked = [&](int u, int v) {
+    const float z = src[size_t(v) * W + u];
+    if (!valid(z)) return false;
+    const float t = threshold_m(c, z);
+    for (int dv = -1; dv <= 1; ++dv)
+      for (int du = -1; du <= 1; ++du) {
+        const int uu = u + du, vv = v + dv;
+        if ((du == 0 && dv == 0) || uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
+        if (jumps(z, src[size_t(vv) * W + uu], t)) return true;
+      }
+    return false;
+  };
   const auto rows = [&](const tbb::blocked_range<int>& range, std::size_t dropped) {
     for (int v = range.begin(); v < range.end(); ++v) {
       const float* row = src + size_t(v) * W;
       float* out_row = dst + size_t(v) * W;
-      const bool inner_row = v > 0 && v + 1 < H;
-      for (int u = 0; u < W; ++u) {
-        const float z = row[u];
-        out_row[u] = z;
-        if (!valid(z)) continue;
-        const float t = threshold_m(c, z);
-        bool drop;
-        if (inner_row && u > 0 && u + 1 < W) {
-          const float* up = row - W;
-          const float* down = row + W;
-          drop = jumps(z, row[u - 1], t) | jumps(z, row[u + 1], t) | jumps(z, up[u - 1], t) |
-                 jumps(z, up[u], t) | jumps(z, up[u + 1], t) | jumps(z, down[u - 1], t) |
-                 jumps(z, down[u], t) | jumps(z, down[u + 1], t);
-        } else {
-          drop = false;
-          for (int dv = -1; dv <= 1 && !drop; ++dv)
-            for (int du = -1; du <= 1 && !drop; ++du) {
-              const int uu = u + du, vv = v + dv;
-              if ((du == 0 && dv == 0) || uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
-              drop = jumps(z, src[size_t(vv) * W + uu], t);
-            }
+      if (v == 0 || v + 1 == H || W < 3) {
+        for (int u = 0; u < W; ++u) {
+          const bool drop = checked(u, v);
+          out_row[u] = drop ? 0.0f : row[u];
+          dropped += drop;
         }
-        if (drop) {
-          out_row[u] = 0.0f;
-          ++dropped;
-        }
+        continue;
       }
+      for (int u : {0, W - 1}) {
+        const bool drop = checked(u, v);
+        out_row[u] = drop ? 0.0f : row[u];
+        dropped += drop;
+      }
+      const float* up = row - W;
+      const float* down = row + W;
+      std::size_t row_dropped = 0;
+      for (int u = 1; u + 1 < W; ++u) {
+        const float z = row[u];
+        const float t = threshold_m(c, z);
+        const bool drop = valid(z) & (jumps(z, row[u - 1], t) | jumps(z, row[u + 1], t) | jumps(z, up[u - 1], t) |
+                                      jumps(z, up[u], t) | jumps(z, up[u + 1], t) | jumps(z, down[u - 1], t) |
+                                      jumps(z, down[u], t) | jumps(z, down[u + 1], t));
+        out_row[u] = drop ? 0.0f : z;
+        row_dropped += drop;
+      }
+      dropped += row_dropped;
     }
     return dropped;
   };
