@@ -130,6 +130,7 @@ void validate_cameras(const PipelineConfig& config) {
     };
     rethrow(who, [&] { c.intrinsics.validate(); });
     rethrow(who, [&] { c.noise.validate(); });
+    rethrow(who, [&] { c.edge_filter.validate(); });
     const auto& m = c.mount;
     const double values[] = {m.forward_offset_m, m.lateral_offset_m, m.height_m, m.roll_rad, m.pitch_rad, m.yaw_rad};
     for (double v : values)
@@ -249,7 +250,15 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   f.times.noise_ms = ms_since(start);
 
   start = Clock::now();
-  f.point_count = sensors::depth_to_cloud(f.depth, intrinsics, f.points_C);
+  const sensors::DepthImage* cloud_depth = &f.depth;
+  f.edge_dropped_pixels = 0;
+  if (camera.config.edge_filter.enabled) {
+    f.edge_dropped_pixels = sensors::filter_depth_edges(camera.config.edge_filter, f.depth, f.edge_filtered_depth);
+    cloud_depth = &f.edge_filtered_depth;
+  } else {
+    f.edge_filtered_depth = {};
+  }
+  f.point_count = sensors::depth_to_cloud(*cloud_depth, intrinsics, f.points_C);
   transform(f.T_world_camera, f.points_C, f.point_count, f.cloud_W);
   f.times.cloud_ms = ms_since(start);
 

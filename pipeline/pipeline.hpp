@@ -27,6 +27,7 @@
 #include "filter/filter.hpp"
 #include "mapping/voxel_map.hpp"
 #include "sensors/camera.hpp"
+#include "sensors/depth_edge_filter.hpp"
 #include "sensors/depth_image.hpp"
 #include "sensors/depth_noise.hpp"
 #include "sensors/gl_context.hpp"
@@ -50,6 +51,7 @@ struct CameraConfig {
   sensors::CameraIntrinsics intrinsics = sensors::CameraIntrinsics::d435_848x480();  // also its rate and range
   sensors::GlBackend gl_backend = sensors::GlBackend::kAuto;
   sensors::DepthNoiseConfig noise;
+  sensors::DepthEdgeFilterConfig edge_filter;  // ours, off by default: drops flying pixels before depth to cloud
   std::vector<SourceConfig> sources{SourceConfig{}};  // at least one
 };
 
@@ -70,7 +72,8 @@ struct PipelineConfig {
   std::vector<std::string> robot_geoms_seen;
 };
 
-// Wall-clock milliseconds of one frame's stages (the only part of a run that is not deterministic).
+// Wall-clock milliseconds of one frame's stages (the only part of a run that is not deterministic). cloud_ms
+// holds the camera's edge filter when it is enabled, then depth to cloud and the transform to the world.
 struct StageTimes {
   double render_ms = 0, noise_ms = 0, cloud_ms = 0, filter_ms = 0, clear_ms = 0, mark_ms = 0;
 };
@@ -89,7 +92,11 @@ struct FrameResult {
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
   double odom_v_mps = 0, odom_omega_radps = 0;
   sensors::DepthImage clean_depth;  // rendered, noise-free
-  sensors::DepthImage depth;        // with the camera's noise model
+  sensors::DepthImage depth;        // with the camera's noise model (what the camera publishes)
+  // With the camera's edge filter enabled: `depth` without the pixels it dropped (the image the cloud comes
+  // from; pixels it dropped are not "no return" pixels); empty otherwise.
+  sensors::DepthImage edge_filtered_depth;
+  std::size_t edge_dropped_pixels = 0;
   // Valid pixels in the optical frame, row-major pixel order: the first point_count columns of points_C.
   Eigen::Matrix3Xf points_C;
   Eigen::Index point_count = 0;
@@ -162,9 +169,9 @@ struct HeightBand {
 HeightBand marking_band(const PipelineConfig& config);
 
 // Throws std::invalid_argument naming the camera (and source) for: no camera, an empty or repeated camera
-// name, a camera without sources, a source name used twice, bad intrinsics, noise or source parameters, a
-// mount that is not finite, below the floor, or farther than 2 m from base_link. (A mount inside the robot's
-// body needs the world: the Pipeline checks that.)
+// name, a camera without sources, a source name used twice, bad intrinsics, noise, edge filter or source
+// parameters, a mount that is not finite, below the floor, or farther than 2 m from base_link. (A mount inside
+// the robot's body needs the world: the Pipeline checks that.)
 void validate_cameras(const PipelineConfig& config);
 
 }  // namespace stvl::pipeline

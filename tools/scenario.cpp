@@ -223,6 +223,13 @@ void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c) {
                    {"hole_max_radius_px", &noise, "hole_max_radius_px"}},
                   [&] { n.validate(); });
   }
+  if (camera.has("edge_filter")) {  // ours (sensors/depth_edge_filter.hpp); STVL has none
+    auto edge = camera.map("edge_filter");
+    edge.get("enabled", c.edge_filter.enabled);
+    edge.get("max_jump_at_1m_m", c.edge_filter.max_jump_at_1m_m);
+    edge.finish();
+    validate_keys({{"max_jump_at_1m_m", &edge, "max_jump_at_1m_m"}}, [&] { c.edge_filter.validate(); });
+  }
 }
 
 void read_camera(YamlMap camera, Scenario& s) {

@@ -303,6 +303,17 @@ EOF
     expect_error_line "$pattern"
     expect_no_results "$tmp"
     ;;
+  edge_filter_bad_threshold)
+    # A negative and a non-finite jump threshold of the edge filter: exit 2 naming file, line and key.
+    for value in -0.03 .nan .inf; do
+      sed "s#^  noise: {enabled: true}#&\n  edge_filter: {enabled: true, max_jump_at_1m_m: $value}#" "$scenario" >"$tmp/s.yaml"
+      sed -i "s#^world: .*#world: $src/worlds/office_corridor.xml#" "$tmp/s.yaml"
+      run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+      expect_rc 2
+      expect_error_line "s\.yaml:16: camera\.edge_filter\.max_jump_at_1m_m: .*must be finite and > 0 m"
+      expect_no_results "$tmp"
+    done
+    ;;
 
   lint_exit_codes)
     # 1 with findings (the tutorial file), 0 clean, 2 unreadable.

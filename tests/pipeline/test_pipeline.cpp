@@ -260,5 +260,45 @@ TEST_F(PipelineTest, EachCameraHasItsOwnNoise) {
   EXPECT_EQ(std::vector<float>(solo.depth.depth_m.begin(), solo.depth.depth_m.end()), noisy_a);
 }
 
+TEST_F(PipelineTest, TheEdgeFilterThinsTheCloudNotTheCamerasImage) {
+  PipelineConfig off = config();
+  off.cameras.front().noise.enabled = true;
+  PipelineConfig on = off;
+  on.cameras.front().edge_filter.enabled = true;
+  // The default (0.03 m at 1 m) is 8 sigma of the D435's stereo noise at fx = 433 px; this camera's fx is 117
+  // px, so its noise is 3.7 times larger: 8 sigma of it.
+  const auto& k = off.cameras.front().intrinsics;
+  on.cameras.front().edge_filter.max_jump_at_1m_m = 8.0 * on.cameras.front().noise.subpixel / (k.fx * on.cameras.front().noise.baseline_m);
+  Pipeline a(off), b(on);
+  const FrameResult& fa = a.step();
+  const std::vector<float> noisy(fa.depth.depth_m.begin(), fa.depth.depth_m.end());
+  const Eigen::Index points_off = fa.point_count;
+  EXPECT_TRUE(fa.edge_filtered_depth.depth_m.empty());
+  EXPECT_EQ(fa.edge_dropped_pixels, 0u);
+  const FrameResult& fb = b.step();
+  // The camera's image is the same; the wall and the floor are planes far from the optical centre and the view
+  // has no depth edge, so 8 sigma keep nearly every pixel of the noisy image.
+  EXPECT_EQ(std::vector<float>(fb.depth.depth_m.begin(), fb.depth.depth_m.end()), noisy);
+  EXPECT_EQ(fb.point_count, fb.edge_filtered_depth.valid_count());
+  EXPECT_EQ(fb.point_count + Eigen::Index(fb.edge_dropped_pixels), points_off);
+  EXPECT_LT(double(fb.edge_dropped_pixels), 0.001 * double(points_off));
+  // A threshold far below the noise drops most pixels: the cloud comes from the filtered image.
+  on.cameras.front().edge_filter.max_jump_at_1m_m = 1e-4;
+  Pipeline c(on);
+  const FrameResult& fc = c.step();
+  EXPECT_EQ(std::vector<float>(fc.depth.depth_m.begin(), fc.depth.depth_m.end()), noisy);
+  EXPECT_GT(double(fc.edge_dropped_pixels), 0.5 * double(points_off));
+  EXPECT_EQ(fc.point_count + Eigen::Index(fc.edge_dropped_pixels), points_off);
+  EXPECT_EQ(fc.cloud_W.cols(), fc.point_count);
+  // A bad threshold is rejected naming the camera.
+  on.cameras.front().edge_filter.max_jump_at_1m_m = -1.0;
+  try {
+    Pipeline bad(on);
+    ADD_FAILURE() << "a negative threshold was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_THAT(e.what(), HasSubstr("camera 'camera': DepthEdgeFilterConfig: max_jump_at_1m_m"));
+  }
+}
+
 }  // namespace
 }  // namespace stvl::pipeline
