@@ -23,6 +23,11 @@ struct ChecksConfig {
   std::optional<int> costmap_ghosts_max;  // the projection guard's worst count (either kind) at any evaluation
   std::optional<double> clearing_latency_max_s;
   std::optional<double> accuracy_p90_max_m;
+  // Camera outages (evaluation.failure_modes.outage): true voxels only the stopped camera had seen that left the
+  // map during its outages, summed over them; and the longest time from an outage's end until that camera's
+  // recall is back to 90 % of its value before the outage.
+  std::optional<int> outage_cleared_max;
+  std::optional<double> outage_resume_max_s;
 };
 
 // What a run writes besides its metrics.

@@ -275,6 +275,25 @@ EOF
     expect_no_results "$tmp"
     ;;
 
+  outage_reversed | outage_past_end | outage_overlap | outage_not_finite)
+    # camera_outage.yaml with its front camera's outages edited: each exits 2 naming file, line and key.
+    sc=$src/scenarios/camera_outage.yaml
+    key="s\.yaml:22: robot\.cameras\[0\]\.outages"
+    case $case_name in
+      outage_reversed) edit='[{from_s: 8.0, to_s: 5.0}]' pattern="$key\[0\]\.to_s: must be finite and > from_s" ;;
+      outage_past_end) edit='[{from_s: 5.0, to_s: 20.0}]' pattern="$key\[0\]\.to_s: must be <= duration_s" ;;
+      outage_overlap) edit='[{from_s: 5.0, to_s: 8.0}, {from_s: 7.0, to_s: 9.0}]'
+                      pattern="$key\[1\]\.from_s: overlaps outages\[0\]" ;;
+      outage_not_finite) edit='[{from_s: .nan, to_s: 8.0}]' pattern="$key\[0\]\.from_s: must be finite" ;;
+    esac
+    sed -e "s#^world: .*#world: $src/worlds/office_corridor.xml#" -e "s#outages: \[.*\]#outages: $edit#" "$sc" >"$tmp/s.yaml"
+    grep -qF "outages: $edit" "$tmp/s.yaml" || fail "the edit did not apply"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "$pattern"
+    expect_no_results "$tmp"
+    ;;
+
   lint_exit_codes)
     # 1 with findings (the tutorial file), 0 clean, 2 unreadable.
     run_bench lint "$src/scenarios/ros/nav2_stvl_tutorial.yaml"
