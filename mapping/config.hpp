@@ -74,6 +74,9 @@ struct ObservationSource {
   // latest only, which STVL keeps and applies again at every update until a new one arrives.
   double expected_update_rate_s = 0.0;   // expected_update_rate: >= 0 s
   double observation_persistence_s = 0.0;  // observation_persistence: >= 0 s
+  // drop_when_not_current (ours; STVL applies a stale buffer at every update): while the source is not current
+  // (expected_update_rate exceeded) its buffered readings are not applied again at other cameras' updates.
+  bool drop_when_not_current = false;
 
   void validate() const;
 };

@@ -180,6 +180,7 @@ struct Pipeline::Camera {
   std::vector<SourceBuffer> buffers;  // one per source
   std::vector<SourceStatus> status;   // one per source
   double last_frame_s = -1.0;         // < 0: none taken yet
+  double last_reapplied_s = -1.0;     // the last update time its buffers were applied at another camera's frame
   std::size_t skipped_frames = 0;
   void skip_outages() {
     while (in_outage(config, next_time_s())) ++next_frame, ++skipped_frames;
@@ -322,10 +323,13 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   f.reapplied_readings = 0;
   for (auto& other : cameras_) {
     Camera& c = *other;
-    if (&c != &camera && !c.overdue(f.time_s)) continue;
+    // Another camera's buffer once per update time: cameras that share a frame time make one STVL update.
+    if (&c != &camera && (!c.overdue(f.time_s) || c.last_reapplied_s >= f.time_s - 1e-9)) continue;
+    if (&c != &camera) c.last_reapplied_s = f.time_s;
     const Eigen::Vector3d centre_now = sim_->T_world_camera(c.config.mount).translation();
     for (std::size_t s = 0; s < c.buffers.size(); ++s) {
       const auto& params = c.config.sources[s].params;
+      if (&c != &camera && params.drop_when_not_current && !c.buffers[s].current(f.time_s)) continue;
       for (const auto& r : c.buffers[s].readings()) {
         if (params.clearing) clearing.push_back({r->T_world_camera, params, &r->decimated_W, &r->no_return_W});
         if (params.marking) marking.emplace_back(r.get(), &params);

@@ -19,9 +19,9 @@
 // Sources keep STVL's measurement buffers (source_buffer.hpp): a frame's update applies its camera's buffered
 // readings (the frame's, plus older ones under observation_persistence) and, as STVL applies every buffer at
 // every update, the buffers of cameras that have missed a frame (an outage): their last readings, at the pose
-// they were taken from, cleared and marked again at this time. A camera that has not missed a frame is left to
-// its own next frame (STVL at an update rate equal to the cameras'). Frames inside a camera's outages are not
-// taken at all.
+// they were taken from, cleared and marked again at this time, once per distinct update time (cameras sharing a
+// frame time make one STVL update). A camera that has not missed a frame is left to its own next frame (STVL at
+// an update rate equal to the cameras'). Frames inside a camera's outages are not taken at all.
 #include <cstdint>
 #include <functional>
 #include <memory>

@@ -358,6 +358,7 @@ void read_observation(YamlMap& o, mapping::ObservationSource& src, std::optional
   o.get("clear_on_no_return", src.clear_on_no_return);
   o.get("expected_update_rate", src.expected_update_rate_s);
   o.get("observation_persistence", src.observation_persistence_s);
+  o.get("drop_when_not_current", src.drop_when_not_current);
   o.finish();
 }
 
@@ -375,6 +376,11 @@ void apply_observation(pipeline::CameraConfig& camera, const ObservationDefaults
     YamlMap* where = own && own->has("clear_on_no_return") ? &*own : defaults.yaml.get();
     where->fail(where->raw("clear_on_no_return"), "clear_on_no_return",
                 "needs map.clearing_mode: raycast (frustum clearing walks no rays)");
+  }
+  if (src.drop_when_not_current && !(src.expected_update_rate_s > 0.0)) {
+    YamlMap* where = own && own->has("drop_when_not_current") ? &*own : defaults.yaml.get();
+    where->fail(where->raw("drop_when_not_current"), "drop_when_not_current",
+                "needs expected_update_rate > 0 s (with 0 a source is always current)");
   }
   if (!o) {
     try {

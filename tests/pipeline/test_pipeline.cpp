@@ -310,6 +310,22 @@ TEST_F(PipelineTest, AStoppedCamerasLastReadingIsAppliedAgainAtEveryUpdate) {
   EXPECT_NEAR(status[0].max_reapplied_age_s, 0.3, 1e-9);
   EXPECT_GT(status[0].reapplied_max_distance_m, 0.0);  // the robot drove on: an old pose
   EXPECT_EQ(status[1].reapplied_readings, 0u);
+  // Two cameras sharing frame times make one update per time: the stopped one's reading is applied once.
+  PipelineConfig three = c;
+  three.cameras.push_back(looking_back(c.cameras.front()));
+  three.cameras.back().name = three.cameras.back().sources.front().name = "back2";
+  three.cameras.back().outages.clear();
+  Pipeline shared(three);
+  std::size_t reapplied = 0;
+  while (shared.next_time_s() < 0.45) reapplied += shared.step().reapplied_readings;
+  EXPECT_EQ(reapplied, 3u);  // at 0.2, 0.3 and 0.4, not twice at each
+  // drop_when_not_current (ours): not applied once the source is not current.
+  c.cameras.front().sources.front().params.expected_update_rate_s = 0.15;
+  c.cameras.front().sources.front().params.drop_when_not_current = true;
+  Pipeline dropping(c);
+  reapplied = 0;
+  while (dropping.next_time_s() < 0.45) reapplied += dropping.step().reapplied_readings;
+  EXPECT_EQ(reapplied, 1u);  // at 0.2 (0.1 s old, current); at 0.3 and 0.4 it is not
 }
 
 TEST_F(PipelineTest, ObservationPersistenceAppliesTheLastReadingsAgain) {
