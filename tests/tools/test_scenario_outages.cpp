@@ -78,6 +78,12 @@ TEST(ScenarioOutages, BadOutagesNameLineAndKey) {
               HasSubstr(at(13, "robot.cameras[1].observation.expected_update_rate") + "expected_update_rate"));
   EXPECT_THAT(error_of(replaced(kOutages, "observation_persistence: 0.3", "observation_persistence: .inf")),
               HasSubstr(at(13, "robot.cameras[1].observation.observation_persistence")));
+  // drop_when_not_current (ours) means nothing without an expected_update_rate.
+  EXPECT_THAT(error_of(kOutages + "map:\n  observation: {drop_when_not_current: true}\n"),
+              HasSubstr(at(15, "map.observation.drop_when_not_current") + "needs expected_update_rate > 0 s"));
+  const Scenario dropping = parse(replaced(kOutages, "observation_persistence: 0.3", "drop_when_not_current: true"));
+  EXPECT_TRUE(dropping.pipeline.cameras[1].sources[0].params.drop_when_not_current);
+  EXPECT_FALSE(dropping.pipeline.cameras[0].sources[0].params.drop_when_not_current);
 }
 
 }  // namespace
