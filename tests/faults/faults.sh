@@ -294,6 +294,25 @@ EOF
     expect_no_results "$tmp"
     ;;
 
+  buffer_rate_negative | buffer_persistence_not_finite | drop_without_rate)
+    # camera_outage.yaml's STVL buffer keys edited (map.observation): each exits 2 naming file, line and key.
+    sc=$src/scenarios/camera_outage.yaml
+    case $case_name in
+      buffer_rate_negative) from='expected_update_rate: 0.5' to='expected_update_rate: -0.5'
+                            pattern="s\.yaml:[0-9]+: map\.observation\.expected_update_rate: .*must be >= 0 s" ;;
+      buffer_persistence_not_finite) from='observation_persistence: 0.0' to='observation_persistence: .inf'
+                                     pattern="s\.yaml:[0-9]+: map\.observation\.observation_persistence: .*finite" ;;
+      drop_without_rate) from='expected_update_rate: 0.5' to='expected_update_rate: 0.0\n    drop_when_not_current: true'
+                         pattern="s\.yaml:[0-9]+: map\.observation\.drop_when_not_current: needs expected_update_rate > 0 s" ;;
+    esac
+    sed -e "s#^world: .*#world: $src/worlds/office_corridor.xml#" -e "s#$from#$to#" "$sc" >"$tmp/s.yaml"
+    grep -qF "${to%%\\n*}" "$tmp/s.yaml" || fail "the edit did not apply"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "$pattern"
+    expect_no_results "$tmp"
+    ;;
+
   lint_exit_codes)
     # 1 with findings (the tutorial file), 0 clean, 2 unreadable.
     run_bench lint "$src/scenarios/ros/nav2_stvl_tutorial.yaml"
