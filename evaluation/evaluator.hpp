@@ -131,6 +131,8 @@ class Evaluator {
   const TopDown& top_down() const { return top_down_; }
   const PhaseTimes& phase_times() const { return times_; }
   const Truth& truth() const { return truth_; }
+  // The voxels the last observe() saw (noise-free, in range and band), sorted.
+  const std::vector<VoxelKey>& frame_keys() const { return frame_keys_; }
 
  private:
   void update_truth(const sim::World& world);

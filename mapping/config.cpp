@@ -86,6 +86,11 @@ void ObservationSource::validate() const {
   if (min_z_m >= max_z_m) reject("min_z", min_z_m, "must be < max_z = " + std::to_string(max_z_m));
   require_finite("decay_acceleration", decay_acceleration_per_s3);
   if (decay_acceleration_per_s3 < 0.0) reject("decay_acceleration", decay_acceleration_per_s3, "must be >= 0");
+  require_finite("expected_update_rate", expected_update_rate_s);
+  if (expected_update_rate_s < 0.0) reject("expected_update_rate", expected_update_rate_s, "must be >= 0 s (0: never checked)");
+  require_finite("observation_persistence", observation_persistence_s);
+  if (observation_persistence_s < 0.0)
+    reject("observation_persistence", observation_persistence_s, "must be >= 0 s (0: the latest reading only)");
 }
 
 }  // namespace stvl::mapping

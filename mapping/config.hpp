@@ -76,6 +76,16 @@ struct ObservationSource {
   // of pixels without a return are walked to max_z too. A camera cannot tell "too far" from a dropout or a
   // too-near obstacle, so this also clears what such pixels hide.
   bool clear_on_no_return = false;
+  // STVL's measurement buffer (measurement_buffer.cpp). expected_update_rate is a period in seconds, as STVL and
+  // costmap_2d read it (not a rate in Hz): the source is not current when its last reading is older than this;
+  // 0 = never checked. observation_persistence: readings are kept this long before the source's last reading
+  // (not before now: during an outage nothing is dropped) and applied again at every map update; 0 = the
+  // latest only, which STVL keeps and applies again at every update until a new one arrives.
+  double expected_update_rate_s = 0.0;   // expected_update_rate: >= 0 s
+  double observation_persistence_s = 0.0;  // observation_persistence: >= 0 s
+  // drop_when_not_current (ours; STVL applies a stale buffer at every update): while the source is not current
+  // (expected_update_rate exceeded) its buffered readings are not applied again at other cameras' updates.
+  bool drop_when_not_current = false;
 
   void validate() const;
 };

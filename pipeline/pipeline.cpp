@@ -140,6 +140,13 @@ void validate_cameras(const PipelineConfig& config) {
     if (Eigen::Vector3d(m.forward_offset_m, m.lateral_offset_m, m.height_m).norm() > 2.0)
       throw std::invalid_argument(who + ": mounted more than 2 m from base_link");
     if (c.sources.empty()) throw std::invalid_argument(who + ": feeds no observation source");
+    for (std::size_t i = 0; i < c.outages.size(); ++i) {
+      const Outage& o = c.outages[i];
+      if (!(std::isfinite(o.from_s) && std::isfinite(o.to_s) && o.from_s >= 0.0 && o.from_s < o.to_s))
+        throw std::invalid_argument(who + ": outage " + std::to_string(i) + " must be finite with 0 <= from_s < to_s");
+      if (i > 0 && o.from_s < c.outages[i - 1].to_s)
+        throw std::invalid_argument(who + ": outage " + std::to_string(i) + " overlaps or precedes the one before");
+    }
     for (const auto& source : c.sources) {
       if (source.name.empty()) throw std::invalid_argument(who + ": a source has an empty name");
       if (!sources.insert(source.name).second)
@@ -147,6 +154,12 @@ void validate_cameras(const PipelineConfig& config) {
       rethrow(who + ", source '" + source.name + "'", [&] { source.params.validate(); });
     }
   }
+}
+
+bool in_outage(const CameraConfig& camera, double time_s) {
+  for (const auto& o : camera.outages)
+    if (time_s >= o.from_s && time_s < o.to_s) return true;
+  return false;
 }
 
 filter::FilterConfig decimation_config(filter::FilterConfig config) {
@@ -158,15 +171,30 @@ filter::FilterConfig decimation_config(filter::FilterConfig config) {
 struct Pipeline::Camera {
   Camera(const mjModel* model, const CameraConfig& c, std::uint64_t noise_seed)
       : config(c), renderer(model, c.intrinsics, c.gl_backend), noise(c.noise, c.intrinsics), noise_seed(noise_seed) {
-    for (const auto& source : c.sources)
-      if (source.params.clearing) {
-        clearing.push_back({{}, source.params, nullptr});
-        if (source.params.clear_on_no_return) no_return_range_m = std::max(no_return_range_m, source.params.max_z_m);
-      }
+    for (const auto& source : c.sources) {
+      if (source.params.clearing && source.params.clear_on_no_return)
+        no_return_range_m = std::max(no_return_range_m, source.params.max_z_m);
+      buffers.emplace_back(source.params.observation_persistence_s, source.params.expected_update_rate_s);
+      status.push_back({source.name, 0, source.params.expected_update_rate_s, {}, 0, 0.0, 0.0});
+    }
+    skip_outages();
   }
   CameraConfig config;
-  std::vector<mapping::ClearingObservation> clearing;  // one per clearing source; pose and cloud set per frame
   double no_return_range_m = 0.0;  // > 0: the longest max_z of its clear_on_no_return sources
+  std::vector<SourceBuffer> buffers;  // one per source
+  std::vector<SourceStatus> status;   // one per source
+  double last_frame_s = -1.0;         // < 0: none taken yet
+  double last_reapplied_s = -1.0;     // the last update time its buffers were applied at another camera's frame
+  std::size_t skipped_frames = 0;
+  void skip_outages() {
+    while (in_outage(config, next_time_s())) ++next_frame, ++skipped_frames;
+  }
+  // It has missed a frame (an outage): one was due after its last and by now_s, and none is pending at now_s
+  // (a camera of a higher index with a frame at now_s takes it right after this one).
+  bool overdue(double now_s) const {
+    return last_frame_s >= 0.0 && last_frame_s + 1.0 / config.intrinsics.rate_hz <= now_s + 1e-9 &&
+           next_time_s() > now_s + 1e-9;
+  }
   sensors::DepthRenderer renderer;
   sensors::DepthNoise noise;
   std::uint64_t noise_seed;
@@ -190,10 +218,25 @@ Pipeline::Pipeline(PipelineConfig config)
     if (!geom.empty())
       throw std::invalid_argument("camera '" + c.name + "': mounted inside the robot's body (geom '" + geom + "')");
     cameras_.push_back(std::make_unique<Camera>(sim_->world().model(), c, camera_noise_seed(config_.seed, i)));
+    for (auto& status : cameras_.back()->status) status.camera_index = i;
   }
 }
 
 Pipeline::~Pipeline() = default;
+
+std::vector<SourceStatus> Pipeline::source_status(double until_s) const {
+  std::vector<SourceStatus> all;
+  for (const auto& c : cameras_)
+    for (std::size_t s = 0; s < c->buffers.size(); ++s) {
+      SourceStatus status = c->status[s];
+      if (const auto span = stale_span(c->buffers[s].last_updated_s(), until_s, c->buffers[s].expected_update_rate_s()))
+        status.stale.push_back(*span);
+      all.push_back(std::move(status));
+    }
+  return all;
+}
+
+std::size_t Pipeline::skipped_frames(std::size_t camera) const { return cameras_.at(camera)->skipped_frames; }
 
 const char* Pipeline::gl_backend() const { return cameras_.front()->renderer.backend_name(); }
 const char* Pipeline::filter_device() const { return filter_.device_used(); }
@@ -227,6 +270,7 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   f.frame_index = camera.next_frame;
   f.time_s = camera.next_time_s();
   ++camera.next_frame;
+  camera.skip_outages();
   f.times = {};
 
   sim_->run_until(f.time_s);
@@ -274,17 +318,50 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   if (camera.no_return_range_m > 0.0)
     no_return_points(f.depth, intrinsics, f.T_world_camera, camera.no_return_range_m, config_.map.voxel_size_m,
                      f.no_return_W);
-  for (auto& observation : camera.clearing) {
-    observation.T_world_camera = f.T_world_camera;
-    observation.points_W = &f.decimated_W;
-    observation.no_return_W = &f.no_return_W;
+  auto reading = std::make_shared<SourceReading>();
+  reading->time_s = f.time_s;
+  reading->T_world_camera = f.T_world_camera;
+  reading->decimated_W = f.decimated_W;
+  reading->marking_W = f.marking_W;
+  reading->no_return_W = f.no_return_W;
+  for (std::size_t s = 0; s < camera.buffers.size(); ++s) {
+    SourceBuffer& buffer = camera.buffers[s];
+    if (const auto span = stale_span(buffer.last_updated_s(), f.time_s, buffer.expected_update_rate_s()))
+      camera.status[s].stale.push_back(*span);
+    buffer.receive(reading);
+  }
+  camera.last_frame_s = f.time_s;
+  // STVL's update: the readings of every buffer it applies, clearing first, then marking, all at this time.
+  std::vector<mapping::ClearingObservation> clearing;
+  std::vector<std::pair<const SourceReading*, const mapping::ObservationSource*>> marking;
+  f.reapplied_readings = 0;
+  for (auto& other : cameras_) {
+    Camera& c = *other;
+    // Another camera's buffer once per update time: cameras that share a frame time make one STVL update.
+    if (&c != &camera && (!c.overdue(f.time_s) || c.last_reapplied_s >= f.time_s - 1e-9)) continue;
+    if (&c != &camera) c.last_reapplied_s = f.time_s;
+    const Eigen::Vector3d centre_now = sim_->T_world_camera(c.config.mount).translation();
+    for (std::size_t s = 0; s < c.buffers.size(); ++s) {
+      const auto& params = c.config.sources[s].params;
+      if (&c != &camera && params.drop_when_not_current && !c.buffers[s].current(f.time_s)) continue;
+      for (const auto& r : c.buffers[s].readings()) {
+        if (params.clearing) clearing.push_back({r->T_world_camera, params, &r->decimated_W, &r->no_return_W});
+        if (params.marking) marking.emplace_back(r.get(), &params);
+        if (r.get() == reading.get()) continue;
+        ++f.reapplied_readings;
+        SourceStatus& status = c.status[s];
+        ++status.reapplied_readings;
+        status.max_reapplied_age_s = std::max(status.max_reapplied_age_s, f.time_s - r->time_s);
+        status.reapplied_max_distance_m = std::max(status.reapplied_max_distance_m,
+                                                   (r->T_world_camera.translation() - centre_now).norm());
+      }
+    }
   }
   f.cleared_keys.clear();
-  map_.clear(camera.clearing, f.time_s, &f.cleared_keys);
+  map_.clear(clearing, f.time_s, &f.cleared_keys);
   f.times.clear_ms = ms_since(start);
   start = Clock::now();
-  for (const auto& source : camera.config.sources)
-    if (source.params.marking) map_.mark(f.marking_W, f.T_world_camera, source.params, f.time_s);
+  for (const auto& [r, params] : marking) map_.mark(r->marking_W, r->T_world_camera, *params, f.time_s);
   f.times.mark_ms = ms_since(start);
   return f;
 }

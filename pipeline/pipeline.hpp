@@ -16,6 +16,12 @@
 // the whole decimated cloud (so ray-cast clearing also sees the floor behind a moved obstacle), then its
 // marking sources mark the decimated cloud inside the passthrough band, as STVL applies its passthrough
 // before marking.
+// Sources keep STVL's measurement buffers (source_buffer.hpp): a frame's update applies its camera's buffered
+// readings (the frame's, plus older ones under observation_persistence) and, as STVL applies every buffer at
+// every update, the buffers of cameras that have missed a frame (an outage): their last readings, at the pose
+// they were taken from, cleared and marked again at this time, once per distinct update time (cameras sharing a
+// frame time make one STVL update). A camera that has not missed a frame is left to its own next frame (STVL at
+// an update rate equal to the cameras'). Frames inside a camera's outages are not taken at all.
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -26,6 +32,7 @@
 
 #include "filter/filter.hpp"
 #include "mapping/voxel_map.hpp"
+#include "pipeline/source_buffer.hpp"
 #include "sensors/camera.hpp"
 #include "sensors/depth_edge_filter.hpp"
 #include "sensors/depth_image.hpp"
@@ -44,6 +51,11 @@ struct SourceConfig {
   mapping::ObservationSource params;
 };
 
+// A time window in which a camera publishes no frame (a driver crash, a USB reset): [from_s, to_s).
+struct Outage {
+  double from_s = 0, to_s = 0;
+};
+
 // One depth camera on the robot, and the STVL observation sources it feeds.
 struct CameraConfig {
   std::string name = "camera";  // its frames are <name>_link, <name>_depth_optical_frame; its topics /<name>/...
@@ -53,7 +65,11 @@ struct CameraConfig {
   sensors::DepthNoiseConfig noise;
   sensors::DepthEdgeFilterConfig edge_filter;  // ours, off by default: drops flying pixels before depth to cloud
   std::vector<SourceConfig> sources{SourceConfig{}};  // at least one
+  std::vector<Outage> outages;  // sorted, disjoint, from_s >= 0: its frames in these windows are never taken
 };
+
+// Whether time_s lies in one of the camera's outages.
+bool in_outage(const CameraConfig& camera, double time_s);
 
 struct PipelineConfig {
   std::string world_path;  // MJCF file holding the robot
@@ -110,7 +126,22 @@ struct FrameResult {
   // Voxels this frame's clearing removed: the rays (ray-cast mode) or the frustum's acceleration (frustum mode);
   // not those that expired by plain decay.
   std::vector<VoxelKey> cleared_keys;
+  // Readings of earlier frames this update applied again from the sources' buffers (observation_persistence, or
+  // a stopped camera's buffer, as STVL applies every buffer at every update).
+  std::size_t reapplied_readings = 0;
   StageTimes times;
+};
+
+// One observation source's record over the run: when it was not current (STVL's expected_update_rate) and
+// what its buffer applied again.
+struct SourceStatus {
+  std::string source;
+  std::size_t camera_index = 0;
+  double expected_update_rate_s = 0;
+  std::vector<StaleSpan> stale;     // in time order; the last one may end at the time asked for (still stale)
+  std::size_t reapplied_readings = 0;  // readings applied at a later update than their own frame's
+  double max_reapplied_age_s = 0;      // the oldest of those at the update that applied it
+  double reapplied_max_distance_m = 0;  // farthest a re-applied reading's optical centre lay from the camera's pose then
 };
 
 class Pipeline {
@@ -139,6 +170,10 @@ class Pipeline {
   // are free (STVL's footprint clearing).
   mapping::Costmap2D costmap() const;
   mapping::CostmapOptions costmap_options() const;
+  // Every source's status (cameras in order, their sources in order), spans of staleness closed at until_s.
+  std::vector<SourceStatus> source_status(double until_s) const;
+  // Frames of camera `camera` not taken because they fell in one of its outages.
+  std::size_t skipped_frames(std::size_t camera) const;
   const char* gl_backend() const;     // "egl" or "osmesa" (the first camera's)
   const char* filter_device() const;  // "cpu" or "cuda"
 

@@ -93,6 +93,39 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
   return r;
 }
 
+std::vector<CheckResult> outage_checks(const ChecksConfig& c, const std::vector<evaluation::OutageResult>& outages,
+                                       const std::vector<std::string>& camera_names) {
+  std::vector<CheckResult> r;
+  const auto name_of = [&](std::size_t i) {
+    return i < camera_names.size() ? camera_names[i] : "camera " + std::to_string(i);
+  };
+  if (c.outage_cleared_max) {
+    std::size_t cleared = 0, watched = 0;
+    for (const auto& o : outages) cleared += o.cleared, watched += o.only_seen_voxels;
+    r.push_back({"outage_cleared", !outages.empty() && cleared <= static_cast<std::size_t>(*c.outage_cleared_max),
+                 outages.empty() ? "no camera has an outage"
+                                 : std::to_string(cleared) + " of " + std::to_string(watched) +
+                                       " true voxels only the stopped cameras had seen left the map during their "
+                                       "outages, allowed " + std::to_string(*c.outage_cleared_max)});
+  }
+  if (c.outage_resume_max_s) {
+    std::string late;
+    for (const auto& o : outages) {
+      const double after_s = o.recall_resumed_s - o.window.to_s;
+      if (o.recall_resumed_s < 0 || after_s > *c.outage_resume_max_s)
+        late += (late.empty() ? "" : "; ") + name_of(o.camera_index) + " after [" + fixed(o.window.from_s, 2) + ", " +
+                fixed(o.window.to_s, 2) + ") s: " +
+                (o.recall_resumed_s < 0 ? std::string("recall never back") : "back after " + fixed(after_s, 2) + " s");
+    }
+    r.push_back({"outage_resume", !outages.empty() && late.empty(),
+                 outages.empty() ? "no camera has an outage"
+                 : late.empty()  ? "every stopped camera's recall back to 90 % of its value before within " +
+                                      fixed(*c.outage_resume_max_s, 2) + " s of the outage's end"
+                                 : late + " (allowed " + fixed(*c.outage_resume_max_s, 2) + " s)"});
+  }
+  return r;
+}
+
 CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad) {
   if (upright) return {"robot_upright", true, "the robot stayed upright on the floor"};
   return {"robot_upright", false,

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "evaluation/evaluator.hpp"
+#include "evaluation/outage.hpp"
 #include "tools/scenario.hpp"
 
 namespace stvl::tools {
@@ -19,6 +20,12 @@ struct CheckResult {
 // self_lethal_cells), in that order. camera_names name the cameras by index in messages.
 std::vector<CheckResult> evaluation_checks(const ChecksConfig& checks, const evaluation::EvaluationSummary& summary,
                                            const std::vector<std::string>& camera_names = {});
+
+// outage_cleared (the only-seen voxels that left the map during outages, summed) and outage_resume (every
+// outage's camera recall back to 90 % of its value before, within the threshold after the outage's end), for
+// the thresholds the scenario sets; a threshold with no outage in the scenario fails.
+std::vector<CheckResult> outage_checks(const ChecksConfig& checks, const std::vector<evaluation::OutageResult>& outages,
+                                       const std::vector<std::string>& camera_names = {});
 
 // robot_upright: the robot fell over or left the world at fell_at_s (when it did).
 CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad);

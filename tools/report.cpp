@@ -166,6 +166,43 @@ nlohmann::json self_marking_json(const RunResult& r) {
           {"final_ring", e.final.self_marking.ring}};
 }
 
+// evaluation.failure_modes.outage: per camera its outages (frames taken inside, the only-seen true voxels that
+// left the map, when it marked and when its recall came back) and per source STVL's staleness and re-applied
+// readings. Times in seconds of simulated time; -1 for "never".
+nlohmann::json outage_json(const RunResult& r) {
+  nlohmann::json cameras = nlohmann::json::array();
+  for (std::size_t c = 0; c < r.scenario.pipeline.cameras.size(); ++c) {
+    nlohmann::json outages = nlohmann::json::array(), sources = nlohmann::json::array();
+    for (const auto& o : r.outages) {
+      if (o.camera_index != c) continue;
+      outages.push_back({{"from_s", o.window.from_s}, {"to_s", o.window.to_s},
+                         {"frames_in_window", o.frames_in_window}, {"only_seen_voxels", o.only_seen_voxels},
+                         {"cleared", o.cleared}, {"first_cleared_s", o.first_cleared_s},
+                         {"first_marking_frame_s", o.first_marking_frame_s}, {"recall_before", o.recall_before},
+                         {"recall_resumed_s", o.recall_resumed_s},
+                         {"resume_fraction", evaluation::OutageResult::kResumeFraction}});
+    }
+    for (const auto& st : r.sources) {
+      if (st.camera_index != c) continue;
+      nlohmann::json spans = nlohmann::json::array();
+      double stale_s = 0.0;
+      for (const auto& span : st.stale) {
+        spans.push_back({{"from_s", span.from_s}, {"to_s", span.to_s}});
+        stale_s += span.to_s - span.from_s;
+      }
+      sources.push_back({{"source", st.source}, {"expected_update_rate_s", st.expected_update_rate_s},
+                         {"first_stale_s", st.stale.empty() ? -1.0 : st.stale.front().from_s},
+                         {"stale_s", stale_s}, {"stale_spans", spans},
+                         {"reapplied_readings", st.reapplied_readings}, {"max_reapplied_age_s", st.max_reapplied_age_s},
+                         {"reapplied_max_distance_m", st.reapplied_max_distance_m}});
+    }
+    cameras.push_back({{"name", r.scenario.pipeline.cameras[c].name},
+                       {"skipped_frames", c < r.skipped_frames.size() ? r.skipped_frames[c] : 0},
+                       {"outages", outages}, {"sources", sources}});
+  }
+  return {{"cameras", cameras}};
+}
+
 }  // namespace
 
 // STVL's known failure modes as this run measured them: the figures every run has (phantoms, rays' false clears,
@@ -263,6 +300,7 @@ nlohmann::json metrics_json(const RunResult& r) {
           {"mean_latency_s", e.clearing.mean_latency_s},
           {"false_clears", e.false_clears}}},
         {"observed_off_truth_voxels", e.observed_off_truth_voxels},
+        {"failure_modes", {{"outage", outage_json(r)}}},
         {"cameras", cameras}}},
       {"checks", checks},
       {"points",

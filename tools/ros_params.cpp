@@ -81,8 +81,8 @@ RosObservationSource read_source(const LayerNodes& nodes, YamlMap& layer, const 
   m.get("clear_after_reading", s.clear_after_reading);
   m.get("inf_is_valid", s.inf_is_valid);
   m.get("enabled", s.enabled);
-  m.get("expected_update_rate", s.expected_update_rate_s);
-  m.get("observation_persistence", s.observation_persistence_s);
+  m.get("expected_update_rate", s.stvl.expected_update_rate_s);
+  m.get("observation_persistence", s.stvl.observation_persistence_s);
   std::string filter = "passthrough";
   if (!ros1 || m.has("filter")) {
     m.get("filter", filter);  // ROS 2 and noetic-devel

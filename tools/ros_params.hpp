@@ -25,13 +25,14 @@ struct RosObservationSource {
   std::string name;       // e.g. "pointcloud"
   int line = 0;           // 1-based line of its mapping's key
   std::string data_type = "PointCloud2", topic, sensor_frame;  // topic defaults to the name in ROS 1, "" in ROS 2
-  mapping::ObservationSource stvl;  // obstacle_range defaults to 2.5 m in ROS 2, 3.0 m in ROS 1
+  // obstacle_range defaults to 2.5 m in ROS 2, 3.0 m in ROS 1; expected_update_rate and observation_persistence
+  // are read into it too (the pipeline's source buffers apply them)
+  mapping::ObservationSource stvl;
   double vertical_fov_padding_m = 0.0;  // 3D lidar frustum only
   int model_type = 0;                   // 0 depth camera (1, the 3D lidar, is rejected)
   RosSourceFilter filter = RosSourceFilter::kPassthrough;  // STVL's default in every version
   int voxel_min_points = 0;
   bool clear_after_reading = false, inf_is_valid = false, enabled = true;
-  double expected_update_rate_s = 0.0, observation_persistence_s = 0.0;
 };
 
 struct RosStvlLayer {

@@ -144,6 +144,12 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   const std::unique_ptr<pipeline::Pipeline> owned = build_pipeline(s);
   pipeline::Pipeline& pipeline = *owned;
   evaluation::Evaluator evaluator(pipeline.simulator().world(), evaluation_config(s));
+  std::vector<std::vector<evaluation::OutageWindow>> outage_windows;
+  for (const auto& c : s.pipeline.cameras) {
+    outage_windows.emplace_back();
+    for (const auto& o : c.outages) outage_windows.back().push_back({o.from_s, o.to_s});
+  }
+  evaluation::OutageMonitor outages(std::move(outage_windows), s.evaluation.tolerance_voxels);
   if (!options.out_dir.empty()) ensure_writable_directory(out / "frames");
   r.gl_backend = pipeline.gl_backend();
   r.filter_device = pipeline.filter_device();
@@ -175,6 +181,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   const auto before_map_update = [&](const pipeline::FrameResult& f, const mapping::VoxelMap& map) {
     const auto start = Clock::now();
     evaluator.observe_clearing(f.time_s, pipeline.simulator().world(), view_of(f), map);
+    outages.before_update(f.time_s, map);
     evaluation_ms = ms_since(start);
   };
 
@@ -198,6 +205,9 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     evaluator.after_update(f.time_s, pipeline.map(), f.cleared_keys);
     evaluator.observe_hidden_clears(f.time_s, view_of(f), pipeline.map(), f.cleared_keys);
     evaluator.observe(f.time_s, view_of(f));
+    outages.after_update(f.time_s, pipeline.map());
+    outages.observe(f.camera_index, f.time_s, evaluator.frame_keys(), evaluator.truth(),
+                    static_cast<std::size_t>(f.marking_W.cols()));
     if (f.time_s + 1e-9 >= next_evaluation_s) {
       evaluator.evaluate(f.time_s, pipeline.simulator().world(), pipeline.map());
       next_evaluation_s += s.evaluation.evaluate_every_s;
@@ -240,10 +250,14 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     r.top_down = evaluator.top_down();
     r.evaluation_phases = evaluator.phase_times();
     r.map_view = make_map_view(pipeline.map(), evaluator.truth(), s.evaluation.tolerance_voxels);
+    r.outages = outages.results(r.evaluation.snapshots);
     std::vector<std::string> names;
     for (const auto& c : s.pipeline.cameras) names.push_back(c.name);
     for (auto& check : evaluation_checks(s.checks, r.evaluation, names)) r.checks.push_back(std::move(check));
+    for (auto& check : outage_checks(s.checks, r.outages, names)) r.checks.push_back(std::move(check));
   }
+  r.sources = pipeline.source_status(r.sim_time_s);
+  for (std::size_t c = 0; c < s.pipeline.cameras.size(); ++c) r.skipped_frames.push_back(pipeline.skipped_frames(c));
   if (bag) {
     // The bag ends with the final map, the one map.vdb and costmap.pgm hold.
     if (r.frames > 0 && last_publish_s != r.sim_time_s) bag->record_map(r.sim_time_s, pipeline);

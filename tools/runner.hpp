@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "evaluation/evaluator.hpp"
+#include "evaluation/outage.hpp"
 #include "tools/checks.hpp"
 #include "tools/scenario.hpp"
 
@@ -52,6 +53,11 @@ struct RunResult {
   double real_time_factor = 0;  // simulated seconds per wall-clock second
   bool interrupted = false;
   std::string gl_backend, filter_device;
+  // Camera outages and STVL's source buffers (evaluation.failure_modes.outage): each source's staleness and
+  // re-applied readings, each camera's frames not taken (outages), each outage's result.
+  std::vector<pipeline::SourceStatus> sources;
+  std::vector<std::size_t> skipped_frames;
+  std::vector<evaluation::OutageResult> outages;
   bool passed() const;
 };
 

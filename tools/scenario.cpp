@@ -1,5 +1,6 @@
 #include "tools/scenario.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -232,8 +233,33 @@ void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c) {
   }
 }
 
+// A camera's outages: [{from_s, to_s}], each inside the run, from_s < to_s, none overlapping another.
+void read_outages(YamlMap& camera, pipeline::CameraConfig& c, double duration_s) {
+  c.outages.clear();
+  for (auto& entry : camera.list_of_maps("outages")) {
+    pipeline::Outage o;
+    entry.require("from_s", o.from_s);
+    entry.require("to_s", o.to_s);
+    entry.finish();
+    require_range(entry, "from_s", o.from_s, std::isfinite(o.from_s) && o.from_s >= 0.0, "must be finite and >= 0 s");
+    require_range(entry, "to_s", o.to_s, std::isfinite(o.to_s) && o.to_s > o.from_s,
+                  "must be finite and > from_s (" + std::to_string(o.from_s) + " s)");
+    require_range(entry, "to_s", o.to_s, o.to_s <= duration_s,
+                  "must be <= duration_s (" + std::to_string(duration_s) + " s): the outage must end inside the run");
+    for (std::size_t i = 0; i < c.outages.size(); ++i)
+      if (o.from_s < c.outages[i].to_s && c.outages[i].from_s < o.to_s)
+        require_range(entry, "from_s", o.from_s, false,
+                      "overlaps outages[" + std::to_string(i) + "] [" + std::to_string(c.outages[i].from_s) + ", " +
+                          std::to_string(c.outages[i].to_s) + ") s");
+    c.outages.push_back(o);
+  }
+  std::sort(c.outages.begin(), c.outages.end(),
+            [](const pipeline::Outage& a, const pipeline::Outage& b) { return a.from_s < b.from_s; });
+}
+
 void read_camera(YamlMap camera, Scenario& s) {
   read_camera_sensor(camera, s.camera());
+  read_outages(camera, s.camera(), s.duration_s);
   camera.finish();
 }
 
@@ -273,6 +299,7 @@ void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap
     s.camera_mount_locations.push_back(entry.where("mount"));
     read_mount(entry.map("mount"), c.mount);
     read_camera_sensor(entry, c);
+    read_outages(entry, c, s.duration_s);
     c.sources.front().name = c.name;
     overrides.push_back(entry.has("observation") ? std::optional<YamlMap>(entry.map("observation")) : std::nullopt);
     entry.finish();
@@ -344,6 +371,9 @@ void read_observation(YamlMap& o, mapping::ObservationSource& src, std::optional
   o.get("max_z", src.max_z_m);
   o.get("decay_acceleration", src.decay_acceleration_per_s3);
   o.get("clear_on_no_return", src.clear_on_no_return);
+  o.get("expected_update_rate", src.expected_update_rate_s);
+  o.get("observation_persistence", src.observation_persistence_s);
+  o.get("drop_when_not_current", src.drop_when_not_current);
   o.finish();
 }
 
@@ -362,6 +392,11 @@ void apply_observation(pipeline::CameraConfig& camera, const ObservationDefaults
     where->fail(where->raw("clear_on_no_return"), "clear_on_no_return",
                 "needs map.clearing_mode: raycast (frustum clearing walks no rays)");
   }
+  if (src.drop_when_not_current && !(src.expected_update_rate_s > 0.0)) {
+    YamlMap* where = own && own->has("drop_when_not_current") ? &*own : defaults.yaml.get();
+    where->fail(where->raw("drop_when_not_current"), "drop_when_not_current",
+                "needs expected_update_rate > 0 s (with 0 a source is always current)");
+  }
   if (!o) {
     try {
       src.validate();
@@ -371,9 +406,11 @@ void apply_observation(pipeline::CameraConfig& camera, const ObservationDefaults
     return;
   }
   const char* keys[] = {"obstacle_range", "min_obstacle_height", "max_obstacle_height", "horizontal_fov_angle",
-                        "vertical_fov_angle", "min_z", "max_z", "decay_acceleration"};
+                        "vertical_fov_angle", "min_z", "max_z", "decay_acceleration", "expected_update_rate",
+                        "observation_persistence"};
   validate_keys({{keys[0], o, keys[0]}, {keys[1], o, keys[1]}, {keys[2], o, keys[2]}, {keys[3], o, keys[3]},
-                 {keys[4], o, keys[4]}, {keys[5], o, keys[5]}, {keys[6], o, keys[6]}, {keys[7], o, keys[7]}},
+                 {keys[4], o, keys[4]}, {keys[5], o, keys[5]}, {keys[6], o, keys[6]}, {keys[7], o, keys[7]},
+                 {keys[8], o, keys[8]}, {keys[9], o, keys[9]}},
                 [&] { src.validate(); });
 }
 
@@ -499,6 +536,13 @@ void read_checks(YamlMap c, Scenario& s) {
   if (ch.clearing_latency_max_s)
     require_range(c, "clearing_latency_max_s", *ch.clearing_latency_max_s,
                   std::isfinite(*ch.clearing_latency_max_s) && *ch.clearing_latency_max_s >= 0, "must be finite and >= 0 s");
+  get_optional(c, "outage_cleared_max", ch.outage_cleared_max);
+  if (ch.outage_cleared_max)
+    require_range(c, "outage_cleared_max", *ch.outage_cleared_max, *ch.outage_cleared_max >= 0, "must be >= 0");
+  get_optional(c, "outage_resume_max_s", ch.outage_resume_max_s);
+  if (ch.outage_resume_max_s)
+    require_range(c, "outage_resume_max_s", *ch.outage_resume_max_s,
+                  std::isfinite(*ch.outage_resume_max_s) && *ch.outage_resume_max_s >= 0, "must be finite and >= 0 s");
   get_optional(c, "accuracy_p90_max_m", ch.accuracy_p90_max_m);
   if (ch.accuracy_p90_max_m)
     require_range(c, "accuracy_p90_max_m", *ch.accuracy_p90_max_m,

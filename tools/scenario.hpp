@@ -26,6 +26,11 @@ struct ChecksConfig {
   std::optional<int> hidden_false_clears_max;  // evaluation.failure_modes.occlusion.hidden_false_clears
 
   std::optional<int> self_lethal_cells_max;  // lethal cells on the robot (footprint + ring) at any evaluation
+  // Camera outages (evaluation.failure_modes.outage): true voxels only the stopped camera had seen that left the
+  // map during its outages, summed over them; and the longest time from an outage's end until that camera's
+  // recall is back to 90 % of its value before the outage.
+  std::optional<int> outage_cleared_max;
+  std::optional<double> outage_resume_max_s;
 };
 
 // What a run writes besides its metrics.

@@ -315,6 +315,44 @@ EOF
     done
     ;;
 
+  outage_reversed | outage_past_end | outage_overlap | outage_not_finite)
+    # camera_outage.yaml with its front camera's outages edited: each exits 2 naming file, line and key.
+    sc=$src/scenarios/camera_outage.yaml
+    key="s\.yaml:22: robot\.cameras\[0\]\.outages"
+    case $case_name in
+      outage_reversed) edit='[{from_s: 8.0, to_s: 5.0}]' pattern="$key\[0\]\.to_s: must be finite and > from_s" ;;
+      outage_past_end) edit='[{from_s: 5.0, to_s: 20.0}]' pattern="$key\[0\]\.to_s: must be <= duration_s" ;;
+      outage_overlap) edit='[{from_s: 5.0, to_s: 8.0}, {from_s: 7.0, to_s: 9.0}]'
+                      pattern="$key\[1\]\.from_s: overlaps outages\[0\]" ;;
+      outage_not_finite) edit='[{from_s: .nan, to_s: 8.0}]' pattern="$key\[0\]\.from_s: must be finite" ;;
+    esac
+    sed -e "s#^world: .*#world: $src/worlds/office_corridor.xml#" -e "s#outages: \[.*\]#outages: $edit#" "$sc" >"$tmp/s.yaml"
+    grep -qF "outages: $edit" "$tmp/s.yaml" || fail "the edit did not apply"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "$pattern"
+    expect_no_results "$tmp"
+    ;;
+
+  buffer_rate_negative | buffer_persistence_not_finite | drop_without_rate)
+    # camera_outage.yaml's STVL buffer keys edited (map.observation): each exits 2 naming file, line and key.
+    sc=$src/scenarios/camera_outage.yaml
+    case $case_name in
+      buffer_rate_negative) from='expected_update_rate: 0.5' to='expected_update_rate: -0.5'
+                            pattern="s\.yaml:[0-9]+: map\.observation\.expected_update_rate: .*must be >= 0 s" ;;
+      buffer_persistence_not_finite) from='observation_persistence: 0.0' to='observation_persistence: .inf'
+                                     pattern="s\.yaml:[0-9]+: map\.observation\.observation_persistence: .*finite" ;;
+      drop_without_rate) from='expected_update_rate: 0.5' to='expected_update_rate: 0.0\n    drop_when_not_current: true'
+                         pattern="s\.yaml:[0-9]+: map\.observation\.drop_when_not_current: needs expected_update_rate > 0 s" ;;
+    esac
+    sed -e "s#^world: .*#world: $src/worlds/office_corridor.xml#" -e "s#$from#$to#" "$sc" >"$tmp/s.yaml"
+    grep -qF "${to%%\\n*}" "$tmp/s.yaml" || fail "the edit did not apply"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "$pattern"
+    expect_no_results "$tmp"
+    ;;
+
   lint_exit_codes)
     # 1 with findings (the tutorial file), 0 clean, 2 unreadable.
     run_bench lint "$src/scenarios/ros/nav2_stvl_tutorial.yaml"

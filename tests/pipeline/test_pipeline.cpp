@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -298,6 +299,83 @@ TEST_F(PipelineTest, TheEdgeFilterThinsTheCloudNotTheCamerasImage) {
   } catch (const std::invalid_argument& e) {
     EXPECT_THAT(e.what(), HasSubstr("camera 'camera': DepthEdgeFilterConfig: max_jump_at_1m_m"));
   }
+}
+
+TEST_F(PipelineTest, NoFrameOfACameraInsideItsOutage) {
+  PipelineConfig c = config();  // 10 Hz
+  c.cameras.front().outages = {{0.15, 0.45}};
+  c.cameras.front().sources.front().params.expected_update_rate_s = 0.2;
+  Pipeline pipeline(c);
+  std::vector<double> taken;
+  for (int k = 0; k < 4; ++k) taken.push_back(pipeline.step().time_s);
+  EXPECT_NEAR(taken[0], 0.0, 1e-12);
+  EXPECT_NEAR(taken[1], 0.1, 1e-12);
+  EXPECT_NEAR(taken[2], 0.5, 1e-12);  // 0.2, 0.3, 0.4 fall in [0.15, 0.45)
+  EXPECT_NEAR(taken[3], 0.6, 1e-12);
+  EXPECT_EQ(pipeline.skipped_frames(0), 3u);
+  // expected_update_rate 0.2 s: not current from 0.1 + 0.2 until the frame at 0.5.
+  const auto status = pipeline.source_status(0.6);
+  ASSERT_EQ(status.size(), 1u);
+  ASSERT_EQ(status[0].stale.size(), 1u);
+  EXPECT_NEAR(status[0].stale[0].from_s, 0.3, 1e-9);
+  EXPECT_NEAR(status[0].stale[0].to_s, 0.5, 1e-9);
+  // Closed at the time asked for when no frame came since.
+  EXPECT_EQ(pipeline.source_status(0.9).back().stale.size(), 2u);
+  EXPECT_NEAR(pipeline.source_status(0.9).back().stale.back().from_s, 0.8, 1e-9);
+  // An outage at the start: the first frame comes at its end.
+  PipelineConfig late = config();
+  late.cameras.front().outages = {{0.0, 0.25}};
+  Pipeline starts_late(late);
+  EXPECT_NEAR(starts_late.next_time_s(), 0.3, 1e-12);
+}
+
+TEST_F(PipelineTest, AStoppedCamerasLastReadingIsAppliedAgainAtEveryUpdate) {
+  PipelineConfig c = config();
+  c.cameras.push_back(looking_back(c.cameras.front()));
+  c.cameras.front().outages = {{0.15, 0.45}};  // front: 0, 0.1, then 0.5; back: every 0.1 s
+  Pipeline pipeline(c);
+  std::vector<std::pair<std::string, std::size_t>> got;
+  for (int k = 0; k < 8; ++k) {
+    const FrameResult& f = pipeline.step();
+    got.emplace_back(f.camera + "@" + std::to_string(static_cast<int>(std::lround(f.time_s * 10))), f.reapplied_readings);
+  }
+  // STVL applies every buffer at every update: the back camera's updates at 0.2, 0.3, 0.4 apply the front's
+  // reading of 0.1 again (its clouds and its frustum at the 0.1 s pose); none before the front missed a frame.
+  const std::vector<std::pair<std::string, std::size_t>> expected{
+      {"camera@0", 0}, {"back@0", 0}, {"camera@1", 0}, {"back@1", 0},
+      {"back@2", 1},   {"back@3", 1}, {"back@4", 1},   {"camera@5", 0}};
+  EXPECT_EQ(got, expected);
+  const auto status = pipeline.source_status(0.5);
+  EXPECT_EQ(status[0].reapplied_readings, 3u);
+  EXPECT_NEAR(status[0].max_reapplied_age_s, 0.3, 1e-9);
+  EXPECT_GT(status[0].reapplied_max_distance_m, 0.0);  // the robot drove on: an old pose
+  EXPECT_EQ(status[1].reapplied_readings, 0u);
+  // Two cameras sharing frame times make one update per time: the stopped one's reading is applied once.
+  PipelineConfig three = c;
+  three.cameras.push_back(looking_back(c.cameras.front()));
+  three.cameras.back().name = three.cameras.back().sources.front().name = "back2";
+  three.cameras.back().outages.clear();
+  Pipeline shared(three);
+  std::size_t reapplied = 0;
+  while (shared.next_time_s() < 0.45) reapplied += shared.step().reapplied_readings;
+  EXPECT_EQ(reapplied, 3u);  // at 0.2, 0.3 and 0.4, not twice at each
+  // drop_when_not_current (ours): not applied once the source is not current.
+  c.cameras.front().sources.front().params.expected_update_rate_s = 0.15;
+  c.cameras.front().sources.front().params.drop_when_not_current = true;
+  Pipeline dropping(c);
+  reapplied = 0;
+  while (dropping.next_time_s() < 0.45) reapplied += dropping.step().reapplied_readings;
+  EXPECT_EQ(reapplied, 1u);  // at 0.2 (0.1 s old, current); at 0.3 and 0.4 it is not
+}
+
+TEST_F(PipelineTest, ObservationPersistenceAppliesTheLastReadingsAgain) {
+  PipelineConfig c = config();
+  c.cameras.front().sources.front().params.observation_persistence_s = 0.25;
+  Pipeline pipeline(c);
+  const std::vector<std::size_t> expected{0, 1, 2, 2, 2};  // readings within 0.25 s of the newest
+  for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_EQ(pipeline.step().reapplied_readings, expected[k]) << k;
+  Pipeline latest_only(config());
+  for (int k = 0; k < 5; ++k) EXPECT_EQ(latest_only.step().reapplied_readings, 0u);
 }
 
 }  // namespace

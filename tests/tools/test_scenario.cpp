@@ -41,7 +41,7 @@ TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
     const auto& c = s.checks;
     EXPECT_TRUE(c.f1_3d_min || c.iou_3d_min || c.costmap_precision_min || c.costmap_recall_min ||
                 c.all_obstacles_detected || c.phantom_obstacles_max || c.clearing_latency_max_s || c.accuracy_p90_max_m ||
-                c.self_lethal_cells_max)
+                c.self_lethal_cells_max || c.outage_cleared_max || c.outage_resume_max_s)
         << "a shipped scenario checks nothing";
     // Native scenarios clear with each camera's own FOV (a ROS parameter file gives its own: lint compares).
     if (!s.ros_params) {

@@ -1,0 +1,58 @@
+#pragma once
+// STVL's measurement buffer (spatio_temporal_voxel_layer/src/measurement_buffer.cpp) on simulated time: the
+// readings one observation source keeps, which of them a map update applies, and whether the source is
+// current. What STVL does, and this follows:
+//   - a new reading goes to the front; the source's last-updated time becomes the time it arrived;
+//   - observation_persistence 0: only the front reading is kept; it is applied again at every update until a
+//     newer one arrives (whatever its age);
+//   - observation_persistence P > 0: readings older than P before the last-updated time are dropped. STVL
+//     measures their age from the last reading, not from now (costmap_2d's ObservationBuffer uses now), so
+//     while a camera is stopped nothing is dropped and the last P seconds are applied again at every update;
+//   - expected_update_rate R (a period in seconds): current when now - last_updated <= R; 0 = always current.
+//     The last-updated time starts at the buffer's creation (the start of the run).
+#include <deque>
+#include <memory>
+#include <optional>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace stvl::pipeline {
+
+// One camera frame as its sources keep it: the pose and clouds the map update used.
+struct SourceReading {
+  double time_s = 0;
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
+  Eigen::Matrix3Xf decimated_W, marking_W, no_return_W;
+};
+
+class SourceBuffer {
+ public:
+  SourceBuffer(double observation_persistence_s, double expected_update_rate_s, double created_s = 0.0)
+      : persistence_s_(observation_persistence_s), expected_update_rate_s_(expected_update_rate_s),
+        last_updated_s_(created_s) {}
+
+  // A reading arrives at time_s (its own time: the bench has no transport delay).
+  void receive(std::shared_ptr<const SourceReading> reading);
+  // What an update applies: newest first.
+  const std::deque<std::shared_ptr<const SourceReading>>& readings() const { return readings_; }
+  bool current(double now_s) const;
+  double last_updated_s() const { return last_updated_s_; }
+  double expected_update_rate_s() const { return expected_update_rate_s_; }
+
+ private:
+  double persistence_s_, expected_update_rate_s_, last_updated_s_;
+  std::deque<std::shared_ptr<const SourceReading>> readings_;
+};
+
+// STVL's check: current when now_s - last_updated_s <= expected_update_rate_s, or the rate is 0.
+bool source_current(double now_s, double last_updated_s, double expected_update_rate_s);
+
+// The time a source is not current between two readings at last_s and next_s: (last_s + rate, next_s), when it
+// is not empty; none with a rate of 0.
+struct StaleSpan {
+  double from_s = 0, to_s = 0;
+};
+std::optional<StaleSpan> stale_span(double last_s, double next_s, double expected_update_rate_s);
+
+}  // namespace stvl::pipeline
