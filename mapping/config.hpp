@@ -54,6 +54,11 @@ struct StvlConfig {
   // nothing is cleared (nav2 would fall back to its robot_radius default of 0.1 m).
   bool update_footprint_enabled = true;
   std::vector<Eigen::Vector2d> footprint_B;
+  // clear_footprint_voxels_below (ours; STVL has none, 0 = off): at every update, after marking, the voxels in
+  // the footprint's convex fill at the robot's pose from the floor up to this height are removed from the map,
+  // so that the robot's own body (a bumper, a mast in view) leaves no voxels behind when it drives on. Voxels
+  // above it (a desk top the robot passes under) stay. Needs footprint_B.
+  double footprint_clearing_height_m = 0.0;
 
   void validate() const;  // throws std::invalid_argument naming the offending field and value
 };

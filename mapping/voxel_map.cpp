@@ -214,6 +214,19 @@ void VoxelMap::set_voxels(const std::vector<Voxel>& voxels) {
   }
 }
 
+std::size_t VoxelMap::erase(const std::vector<VoxelKey>& keys, std::vector<VoxelKey>* erased) {
+  auto accessor = impl_->grid->getAccessor();
+  std::size_t removed = 0;
+  for (const VoxelKey& k : keys) {
+    const Coord key(k.x, k.y, k.z);
+    if (!accessor.isValueOn(key)) continue;
+    accessor.setValueOff(key);  // a stale expiry-index entry for its leaf finds nothing to expire: harmless
+    ++removed;
+    if (erased) erased->push_back(k);
+  }
+  return removed;
+}
+
 Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
   const double resolution_m = options.resolution_m == 0.0 ? impl_->config.voxel_size_m : options.resolution_m;
   if (!std::isfinite(resolution_m) || resolution_m <= 0.0)

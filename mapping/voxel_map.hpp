@@ -99,6 +99,8 @@ class VoxelMap {
 
   // Inserts voxels directly (benchmarks, tests): key -> time.
   void set_voxels(const std::vector<Voxel>& voxels);
+  // Removes these voxels where present; appends the removed ones to `erased` when given. Returns how many.
+  std::size_t erase(const std::vector<VoxelKey>& keys, std::vector<VoxelKey>* erased = nullptr);
 
   // Column projection: lethal where a column holds >= max(mark_threshold, 1) voxels inside the band.
   Costmap2D project_costmap(const CostmapOptions& options = {}) const;

@@ -362,6 +362,17 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   f.times.clear_ms = ms_since(start);
   start = Clock::now();
   for (const auto& [r, params] : marking) map_.mark(r->marking_W, r->T_world_camera, *params, f.time_s);
+  f.footprint_cleared = 0;
+  if (config_.map.footprint_clearing_height_m > 0.0) {
+    // Ours: the robot's own voxels inside its footprint, from the floor up to the height given, after marking.
+    const double s = config_.map.voxel_size_m;
+    const auto polygon_W = mapping::footprint_in_world(config_.map.footprint_B, f.T_world_base);
+    const int top = static_cast<int>(std::ceil(config_.map.footprint_clearing_height_m / s)) - 1;
+    std::vector<VoxelKey> keys;
+    for (const auto& [ix, iy] : mapping::footprint_cells(polygon_W, Eigen::Vector2d::Zero(), s))
+      for (int iz = 0; iz <= top; ++iz) keys.push_back({ix, iy, iz});
+    f.footprint_cleared = map_.erase(keys, &f.cleared_keys);
+  }
   f.times.mark_ms = ms_since(start);
   return f;
 }

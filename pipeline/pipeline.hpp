@@ -125,7 +125,9 @@ struct FrameResult {
   Eigen::Matrix3Xf no_return_W;
   // Voxels this frame's clearing removed: the rays (ray-cast mode) or the frustum's acceleration (frustum mode);
   // not those that expired by plain decay.
+  // With map.footprint_clearing_height_m (ours), the voxels removed inside the footprint are among them too.
   std::vector<VoxelKey> cleared_keys;
+  std::size_t footprint_cleared = 0;  // voxels removed inside the robot's footprint this update (ours)
   // Readings of earlier frames this update applied again from the sources' buffers (observation_persistence, or
   // a stopped camera's buffer, as STVL applies every buffer at every update).
   std::size_t reapplied_readings = 0;

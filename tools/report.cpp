@@ -163,7 +163,9 @@ nlohmann::json self_marking_json(const RunResult& r) {
           {"max_ring", e.mean.max_self_ring},
           {"max_self_lethal_cells", e.mean.max_self_lethal},
           {"final_inside", e.final.self_marking.inside},
-          {"final_ring", e.final.self_marking.ring}};
+          {"final_ring", e.final.self_marking.ring},
+          {"clear_footprint_voxels_below_m", map.footprint_clearing_height_m},
+          {"footprint_voxels_cleared", r.footprint_voxels_cleared}};
 }
 
 // evaluation.failure_modes.outage: per camera its outages (frames taken inside, the only-seen true voxels that

@@ -230,6 +230,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     r.times.frame.push_back(f.times.render_ms + f.times.noise_ms + f.times.cloud_ms + f.times.filter_ms +
                             f.times.clear_ms + f.times.mark_ms + r.times.evaluation.back() + r.times.bag.back());
     r.frames += 1;
+    r.footprint_voxels_cleared += f.footprint_cleared;
     r.sim_time_s = f.time_s;
     progress.update(f.time_s, r.frames);
     if (s.stop_at_path_end && pipeline.simulator().path_finished()) {

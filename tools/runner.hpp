@@ -48,6 +48,7 @@ struct RunResult {
   std::vector<Eigen::Vector2d> path_W;  // the robot's true position at each frame
   std::vector<std::size_t> points_raw, points_filtered, map_voxels;  // per frame
   std::size_t frames = 0;
+  std::size_t footprint_voxels_cleared = 0;  // map.clear_footprint_voxels_below (ours), summed over the updates
   double sim_time_s = 0;
   double wall_time_s = 0;
   double real_time_factor = 0;  // simulated seconds per wall-clock second

@@ -434,6 +434,11 @@ void read_ros_params(YamlMap& map, Scenario& s, const std::string& base_dir) {
 // map.update_footprint_enabled, map.robot_radius, map.footprint (STVL's footprint clearing; nav2's keys).
 void read_footprint(YamlMap& map, mapping::StvlConfig& m) {
   map.get("update_footprint_enabled", m.update_footprint_enabled);
+  map.get("clear_footprint_voxels_below", m.footprint_clearing_height_m);
+  require_range(map, "clear_footprint_voxels_below", m.footprint_clearing_height_m,
+                std::isfinite(m.footprint_clearing_height_m) && m.footprint_clearing_height_m >= 0.0 &&
+                    m.footprint_clearing_height_m <= 3.0,
+                "must lie in [0, 3] m");
   if (map.has("robot_radius") && map.has("footprint"))
     map.fail(map.raw("footprint"), "footprint", "give either footprint or robot_radius, not both");
   if (map.has("robot_radius")) {
@@ -453,6 +458,9 @@ void read_footprint(YamlMap& map, mapping::StvlConfig& m) {
       m.footprint_B.push_back(p);
     }
   }
+  if (m.footprint_clearing_height_m > 0.0 && m.footprint_B.empty() && !map.has("ros_params"))
+    map.fail(map.raw("clear_footprint_voxels_below"), "clear_footprint_voxels_below",
+             "needs the robot's footprint (map.robot_radius or map.footprint)");
 }
 
 void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const std::string& base_dir) {

@@ -49,6 +49,23 @@ TEST(VoxelMapMark, KeysAtBoundariesAndNegativeCoordinates) {
   EXPECT_TRUE(centres.col(0).isApprox(Eigen::Vector3f(-0.0625f, -0.1875f, 0.3125f)));
 }
 
+TEST(VoxelMapErase, RemovesThePresentKeysOnlyAndReportsThem) {
+  VoxelMap map(StvlConfig{});
+  map.set_voxels({{{0, 0, 0}, 1.0}, {{1, 0, 0}, 1.0}, {{-3, 2, 5}, 2.0}});
+  std::vector<VoxelKey> erased = {{9, 9, 9}};  // appended to
+  EXPECT_EQ(map.erase({{1, 0, 0}, {7, 7, 7}, {-3, 2, 5}, {1, 0, 0}}, &erased), 2u);
+  EXPECT_EQ(map.size(), 1u);
+  EXPECT_TRUE(map.contains({0, 0, 0}));
+  EXPECT_FALSE(map.contains({1, 0, 0}));
+  ASSERT_EQ(erased.size(), 3u);
+  EXPECT_EQ(erased[1], (VoxelKey{1, 0, 0}));
+  EXPECT_EQ(erased[2], (VoxelKey{-3, 2, 5}));
+  EXPECT_EQ(map.erase({}), 0u);
+  // Marking again after an erase works as on an empty voxel.
+  map.set_voxels({{{1, 0, 0}, 3.0}});
+  EXPECT_EQ(map.size(), 2u);
+}
+
 TEST(VoxelMapKeys, ForEachKeyInVisitsExactlyTheVoxelsInsideTheBox) {
   VoxelMap map;
   std::mt19937 rng(5);
