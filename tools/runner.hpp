@@ -8,6 +8,7 @@
 #include "evaluation/evaluator.hpp"
 #include "tools/checks.hpp"
 #include "tools/scenario.hpp"
+#include "tools/soak.hpp"
 
 namespace stvl::tools {
 
@@ -40,6 +41,7 @@ struct RunResult {
   double real_time_factor = 0;  // simulated seconds per wall-clock second
   bool interrupted = false;
   std::string gl_backend, filter_device;
+  SoakSeries soak;  // evaluation.soak_sample_every_s > 0 only
   bool passed() const;
 };
 

@@ -23,12 +23,16 @@ struct ChecksConfig {
   std::optional<int> costmap_ghosts_max;  // the projection guard's worst count (either kind) at any evaluation
   std::optional<double> clearing_latency_max_s;
   std::optional<double> accuracy_p90_max_m;
+  // Soak (issue #270; need evaluation.soak_sample_every_s): growth allowed as a fraction of the first lap's.
+  std::optional<double> soak_rss_growth_max;     // resident memory after the first lap vs at its end
+  std::optional<double> soak_map_ms_growth_max;  // per-frame map cost of the last lap's samples vs the first lap
 };
 
 // What a run writes besides its metrics.
 struct OutputConfig {
   double publish_period_s = 1.0;  // map.publish_period_s: bag /stvl/voxel_grid and /stvl/costmap
   int sample_depth_frames = 3;    // evaluation.sample_depth_frames: depth frames saved as PNG for the report
+  double soak_sample_every_s = 0.0;  // evaluation.soak_sample_every_s: resources sampled (tools/soak.hpp); 0 off
 };
 
 // map.ros_params: the STVL layer comes from a ROS parameter file.
