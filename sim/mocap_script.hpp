@@ -22,7 +22,7 @@ struct MocapKeyframe {
 struct MocapTrack {
   std::string body;
   std::vector<MocapKeyframe> keyframes;
-  std::optional<double> repeat_s;  // period; at least the track's span (last minus first keyframe time)
+  std::optional<double> repeat_s = std::nullopt;  // period; at least the track's span (last minus first keyframe time)
 };
 
 class MocapScript {
