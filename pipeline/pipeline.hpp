@@ -70,6 +70,7 @@ struct PipelineConfig {
 // Wall-clock milliseconds of one frame's stages (the only part of a run that is not deterministic).
 struct StageTimes {
   double render_ms = 0, noise_ms = 0, cloud_ms = 0, filter_ms = 0, clear_ms = 0, mark_ms = 0;
+  double map_cpu_ms = 0;  // CPU time of the process (all threads) over clear + mark: blind to other processes
 };
 
 struct FrameResult {

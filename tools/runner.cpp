@@ -179,7 +179,8 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     r.points_raw.push_back(static_cast<std::size_t>(f.point_count));
     r.points_filtered.push_back(static_cast<std::size_t>(f.marking_W.cols()));
     r.map_voxels.push_back(pipeline.map().size());
-    soak.frame(f.time_s, f.times.clear_ms + f.times.mark_ms, pipeline.simulator().follower().laps_completed(), pipeline.map());
+    soak.frame(f.time_s, f.times.clear_ms + f.times.mark_ms, f.times.map_cpu_ms, pipeline.simulator().follower().laps_completed(),
+               pipeline.map());
     r.times.frame.push_back(f.times.render_ms + f.times.noise_ms + f.times.cloud_ms + f.times.filter_ms +
                             f.times.clear_ms + f.times.mark_ms + r.times.evaluation.back() + r.times.bag.back());
     r.frames += 1;

@@ -17,6 +17,7 @@ struct SoakSample {
   std::size_t leaves = 0;  // the map's 8^3 leaf nodes (its memory, but for the tree above them)
   double rss_mb = 0.0;  // resident memory, MiB
   double map_ms = 0.0;  // mean clear + mark ms per frame since the previous sample
+  double map_cpu_ms = 0.0;  // the same in CPU time (pipeline::StageTimes::map_cpu_ms)
 };
 
 struct SoakSeries {
@@ -24,6 +25,7 @@ struct SoakSeries {
   int laps = 0;                 // laps of a looping path completed
   std::optional<double> first_lap_end_s;
   double first_lap_map_ms = 0.0;  // mean clear + mark ms per frame up to the end of the first lap
+  double first_lap_map_cpu_ms = 0.0;
   std::vector<SoakSample> samples;
 };
 
@@ -33,15 +35,15 @@ double resident_memory_mb();
 class SoakSampler {
  public:
   explicit SoakSampler(double sample_every_s);
-  // After each frame: its time, clear + mark ms, the laps completed so far and the map (counted when a sample
-  // is due).
-  void frame(double time_s, double map_ms, int laps, const mapping::VoxelMap& map);
+  // After each frame: its time, clear + mark ms (wall, CPU), the laps completed so far and the map (counted when
+  // a sample is due).
+  void frame(double time_s, double map_ms, double map_cpu_ms, int laps, const mapping::VoxelMap& map);
   const SoakSeries& series() const { return series_; }
 
  private:
   SoakSeries series_;
   double next_sample_s_ = 0.0;
-  double interval_ms_ = 0.0, first_lap_ms_ = 0.0;
+  double interval_ms_ = 0.0, first_lap_ms_ = 0.0, interval_cpu_ms_ = 0.0, first_lap_cpu_ms_ = 0.0;
   std::size_t interval_frames_ = 0, first_lap_frames_ = 0;
 };
 
