@@ -212,7 +212,7 @@ VoxelMatches Evaluator::match_mapped_voxels(const mapping::VoxelMap& map) {
   map.for_each_key([&](const VoxelKey& k) {
     ++m.mapped;
     if (truth_.near(k, config_.tolerance_voxels)) ++m.matched_mapped;
-    if (const auto d = truth_.voxel_distance_to_surface_m(k)) distances_m_.push_back(*d);
+    if (const auto d = truth_.voxel_distance_to_surface_m(k)) ++distance_counts_m_[*d];
   });
   return m;
 }
@@ -335,7 +335,7 @@ EvaluationSummary Evaluator::finish(double time_s, const sim::World& world, cons
   summary.snapshots = snapshots_;
   summary.mean = mean_of(snapshots_, config_.recall_window_s);
   for (const auto& [name, result] : obstacles_) summary.obstacles.push_back(result);
-  summary.accuracy = distance_stats(distances_m_);
+  summary.accuracy = distance_stats_of_counts(distance_counts_m_);
   summary.clearing = clearing_.result(time_s);
   summary.observed_off_truth_voxels = off_truth_keys_.size();
   summary.false_clears = false_clears_;

@@ -162,7 +162,7 @@ class Evaluator {
   VoxelKey stale_lo_{1, 1, 1}, stale_hi_{0, 0, 0};  // empty
   std::size_t stale_version_ = 0;
   std::unordered_map<VoxelKey, bool, VoxelKeyHash> vacated_near_static_;  // static truth does not move
-  std::vector<double> distances_m_;
+  std::map<double, std::size_t> distance_counts_m_;  // bounded by distinct values (a vector grew ~1 MiB/min: #270)
   std::vector<EvaluationSnapshot> snapshots_;
   TopDown top_down_;
   PhaseTimes times_;

@@ -179,4 +179,25 @@ DistanceStats distance_stats(std::vector<double> d) {
   return stats;
 }
 
+DistanceStats distance_stats_of_counts(const std::map<double, std::size_t>& counts) {
+  DistanceStats stats;
+  for (const auto& [d, n] : counts) stats.count += n;
+  if (stats.count == 0) return stats;
+  const auto rank = [&](double q) { return std::min(stats.count - 1, static_cast<std::size_t>(q * (stats.count - 1) + 0.5)); };
+  const std::size_t median = rank(0.5), p90 = rank(0.9), p99 = rank(0.99);
+  double sum = 0.0;
+  std::size_t below = 0;  // values before the current one
+  for (const auto& [d, n] : counts) {
+    for (std::size_t i = 0; i < n; ++i) sum += d;
+    const auto holds = [&](std::size_t r) { return r >= below && r < below + n; };
+    if (holds(median)) stats.median_m = d;
+    if (holds(p90)) stats.p90_m = d;
+    if (holds(p99)) stats.p99_m = d;
+    below += n;
+  }
+  stats.mean_m = sum / static_cast<double>(stats.count);
+  stats.max_m = counts.rbegin()->first;
+  return stats;
+}
+
 }  // namespace stvl::evaluation

@@ -3,6 +3,7 @@
 // that it can be checked on hand-made inputs. Keys are world-frame voxel (cell) indices at the evaluation's
 // voxel size (common/voxel_key.hpp); "within tol" is the Chebyshev distance between indices.
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -102,5 +103,8 @@ struct DistanceStats {
 };
 // Quantiles are the nearest rank (index round(q (n - 1)) of the sorted values).
 DistanceStats distance_stats(std::vector<double> distances_m);
+// The same from each distinct distance and how often it occurred (identical figures, the mean summed in the same
+// sorted order): memory bounded by the distinct values, not by the run's length (issue #270, soak).
+DistanceStats distance_stats_of_counts(const std::map<double, std::size_t>& counts_m);
 
 }  // namespace stvl::evaluation

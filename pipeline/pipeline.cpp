@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -23,6 +24,12 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+double process_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
 }
 
 // The first `count` points to the world frame, blocks of columns in parallel (TBB); each column's arithmetic is
@@ -314,6 +321,7 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   if (before_map_update) before_map_update(f, map_);
 
   start = Clock::now();
+  const double cpu_start_ms = process_cpu_ms();
   f.no_return_W.resize(3, 0);
   if (camera.no_return_range_m > 0.0)
     no_return_points(f.depth, intrinsics, f.T_world_camera, camera.no_return_range_m, config_.map.voxel_size_m,
@@ -374,6 +382,7 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
     f.footprint_cleared = map_.erase(keys, &f.cleared_keys);
   }
   f.times.mark_ms = ms_since(start);
+  f.times.map_cpu_ms = process_cpu_ms() - cpu_start_ms;
   return f;
 }
 

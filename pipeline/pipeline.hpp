@@ -92,6 +92,7 @@ struct PipelineConfig {
 // holds the camera's edge filter when it is enabled, then depth to cloud and the transform to the world.
 struct StageTimes {
   double render_ms = 0, noise_ms = 0, cloud_ms = 0, filter_ms = 0, clear_ms = 0, mark_ms = 0;
+  double map_cpu_ms = 0;  // CPU time of the process (all threads) over clear + mark: blind to other processes
 };
 
 struct FrameResult {

@@ -26,6 +26,13 @@ MocapScript::MocapScript(const World& world, std::vector<MocapTrack> tracks) {
                                     std::to_string(k.time_s) + " not after the previous one");
       }
     }
+    if (track.repeat_s) {
+      const double span_s = track.keyframes.back().time_s - track.keyframes.front().time_s;
+      if (!std::isfinite(*track.repeat_s) || !(*track.repeat_s > 0) || *track.repeat_s < span_s) {
+        throw std::invalid_argument("mocap track '" + track.body + "': repeat_s " + std::to_string(*track.repeat_s) +
+                                    " must be finite, > 0 and at least the track's span " + std::to_string(span_s) + " s");
+      }
+    }
     tracks_.push_back({mocap_id, std::move(track)});
   }
 }
@@ -33,18 +40,29 @@ MocapScript::MocapScript(const World& world, std::vector<MocapTrack> tracks) {
 void MocapScript::apply(const mjModel* /*model*/, mjData* data, double time_s) const {
   for (const auto& [mocap_id, track] : tracks_) {
     const auto& k = track.keyframes;
-    const auto next = std::upper_bound(k.begin(), k.end(), time_s,
+    double t_s = time_s;
+    if (track.repeat_s && t_s > k.front().time_s) {
+      t_s = k.front().time_s + std::fmod(t_s - k.front().time_s, *track.repeat_s);
+    }
+    const auto next = std::upper_bound(k.begin(), k.end(), t_s,
                                        [](double t, const MocapKeyframe& f) { return t < f.time_s; });
     Eigen::Vector3d p;
     double yaw = 0.0;
-    if (next == k.begin() || next == k.end()) {
+    if (next == k.end() && track.repeat_s && t_s > k.back().time_s) {
+      // The closing stretch of a repeating track: from the last keyframe back to the first.
+      const MocapKeyframe& a = k.back();
+      const MocapKeyframe& b = k.front();
+      const double t = (t_s - a.time_s) / (k.front().time_s + *track.repeat_s - a.time_s);
+      p = a.position_W + t * (b.position_W - a.position_W);
+      if (a.yaw_rad) yaw = *a.yaw_rad + t * std::atan2(std::sin(*b.yaw_rad - *a.yaw_rad), std::cos(*b.yaw_rad - *a.yaw_rad));
+    } else if (next == k.begin() || next == k.end()) {
       const MocapKeyframe& f = next == k.begin() ? k.front() : k.back();
       p = f.position_W;
       yaw = f.yaw_rad.value_or(0.0);
     } else {
       const MocapKeyframe& a = *(next - 1);
       const MocapKeyframe& b = *next;
-      const double t = (time_s - a.time_s) / (b.time_s - a.time_s);
+      const double t = (t_s - a.time_s) / (b.time_s - a.time_s);
       p = a.position_W + t * (b.position_W - a.position_W);
       if (a.yaw_rad) {
         const double dyaw = std::atan2(std::sin(*b.yaw_rad - *a.yaw_rad), std::cos(*b.yaw_rad - *a.yaw_rad));

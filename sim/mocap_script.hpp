@@ -1,6 +1,8 @@
 #pragma once
 // Scripted motion of mocap bodies: keyframes (time -> position, optional yaw), linearly
-// interpolated, held constant before the first and after the last keyframe.
+// interpolated, held constant before the first and after the last keyframe. A repeating track
+// (repeat_s) instead goes on from its last keyframe back to its first, reached at t0 + repeat_s, and
+// around again: its pose at t + repeat_s equals its pose at t for every t >= t0 (the first keyframe's time).
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,13 +22,15 @@ struct MocapKeyframe {
 struct MocapTrack {
   std::string body;
   std::vector<MocapKeyframe> keyframes;
+  std::optional<double> repeat_s = std::nullopt;  // period; at least the track's span (last minus first keyframe time)
 };
 
 class MocapScript {
  public:
   MocapScript() = default;
   // Throws std::invalid_argument for unknown or non-mocap bodies, empty tracks, times not
-  // strictly increasing, non-finite values or a yaw given on only some keyframes.
+  // strictly increasing, non-finite values, a yaw given on only some keyframes, or a repeat_s that is not
+  // finite, not > 0 or shorter than the track's span.
   MocapScript(const World& world, std::vector<MocapTrack> tracks);
 
   // Writes mocap_pos (and mocap_quat) for time_s; takes effect at the next kinematics pass.

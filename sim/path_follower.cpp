@@ -20,8 +20,17 @@ PathFollower::PathFollower(PathFollowerConfig config) : config_(config) {
   }
 }
 
-void PathFollower::set_path(const Path& path) {
-  const auto& w = path.waypoints_W;
+void PathFollower::set_path(const Path& given) {
+  Path path = given;
+  auto& w = path.waypoints_W;
+  if (path.loop) {
+    const bool closed = w.size() >= 2 && w.front() == w.back();
+    const std::size_t distinct = closed ? w.size() - 1 : w.size();
+    if (distinct < 2) {
+      throw std::invalid_argument("a looping path needs at least 2 distinct waypoints, got " + std::to_string(distinct));
+    }
+    if (!closed) w.push_back(w.front());
+  }
   if (w.size() < 2) {
     throw std::invalid_argument("path needs at least 2 waypoints, got " + std::to_string(w.size()));
   }
@@ -45,13 +54,14 @@ void PathFollower::set_path(const Path& path) {
     if (turn > config_.corner_angle_rad) s_corner.push_back(s_vertex[i]);
   }
   s_corner.push_back(s_vertex.back());
-  path_ = path;
+  path_ = std::move(path);
   s_vertex_ = std::move(s_vertex);
   s_corner_ = std::move(s_corner);
   leg_ = 0;
   s_ = 0.0;
   mode_ = Mode::align;
   finished_ = false;
+  laps_ = 0;
 }
 
 Eigen::Vector2d PathFollower::point_at(double s) const {
@@ -113,8 +123,16 @@ Twist2D PathFollower::update(const Eigen::Vector2d& p_W, double yaw_rad) {
   const double remaining = leg_end - s_;
   if (remaining < config_.goal_tolerance_m) {
     if (leg_ + 1 == s_corner_.size()) {
-      finished_ = true;
-      return {};
+      if (!path_.loop) {
+        finished_ = true;
+        return {};
+      }
+      // Back at the first waypoint: the next lap starts with a turn toward the first leg.
+      ++laps_;
+      leg_ = 0;
+      s_ = 0.0;
+      mode_ = Mode::turn_at_corner;
+      return rotate_toward(heading_at(0.0), yaw_rad);
     }
     ++leg_;
     s_ = leg_end;

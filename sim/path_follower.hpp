@@ -2,7 +2,9 @@
 // Pure pursuit along a 2D polyline. Vertices where the path turns by more than corner_angle_rad
 // split it into legs: the robot decelerates to a stop on each such corner, turns in place toward
 // the next leg and goes on, so sharp corners are not cut. Output is a body twist (v, omega);
-// DiffDriveRobot turns it into wheel speeds under its acceleration limits.
+// DiffDriveRobot turns it into wheel speeds under its acceleration limits. A looping path goes on from the
+// last waypoint back to the first and around again without end (a patrol): each return to the first
+// waypoint ends a lap, where the robot turns in place toward the first leg.
 #include <cstddef>
 #include <vector>
 
@@ -20,6 +22,7 @@ struct Pose2D {
 struct Path {
   std::vector<Eigen::Vector2d> waypoints_W;
   double cruise_speed_mps = 0.5;
+  bool loop = false;  // after the last waypoint, back to the first and around again (never finished)
 };
 
 struct Twist2D {
@@ -45,14 +48,18 @@ class PathFollower {
   explicit PathFollower(PathFollowerConfig config = {});
 
   // Throws std::invalid_argument on fewer than 2 waypoints, non-finite or repeated consecutive
-  // points, or a cruise speed outside (0, max_cruise_speed_mps].
+  // points, or a cruise speed outside (0, max_cruise_speed_mps]. A looping path may end on its first
+  // waypoint (a closed polygon) or not (the closing leg is added); it needs 2 distinct waypoints.
   void set_path(const Path& path);
   // Twist for the robot at p_W with heading yaw_rad. Zero once finished.
   Twist2D update(const Eigen::Vector2d& p_W, double yaw_rad);
   bool finished() const { return finished_; }
   bool has_path() const { return !path_.waypoints_W.empty(); }
+  // Returns to the first waypoint of a looping path so far (0 for other paths).
+  int laps_completed() const { return laps_; }
   // Distance from p_W to the whole polyline.
   double cross_track_error_m(const Eigen::Vector2d& p_W) const;
+  // The path as followed: a looping one ends with its first waypoint again.
   const Path& path() const { return path_; }
 
  private:
@@ -70,6 +77,7 @@ class PathFollower {
   double s_ = 0.0;
   Mode mode_ = Mode::align;
   bool finished_ = false;
+  int laps_ = 0;
 };
 
 }  // namespace stvl::sim

@@ -1,5 +1,7 @@
 #include "tools/checks.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -122,6 +124,61 @@ std::vector<CheckResult> outage_checks(const ChecksConfig& c, const std::vector<
                  : late.empty()  ? "every stopped camera's recall back to 90 % of its value before within " +
                                       fixed(*c.outage_resume_max_s, 2) + " s of the outage's end"
                                  : late + " (allowed " + fixed(*c.outage_resume_max_s, 2) + " s)"});
+  }
+  return r;
+}
+
+std::vector<CheckResult> soak_checks(const ChecksConfig& c, const SoakSeries& soak) {
+  std::vector<CheckResult> r;
+  if (!c.soak_rss_growth_max && !c.soak_map_ms_growth_max) return r;
+  const auto& samples = soak.samples;
+  // The sample that closes the first lap: the first one at or after its end.
+  std::size_t end_of_lap = samples.size();
+  if (soak.first_lap_end_s)
+    for (std::size_t i = 0; i < samples.size() && end_of_lap == samples.size(); ++i)
+      if (samples[i].t_s + 1e-9 >= *soak.first_lap_end_s) end_of_lap = i;
+  const std::string too_short =
+      !soak.first_lap_end_s ? "the first lap was not completed (" + std::to_string(samples.size()) + " samples)"
+                            : "no sample after the one closing the first lap (t = " + fixed(*soak.first_lap_end_s, 1) + " s)";
+  const bool comparable = end_of_lap + 1 < samples.size();
+  const auto percent = [](double fraction) { return fixed(100.0 * fraction, 1) + " %"; };
+  if (c.soak_rss_growth_max) {
+    if (!comparable) {
+      r.push_back({"soak_rss_growth", false, too_short});
+    } else {
+      const SoakSample& base = samples[end_of_lap];
+      const auto peak = std::max_element(samples.begin() + static_cast<std::ptrdiff_t>(end_of_lap) + 1, samples.end(),
+                                         [](const SoakSample& a, const SoakSample& b) { return a.rss_mb < b.rss_mb; });
+      const double growth = base.rss_mb > 0 ? peak->rss_mb / base.rss_mb - 1.0 : INFINITY;
+      r.push_back({"soak_rss_growth", growth <= *c.soak_rss_growth_max,
+                   "resident memory at most " + fixed(peak->rss_mb, 1) + " MiB (t = " + fixed(peak->t_s, 0) + " s) vs " +
+                       fixed(base.rss_mb, 1) + " MiB at the end of the first lap (t = " + fixed(base.t_s, 0) +
+                       " s): " + percent(growth) + ", allowed " + percent(*c.soak_rss_growth_max)});
+    }
+  }
+  if (c.soak_map_ms_growth_max) {
+    // As many of the last samples as one lap spans, all after the sample that closes the first lap.
+    const std::size_t window = soak.first_lap_end_s && soak.sample_every_s > 0
+                                   ? std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(*soak.first_lap_end_s / soak.sample_every_s - 1e-9)))
+                                   : 1;
+    if (!comparable) {
+      r.push_back({"soak_map_ms_growth", false, too_short});
+    } else if (samples.size() - end_of_lap - 1 < window) {
+      r.push_back({"soak_map_ms_growth", false,
+                   "fewer samples after the first lap (" + std::to_string(samples.size() - end_of_lap - 1) +
+                       ") than one lap spans (" + std::to_string(window) + ")"});
+    } else {
+      // CPU time: wall-clock ms of the same frames swing by a factor 2 with the load of a shared machine.
+      double cpu = 0.0, wall = 0.0;
+      for (std::size_t i = samples.size() - window; i < samples.size(); ++i) cpu += samples[i].map_cpu_ms, wall += samples[i].map_ms;
+      cpu /= static_cast<double>(window), wall /= static_cast<double>(window);
+      const double growth = soak.first_lap_map_cpu_ms > 0 ? cpu / soak.first_lap_map_cpu_ms - 1.0 : INFINITY;
+      r.push_back({"soak_map_ms_growth", growth <= *c.soak_map_ms_growth_max,
+                   "map cost " + fixed(cpu, 3) + " ms CPU per frame over the last " + std::to_string(window) +
+                       " samples vs " + fixed(soak.first_lap_map_cpu_ms, 3) + " ms over the first lap: " + percent(growth) +
+                       ", allowed " + percent(*c.soak_map_ms_growth_max) + " (wall clock " + fixed(wall, 3) + " vs " +
+                       fixed(soak.first_lap_map_ms, 3) + " ms)"});
+    }
   }
   return r;
 }

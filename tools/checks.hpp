@@ -6,6 +6,7 @@
 #include "evaluation/evaluator.hpp"
 #include "evaluation/outage.hpp"
 #include "tools/scenario.hpp"
+#include "tools/soak.hpp"
 
 namespace stvl::tools {
 
@@ -26,6 +27,11 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& checks, const eva
 // the thresholds the scenario sets; a threshold with no outage in the scenario fails.
 std::vector<CheckResult> outage_checks(const ChecksConfig& checks, const std::vector<evaluation::OutageResult>& outages,
                                        const std::vector<std::string>& camera_names = {});
+
+// soak_rss_growth (max resident memory over the samples after the first lap vs the sample at its end) and
+// soak_map_ms_growth (mean per-frame map cost of the last samples spanning one lap vs the first lap's), one
+// result per threshold set; each fails, saying why, when the run was too short to compare.
+std::vector<CheckResult> soak_checks(const ChecksConfig& checks, const SoakSeries& soak);
 
 // robot_upright: the robot fell over or left the world at fell_at_s (when it did).
 CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad);

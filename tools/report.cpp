@@ -326,6 +326,21 @@ nlohmann::json metrics_json(const RunResult& r) {
   };
   metrics["evaluation"]["failure_modes"]["occlusion"] = occlusion_json(e.occlusion);
   metrics["evaluation"]["failure_modes"]["self_marking"] = self_marking_json(r);
+
+  if (r.soak.sample_every_s > 0) {  // soak (issue #270): voxels here, resident memory and map cost with the timings
+    nlohmann::json voxels = nlohmann::json::array(), resources = nlohmann::json::array();
+    for (const auto& x : r.soak.samples) {
+      voxels.push_back({{"t_s", x.t_s}, {"voxels", x.voxels}, {"leaves", x.leaves}});
+      resources.push_back({{"t_s", x.t_s}, {"rss_mb", x.rss_mb}, {"map_ms", x.map_ms}, {"map_cpu_ms", x.map_cpu_ms}});
+    }
+    metrics["soak"] = {{"sample_every_s", r.soak.sample_every_s},
+                       {"laps", r.soak.laps},
+                       {"first_lap_end_s", r.soak.first_lap_end_s ? nlohmann::json(*r.soak.first_lap_end_s) : nlohmann::json()},
+                       {"samples", voxels}};
+    metrics["timing_ms"]["soak"] = {{"first_lap_map_ms", r.soak.first_lap_map_ms},
+                                    {"first_lap_map_cpu_ms", r.soak.first_lap_map_cpu_ms},
+                                    {"samples", resources}};
+  }
   return metrics;
 }
 
@@ -448,11 +463,23 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   }
   h << "\n<h2>Timing</h2><table><tr><th>stage</th><th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
   for (const auto& [stage, stats] : metrics["timing_ms"].items()) {
-    if (stage == "evaluation_phases" || stage == "per_camera") continue;
+    if (stage == "evaluation_phases" || stage == "per_camera" || stage == "soak") continue;
     h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()
       << "</td><td>" << stats["p95"].get<double>() << "</td></tr>\n";
   }
-  h << "</table></body></html>\n";
+  h << "</table>\n";
+  if (!r.soak.samples.empty()) {  // soak (issue #270)
+    h << "<h2>Soak</h2><p>" << r.soak.laps << " laps; first lap ended at "
+      << (r.soak.first_lap_end_s ? fixed(*r.soak.first_lap_end_s, 1) + " s" : std::string("- (not completed)"))
+      << ", its map cost " << fixed(r.soak.first_lap_map_ms, 3) << " ms per frame (CPU " << fixed(r.soak.first_lap_map_cpu_ms, 3)
+      << " ms).</p><table><tr><th>t s</th><th>voxels</th><th>leaves</th><th>resident MiB</th><th>map ms per frame</th>"
+         "<th>map CPU ms per frame</th></tr>\n";
+    for (const auto& x : r.soak.samples)
+      h << "<tr><td>" << fixed(x.t_s, 0) << "</td><td>" << x.voxels << "</td><td>" << x.leaves << "</td><td>" << fixed(x.rss_mb, 1) << "</td><td>"
+        << fixed(x.map_ms, 3) << "</td><td>" << fixed(x.map_cpu_ms, 3) << "</td></tr>\n";
+    h << "</table>\n";
+  }
+  h << "</body></html>\n";
   write_file_atomically(out / "report.html", h.str());
 }
 

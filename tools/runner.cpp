@@ -167,6 +167,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   double next_evaluation_s = s.evaluation.evaluate_every_s;
   double next_publish_s = 0.0, last_publish_s = -1.0;
   Progress progress(options.progress, s.duration_s);
+  SoakSampler soak(s.outputs.soak_sample_every_s);
   const auto wall_start = Clock::now();
   bool path_done = false;
   double evaluation_ms = 0.0;
@@ -227,6 +228,8 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     r.points_raw.push_back(static_cast<std::size_t>(f.point_count));
     r.points_filtered.push_back(static_cast<std::size_t>(f.marking_W.cols()));
     r.map_voxels.push_back(pipeline.map().size());
+    soak.frame(f.time_s, f.times.clear_ms + f.times.mark_ms, f.times.map_cpu_ms, pipeline.simulator().follower().laps_completed(),
+               pipeline.map());
     r.times.frame.push_back(f.times.render_ms + f.times.noise_ms + f.times.cloud_ms + f.times.filter_ms +
                             f.times.clear_ms + f.times.mark_ms + r.times.evaluation.back() + r.times.bag.back());
     r.frames += 1;
@@ -241,6 +244,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   progress.done();
   r.wall_time_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
   r.real_time_factor = r.wall_time_s > 0 ? r.sim_time_s / r.wall_time_s : 0;
+  r.soak = soak.series();
   if (r.interrupted) return r;  // the bag stays as <bag>.active; no result file is written
 
   const bool fell = !r.checks.empty();
@@ -256,6 +260,8 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     for (const auto& c : s.pipeline.cameras) names.push_back(c.name);
     for (auto& check : evaluation_checks(s.checks, r.evaluation, names)) r.checks.push_back(std::move(check));
     for (auto& check : outage_checks(s.checks, r.outages, names)) r.checks.push_back(std::move(check));
+
+    for (auto& check : soak_checks(s.checks, r.soak)) r.checks.push_back(std::move(check));
   }
   r.sources = pipeline.source_status(r.sim_time_s);
   for (std::size_t c = 0; c < s.pipeline.cameras.size(); ++c) r.skipped_frames.push_back(pipeline.skipped_frames(c));

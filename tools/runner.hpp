@@ -9,6 +9,7 @@
 #include "evaluation/outage.hpp"
 #include "tools/checks.hpp"
 #include "tools/scenario.hpp"
+#include "tools/soak.hpp"
 
 namespace stvl::tools {
 
@@ -59,6 +60,8 @@ struct RunResult {
   std::vector<pipeline::SourceStatus> sources;
   std::vector<std::size_t> skipped_frames;
   std::vector<evaluation::OutageResult> outages;
+
+  SoakSeries soak;  // evaluation.soak_sample_every_s > 0 only
   bool passed() const;
 };
 

@@ -85,6 +85,12 @@ Eigen::Vector2d to_point2(const std::vector<double>& xy, YamlMap& map, const std
 
 void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides);
 
+std::string fixed_text(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
 void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides) {
   std::vector<double> start{0.0, 0.0, 0.0};
   robot.get("start", start);
@@ -96,6 +102,7 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   s.pipeline.path.waypoints_W.clear();
   for (const auto& xy : waypoints) s.pipeline.path.waypoints_W.push_back(to_point2(xy, robot, "waypoints"));
   robot.require("speed_mps", s.pipeline.path.cruise_speed_mps);
+  robot.get("loop", s.pipeline.path.loop);  // soak (issue #270): a patrol that never ends
   validate_keys({{"waypoints", &robot, "waypoints"}, {"waypoint", &robot, "waypoints"}, {"cruise_speed_mps", &robot, "speed_mps"}},
                 [&] { sim::PathFollower(s.pipeline.sim.follower).set_path(s.pipeline.path); });
 
@@ -161,6 +168,14 @@ void read_moving_bodies(YamlMap& root, Scenario& s) {
       track.keyframes.push_back(frame);
     }
     if (track.keyframes.empty()) body.fail(body.raw("keyframes"), "keyframes", "at least one keyframe is required");
+    if (body.has("repeat_s")) {  // soak (issue #270): a walk that repeats
+      double repeat_s = 0.0;
+      body.get("repeat_s", repeat_s);
+      const double span_s = track.keyframes.back().time_s - track.keyframes.front().time_s;
+      require_range(body, "repeat_s", repeat_s, std::isfinite(repeat_s) && repeat_s > 0 && repeat_s >= span_s,
+                    "must be finite, > 0 and at least the keyframes' span " + fixed_text(span_s) + " s");
+      track.repeat_s = repeat_s;
+    }
     body.finish();
     s.pipeline.moving_bodies.push_back(std::move(track));
   }
@@ -504,7 +519,10 @@ void read_evaluation(YamlMap e, Scenario& s) {
   e.get("phantom_min_cells", ev.phantom_min_cells);
   e.get("phantom_clearance_m", ev.phantom_clearance_m);
   e.get("sample_depth_frames", s.outputs.sample_depth_frames);
+  e.get("soak_sample_every_s", s.outputs.soak_sample_every_s);
   e.finish();
+  require_range(e, "soak_sample_every_s", s.outputs.soak_sample_every_s,
+                std::isfinite(s.outputs.soak_sample_every_s) && s.outputs.soak_sample_every_s >= 0, "must be finite and >= 0 s");
   require_range(e, "recall_window_s", ev.recall_window_s, std::isfinite(ev.recall_window_s) && ev.recall_window_s > 0,
                 "must be finite and > 0 s");
   require_range(e, "evaluate_every_s", ev.evaluate_every_s, std::isfinite(ev.evaluate_every_s) && ev.evaluate_every_s > 0,
@@ -565,6 +583,15 @@ void read_checks(YamlMap c, Scenario& s) {
     require_range(c, "self_lethal_cells_max", *ch.self_lethal_cells_max, *ch.self_lethal_cells_max >= 0, "must be >= 0");
   if (ch.self_lethal_cells_max && s.pipeline.map.footprint_B.empty())
     c.fail(c.raw("self_lethal_cells_max"), "self_lethal_cells_max", "needs the robot's footprint (map.robot_radius or map.footprint)");
+
+  for (const auto& [key, value] : {std::pair<const char*, std::optional<double>*>{"soak_rss_growth_max", &ch.soak_rss_growth_max},
+                                   {"soak_map_ms_growth_max", &ch.soak_map_ms_growth_max}}) {
+    get_optional(c, key, *value);
+    if (!*value) continue;
+    require_range(c, key, **value, std::isfinite(**value) && **value >= 0, "must be finite and >= 0");
+    require_range(c, key, "no samples", s.outputs.soak_sample_every_s > 0, "needs evaluation.soak_sample_every_s > 0");
+    require_range(c, key, "no laps", s.pipeline.path.loop, "needs robot.loop: true (it compares with the first lap)");
+  }
   c.finish();
 }
 
@@ -585,6 +612,11 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   root.get("stop_at_path_end", s.stop_at_path_end);
   std::vector<std::optional<YamlMap>> camera_overrides{std::nullopt};
   read_robot(root.map("robot"), s, camera_overrides);
+  if (s.pipeline.path.loop) {  // a looping path has no end to stop at
+    if (root.has("stop_at_path_end") && s.stop_at_path_end)
+      root.fail(root.raw("stop_at_path_end"), "stop_at_path_end", "robot.loop never reaches an end; set it false or leave it out");
+    s.stop_at_path_end = false;
+  }
   read_moving_bodies(root, s);
   if (root.has("camera")) {
     if (root.map("robot").has("cameras"))

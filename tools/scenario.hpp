@@ -31,12 +31,17 @@ struct ChecksConfig {
   // recall is back to 90 % of its value before the outage.
   std::optional<int> outage_cleared_max;
   std::optional<double> outage_resume_max_s;
+
+  // Soak (issue #270; need evaluation.soak_sample_every_s): growth allowed as a fraction of the first lap's.
+  std::optional<double> soak_rss_growth_max;     // resident memory after the first lap vs at its end
+  std::optional<double> soak_map_ms_growth_max;  // per-frame map cost of the last lap's samples vs the first lap
 };
 
 // What a run writes besides its metrics.
 struct OutputConfig {
   double publish_period_s = 1.0;  // map.publish_period_s: bag /stvl/voxel_grid and /stvl/costmap
   int sample_depth_frames = 3;    // evaluation.sample_depth_frames: depth frames saved as PNG for the report
+  double soak_sample_every_s = 0.0;  // evaluation.soak_sample_every_s: resources sampled (tools/soak.hpp); 0 off
 };
 
 // map.ros_params: the STVL layer comes from a ROS parameter file.

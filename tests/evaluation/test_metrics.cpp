@@ -187,5 +187,28 @@ TEST(DistanceStats, NearestRankQuantiles) {
   EXPECT_EQ(distance_stats({}).count, 0u);
 }
 
+// The evaluator keeps counts per distinct distance (a soak's vector grew without end): the same figures, bit for bit.
+TEST(DistanceStats, CountsGiveTheSameFiguresAsTheValues) {
+  std::vector<double> d;
+  std::map<double, std::size_t> counts;
+  for (int i = 0; i < 5000; ++i) {
+    const double v = 0.001 * ((i * 7919) % 613) + 1e-7 * (i % 3);  // repeats and near-repeats, unsorted
+    d.push_back(v);
+    ++counts[v];
+  }
+  const DistanceStats a = distance_stats(d), b = distance_stats_of_counts(counts);
+  EXPECT_EQ(a.count, b.count);
+  EXPECT_EQ(a.mean_m, b.mean_m);
+  EXPECT_EQ(a.median_m, b.median_m);
+  EXPECT_EQ(a.p90_m, b.p90_m);
+  EXPECT_EQ(a.p99_m, b.p99_m);
+  EXPECT_EQ(a.max_m, b.max_m);
+  EXPECT_LT(counts.size(), d.size() / 2);
+  EXPECT_EQ(distance_stats_of_counts({}).count, 0u);
+  const DistanceStats one = distance_stats_of_counts({{0.25, 3}});
+  EXPECT_EQ(one.median_m, 0.25);
+  EXPECT_EQ(one.max_m, 0.25);
+}
+
 }  // namespace
 }  // namespace stvl::evaluation

@@ -353,6 +353,26 @@ EOF
     expect_no_results "$tmp"
     ;;
 
+  soak_loop_one_waypoint | soak_repeat_too_short | soak_loop_stops_at_end | soak_check_without_samples)
+    # The soak patrol (issue #270) edited: each edit exits 2 naming file, line and key.
+    soak=$src/tests/scenarios/soak_patrol.yaml
+    case $case_name in
+      soak_loop_one_waypoint) sed 's#waypoints: \[\[0.0, 0.0\], \[21.0, 0.0\]\]#waypoints: [[0.0, 0.0]]#' "$soak" >"$tmp/s.yaml"
+                              pattern="s\.yaml:14: robot\.waypoints: a looping path needs at least 2 distinct waypoints, got 1" ;;
+      soak_repeat_too_short) sed 's#repeat_s: 45#repeat_s: 12#' "$soak" >"$tmp/s.yaml"
+                             pattern="s\.yaml:23: moving_bodies\[0\]\.repeat_s: must be finite, > 0 and at least the keyframes' span 18 s, got 12" ;;
+      soak_loop_stops_at_end) sed 's#^duration_s: 1800#duration_s: 1800\nstop_at_path_end: true#' "$soak" >"$tmp/s.yaml"
+                              pattern="s\.yaml:12: stop_at_path_end: robot\.loop never reaches an end" ;;
+      soak_check_without_samples) sed 's#soak_sample_every_s: 60#soak_sample_every_s: 0#' "$soak" >"$tmp/s.yaml"
+                                  pattern="s\.yaml:[0-9]+: checks\.soak_rss_growth_max: needs evaluation\.soak_sample_every_s > 0" ;;
+    esac
+    sed -i "s#^world: .*#world: $src/worlds/office_corridor.xml#" "$tmp/s.yaml"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "$pattern"
+    expect_no_results "$tmp"
+    ;;
+
   lint_exit_codes)
     # 1 with findings (the tutorial file), 0 clean, 2 unreadable.
     run_bench lint "$src/scenarios/ros/nav2_stvl_tutorial.yaml"

@@ -67,6 +67,36 @@ TEST(PathFollowing, FollowsSmoothSPath) {
   EXPECT_LT((r.end_W - path.waypoints_W.back()).norm(), kGoalTolerance_m);
 }
 
+TEST(PathFollowing, LoopingPathPassesTheFirstWaypointAgainEachLap) {
+  Simulator sim(test::flat_world());
+  const Eigen::Vector2d first(0, 0), second(2.5, 0), third(2.5, 1.5);
+  sim.set_path({{first, second, third}, 0.6, /*loop=*/true});
+  EXPECT_EQ(sim.follower().path().waypoints_W.size(), 4u);  // the closing leg back to the first waypoint
+  double left_first_at_s = -1, back_at_first_s = -1, second_again_s = -1;
+  double max_cross_track_m = 0;
+  while (sim.time_s() < 60.0 && second_again_s < 0) {
+    sim.step();
+    ASSERT_FALSE(sim.path_finished());
+    const Eigen::Vector2d p = sim.T_world_base().translation().head<2>();
+    max_cross_track_m = std::max(max_cross_track_m, sim.follower().cross_track_error_m(p));
+    if (left_first_at_s < 0 && (p - first).norm() > 1.0) left_first_at_s = sim.time_s();
+    if (left_first_at_s > 0 && back_at_first_s < 0 && (p - first).norm() < kGoalTolerance_m) back_at_first_s = sim.time_s();
+    if (back_at_first_s > 0 && (p - second).norm() < kGoalTolerance_m) second_again_s = sim.time_s();
+  }
+  ASSERT_GT(back_at_first_s, 0) << "never came back to the first waypoint";
+  ASSERT_GT(second_again_s, 0) << "did not go on to the second waypoint after the lap";
+  EXPECT_EQ(sim.follower().laps_completed(), 1);
+  EXPECT_LT(max_cross_track_m, kMaxCrossTrack_m);
+}
+
+TEST(PathFollowing, ClosedLoopIsNotClosedTwice) {
+  PathFollower follower;
+  follower.set_path({{{0, 0}, {1, 0}, {1, 1}, {0, 0}}, 0.5, true});
+  EXPECT_EQ(follower.path().waypoints_W.size(), 4u);
+  follower.set_path({{{0, 0}, {1, 0}}, 0.5, false});
+  EXPECT_EQ(follower.path().waypoints_W.size(), 2u);
+}
+
 TEST(PathFollowing, RejectsBadPaths) {
   PathFollower follower;
   EXPECT_THROW(follower.set_path({{{0, 0}}, 0.5}), std::invalid_argument);
@@ -74,6 +104,10 @@ TEST(PathFollowing, RejectsBadPaths) {
   EXPECT_THROW(follower.set_path({{{0, 0}, {1, 0}}, 0.0}), std::invalid_argument);
   EXPECT_THROW(follower.set_path({{{0, 0}, {1, 0}}, 5.0}), std::invalid_argument);
   EXPECT_THROW(follower.set_path({{{0, 0}, {NAN, 0}}, 0.5}), std::invalid_argument);
+  EXPECT_THROW(follower.set_path({{{0, 0}}, 0.5, true}), std::invalid_argument);
+  EXPECT_THROW(follower.set_path({{{0, 0}, {1, 0}, {1, 0}}, 0.5, true}), std::invalid_argument);
+  EXPECT_NO_THROW(follower.set_path({{{1, 0}, {0, 0}, {1, 0}}, 0.5, true}));  // out and back: 2 distinct points
+
 }
 
 double odometry_error_m(const Simulator& sim, const Eigen::Isometry3d& T_world_start) {

@@ -130,6 +130,28 @@ TEST(MocapScript, MovesBodyThroughKeyframes) {
   EXPECT_NEAR(2 * std::atan2(z, w), 1.5, 1e-9);
 }
 
+TEST(MocapScript, RepeatingTrackAtTPlusPeriodEqualsT) {
+  World world = World::from_string(kMocapWorld);
+  const double period_s = 6.0;  // keyframes span 4 s; the last 2 s walk back to the first keyframe
+  const MocapScript script(world, {{"person", {{1.0, {1, 0, 0.9}, 0.0}, {3.0, {1, 6, 0.9}, 1.5}, {5.0, {3, 6, 0.9}, 1.5}},
+                                    period_s}});
+  const int body = world.body_id("person");
+  auto pose_at = [&](double t) {
+    script.apply(world.model(), world.data(), t);
+    world.forward();
+    Eigen::Matrix<double, 7, 1> pose;
+    for (int i = 0; i < 3; ++i) pose[i] = world.data()->xpos[3 * body + i];
+    for (int i = 0; i < 4; ++i) pose[3 + i] = world.data()->xquat[4 * body + i];
+    return pose;
+  };
+  EXPECT_TRUE(pose_at(0.0).head<3>().isApprox(Eigen::Vector3d(1, 0, 0.9)));  // held before the first keyframe
+  EXPECT_TRUE(pose_at(6.0).head<3>().isApprox(Eigen::Vector3d(2, 3, 0.9)));  // half way back from the last
+  EXPECT_TRUE(pose_at(7.0).head<3>().isApprox(Eigen::Vector3d(1, 0, 0.9)));  // the first again at t0 + period
+  for (double t = 1.0; t < 8.0; t += 0.37)
+    for (int k = 1; k <= 3; ++k)
+      EXPECT_LT((pose_at(t + k * period_s) - pose_at(t)).norm(), 1e-9) << "t " << t << ", lap " << k;
+}
+
 TEST(MocapScript, RejectsBadTracks) {
   World world = World::from_string(kMocapWorld);
   EXPECT_THROW(MocapScript(world, {{"nobody", {{0.0, {0, 0, 0}, {}}}}}), std::invalid_argument);
@@ -139,6 +161,11 @@ TEST(MocapScript, RejectsBadTracks) {
                std::invalid_argument);
   EXPECT_THROW(MocapScript(world, {{"person", {{0.0, {0, 0, 0}, 0.0}, {1.0, {1, 0, 0}, {}}}}}),
                std::invalid_argument);
+  const std::vector<MocapKeyframe> walk{{1.0, {0, 0, 0}, {}}, {4.0, {1, 0, 0}, {}}};
+  EXPECT_THROW(MocapScript(world, {{"person", walk, 2.9}}), std::invalid_argument);  // shorter than the 3 s span
+  EXPECT_THROW(MocapScript(world, {{"person", walk, NAN}}), std::invalid_argument);
+  EXPECT_THROW(MocapScript(world, {{"person", {{1.0, {0, 0, 0}, {}}}, 0.0}}), std::invalid_argument);
+  EXPECT_NO_THROW(MocapScript(world, {{"person", walk, 3.0}}));
   try {
     MocapScript(world, {{"nobody", {{0.0, {0, 0, 0}, {}}}}});
   } catch (const std::invalid_argument& e) {

@@ -128,5 +128,77 @@ TEST(Checks, HiddenFalseClearsAboveTheBoundFailWithTheirFirstTime) {
   EXPECT_TRUE(evaluation_checks(c, s)[0].passed);
 }
 
+// A 6-minute soak sampled each minute, first lap ending at 100 s (closed by the sample at 120 s); one lap spans
+// 2 samples. Resident memory grows during the first lap (150 -> 200 MiB: the map and caches fill, not compared),
+// then by rss_step_mb per sample; the map's CPU cost by map_step_ms per sample after the first lap (its wall-clock
+// cost jumps about with the machine's load and must not count).
+SoakSeries soak(double rss_step_mb, double map_step_ms) {
+  SoakSeries s;
+  s.sample_every_s = 60;
+  s.laps = 3;
+  s.first_lap_end_s = 100.0;
+  s.first_lap_map_ms = 5.0;
+  s.first_lap_map_cpu_ms = 2.0;
+  for (int i = 1; i <= 6; ++i) {
+    const int after = std::max(0, i - 2);
+    const double wall_ms = i % 2 ? 3.0 : 12.0;
+    s.samples.push_back({60.0 * i, 1000u, 10u, i == 1 ? 150.0 : 200.0 + rss_step_mb * after, wall_ms, 2.0 + map_step_ms * after});
+  }
+  return s;
+}
+
+ChecksConfig soak_thresholds() {
+  ChecksConfig c;
+  c.soak_rss_growth_max = 0.10;
+  c.soak_map_ms_growth_max = 0.5;
+  return c;
+}
+
+TEST(Checks, SoakPassesWhenFlatAndSaysWhatItCompared) {
+  const auto r = soak_checks(soak_thresholds(), soak(0.0, 0.0));
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_EQ(r[0].name, "soak_rss_growth");
+  EXPECT_TRUE(r[0].passed) << r[0].message;
+  EXPECT_THAT(r[0].message, HasSubstr("200.0 MiB at the end of the first lap (t = 120 s): 0.0 %, allowed 10.0 %"));
+  EXPECT_EQ(r[1].name, "soak_map_ms_growth");
+  EXPECT_TRUE(r[1].passed) << r[1].message;
+  EXPECT_THAT(r[1].message, HasSubstr("2.000 ms CPU per frame over the last 2 samples vs 2.000 ms over the first lap: 0.0 %, "
+                                      "allowed 50.0 % (wall clock 7.500 vs 5.000 ms)"));
+  EXPECT_TRUE(soak_checks(ChecksConfig{}, soak(100.0, 100.0)).empty());
+}
+
+TEST(Checks, SoakFailsOnGrowthOverTheMarginOnly) {
+  // 4 samples after the one closing the first lap: peak 200 + 4 * 5.1 = 220.4 MiB (+10.2 %) fails, 4.9 (+9.8 %) passes.
+  auto r = soak_checks(soak_thresholds(), soak(5.1, 0.0));
+  EXPECT_FALSE(r[0].passed);
+  EXPECT_THAT(r[0].message, HasSubstr("at most 220.4 MiB (t = 360 s)"));
+  EXPECT_TRUE(soak_checks(soak_thresholds(), soak(4.9, 0.0))[0].passed);
+  // Map cost: the last 2 samples 2 + 3 s and 2 + 4 s: mean 2 + 3.5 s; s = 0.3 ms gives 3.05 ms (+52.5 %) > 50 %.
+  r = soak_checks(soak_thresholds(), soak(0.0, 0.3));
+  EXPECT_FALSE(r[1].passed);
+  EXPECT_THAT(r[1].message, HasSubstr("3.050 ms CPU per frame over the last 2 samples vs 2.000 ms over the first lap: 52.5 %"));
+  EXPECT_TRUE(soak_checks(soak_thresholds(), soak(0.0, 0.28))[1].passed);
+}
+
+TEST(Checks, SoakTooShortFailsAndSaysWhy) {
+  SoakSeries no_lap = soak(0.0, 0.0);
+  no_lap.first_lap_end_s.reset();
+  auto r = soak_checks(soak_thresholds(), no_lap);
+  EXPECT_FALSE(r[0].passed);
+  EXPECT_THAT(r[0].message, HasSubstr("the first lap was not completed"));
+  SoakSeries late_lap = soak(0.0, 0.0);
+  late_lap.first_lap_end_s = 330.0;  // closed by the last sample (360 s): nothing after it
+  r = soak_checks(soak_thresholds(), late_lap);
+  EXPECT_FALSE(r[0].passed);
+  EXPECT_THAT(r[0].message, HasSubstr("no sample after the one closing the first lap"));
+  SoakSeries long_lap = soak(0.0, 0.0);
+  long_lap.first_lap_end_s = 170.0;  // one lap spans 3 samples; only 3 after the one at 180 s: enough
+  EXPECT_TRUE(soak_checks(soak_thresholds(), long_lap)[1].passed);
+  long_lap.first_lap_end_s = 230.0;  // spans 4; 2 after the one at 240 s
+  r = soak_checks(soak_thresholds(), long_lap);
+  EXPECT_FALSE(r[1].passed);
+  EXPECT_THAT(r[1].message, HasSubstr("fewer samples after the first lap (2) than one lap spans (4)"));
+}
+
 }  // namespace
 }  // namespace stvl::tools

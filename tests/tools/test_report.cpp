@@ -188,6 +188,32 @@ TEST(ReportMetrics, TimingStatsPerStage) {
   EXPECT_DOUBLE_EQ(t["noise"]["p95"].get<double>(), 0.0);
 }
 
+// Soak (issue #270): voxels and leaves, deterministic, under soak; resident memory and map cost, which measure the
+// machine, under timing_ms (which the determinism check and compare-metrics.py ignore). Absent when off.
+TEST(ReportMetrics, SoakSamplesKeepTheMachineUnderTimings) {
+  RunResult r = synthetic_result();
+  EXPECT_FALSE(metrics_json(r).contains("soak"));
+  EXPECT_FALSE(metrics_json(r)["timing_ms"].contains("soak"));
+  r.soak.sample_every_s = 60;
+  r.soak.laps = 2;
+  r.soak.first_lap_end_s = 75.5;
+  r.soak.first_lap_map_ms = 1.25;
+  r.soak.first_lap_map_cpu_ms = 1.0;
+  r.soak.samples = {{60, 1000, 40, 210.5, 1.5, 1.25}, {120, 1100, 42, 212.0, 1.75, 1.5}};
+  const nlohmann::json m = metrics_json(r);
+  EXPECT_EQ(m["soak"]["laps"], 2);
+  EXPECT_EQ(m["soak"]["first_lap_end_s"], 75.5);
+  EXPECT_EQ(m["soak"]["samples"].size(), 2u);
+  EXPECT_EQ(m["soak"]["samples"][1], nlohmann::json({{"t_s", 120.0}, {"voxels", 1100}, {"leaves", 42}}));
+  EXPECT_EQ(m["timing_ms"]["soak"]["first_lap_map_ms"], 1.25);
+  EXPECT_EQ(m["timing_ms"]["soak"]["first_lap_map_cpu_ms"], 1.0);
+  EXPECT_EQ(m["timing_ms"]["soak"]["samples"][0],
+            nlohmann::json({{"t_s", 60.0}, {"rss_mb", 210.5}, {"map_ms", 1.5}, {"map_cpu_ms", 1.25}}));
+  const std::string flat = m["soak"].dump();
+  EXPECT_EQ(flat.find("rss"), std::string::npos);
+  EXPECT_EQ(flat.find("ms"), std::string::npos);
+}
+
 TEST(ReportPassed, AllChecksMustPassAndTheRunMustNotBeInterrupted) {
   RunResult r;
   EXPECT_TRUE(r.passed());  // no checks configured: nothing failed
@@ -293,6 +319,17 @@ TEST(ReportFiles, WriteReportWritesEveryOutput) {
   EXPECT_EQ(nlohmann::json::parse(test::TempDir::read(dir.path() / "metrics.json"))["frames"], 5);
   EXPECT_THAT(test::TempDir::read(dir.path() / "report.html"), HasSubstr("<h2>Failure modes</h2>"));
   for (const auto& name : dir.names()) EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
+}
+
+TEST(ReportFiles, SoakSamplesGetATableInTheReport) {
+  const test::TempDir dir("report_soak");
+  RunResult r = synthetic_result();
+  r.soak.sample_every_s = 60;
+  r.soak.samples = {{60, 1000, 40, 210.5, 1.5, 1.25}};
+  write_report(r, dir.path());
+  const std::string html = test::TempDir::read(dir.path() / "report.html");
+  EXPECT_THAT(html, HasSubstr("<h2>Soak</h2><p>0 laps; first lap ended at - (not completed)"));
+  EXPECT_THAT(html, HasSubstr("<tr><td>60</td><td>1000</td><td>40</td><td>210.5</td><td>1.500</td><td>1.250</td></tr>"));
 }
 
 }  // namespace

@@ -362,5 +362,22 @@ TEST(ScenarioOverrides, BadValuesAreRejectedNamingTheOptionAndChangeNothing) {
   }
 }
 
+// Soak (issue #270): the patrol's loop, the repeating walk and the samples are read; a loop never stops at the end.
+TEST(ScenarioParse, SoakPatrolReadsLoopRepeatAndSamples) {
+  const Scenario s = load_scenario(std::string(STVL_SOURCE_DIR) + "/tests/scenarios/soak_patrol.yaml");
+  EXPECT_TRUE(s.pipeline.path.loop);
+  EXPECT_FALSE(s.stop_at_path_end);
+  ASSERT_EQ(s.pipeline.moving_bodies.size(), 1u);
+  ASSERT_TRUE(s.pipeline.moving_bodies[0].repeat_s.has_value());
+  EXPECT_EQ(*s.pipeline.moving_bodies[0].repeat_s, 45.0);
+  EXPECT_EQ(s.outputs.soak_sample_every_s, 60.0);
+  EXPECT_TRUE(s.checks.soak_rss_growth_max && s.checks.soak_map_ms_growth_max);
+  const Scenario plain = parse_scenario(kMinimal, "m.yaml", ".");
+  EXPECT_FALSE(plain.pipeline.path.loop);
+  EXPECT_TRUE(plain.stop_at_path_end);
+  EXPECT_EQ(plain.outputs.soak_sample_every_s, 0.0);
+  EXPECT_FALSE(plain.pipeline.moving_bodies.size());
+}
+
 }  // namespace
 }  // namespace stvl::tools
