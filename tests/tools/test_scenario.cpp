@@ -50,7 +50,7 @@ TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
       }
     }
   }
-  EXPECT_GE(count, 7);
+  EXPECT_GE(count, 15);
 }
 
 TEST(ScenarioShipped, DefaultScenarioIsTheOfficeCorridor) {
