@@ -11,19 +11,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 check_points() {  # DIR: the four points ran with their own voxel size and seed, and --collect saw them pass
   local dir=$1
   "$bin" sweep --collect "$dir" >/dev/null
-  /usr/bin/python3 - "$dir" <<'PY'
-import csv, json, os, sys
-d = sys.argv[1]
-rows = list(csv.DictReader(open(os.path.join(d, "sweep.csv"))))
-assert len(rows) == 4, f"{len(rows)} rows"
-for r in rows:
-    m = json.load(open(os.path.join(d, r["point"], "metrics.json")))
-    assert r["state"] == "passed", r
-    assert abs(m["voxel_size_m"] - float(r["voxel-size"])) < 1e-12, (m["voxel_size_m"], r)
-    assert str(m["seed"]) == r["seed"], (m["seed"], r)
-    assert m["sim_time_s"] <= 0.4 + 1e-9 and m["frames"] >= 6, m["frames"]
-print(f"{d}: 4 points passed with their own voxel size and seed")
-PY
+  /usr/bin/python3 "$(dirname "$0")/check_sweep_points.py" "$dir" 4
 }
 
 "$bin" sweep "$scenario" "${grid[@]}" --jobs 2 --out "$out/local" >"$out/local.log" || fail "local sweep: $(cat "$out/local.log")"
