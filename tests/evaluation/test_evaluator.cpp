@@ -6,6 +6,8 @@
 
 #include <vector>
 
+#include "tests/evaluation/box_face.hpp"
+
 namespace stvl::evaluation {
 namespace {
 
@@ -57,22 +59,9 @@ sensors::DepthImage face_depth(const sensors::CameraIntrinsics& k) {
   return image;
 }
 
-std::vector<VoxelKey> face_voxels() {
-  std::vector<VoxelKey> keys;
-  for (int y = -3; y <= 2; ++y)
-    for (int z = 1; z <= 6; ++z) keys.push_back({20, y, z});
-  return keys;
-}
+std::vector<VoxelKey> face_voxels() { return test::box_face_voxels(); }
 
-mapping::VoxelMap map_with(const std::vector<VoxelKey>& keys) {
-  mapping::StvlConfig c;
-  c.voxel_size_m = 0.1;
-  mapping::VoxelMap map(c);
-  std::vector<mapping::Voxel> voxels;
-  for (const auto& k : keys) voxels.push_back({k, 0.5});
-  map.set_voxels(voxels);
-  return map;
-}
+mapping::VoxelMap map_with(const std::vector<VoxelKey>& keys) { return test::map_with(keys, 0.5); }
 
 ObstacleResult obstacle(const EvaluationSummary& s, const std::string& name) {
   for (const auto& o : s.obstacles)

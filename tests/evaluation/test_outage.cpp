@@ -5,6 +5,8 @@
 
 #include <vector>
 
+#include "tests/evaluation/box_face.hpp"
+
 namespace stvl::evaluation {
 namespace {
 
@@ -24,22 +26,8 @@ EvaluationConfig config() {
   return c;
 }
 
-std::vector<VoxelKey> face() {
-  std::vector<VoxelKey> keys;
-  for (int y = -3; y <= 2; ++y)
-    for (int z = 1; z <= 6; ++z) keys.push_back({20, y, z});
-  return keys;
-}
-
-mapping::VoxelMap map_of(const std::vector<VoxelKey>& keys) {
-  mapping::StvlConfig c;
-  c.voxel_size_m = 0.1;
-  mapping::VoxelMap map(c);
-  std::vector<mapping::Voxel> voxels;
-  for (const auto& k : keys) voxels.push_back({k, 0.0});
-  map.set_voxels(voxels);
-  return map;
-}
+std::vector<VoxelKey> face() { return test::box_face_voxels(); }
+mapping::VoxelMap map_of(const std::vector<VoxelKey>& keys) { return test::map_with(keys, 0.0); }
 
 TEST(OutageMonitor, CountsWhatOnlyTheStoppedCameraSawAndLeftTheMap) {
   const sim::World world = sim::World::from_string(kWorld);
