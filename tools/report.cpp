@@ -436,7 +436,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   h << "<h2>Top-down: truth vs map</h2>";
   if (scripts.complete()) h << "<p>Zoom <input type=\"range\" id=\"topdown-zoom\" min=\"1\" max=\"8\" step=\"0.5\" value=\"1\"></p>";
   h << "<div style=\"overflow:auto;max-height:75vh\"><img id=\"topdown\" src=\"top_down.png\" alt=\"top-down map\" "
-       "style=\"width:100%;image-rendering:pixelated\"></div><p>Grey: true footprints in the height band; green: lethal "
+       "style=\"max-width:100%;image-rendering:pixelated\"></div><p>Grey: true footprints in the height band; green: lethal "
        "and true; red: lethal and false; blue: observed footprint missed; black: the robot's path.</p>\n";
   h << "<h2>Obstacles</h2><table><tr><th>body</th><th>observed</th><th>detected</th><th>best recall</th></tr>\n";
   for (const auto& o : e.obstacles)

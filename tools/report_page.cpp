@@ -96,7 +96,7 @@ document.addEventListener('DOMContentLoaded', function () {
       return {label: k, data: D.stages[k], borderColor: colors[k], backgroundColor: colors[k], fill: true,
               pointRadius: 0, borderWidth: 1};
     })}, options: {scales: axes('frame', 'wall time per frame (ms), stacked by stage', {y: {stacked: true}})}});
-  chart('chart-quality', {type: 'line', data: {labels: D.quality.t, datasets: [
+  chart('chart-quality', {type: 'line', data: {labels: D.quality.t.map(function (t) { return t.toFixed(2); }), datasets: [
       {label: 'F1', data: D.quality.f1, borderColor: '#000', backgroundColor: '#000'},
       {label: 'precision', data: D.quality.precision, borderColor: '#c82828', backgroundColor: '#c82828'},
       {label: 'recall', data: D.quality.recall, borderColor: '#285ae6', backgroundColor: '#285ae6'}]},
@@ -155,8 +155,10 @@ document.addEventListener('DOMContentLoaded', function () {
 
   // Top-down zoom.
   var zoom = document.getElementById('topdown-zoom');
-  zoom.addEventListener('input', function () {
-    document.getElementById('topdown').style.width = (100 * zoom.value) + '%';
+  zoom.addEventListener('input', function () {  // 1: fit the page; above: the picture's own size times the zoom
+    var img = document.getElementById('topdown');
+    img.style.maxWidth = zoom.value > 1 ? 'none' : '100%';
+    img.style.width = zoom.value > 1 ? (img.naturalWidth * zoom.value) + 'px' : '';
   });
 
   // Self-check for the browser test: painted pixels of every chart and of the 3D view.
