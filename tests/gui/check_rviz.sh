@@ -7,7 +7,7 @@
 set -euo pipefail
 bin=$1 out=$2 config=$3
 rm -rf "$out" && mkdir -p "$out"
-for tool in Xvfb roscore rosparam rosbag rviz xwd xwdtopnm; do
+for tool in Xvfb roscore rosparam rostopic rosbag rviz xwd xwdtopnm; do
   command -v "$tool" >/dev/null || { echo "FAIL: $tool is not installed (scripts/install-deps.sh installs it)"; exit 1; }
 done
 "$bin" run --duration 3 --out "$out/run" --bag "$out/run.bag" --no-progress >"$out/run.log" 2>&1 || true
@@ -43,7 +43,14 @@ PY
   rviz -d "$out/$name.rviz" >"$out/$name.rviz.log" 2>&1 &
   local viz=$!
   pids+=($viz)
-  sleep 6
+  # Play only once RViz listens (its displays subscribe when they are built), then give it time to draw.
+  local topic=/tf
+  [[ $on == on ]] && topic=/stvl/voxel_grid
+  for _ in $(seq 120); do
+    rostopic info "$topic" 2>/dev/null | grep -q "/rviz" && break
+    sleep 0.5
+  done
+  sleep 3
   rosbag play --clock -q "$out/run.bag" >"$out/$name.play.log" 2>&1
   sleep 2
   xwd -root -silent | xwdtopnm 2>/dev/null >"$out/$name.ppm"
