@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "common/enum_names.hpp"
+#include "tools/markup.hpp"
 
 namespace stvl::tools {
 namespace {
@@ -80,12 +81,6 @@ const char* const kHeadline[] = {"evaluation.mean.f1",
                                  "timing_ms.filter.mean",
                                  "timing_ms.frame.mean",
                                  "real_time_factor"};
-
-std::string escape_html(const std::string& text) {
-  std::string out;
-  for (char c : text) out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
-  return out;
-}
 
 // Markdown table cells must not hold a bare '|'.
 std::string cell(const std::string& text) {
@@ -238,21 +233,21 @@ std::string comparison_html(const Comparison& c) {
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench compare</title><style>"
        "body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
        "padding:3px 8px}td.n{text-align:right}.bad{color:#c62828}.ok{color:#1a7f37}</style></head><body>\n";
-  h << "<h1>stvl-bench compare</h1><p>A: " << escape_html(c.a_name) << "<br>B: " << escape_html(c.b_name) << "</p>\n";
+  h << "<h1>stvl-bench compare</h1><p>A: " << xml_escape(c.a_name) << "<br>B: " << xml_escape(c.b_name) << "</p>\n";
   if (c.regressions.empty()) {
     h << "<p class=\"ok\">No regression.</p>\n";
   } else {
     h << "<h2 class=\"bad\">" << c.regressions.size() << " regression" << (c.regressions.size() == 1 ? "" : "s")
       << "</h2><table><tr><th>regression</th><th>figures</th></tr>\n";
     for (const auto& r : c.regressions)
-      h << "<tr><td>" << escape_html(r.what) << "</td><td>" << escape_html(r.detail) << "</td></tr>\n";
+      h << "<tr><td>" << xml_escape(r.what) << "</td><td>" << xml_escape(r.detail) << "</td></tr>\n";
     h << "</table>\n";
   }
   const Tables t = tables_of(c);
   const auto table = [&](const char* title, const auto& rows) {
     h << "<h2>" << title << "</h2><table><tr><th>figure</th><th>A</th><th>B</th><th>delta</th></tr>\n";
     for (const auto& r : rows)
-      h << "<tr><td>" << escape_html(r[0]) << "</td><td class=\"n\">" << r[1] << "</td><td class=\"n\">" << r[2]
+      h << "<tr><td>" << xml_escape(r[0]) << "</td><td class=\"n\">" << r[1] << "</td><td class=\"n\">" << r[2]
         << "</td><td class=\"n\">" << r[3] << "</td></tr>\n";
     h << "</table>\n";
   };

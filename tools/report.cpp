@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/atomic_file.hpp"
+#include "tools/markup.hpp"
 #include "tools/raster.hpp"
 #include "tools/report_page.hpp"
 
@@ -75,20 +76,6 @@ nlohmann::json final_json(const evaluation::EvaluationSnapshot& s) {
   j["phantoms"] = nlohmann::json::array();
   for (const evaluation::Phantom& p : s.phantoms) j["phantoms"].push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
   return j;
-}
-
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '&': out += "&amp;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') ? '?' : c;
-    }
-  }
-  return out;
 }
 
 RgbImage top_down_image(const RunResult& r) {

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tools/markup.hpp"
+
 namespace stvl::tools {
 namespace {
 
@@ -61,12 +63,6 @@ nlohmann::json page_data(const RunResult& r) {
             {"fp", flat_points(v.mapped_false_W)},
             {"truth", flat_points(v.truth_W)},
             {"path", path}}}};
-}
-
-// Inline scripts must not contain "</script"; JSON data must not contain "</" at all.
-std::string script_safe(std::string text) {
-  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.replace(at, 2, "<\\/");
-  return text;
 }
 
 const char* const kErrorCapture = R"(<script>

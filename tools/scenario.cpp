@@ -552,35 +552,28 @@ void read_checks(YamlMap c, Scenario& s) {
     if (*value) require_range(c, key, **value, **value >= 0.0 && **value <= 1.0, "must lie in [0, 1]");
   }
   c.get("all_obstacles_detected", ch.all_obstacles_detected);
-  get_optional(c, "phantom_obstacles_max", ch.phantom_obstacles_max);
-  if (ch.phantom_obstacles_max)
-    require_range(c, "phantom_obstacles_max", *ch.phantom_obstacles_max, *ch.phantom_obstacles_max >= 0, "must be >= 0");
-  get_optional(c, "costmap_ghosts_max", ch.costmap_ghosts_max);
-  if (ch.costmap_ghosts_max)
-    require_range(c, "costmap_ghosts_max", *ch.costmap_ghosts_max, *ch.costmap_ghosts_max >= 0, "must be >= 0");
-  get_optional(c, "clearing_latency_max_s", ch.clearing_latency_max_s);
-  if (ch.clearing_latency_max_s)
-    require_range(c, "clearing_latency_max_s", *ch.clearing_latency_max_s,
-                  std::isfinite(*ch.clearing_latency_max_s) && *ch.clearing_latency_max_s >= 0, "must be finite and >= 0 s");
-  get_optional(c, "outage_cleared_max", ch.outage_cleared_max);
-  if (ch.outage_cleared_max)
-    require_range(c, "outage_cleared_max", *ch.outage_cleared_max, *ch.outage_cleared_max >= 0, "must be >= 0");
-  get_optional(c, "outage_resume_max_s", ch.outage_resume_max_s);
-  if (ch.outage_resume_max_s)
-    require_range(c, "outage_resume_max_s", *ch.outage_resume_max_s,
-                  std::isfinite(*ch.outage_resume_max_s) && *ch.outage_resume_max_s >= 0, "must be finite and >= 0 s");
+  // Counts allowed at most (phantoms, cells, voxels).
+  const std::pair<const char*, std::optional<int>*> counts[] = {
+      {"phantom_obstacles_max", &ch.phantom_obstacles_max},
+      {"costmap_ghosts_max", &ch.costmap_ghosts_max},
+      {"outage_cleared_max", &ch.outage_cleared_max},
+      {"hidden_false_clears_max", &ch.hidden_false_clears_max},
+      {"self_lethal_cells_max", &ch.self_lethal_cells_max}};
+  for (const auto& [key, value] : counts) {
+    get_optional(c, key, *value);
+    if (*value) require_range(c, key, **value, **value >= 0, "must be >= 0");
+  }
+  // Times allowed at most.
+  const std::pair<const char*, std::optional<double>*> durations[] = {
+      {"clearing_latency_max_s", &ch.clearing_latency_max_s}, {"outage_resume_max_s", &ch.outage_resume_max_s}};
+  for (const auto& [key, value] : durations) {
+    get_optional(c, key, *value);
+    if (*value) require_range(c, key, **value, std::isfinite(**value) && **value >= 0, "must be finite and >= 0 s");
+  }
   get_optional(c, "accuracy_p90_max_m", ch.accuracy_p90_max_m);
   if (ch.accuracy_p90_max_m)
     require_range(c, "accuracy_p90_max_m", *ch.accuracy_p90_max_m,
                   std::isfinite(*ch.accuracy_p90_max_m) && *ch.accuracy_p90_max_m > 0, "must be finite and > 0 m");
-  get_optional(c, "hidden_false_clears_max", ch.hidden_false_clears_max);
-  if (ch.hidden_false_clears_max)
-    require_range(c, "hidden_false_clears_max", *ch.hidden_false_clears_max, *ch.hidden_false_clears_max >= 0,
-                  "must be >= 0");
-
-  get_optional(c, "self_lethal_cells_max", ch.self_lethal_cells_max);
-  if (ch.self_lethal_cells_max)
-    require_range(c, "self_lethal_cells_max", *ch.self_lethal_cells_max, *ch.self_lethal_cells_max >= 0, "must be >= 0");
   if (ch.self_lethal_cells_max && s.pipeline.map.footprint_B.empty())
     c.fail(c.raw("self_lethal_cells_max"), "self_lethal_cells_max", "needs the robot's footprint (map.robot_radius or map.footprint)");
 

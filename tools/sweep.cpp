@@ -16,6 +16,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/enum_names.hpp"
+#include "tools/markup.hpp"
 
 extern char** environ;
 
@@ -60,12 +61,6 @@ std::string csv_field(const std::string& text) {
   return out + "\"";
 }
 
-std::string html_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) out += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
-  return out;
-}
-
 // A Chart.js line chart of `figure` against the first axis's values, one line per combination of the other axes
 // (mean over seeds), as a JSON config.
 nlohmann::json chart_config(const nlohmann::json& table, const std::string& figure) {
@@ -99,13 +94,6 @@ nlohmann::json chart_config(const nlohmann::json& table, const std::string& figu
            {{"animation", false},
             {"plugins", {{"title", {{"display", true}, {"text", figure + " (mean over seeds)"}}}}},
             {"scales", {{"x", {{"title", {{"display", true}, {"text", x_key}}}}}, {"y", {{"title", {{"display", true}, {"text", figure}}}}}}}}}};
-}
-
-// JSON safe inside a <script> element ("</" would end it).
-std::string script_json(const nlohmann::json& j) {
-  std::string text = j.dump();
-  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.replace(at, 2, "<\\/");
-  return text;
 }
 
 }  // namespace
@@ -389,24 +377,24 @@ nlohmann::json collect_sweep(const std::string& dir_text, const std::string& cha
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench sweep</title><style>body{font-family:"
        "sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px 8px}"
        ".chart{width:800px;height:360px;display:inline-block}</style></head><body>\n<h1>stvl-bench sweep</h1><p>"
-    << html_escape(table["scenario"].get<std::string>()) << ", " << table["rows"].size() << " points.</p>\n";
+    << xml_escape(table["scenario"].get<std::string>()) << ", " << table["rows"].size() << " points.</p>\n";
   std::ifstream chart_js(chart_js_path);
   if (chart_js) {
     const std::string js((std::istreambuf_iterator<char>(chart_js)), {});
     h << "<div class=\"chart\"><canvas id=\"f1\"></canvas></div><div class=\"chart\"><canvas id=\"filter_ms\"></canvas></div>\n"
-      << "<script>" << js << "</script>\n<script>\nnew Chart(document.getElementById('f1'), " << script_json(chart_config(table, "f1"))
-      << ");\nnew Chart(document.getElementById('filter_ms'), " << script_json(chart_config(table, "filter_ms_mean")) << ");\n</script>\n";
+      << "<script>" << js << "</script>\n<script>\nnew Chart(document.getElementById('f1'), " << script_safe(chart_config(table, "f1").dump())
+      << ");\nnew Chart(document.getElementById('filter_ms'), " << script_safe(chart_config(table, "filter_ms_mean").dump()) << ");\n</script>\n";
   } else {
-    h << "<p>(No charts: " << html_escape(chart_js_path) << " is not installed; apt install libjs-chart.js.)</p>\n";
+    h << "<p>(No charts: " << xml_escape(chart_js_path) << " is not installed; apt install libjs-chart.js.)</p>\n";
   }
   h << "<table><tr><th>point</th>";
-  for (const auto& axis : table["axes"]) h << "<th>" << html_escape(axis.get<std::string>()) << "</th>";
+  for (const auto& axis : table["axes"]) h << "<th>" << xml_escape(axis.get<std::string>()) << "</th>";
   h << "<th>seed</th><th>state</th>";
   for (const auto& [figure, path] : headline()) h << "<th>" << figure << "</th>";
   h << "</tr>\n";
   for (const auto& row : table["rows"]) {
-    h << "<tr><td>" << html_escape(row["point"].get<std::string>()) << "</td>";
-    for (const auto& axis : table["axes"]) h << "<td>" << html_escape(row["sets"].value(axis.get<std::string>(), "")) << "</td>";
+    h << "<tr><td>" << xml_escape(row["point"].get<std::string>()) << "</td>";
+    for (const auto& axis : table["axes"]) h << "<td>" << xml_escape(row["sets"].value(axis.get<std::string>(), "")) << "</td>";
     h << "<td>" << row.value("seed", std::string()) << "</td><td>" << row["state"].get<std::string>() << "</td>";
     for (const auto& [figure, path] : headline())
       h << "<td>" << (row.contains("figures") && row["figures"].contains(figure) ? row["figures"][figure].dump() : "") << "</td>";
