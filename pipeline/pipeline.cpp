@@ -2,20 +2,15 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
 #include <optional>
 #include <set>
-#include <unordered_set>
 #include <sstream>
 #include <stdexcept>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include "common/splitmix.hpp"
+#include "pipeline/map_stages.hpp"
 #include "sensors/depth_renderer.hpp"
-#include "mapping/footprint.hpp"
 
 namespace stvl::pipeline {
 namespace {
@@ -26,46 +21,11 @@ double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-double process_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
-}
-
-// The first `count` points to the world frame, blocks of columns in parallel (TBB); each column's arithmetic is
-// the same whatever the blocks.
-void transform(const Eigen::Isometry3d& T, const Eigen::Matrix3Xf& points, Eigen::Index count, Eigen::Matrix3Xf& out) {
-  const Eigen::Matrix3f R = T.linear().cast<float>();
-  const Eigen::Vector3f t = T.translation().cast<float>();
-  out.resize(3, count);
-  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, count, 16384), [&](const tbb::blocked_range<Eigen::Index>& r) {
-    const Eigen::Index n = Eigen::Index(r.size());
-    out.middleCols(r.begin(), n) = (R * points.middleCols(r.begin(), n)).colwise() + t;
-  });
-}
-
 // Camera 0 keeps the scenario's seed (its frames are what a one-camera run always had); the others get
 // splitmix64 of seed and index, so that no two cameras share noise.
 std::uint64_t camera_noise_seed(std::uint64_t seed, std::size_t index) {
   if (index == 0) return seed;
   return splitmix64_mix(seed + 0x9E3779B97F4A7C15ull * static_cast<std::uint64_t>(index));
-}
-
-// One point per voxel of size voxel_m that the rays of depth's pixels without a return reach at range_m from
-// the optical centre (the first pixel's in row-major order), in the world frame.
-void no_return_points(const sensors::DepthImage& depth, const sensors::CameraIntrinsics& k,
-                      const Eigen::Isometry3d& T_world_camera, double range_m, double voxel_m, Eigen::Matrix3Xf& out) {
-  std::unordered_set<VoxelKey, VoxelKeyHash> seen;
-  std::vector<Eigen::Vector3f> points;
-  for (int v = 0; v < depth.height; ++v)
-    for (int u = 0; u < depth.width; ++u) {
-      if (depth.at(u, v) > 0.0f) continue;
-      const Eigen::Vector3d ray_C = sensors::pixel_ray_C(k, u, v);
-      const Eigen::Vector3d p_W = T_world_camera * (ray_C * (range_m / ray_C.norm()));
-      if (seen.insert(voxel_key(p_W, voxel_m)).second) points.push_back(p_W.cast<float>());
-    }
-  out.resize(3, Eigen::Index(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i) out.col(Eigen::Index(i)) = points[i];
 }
 
 bool upright(const sim::Simulator& sim) {
@@ -178,29 +138,12 @@ filter::FilterConfig decimation_config(filter::FilterConfig config) {
 struct Pipeline::Camera {
   Camera(const mjModel* model, const CameraConfig& c, std::uint64_t noise_seed)
       : config(c), renderer(model, c.intrinsics, c.gl_backend), noise(c.noise, c.intrinsics), noise_seed(noise_seed) {
-    for (const auto& source : c.sources) {
-      if (source.params.clearing && source.params.clear_on_no_return)
-        no_return_range_m = std::max(no_return_range_m, source.params.max_z_m);
-      buffers.emplace_back(source.params.observation_persistence_s, source.params.expected_update_rate_s);
-      status.push_back({source.name, 0, source.params.expected_update_rate_s, {}, 0, 0.0, 0.0});
-    }
     skip_outages();
   }
   CameraConfig config;
-  double no_return_range_m = 0.0;  // > 0: the longest max_z of its clear_on_no_return sources
-  std::vector<SourceBuffer> buffers;  // one per source
-  std::vector<SourceStatus> status;   // one per source
-  double last_frame_s = -1.0;         // < 0: none taken yet
-  double last_reapplied_s = -1.0;     // the last update time its buffers were applied at another camera's frame
   std::size_t skipped_frames = 0;
   void skip_outages() {
     while (in_outage(config, next_time_s())) ++next_frame, ++skipped_frames;
-  }
-  // It has missed a frame (an outage): one was due after its last and by now_s, and none is pending at now_s
-  // (a camera of a higher index with a frame at now_s takes it right after this one).
-  bool overdue(double now_s) const {
-    return last_frame_s >= 0.0 && last_frame_s + 1.0 / config.intrinsics.rate_hz <= now_s + 1e-9 &&
-           next_time_s() > now_s + 1e-9;
   }
   sensors::DepthRenderer renderer;
   sensors::DepthNoise noise;
@@ -211,10 +154,7 @@ struct Pipeline::Camera {
 };
 
 Pipeline::Pipeline(PipelineConfig config)
-    : config_(std::move(config)),
-      filter_(decimation_config(config_.filter)),
-      passthrough_(config_.filter.passthrough_enabled || config_.filter.type == filter::FilterType::kPassthrough),
-      map_(config_.map) {
+    : config_(std::move(config)) {
   validate_cameras(config_);
   sim_ = make_simulator(config_);
   check_inside_world(config_, sim_->world());
@@ -225,40 +165,26 @@ Pipeline::Pipeline(PipelineConfig config)
     if (!geom.empty())
       throw std::invalid_argument("camera '" + c.name + "': mounted inside the robot's body (geom '" + geom + "')");
     cameras_.push_back(std::make_unique<Camera>(sim_->world().model(), c, camera_noise_seed(config_.seed, i)));
-    for (auto& status : cameras_.back()->status) status.camera_index = i;
   }
+  stages_ = std::make_unique<MapStages>(config_);
 }
 
 Pipeline::~Pipeline() = default;
 
-std::vector<SourceStatus> Pipeline::source_status(double until_s) const {
-  std::vector<SourceStatus> all;
-  for (const auto& c : cameras_)
-    for (std::size_t s = 0; s < c->buffers.size(); ++s) {
-      SourceStatus status = c->status[s];
-      if (const auto span = stale_span(c->buffers[s].last_updated_s(), until_s, c->buffers[s].expected_update_rate_s()))
-        status.stale.push_back(*span);
-      all.push_back(std::move(status));
-    }
-  return all;
-}
+std::vector<SourceStatus> Pipeline::source_status(double until_s) const { return stages_->source_status(until_s); }
+
+const mapping::VoxelMap& Pipeline::map() const { return stages_->map(); }
 
 std::size_t Pipeline::skipped_frames(std::size_t camera) const { return cameras_.at(camera)->skipped_frames; }
 
 const char* Pipeline::gl_backend() const { return cameras_.front()->renderer.backend_name(); }
-const char* Pipeline::filter_device() const { return filter_.device_used(); }
+const char* Pipeline::filter_device() const { return stages_->filter_device(); }
 
 mapping::CostmapOptions Pipeline::costmap_options() const {
-  mapping::CostmapOptions options;
-  const HeightBand band = marking_band(config_);
-  options.min_obstacle_height_m = band.min_m;
-  options.max_obstacle_height_m = band.max_m;
-  if (config_.map.update_footprint_enabled)  // STVL: at the robot's pose of the last update
-    options.free_polygon_W = mapping::footprint_in_world(config_.map.footprint_B, sim_->T_world_base());
-  return options;
+  return pipeline::costmap_options(config_, sim_->T_world_base());
 }
 
-mapping::Costmap2D Pipeline::costmap() const { return map_.project_costmap(costmap_options()); }
+mapping::Costmap2D Pipeline::costmap() const { return map().project_costmap(costmap_options()); }
 
 double Pipeline::next_time_s() const {
   double t = cameras_.front()->next_time_s();
@@ -290,7 +216,6 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   f.robot_upright = upright(*sim_);
   if (!f.robot_upright) return f;
 
-  const auto& intrinsics = camera.config.intrinsics;
   auto start = Clock::now();
   f.clean_depth = camera.renderer.render(sim_->world().model(), sim_->world().data(), f.T_world_camera);
   f.times.render_ms = ms_since(start);
@@ -300,89 +225,11 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   camera.noise.apply(f.depth, camera.noise_seed, f.frame_index);
   f.times.noise_ms = ms_since(start);
 
-  start = Clock::now();
-  const sensors::DepthImage* cloud_depth = &f.depth;
-  f.edge_dropped_pixels = 0;
-  if (camera.config.edge_filter.enabled) {
-    f.edge_dropped_pixels = sensors::filter_depth_edges(camera.config.edge_filter, f.depth, f.edge_filtered_depth);
-    cloud_depth = &f.edge_filtered_depth;
-  } else {
-    f.edge_filtered_depth = {};
-  }
-  f.point_count = sensors::depth_to_cloud(*cloud_depth, intrinsics, f.points_C);
-  transform(f.T_world_camera, f.points_C, f.point_count, f.cloud_W);
-  f.times.cloud_ms = ms_since(start);
-
-  start = Clock::now();
-  f.decimated_W = filter_.apply(f.cloud_W);
-  f.marking_W = passthrough_ ? filter::passthrough(f.decimated_W, config_.filter.passthrough) : f.decimated_W;
-  f.times.filter_ms = ms_since(start);
-
-  if (before_map_update) before_map_update(f, map_);
-
-  start = Clock::now();
-  const double cpu_start_ms = process_cpu_ms();
-  f.no_return_W.resize(3, 0);
-  if (camera.no_return_range_m > 0.0)
-    no_return_points(f.depth, intrinsics, f.T_world_camera, camera.no_return_range_m, config_.map.voxel_size_m,
-                     f.no_return_W);
-  auto reading = std::make_shared<SourceReading>();
-  reading->time_s = f.time_s;
-  reading->T_world_camera = f.T_world_camera;
-  reading->decimated_W = f.decimated_W;
-  reading->marking_W = f.marking_W;
-  reading->no_return_W = f.no_return_W;
-  for (std::size_t s = 0; s < camera.buffers.size(); ++s) {
-    SourceBuffer& buffer = camera.buffers[s];
-    if (const auto span = stale_span(buffer.last_updated_s(), f.time_s, buffer.expected_update_rate_s()))
-      camera.status[s].stale.push_back(*span);
-    buffer.receive(reading);
-  }
-  camera.last_frame_s = f.time_s;
-  // STVL's update: the readings of every buffer it applies, clearing first, then marking, all at this time.
-  std::vector<mapping::ClearingObservation> clearing;
-  std::vector<std::pair<const SourceReading*, const mapping::ObservationSource*>> marking;
-  f.reapplied_readings = 0;
-  for (auto& other : cameras_) {
-    Camera& c = *other;
-    // Another camera's buffer once per update time: cameras that share a frame time make one STVL update.
-    if (&c != &camera && (!c.overdue(f.time_s) || c.last_reapplied_s >= f.time_s - 1e-9)) continue;
-    if (&c != &camera) c.last_reapplied_s = f.time_s;
-    const Eigen::Vector3d centre_now = sim_->T_world_camera(c.config.mount).translation();
-    for (std::size_t s = 0; s < c.buffers.size(); ++s) {
-      const auto& params = c.config.sources[s].params;
-      if (&c != &camera && params.drop_when_not_current && !c.buffers[s].current(f.time_s)) continue;
-      for (const auto& r : c.buffers[s].readings()) {
-        if (params.clearing) clearing.push_back({r->T_world_camera, params, &r->decimated_W, &r->no_return_W});
-        if (params.marking) marking.emplace_back(r.get(), &params);
-        if (r.get() == reading.get()) continue;
-        ++f.reapplied_readings;
-        SourceStatus& status = c.status[s];
-        ++status.reapplied_readings;
-        status.max_reapplied_age_s = std::max(status.max_reapplied_age_s, f.time_s - r->time_s);
-        status.reapplied_max_distance_m = std::max(status.reapplied_max_distance_m,
-                                                   (r->T_world_camera.translation() - centre_now).norm());
-      }
-    }
-  }
-  f.cleared_keys.clear();
-  map_.clear(clearing, f.time_s, &f.cleared_keys);
-  f.times.clear_ms = ms_since(start);
-  start = Clock::now();
-  for (const auto& [r, params] : marking) map_.mark(r->marking_W, r->T_world_camera, *params, f.time_s);
-  f.footprint_cleared = 0;
-  if (config_.map.footprint_clearing_height_m > 0.0) {
-    // Ours: the robot's own voxels inside its footprint, from the floor up to the height given, after marking.
-    const double s = config_.map.voxel_size_m;
-    const auto polygon_W = mapping::footprint_in_world(config_.map.footprint_B, f.T_world_base);
-    const int top = static_cast<int>(std::ceil(config_.map.footprint_clearing_height_m / s)) - 1;
-    std::vector<VoxelKey> keys;
-    for (const auto& [ix, iy] : mapping::footprint_cells(polygon_W, Eigen::Vector2d::Zero(), s))
-      for (int iz = 0; iz <= top; ++iz) keys.push_back({ix, iy, iz});
-    f.footprint_cleared = map_.erase(keys, &f.cleared_keys);
-  }
-  f.times.mark_ms = ms_since(start);
-  f.times.map_cpu_ms = process_cpu_ms() - cpu_start_ms;
+  stages_->sense(f);
+  if (before_map_update) before_map_update(f, map());
+  const MapStages::CamerasNow now{[&](std::size_t c) { return sim_->T_world_camera(cameras_[c]->config.mount); },
+                                  [&](std::size_t c) { return cameras_[c]->next_time_s(); }};
+  stages_->update(f, now);
   return f;
 }
 

@@ -147,6 +147,8 @@ struct SourceStatus {
   double reapplied_max_distance_m = 0;  // farthest a re-applied reading's optical centre lay from the camera's pose then
 };
 
+class MapStages;
+
 class Pipeline {
  public:
   // Throws std::invalid_argument for a bad config or world, std::runtime_error when no GL context can be made
@@ -166,7 +168,7 @@ class Pipeline {
 
   const PipelineConfig& config() const { return config_; }
   const sim::Simulator& simulator() const { return *sim_; }
-  const mapping::VoxelMap& map() const { return map_; }
+  const mapping::VoxelMap& map() const;
   // The map's costmap at its voxel size over the occupied extent (1 x 1 when empty), counting voxels inside
   // the marking height band: from the lowest min_obstacle_height_m to the highest max_obstacle_height_m of
   // the marking sources; with map.update_footprint_enabled, the footprint's cells at the robot's current pose
@@ -185,9 +187,7 @@ class Pipeline {
   PipelineConfig config_;
   std::unique_ptr<sim::Simulator> sim_;
   std::vector<std::unique_ptr<Camera>> cameras_;
-  filter::Filter filter_;
-  bool passthrough_ = false;
-  mapping::VoxelMap map_;
+  std::unique_ptr<MapStages> stages_;  // the filter, the sources' buffers and the map
   FrameResult frame_;
 };
 

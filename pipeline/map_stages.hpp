@@ -1,0 +1,61 @@
+#pragma once
+// What happens to a depth image once a camera has it, for rendered frames (Pipeline) and recorded ones (the
+// replay) alike: sense() runs the camera's edge filter, depth to cloud, the world transform and the decimation;
+// update() is STVL's map update from the observation sources' buffers: the frame's reading and the readings
+// STVL applies again, cleared then marked, then the footprint clearing of ours.
+//
+//   MapStages stages(config);
+//   frame.depth = ...; frame.T_world_camera = ...; frame.camera_index = ...; frame.time_s = ...;
+//   stages.sense(frame);
+//   stages.update(frame, cameras_now);
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "pipeline/pipeline.hpp"
+
+namespace stvl::pipeline {
+
+class MapStages {
+ public:
+  // Keeps a copy of the config: its cameras (sources, edge filter, intrinsics), filter and map; validates nothing
+  // itself (validate_cameras() does).
+  explicit MapStages(const PipelineConfig& config);
+  ~MapStages();
+  MapStages(const MapStages&) = delete;
+  MapStages& operator=(const MapStages&) = delete;
+
+  // From f.depth, f.camera_index and f.T_world_camera: f.edge_filtered_depth, edge_dropped_pixels, points_C,
+  // point_count, cloud_W, decimated_W, marking_W, times.cloud_ms and times.filter_ms.
+  void sense(FrameResult& f);
+
+  // Where every camera's optical frame is at an update, and when its next frame is due: a camera that has
+  // missed a frame (its last frame is more than a period old and none is pending at the update) has its
+  // buffers applied again, as STVL applies every buffer at every update.
+  struct CamerasNow {
+    std::function<Eigen::Isometry3d(std::size_t camera)> T_world_camera;
+    std::function<double(std::size_t camera)> next_frame_time_s;
+  };
+  // STVL's update at f.time_s with the frame's reading (f.decimated_W, marking_W, T_world_camera; the no-return
+  // rays from f.depth) and f.T_world_base for the footprint: fills f.no_return_W, cleared_keys,
+  // footprint_cleared, reapplied_readings, times.clear_ms, mark_ms and map_cpu_ms.
+  void update(FrameResult& f, const CamerasNow& now);
+
+  const mapping::VoxelMap& map() const { return map_; }
+  std::vector<SourceStatus> source_status(double until_s) const;
+  const char* filter_device() const { return filter_.device_used(); }
+
+ private:
+  struct Sources;
+  PipelineConfig config_;
+  filter::Filter filter_;
+  bool passthrough_ = false;
+  mapping::VoxelMap map_;
+  std::vector<std::unique_ptr<Sources>> cameras_;
+};
+
+// The costmap's options: the marking sources' height band and, with map.update_footprint_enabled, the footprint
+// at T_world_base freed (STVL's footprint clearing at the robot's pose of the last update).
+mapping::CostmapOptions costmap_options(const PipelineConfig& config, const Eigen::Isometry3d& T_world_base);
+
+}  // namespace stvl::pipeline
