@@ -131,6 +131,17 @@ MapView make_map_view(const mapping::VoxelMap& map, const evaluation::Truth& tru
   return view;
 }
 
+MapView make_map_view(const mapping::VoxelMap& map, std::size_t max_points) {
+  MapView view;
+  view.voxel_size_m = map.voxel_size_m();
+  std::vector<Eigen::Vector3f> points;
+  const std::vector<VoxelKey> keys = map.voxel_keys();
+  for (const VoxelKey& key : keys) points.push_back(map.center_of(key).cast<float>());
+  view.unjudged = points.size();
+  view.unjudged_W = thinned(keys, points, max_points);
+  return view;
+}
+
 bool RunResult::passed() const {
   for (const auto& c : checks)
     if (!c.passed) return false;
