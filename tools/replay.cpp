@@ -160,9 +160,8 @@ ReplayResult replay_recording(const std::string& recording_path, const ReplaySet
   if (r.interrupted) return r;
   if (r.frames == 0) throw std::invalid_argument(recording_path + ": no depth frame could be read");
 
-  const mapping::Costmap2D costmap =
-      stages.map().project_costmap(pipeline::costmap_options(r.pipeline, T_world_base_last));
-  for (std::uint8_t c : costmap.cells) r.lethal_cells += c == mapping::kCostLethal;
+  r.costmap = map_state.costmap();
+  for (std::uint8_t c : r.costmap.cells) r.lethal_cells += c == mapping::kCostLethal;
   r.final_voxels = stages.map().size();
   r.map_view = make_map_view(stages.map());
   r.sources = stages.source_status(r.recorded_s);
@@ -173,7 +172,7 @@ ReplayResult replay_recording(const std::string& recording_path, const ReplaySet
   if (!options.out_dir.empty()) {
     stages.map().save_vdb((out / "map.vdb").string());
     stages.map().save_ply((out / "map.ply").string());
-    if (!stages.map().empty()) mapping::write_costmap(costmap, (out / "costmap").string());
+    if (!stages.map().empty()) mapping::write_costmap(r.costmap, (out / "costmap").string());
   }
   return r;
 }

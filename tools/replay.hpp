@@ -3,8 +3,11 @@
 // edge filter, depth to cloud, decimation, STVL's clear and mark, in recorded time. A replay has no ground
 // truth: it writes what a run writes but the truth's figures and checks (tools/replay_report.hpp).
 #include <atomic>
+#include <filesystem>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "recording/recording.hpp"
 #include "tools/runner.hpp"
@@ -31,6 +34,7 @@ struct ReplayResult {
   std::vector<Eigen::Vector2d> path_W;  // base_link per frame, in the recording's fixed frame
   std::vector<std::size_t> sampled_frames;  // indices of the depth frames saved under frames/
   MapView map_view;                     // every voxel unjudged (no truth)
+  mapping::Costmap2D costmap;           // the final map's, footprint freed at the last base pose
   std::size_t frames = 0, final_voxels = 0, lethal_cells = 0;
   double recorded_s = 0, wall_time_s = 0, real_time_factor = 0;
   std::string filter_device;
@@ -44,5 +48,12 @@ struct ReplayResult {
 // unwritable outputs.
 ReplayResult replay_recording(const std::string& recording_path, const ReplaySettings& settings,
                               const RunOptions& options);
+
+// metrics.json of a replay: the recording, frames, points, valid pixels, the map, the sources and per-stage
+// timings; "ground_truth": false and no "evaluation" object.
+nlohmann::json replay_metrics_json(const ReplayResult& result);
+// Writes metrics.json and report.html (which says plainly that there is no ground truth; the recording, charts,
+// the map in 3D, the costmap and the sampled depth frames) into out_dir, each atomically.
+void write_replay_report(const ReplayResult& result, const std::filesystem::path& out_dir);
 
 }  // namespace stvl::tools

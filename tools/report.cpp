@@ -12,7 +12,6 @@
 #include "tools/report_page.hpp"
 
 namespace stvl::tools {
-namespace {
 
 nlohmann::json stage_stats(std::vector<double> ms) {
   if (ms.empty()) return {{"mean", 0.0}, {"p50", 0.0}, {"p95", 0.0}};
@@ -21,6 +20,8 @@ nlohmann::json stage_stats(std::vector<double> ms) {
   const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * (ms.size() - 1) + 0.5))]; };
   return {{"mean", mean}, {"p50", at(0.5)}, {"p95", at(0.95)}};
 }
+
+namespace {
 
 nlohmann::json snapshot_json(const evaluation::EvaluationSnapshot& s) {
   return {{"time_s", s.time_s},

@@ -10,6 +10,8 @@
 
 namespace stvl::tools {
 
+// Mean, p50 and p95 of per-frame milliseconds (zeros when empty).
+nlohmann::json stage_stats(std::vector<double> ms);
 // Every figure of the run; timings under "timing_ms" (mean, p50, p95 per stage) and "real_time_factor".
 nlohmann::json metrics_json(const RunResult& result);
 // report.html's "Failure modes" section from a run's metrics: phantoms, the rays' false clears, the projection

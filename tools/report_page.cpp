@@ -33,36 +33,42 @@ nlohmann::json flat_points(const Eigen::Matrix3Xf& points) {
   return out;
 }
 
-nlohmann::json page_data(const RunResult& r) {
-  const auto& t = r.times;
+nlohmann::json page_data(const PageSeries& p, const std::vector<evaluation::EvaluationSnapshot>& snapshots) {
   nlohmann::json stages = nlohmann::json::object();
-  for (const auto& [name, ms] : {std::pair<const char*, const std::vector<double>*>{"render", &t.render},
-                                 {"noise", &t.noise}, {"cloud", &t.cloud}, {"filter", &t.filter}, {"clear", &t.clear},
-                                 {"mark", &t.mark}, {"evaluation", &t.evaluation}, {"bag", &t.bag}})
-    stages[name] = series(*ms, 0.001);
+  for (const auto& [name, ms] : p.stages) stages[name] = series(*ms, 0.001);
   nlohmann::json quality = {{"t", nlohmann::json::array()}, {"f1", nlohmann::json::array()},
                             {"precision", nlohmann::json::array()}, {"recall", nlohmann::json::array()}};
-  for (const auto& s : r.evaluation.snapshots) {
+  for (const auto& s : snapshots) {
     quality["t"].push_back(rounded(s.time_s, 0.001));
     quality["f1"].push_back(rounded(s.f1, 1e-4));
     quality["precision"].push_back(rounded(s.precision, 1e-4));
     quality["recall"].push_back(rounded(s.recall, 1e-4));
   }
-  const auto counts = [](const std::vector<std::size_t>& v) { return nlohmann::json(v); };
   nlohmann::json path = nlohmann::json::array();
-  for (const auto& p : r.path_W) path.push_back(rounded(p.x(), 0.001)), path.push_back(rounded(p.y(), 0.001));
-  const MapView& v = r.map_view;
+  for (const auto& xy : *p.path_W) path.push_back(rounded(xy.x(), 0.001)), path.push_back(rounded(xy.y(), 0.001));
+  const MapView& v = *p.view;
   return {{"stages", stages},
           {"quality", quality},
-          {"points_raw", counts(r.points_raw)},
-          {"points_filtered", counts(r.points_filtered)},
-          {"map_voxels", counts(r.map_voxels)},
+          {"points_raw", nlohmann::json(*p.points_raw)},
+          {"points_filtered", nlohmann::json(*p.points_filtered)},
+          {"map_voxels", nlohmann::json(*p.map_voxels)},
           {"view",
            {{"voxel_m", v.voxel_size_m},
             {"tp", flat_points(v.mapped_true_W)},
             {"fp", flat_points(v.mapped_false_W)},
             {"truth", flat_points(v.truth_W)},
+            {"unjudged", flat_points(v.unjudged_W)},
             {"path", path}}}};
+}
+
+PageSeries run_series(const RunResult& r) {
+  const auto& t = r.times;
+  PageSeries p;
+  p.stages = {{"render", &t.render}, {"noise", &t.noise}, {"cloud", &t.cloud}, {"filter", &t.filter},
+              {"clear", &t.clear},   {"mark", &t.mark},   {"evaluation", &t.evaluation}, {"bag", &t.bag}};
+  p.points_raw = &r.points_raw, p.points_filtered = &r.points_filtered, p.map_voxels = &r.map_voxels;
+  p.path_W = &r.path_W, p.view = &r.map_view;
+  return p;
 }
 
 const char* const kErrorCapture = R"(<script>
@@ -92,7 +98,7 @@ document.addEventListener('DOMContentLoaded', function () {
       return {label: k, data: D.stages[k], borderColor: colors[k], backgroundColor: colors[k], fill: true,
               pointRadius: 0, borderWidth: 1};
     })}, options: {scales: axes('frame', 'wall time per frame (ms), stacked by stage', {y: {stacked: true}})}});
-  chart('chart-quality', {type: 'line', data: {labels: D.quality.t.map(function (t) { return t.toFixed(2); }), datasets: [
+  if (document.getElementById('chart-quality')) chart('chart-quality', {type: 'line', data: {labels: D.quality.t.map(function (t) { return t.toFixed(2); }), datasets: [
       {label: 'F1', data: D.quality.f1, borderColor: '#000', backgroundColor: '#000'},
       {label: 'precision', data: D.quality.precision, borderColor: '#c82828', backgroundColor: '#c82828'},
       {label: 'recall', data: D.quality.recall, borderColor: '#285ae6', backgroundColor: '#285ae6'}]},
@@ -126,6 +132,7 @@ document.addEventListener('DOMContentLoaded', function () {
   cloud(D.view.truth, 0x999999, 0.25);
   cloud(D.view.tp, 0x1e9e3c, 1);
   cloud(D.view.fp, 0xdc2828, 1);
+  cloud(D.view.unjudged, 0x1e78dc, 1);
   if (D.view.path.length >= 4) {
     var path = [];
     for (var i = 0; i < D.view.path.length; i += 2) path.push(D.view.path[i], D.view.path[i + 1], 0.01);
@@ -174,7 +181,8 @@ document.addEventListener('DOMContentLoaded', function () {
   document.querySelectorAll('canvas.chart').forEach(function (c) { charts[c.id] = painted2d(c); });
   document.getElementById('selftest').textContent = JSON.stringify(
     {errors: window.__errors, charts: charts, view3d: painted3d(), view3d_points: {
-      tp: D.view.tp.length / 3, fp: D.view.fp.length / 3, truth: D.view.truth.length / 3}});
+      tp: D.view.tp.length / 3, fp: D.view.fp.length / 3, truth: D.view.truth.length / 3,
+      unjudged: D.view.unjudged.length / 3}});
 });
 )JS";
 
@@ -198,28 +206,43 @@ std::string interactive_head_html(const ReportScripts& scripts) {
   return h.str();
 }
 
-std::string interactive_body_html(const RunResult& r, const ReportScripts& scripts) {
+namespace {
+
+const char* const kMissingScripts =
+    "<p><b>No interactive charts or 3D view:</b> the page inlines Debian's libjs-chart.js and libjs-three, "
+    "which were not installed when this run wrote it (scripts/install-deps.sh installs them).</p>\n";
+
+std::string body_html(const nlohmann::json& data, const std::vector<const char*>& charts, const std::string& caption) {
   std::ostringstream h;
-  if (!scripts.complete()) {
-    h << "<p><b>No interactive charts or 3D view:</b> the page inlines Debian's libjs-chart.js and libjs-three, "
-         "which were not installed when this run wrote it (scripts/install-deps.sh installs them).</p>\n";
-    return h.str();
-  }
-  const MapView& v = r.map_view;
   h << "<h2>Charts</h2>\n";
-  for (const char* id : {"chart-stages", "chart-quality", "chart-points", "chart-voxels"})
-    h << "<div class=\"chartbox\"><canvas class=\"chart\" id=\"" << id << "\"></canvas></div>\n";
-  h << "<h2>The final map in 3D</h2><p>Voxels within " << r.scenario.evaluation.tolerance_voxels
-    << " voxel of a true surface in green (" << v.mapped_true << "), the others in red (" << v.mapped_false
-    << "), the truth's voxels faint grey (" << v.truth << "), the robot's path in black. Drag to orbit, wheel to "
-       "zoom, right-drag to pan.";
+  for (const char* id : charts) h << "<div class=\"chartbox\"><canvas class=\"chart\" id=\"" << id << "\"></canvas></div>\n";
+  h << "<h2>The final map in 3D</h2><p>" << caption << " Drag to orbit, wheel to zoom, right-drag to pan.</p>\n"
+    << "<canvas id=\"view3d\"></canvas>\n"
+    << "<script type=\"application/json\" id=\"report-data\">" << script_safe(data.dump()) << "</script>\n"
+    << "<pre id=\"selftest\" style=\"display:none\"></pre>\n<script>" << kPageScript << "</script>\n";
+  return h.str();
+}
+
+}  // namespace
+
+std::string interactive_body_html(const RunResult& r, const ReportScripts& scripts) {
+  if (!scripts.complete()) return kMissingScripts;
+  const MapView& v = r.map_view;
+  std::ostringstream caption;
+  caption << "Voxels within " << r.scenario.evaluation.tolerance_voxels << " voxel of a true surface in green ("
+          << v.mapped_true << "), the others in red (" << v.mapped_false << "), the truth's voxels faint grey (" << v.truth
+          << "), the robot's path in black.";
   if (v.mapped_true_W.cols() < Eigen::Index(v.mapped_true) || v.mapped_false_W.cols() < Eigen::Index(v.mapped_false) ||
       v.truth_W.cols() < Eigen::Index(v.truth))
-    h << " Thinned for the browser to about " << v.truth_W.cols() << " voxels per colour, chosen by a hash of the voxel key.";
-  h << "</p>\n<canvas id=\"view3d\"></canvas>\n";
-  h << "<script type=\"application/json\" id=\"report-data\">" << script_safe(page_data(r).dump()) << "</script>\n";
-  h << "<pre id=\"selftest\" style=\"display:none\"></pre>\n<script>" << kPageScript << "</script>\n";
-  return h.str();
+    caption << " Thinned for the browser to about " << v.truth_W.cols() << " voxels per colour, chosen by a hash of the voxel key.";
+  return body_html(page_data(run_series(r), r.evaluation.snapshots),
+                   {"chart-stages", "chart-quality", "chart-points", "chart-voxels"}, caption.str());
+}
+
+std::string interactive_body_html(const PageSeries& series, const std::string& view_caption_html,
+                                  const ReportScripts& scripts) {
+  if (!scripts.complete()) return kMissingScripts;
+  return body_html(page_data(series, {}), {"chart-stages", "chart-points", "chart-voxels"}, view_caption_html);
 }
 
 }  // namespace stvl::tools

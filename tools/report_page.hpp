@@ -25,4 +25,17 @@ std::string interactive_head_html(const ReportScripts& scripts);
 // scripts are incomplete.
 std::string interactive_body_html(const RunResult& r, const ReportScripts& scripts);
 
+// The same for a run without ground truth (a replayed recording): the stages present in `stages`, points and
+// voxels per frame, and the map's voxels in one colour (view.unjudged_W); no quality chart.
+struct PageSeries {
+  std::vector<std::pair<std::string, const std::vector<double>*>> stages;  // name, ms per frame
+  const std::vector<std::size_t>* points_raw = nullptr;
+  const std::vector<std::size_t>* points_filtered = nullptr;
+  const std::vector<std::size_t>* map_voxels = nullptr;
+  const std::vector<Eigen::Vector2d>* path_W = nullptr;
+  const MapView* view = nullptr;
+};
+std::string interactive_body_html(const PageSeries& series, const std::string& view_caption_html,
+                                  const ReportScripts& scripts);
+
 }  // namespace stvl::tools
