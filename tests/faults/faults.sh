@@ -399,6 +399,59 @@ EOF
     expect_no_results "$tmp"
     ;;
 
+  replay_bag_truncated | replay_bag_no_depth | replay_bag_rgb8 | replay_bag_mono8 | replay_bag_size_mismatch | \
+  replay_bag_short_step | replay_bag_zero_fx | replay_bag_nan_fx)
+    # A malformed recording (written by make_bad_recording.py from the real D435 bag's message definitions):
+    # exit 2 with a message naming the fault, nothing left that looks complete.
+    real=$src/../shared/realdata/d435_office_corner/single_depth_color_640x480.bag
+    [[ -f $real ]] || skip "no $real (shared/realdata beside the checkout)"
+    kind=${case_name#replay_bag_}
+    /usr/bin/python3 "$src/tests/faults/make_bad_recording.py" "$kind" "$real" "$tmp/bad.bag" || fail "could not write the bad bag"
+    run_bench replay "$tmp/bad.bag" --out "$tmp/out" --no-progress
+    expect_rc 2
+    case $kind in
+      truncated) expect_error_line "bad\.bag: cannot read the bag \(truncated or corrupt" ;;
+      no_depth) expect_error_line "bad\.bag: no depth topic .*the bag has: /camera/depth/camera_info.*--depth-topic" ;;
+      rgb8) expect_error_line "image_rect_raw: encoding 'rgb8' is not depth" ;;
+      mono8) expect_error_line "image_rect_raw: encoding '8UC1' is not depth" ;;
+      size_mismatch) expect_error_line "frame 0: image is 64x48 but /camera/depth/camera_info says 128x96" ;;
+      short_step) expect_error_line "frame 0: step 64 < width x 2 bytes = 128" ;;
+      zero_fx) expect_error_line "camera_info K: bad intrinsics: fx = 0" ;;
+      nan_fx) expect_error_line "camera_info K: bad intrinsics: fx = nan" ;;
+    esac
+    expect_no_results "$tmp/out"
+    ;;
+
+  replay_png_empty | replay_png_mixed | replay_png_sizes | replay_png_pose_not_rigid | replay_png_no_intrinsics | \
+  replay_missing)
+    # A malformed PNG folder (built here from the real Kinect frames) or a recording that does not exist.
+    real=$src/../shared/realdata/robot_kinect_frames
+    [[ -d $real ]] || skip "no $real (shared/realdata beside the checkout)"
+    mkdir -p "$tmp/rec/depth"
+    printf 'width: 640\nheight: 480\nfx: 525\nfy: 525\ncx: 319.5\ncy: 239.5\n' >"$tmp/rec/intrinsics.yaml"
+    cp "$real/depth/17.png" "$tmp/rec/depth/1.png"
+    cp "$real/depth/154.png" "$tmp/rec/depth/2.png"
+    case $case_name in
+      replay_png_empty) rm "$tmp/rec/depth/"*.png ;;
+      replay_png_mixed) echo "not a png" >"$tmp/rec/depth/3.txt" ;;
+      replay_png_sizes) cp "$src/tests/faults/rgb_4x4.png" "$tmp/rec/depth/3.png" ;;  # an 8-bit colour PNG
+      replay_png_pose_not_rigid) printf '0 0 0 0 0 0 0 1\n0.033 0 0 0 0 0 0 2\n' >"$tmp/rec/poses.txt" ;;
+      replay_png_no_intrinsics) rm "$tmp/rec/intrinsics.yaml" ;;
+      replay_missing) rm -rf "$tmp/rec" ;;
+    esac
+    run_bench replay "$tmp/rec" --out "$tmp/out" --no-progress
+    expect_rc 2
+    case $case_name in
+      replay_png_empty) expect_error_line "rec.*(no|empty).*PNG|rec.*PNG.*(none|empty)" ;;
+      replay_png_mixed) expect_error_line "3\.txt" ;;
+      replay_png_sizes) expect_error_line "3\.png" ;;
+      replay_png_pose_not_rigid) expect_error_line "poses\.txt:2.*(quaternion|rigid)" ;;
+      replay_png_no_intrinsics) expect_error_line "rec.*intrinsics" ;;
+      replay_missing) expect_error_line "rec.*(does not exist|no such|not found)" ;;
+    esac
+    expect_no_results "$tmp"
+    ;;
+
   *)
     echo "faults.sh: unknown case '$case_name'" >&2
     exit 2

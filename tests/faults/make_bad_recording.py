@@ -1,0 +1,64 @@
+#!/usr/bin/python3
+"""Writes one malformed recording for the replay's fault tests (Debian's python3-rosbag: /usr/bin/python3).
+
+  make_bad_recording.py KIND REAL_BAG OUT
+
+The message classes come from the real D435 bag's own definitions (genpy), so the bags are what a ROS 1 recorder
+writes but for the one fault. KIND: truncated, no_depth, rgb8, mono8, size_mismatch, short_step, zero_fx, nan_fx.
+"""
+import shutil
+import sys
+
+import genpy
+import genpy.dynamic
+import rosbag
+
+kind, real, out = sys.argv[1:4]
+if kind == 'truncated':
+    shutil.copy(real, out)
+    with open(out, 'r+b') as f:
+        f.truncate(int(f.seek(0, 2) * 0.6))
+    sys.exit(0)
+
+with rosbag.Bag(real) as bag:
+    defs = {c.datatype: c.msg_def for c in bag._connections.values()}
+Image = genpy.dynamic.generate_dynamic('sensor_msgs/Image', defs['sensor_msgs/Image'])['sensor_msgs/Image']
+CameraInfo = genpy.dynamic.generate_dynamic('sensor_msgs/CameraInfo', defs['sensor_msgs/CameraInfo'])['sensor_msgs/CameraInfo']
+
+w, h = 64, 48
+info = CameraInfo()
+info.header.frame_id = 'camera_depth_optical_frame'
+info.width, info.height = w, h
+info.distortion_model = 'plumb_bob'
+info.D = [0.0] * 5
+info.K = [40.0, 0, 31.5, 0, 40.0, 23.5, 0, 0, 1]
+info.R = [1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0]
+info.P = [40.0, 0, 31.5, 0, 0, 40.0, 23.5, 0, 0, 0, 1, 0]
+image = Image()
+image.header.frame_id = 'camera_depth_optical_frame'
+image.width, image.height, image.encoding, image.is_bigendian = w, h, '16UC1', 0
+image.step = 2 * w
+image.data = bytes([0xe8, 0x03]) * (w * h)  # 1000 mm everywhere
+
+if kind == 'rgb8':
+    image.encoding, image.step, image.data = 'rgb8', 3 * w, bytes(3 * w * h)
+elif kind == 'mono8':
+    image.encoding, image.step, image.data = '8UC1', w, bytes(w * h)
+elif kind == 'size_mismatch':
+    info.width, info.height = 2 * w, 2 * h
+elif kind == 'short_step':
+    image.step = w  # fewer bytes per row than width x 2
+elif kind == 'zero_fx':
+    info.K[0] = 0.0
+elif kind == 'nan_fx':
+    info.K[0] = float('nan')
+elif kind != 'no_depth':
+    sys.exit('unknown kind ' + kind)
+
+with rosbag.Bag(out, 'w') as bag:
+    for i in range(2):
+        t = genpy.Time(1, i * 33333333)
+        info.header.stamp = image.header.stamp = t
+        bag.write('/camera/depth/camera_info', info, t)
+        if kind != 'no_depth':
+            bag.write('/camera/depth/image_rect_raw', image, t)
