@@ -158,7 +158,7 @@ document.addEventListener('DOMContentLoaded', function () {
 
   // Top-down zoom.
   var zoom = document.getElementById('topdown-zoom');
-  zoom.addEventListener('input', function () {  // 1: fit the page; above: the picture's own size times the zoom
+  if (zoom) zoom.addEventListener('input', function () {  // 1: fit the page; above: the picture's own size times the zoom
     var img = document.getElementById('topdown');
     img.style.maxWidth = zoom.value > 1 ? 'none' : '100%';
     img.style.width = zoom.value > 1 ? (img.naturalWidth * zoom.value) + 'px' : '';
