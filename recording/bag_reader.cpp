@@ -30,6 +30,10 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
+bool ends_with(const std::string& text, const std::string& tail) {
+  return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+}
+
 std::string strip_slash(std::string frame) {
   if (!frame.empty() && frame.front() == '/') frame.erase(0, 1);
   return frame;
@@ -173,7 +177,7 @@ class BagRecording final : public Recording {
     frame.time_s = frame.stamp_s - info_.start_time_s;
     frame.intrinsics = intrinsics_at(frame.stamp_s);
     decode(*image, frame.intrinsics, frame.depth);
-    pose_at(frame.stamp_s, frame.T_fixed_camera, frame.T_fixed_base);
+    pose_at(frame.stamp_s, index_, frame.T_fixed_camera, frame.T_fixed_base);
     ++index_;
     return true;
   }
@@ -211,9 +215,10 @@ class BagRecording final : public Recording {
       std::vector<std::string> candidates;
       for (const auto& [t, type] : types) {
         if (type != "sensor_msgs/Image") continue;
-        const bool rs_ros = t.size() >= 21 && t.compare(t.size() - 21, 21, "/depth/image_rect_raw") == 0;
-        const bool aligned = t.size() >= 34 && t.compare(t.size() - 34, 34, "/aligned_depth_to_color/image_raw") == 0;
-        if (rs_ros || aligned || std::regex_match(t, kLibrealsense)) candidates.push_back(t);
+        if (ends_with(t, "/depth/image_rect_raw") || ends_with(t, "/aligned_depth_to_color/image_raw") ||
+            std::regex_match(t, kLibrealsense)) {
+          candidates.push_back(t);
+        }
       }
       if (candidates.empty()) {
         throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
@@ -300,7 +305,7 @@ class BagRecording final : public Recording {
     read_poses(types, require_topic);
     // The first frame's pose now, so that a recording without one fails at open.
     Eigen::Isometry3d T_fixed_camera, T_fixed_base;
-    pose_at(info_.start_time_s, T_fixed_camera, T_fixed_base);
+    pose_at(info_.start_time_s, 0, T_fixed_camera, T_fixed_base);
     it_ = view_->begin();
   }
 
@@ -401,7 +406,7 @@ class BagRecording final : public Recording {
     info_.pose_source = PoseSource::kStatic;
   }
 
-  void pose_at(double t, Eigen::Isometry3d& T_fixed_camera, Eigen::Isometry3d& T_fixed_base) const {
+  void pose_at(double t, std::size_t index, Eigen::Isometry3d& T_fixed_camera, Eigen::Isometry3d& T_fixed_base) const {
     try {
       switch (info_.pose_source) {
         case PoseSource::kTf:
@@ -424,7 +429,8 @@ class BagRecording final : public Recording {
           T_fixed_camera = options_.T_fixed_base * options_.T_base_camera;
       }
     } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(where() + " (frame_id '" + info_.camera_frame + "'): " + e.what());
+      throw std::invalid_argument(where() + ": frame " + std::to_string(index) + " (frame_id '" + info_.camera_frame +
+                                  "'): " + e.what());
     }
   }
 
