@@ -196,8 +196,11 @@ class BagRecording final : public Recording {
     auto require_topic = [&](const std::string& topic, const std::string& type, const char* option) {
       const auto it = types.find(topic);
       if (it == types.end()) {
-        const std::string near = nearest_name(topic, topics);
+        std::vector<std::string> same_type;  // the nearest of the expected type, else of all
+        for (const auto& [t, ty] : types) if (ty == type) same_type.push_back(t);
+        const std::string near = nearest_name(topic, same_type.empty() ? topics : same_type);
         throw std::invalid_argument(info_.path + ": no topic " + topic + " (" + option + ")" +
+                                    (same_type.empty() ? ", the bag has no " + type + " topic" : std::string()) +
                                     (near.empty() ? std::string(", the bag has no topics")
                                                   : ", nearest existing topic: " + near));
       }

@@ -9,11 +9,14 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "recording/recording.hpp"
@@ -58,6 +61,7 @@ std::string error_of(const std::string& path, const RecordingOptions& options = 
     while (recording->next(frame)) {
     }
   } catch (const std::invalid_argument& e) {
+    if (std::getenv("STVL_PRINT_ERRORS")) std::fprintf(stderr, "ERROR: %s\n", e.what());
     return e.what();
   }
   return "(no error)";
@@ -72,7 +76,10 @@ std::string error_of(const std::string& path, const RecordingOptions& options = 
 // rosbag's own writer, for what BagWriter does not write.
 class RawBag {
  public:
-  explicit RawBag(const fs::path& path) { bag_.open(path.string(), rosbag::bagmode::Write); }
+  explicit RawBag(const fs::path& path, bool lz4_chunk_per_message = false) {
+    bag_.open(path.string(), rosbag::bagmode::Write);
+    if (lz4_chunk_per_message) bag_.setCompression(rosbag::compression::LZ4), bag_.setChunkThreshold(1);
+  }
   void image(const std::string& topic, double t, const std::string& frame, std::uint32_t w, std::uint32_t h,
              const std::string& encoding, bool big_endian, std::uint32_t step, std::vector<std::uint8_t> data) {
     sensor_msgs::Image msg;
@@ -433,18 +440,78 @@ TEST(BagReaderErrors, TruncatedRealBag) {
   }
 }
 
-TEST(BagReaderErrors, CorruptChunkInABagThatOpens) {
-  const test::TempDir dir("rec_err_chunk");
+class CorruptChunkTest : public ::testing::TestWithParam<std::tuple<tools::BagCompression, double>> {};
+
+std::uint32_t read_u32(std::fstream& file, std::streamoff at) {
+  unsigned char b[4] = {};
+  file.seekg(at);
+  file.read(reinterpret_cast<char*>(b), 4);
+  return b[0] | b[1] << 8 | b[2] << 16 | std::uint32_t(b[3]) << 24;
+}
+
+TEST_P(CorruptChunkTest, InABagThatOpens) {
+  const auto [compression, fraction] = GetParam();
+  const test::TempDir dir("rec_err_chunk_" + tools::to_string(compression) + std::to_string(int(fraction * 10)));
   const fs::path path = dir.path() / "c.bag";
-  write_export(path, tools::BagCompression::kLz4, 20);
-  // Zero a run of bytes in the middle of the chunk data: the index at the end still opens the bag.
+  write_export(path, compression, 20);
+  // Zero bytes at `fraction` of the first chunk's data (the chunk record follows "#ROSBAG V2.0\n" and the
+  // 4096-byte bag header record); the index at the end of the file is intact, so the bag opens. Compressed
+  // chunks then fail to decompress; an uncompressed chunk has no checksum, so 2 KB are zeroed there to hit record
+  // headers (zeroed payloads read as zeros, and the chunk's first ~15 KB are connection records that readers
+  // take from the index instead).
   std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
-  const auto size = fs::file_size(path);
-  file.seekp(std::streamoff(size / 3));
-  const std::string zeros(size / 4, '\0');
+  const std::uint32_t bag_header = read_u32(file, 13);
+  const std::streamoff chunk = 13 + 4 + bag_header + 4 + read_u32(file, 13 + 4 + bag_header);
+  const std::uint32_t header = read_u32(file, chunk);
+  const std::uint32_t data = read_u32(file, chunk + 4 + header);
+  ASSERT_GT(data, 2048u);
+  file.seekp(chunk + 8 + header + std::streamoff(data * fraction) - (compression == tools::BagCompression::kNone ? 1024 : 32));
+  const std::string zeros(compression == tools::BagCompression::kNone ? 2048 : 64, '\0');
   file.write(zeros.data(), std::streamsize(zeros.size()));
   file.close();
-  EXPECT_ERROR(path.string(), {}, "c.bag", "corrupt");
+  EXPECT_ERROR(path.string(), {}, "c.bag", "corrupt bag");
+}
+
+INSTANTIATE_TEST_SUITE_P(Offsets, CorruptChunkTest,
+                         ::testing::Combine(::testing::Values(tools::BagCompression::kNone, tools::BagCompression::kBz2,
+                                                              tools::BagCompression::kLz4),
+                                            ::testing::Values(0.5, 0.8)));
+
+TEST(BagReaderErrors, CorruptChunkFoundWhileReading) {
+  const test::TempDir dir("rec_err_chunk_next");
+  const fs::path path = dir.path() / "n.bag";
+  constexpr std::uint32_t kW = 64, kH = 48;
+  constexpr int kFrames = 9;
+  {
+    RawBag bag(path, /*lz4_chunk_per_message=*/true);
+    bag.info(kInfo, 1.0, kOptical, kW, kH);
+    std::uint64_t state = 12345;
+    for (int k = 0; k < kFrames; ++k) {
+      std::vector<std::uint8_t> data(kW * kH * 2);
+      for (auto& b : data) state = state * 6364136223846793005ull + 1442695040888963407ull, b = state >> 56;
+      bag.image(kDepth, 1.0 + 0.1 * k, kOptical, kW, kH, "16UC1", false, kW * 2, data);  // incompressible
+    }
+    bag.close();
+  }
+  // Zero 64 bytes in the middle of the file: inside the 5th image's chunk (one chunk per message, ~6 KB each).
+  std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
+  file.seekp(std::streamoff(fs::file_size(path) / 2));
+  file.write(std::string(64, '\0').data(), 64);
+  file.close();
+  const auto recording = open_recording(path.string());  // opens: the index and the first and last frames are fine
+  RecordedFrame frame;
+  std::size_t read = 0;
+  try {
+    while (recording->next(frame)) ++read;
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("n.bag: /camera/depth/image_rect_raw: frame " + std::to_string(read) + " cannot be read"),
+              std::string::npos)
+        << message;
+  }
+  EXPECT_GT(read, 2u);
+  EXPECT_LT(read, std::size_t(kFrames) - 2);
 }
 
 TEST(BagReaderErrors, NoDepthTopic) {
@@ -475,7 +542,7 @@ TEST(BagReaderErrors, NamedTopicsThatDoNotExist) {
   EXPECT_ERROR(path.string(), options, "nearest existing topic: /camera/depth/camera_info");
   options = {};
   options.odom_topic = "/odometry";
-  EXPECT_ERROR(path.string(), options, "no topic /odometry");
+  EXPECT_ERROR(path.string(), options, "no topic /odometry", "the bag has no nav_msgs/Odometry");
   options = {};
   options.depth_topic = kInfo;
   EXPECT_ERROR(path.string(), options, "is sensor_msgs/CameraInfo, expected sensor_msgs/Image");
@@ -561,7 +628,7 @@ TEST(BagReaderErrors, BadIntrinsics) {
 TEST(BagReaderErrors, NonRigidTransforms) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const double scale : {2.0, 0.9, nan}) {
-    const test::TempDir dir("rec_err_rigid_" + std::to_string(int(scale * 10)));
+    const test::TempDir dir("rec_err_rigid_" + std::to_string(scale));
     const fs::path tf_bag = dir.path() / "tf.bag", odom_bag = dir.path() / "odom.bag";
     {
       RawBag bag(tf_bag);
