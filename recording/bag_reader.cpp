@@ -401,6 +401,19 @@ class BagRecording final : public Recording {
       info_.pose_source = PoseSource::kTf;
       return;
     }
+    // The camera is not in /tf but the robot is: base_link from /tf, the camera on it from the options.
+    for (const char* base : {"base_link", "base_footprint"}) {
+      if (!tf_.edges.count(base)) continue;
+      info_.fixed_frame = options_.fixed_frame.empty() ? tf_.root_of(base) : options_.fixed_frame;
+      if (!tf_.links(info_.fixed_frame, base)) {
+        throw std::invalid_argument(info_.path + ": fixed frame '" + info_.fixed_frame + "' is not above '" + base +
+                                    "' in /tf (its chain: " + join(tf_.chain(base)) + ")");
+      }
+      base_frame_ = base;
+      camera_from_options_ = true;
+      info_.pose_source = PoseSource::kTf;
+      return;
+    }
     if (!options_.fixed_frame.empty()) {
       throw std::invalid_argument(info_.path + ": fixed frame '" + options_.fixed_frame + "' asked for, but the bag's " +
                                   "/tf has no frame '" + camera + "' (the images' frame_id)");
@@ -413,6 +426,11 @@ class BagRecording final : public Recording {
     try {
       switch (info_.pose_source) {
         case PoseSource::kTf:
+          if (camera_from_options_) {
+            T_fixed_base = tf_.lookup(info_.fixed_frame, base_frame_, t);
+            T_fixed_camera = T_fixed_base * options_.T_base_camera;
+            return;
+          }
           T_fixed_camera = tf_.lookup(info_.fixed_frame, info_.camera_frame, t);
           T_fixed_base = base_frame_.empty() ? T_fixed_camera * options_.T_base_camera.inverse()
                                              : tf_.lookup(info_.fixed_frame, base_frame_, t);
@@ -506,6 +524,7 @@ class BagRecording final : public Recording {
   TfBuffer tf_;
   PoseSeries odom_;
   std::string base_frame_;
+  bool camera_from_options_ = false;  // /tf reaches base_frame_ but not the images' frame_id
   Eigen::Isometry3d T_base_camera_ = Eigen::Isometry3d::Identity();
 };
 

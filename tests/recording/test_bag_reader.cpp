@@ -399,6 +399,49 @@ TEST(BagReader, OdometryWithoutTfUsesOptionsMount) {
   expect_pose(frame.T_fixed_camera, pose(1, 0, 0, -M_PI / 4) * options.T_base_camera, 1e-12);
 }
 
+TEST(BagReader, CameraMissingFromTfRidesOnBaseLink) {
+  const test::TempDir dir("rec_tf_base");
+  const fs::path path = dir.path() / "b.bag";
+  {
+    RawBag bag(path);
+    bag.tf("/tf", 1.0, "odom", "base_link", pose(1, 0, 0, 0.5));  // no /tf_static: the camera is not linked
+    write_minimal(bag);
+    bag.close();
+  }
+  RecordingOptions options;
+  options.T_base_camera = pose(0.2, 0, 0.3, 0) * optical_on_link();
+  const auto recording = open_recording(path.string(), options);
+  EXPECT_EQ(recording->info().pose_source, PoseSource::kTf);
+  EXPECT_EQ(recording->info().fixed_frame, "odom");
+  RecordedFrame frame;
+  ASSERT_TRUE(recording->next(frame));
+  expect_pose(frame.T_fixed_base, pose(1, 0, 0, 0.5));
+  expect_pose(frame.T_fixed_camera, pose(1, 0, 0, 0.5) * options.T_base_camera);
+}
+
+TEST(BagReaderErrors, TfFrameWithTwoParentsAndOdometryInAnotherFrame) {
+  const test::TempDir dir("rec_err_tree");
+  const fs::path path = dir.path() / "t.bag";
+  {
+    RawBag bag(path);
+    bag.tf("/tf", 1.0, "odom", "base_link", pose(0, 0, 0, 0));
+    bag.tf("/tf", 1.0, "map", "base_link", pose(0, 0, 0, 0));
+    write_minimal(bag);
+    bag.close();
+  }
+  EXPECT_ERROR(path.string(), {}, "t.bag", "frame 'base_link' has two parents ('odom' and 'map')");
+  {
+    RawBag bag(path);
+    bag.odom("/odom", 1.0, pose(0, 0, 0, 0));
+    write_minimal(bag);
+    bag.close();
+  }
+  RecordingOptions options;
+  options.odom_topic = "/odom";
+  options.fixed_frame = "map";
+  EXPECT_ERROR(path.string(), options, "t.bag", "fixed frame 'map' but /odom gives poses in 'odom'");
+}
+
 TEST(BagReader, NoPoseSourceIsStatic) {
   const test::TempDir dir("rec_static");
   const fs::path path = dir.path() / "s.bag";
