@@ -1,8 +1,6 @@
 // stvl-bench replay RECORDING [--out DIR] [--scenario FILE | --params ROS.yaml] ...: recorded depth through the
 // same filter and map as a run (tools/replay.hpp).
-#include <atomic>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -18,13 +16,6 @@
 
 namespace stvl::tools {
 namespace {
-
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_signal{0};
-extern "C" void request_replay_stop(int signal) {
-  g_signal = signal;
-  g_stop = true;
-}
 
 struct ReplayCommandOptions {
   std::string recording, out_dir, scenario, params, layer, costmap, bag, bag_compression = "none";
@@ -106,13 +97,11 @@ int replay(const ReplayCommandOptions& o) {
   options.bag_path = o.bag;
   options.bag_compression = o.bag_compression;
   options.progress = !o.no_progress;
-  options.stop_requested = &g_stop;
-  std::signal(SIGINT, request_replay_stop);
-  std::signal(SIGTERM, request_replay_stop);
+  options.stop_requested = catch_stop_signals();
   const ReplayResult result = replay_recording(o.recording, settings, options);
   if (result.interrupted) {
-    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written\n", g_signal.load(), result.frames);
-    return 128 + g_signal.load();
+    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written\n", caught_signal(), result.frames);
+    return 128 + caught_signal();
   }
   write_replay_report(result, options.out_dir);
   const auto& k = result.pipeline.cameras.front().intrinsics;

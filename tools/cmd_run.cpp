@@ -1,6 +1,4 @@
 // stvl-bench run [SCENARIO.yaml] [--out DIR] [--bag FILE] ...: one scenario end to end.
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
@@ -13,13 +11,6 @@
 
 namespace stvl::tools {
 namespace {
-
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_signal{0};
-extern "C" void request_stop(int signal) {
-  g_signal = signal;
-  g_stop = true;
-}
 
 // A seed is a decimal integer in [0, 2^64 - 1]; CLI11 alone would saturate larger values silently.
 std::string seed_error(std::string& text) {
@@ -66,15 +57,13 @@ int run(const RunCommandOptions& o) {
   options.bag_path = o.bag;
   options.bag_compression = o.bag_compression;
   options.progress = !o.no_progress;
-  options.stop_requested = &g_stop;
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
+  options.stop_requested = catch_stop_signals();
 
   const RunResult result = run_scenario(scenario, options);
   if (result.interrupted) {
-    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written%s\n", g_signal.load(),
+    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written%s\n", caught_signal(),
                  result.frames, options.bag_path.empty() ? "" : (", the bag stays as " + options.bag_path + ".active").c_str());
-    return 128 + g_signal.load();
+    return 128 + caught_signal();
   }
   write_report(result, options.out_dir);
   if (o.profile) std::printf("%s", profile_table(result).c_str());

@@ -12,6 +12,7 @@
 // (kExitOk, kExitCheckFailed). Bad input is reported by throwing; main() prints it and exits with kExitBadInput.
 #include <CLI/CLI.hpp>
 
+#include <atomic>
 #include <functional>
 #include <string>
 
@@ -20,6 +21,11 @@ namespace stvl::tools {
 constexpr int kExitOk = 0;
 constexpr int kExitCheckFailed = 1;
 constexpr int kExitBadInput = 2;
+
+// SIGINT and SIGTERM from here on set the returned flag, which the long commands (run, replay) poll between
+// frames; caught_signal() is the last one caught (0: none), for the exit code 128 + signal.
+const std::atomic<bool>* catch_stop_signals();
+int caught_signal();
 
 using CommandRun = std::function<int()>;
 using CommandSetup = std::function<CommandRun(CLI::App& app)>;

@@ -1,5 +1,6 @@
 #include "tools/command.hpp"
 
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <map>
@@ -7,11 +8,26 @@
 
 namespace stvl::tools {
 namespace {
+std::atomic<bool> g_stop{false};
+std::atomic<int> g_signal{0};
+extern "C" void request_stop(int signal) {
+  g_signal = signal;
+  g_stop = true;
+}
+
 std::map<std::string, CommandSetup>& registry() {
   static std::map<std::string, CommandSetup> commands;
   return commands;
 }
 }  // namespace
+
+const std::atomic<bool>* catch_stop_signals() {
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  return &g_stop;
+}
+
+int caught_signal() { return g_signal.load(); }
 
 CommandRegistration::CommandRegistration(std::string name, CommandSetup setup) {
   registry().emplace(std::move(name), std::move(setup));

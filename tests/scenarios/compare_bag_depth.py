@@ -2,48 +2,17 @@
 """Compares the first depth images of a bag with 16-bit PNGs (depth_00000.png, ...) written by `stvl-bench render`.
 
 Usage: compare_bag_depth.py BAG RENDER_DIR. Exit 0 when every PNG equals the bag's image of the same index.
-Decodes only what stvl-bench writes (16-bit greyscale, non-interlaced) with zlib, since /usr/bin/python3 has no
-numpy or PIL.
+PNGs are decoded by tests/support/png16.py (16-bit greyscale, non-interlaced, as stvl-bench writes them).
 """
 import glob
 import os
 import struct
 import sys
-import zlib
 
 import rosbag
 
-
-def read_png16(path):
-    data = open(path, "rb").read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
-    pos, idat, width = 8, b"", 0
-    while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            width, height, depth, color, _, _, interlace = struct.unpack(">IIBBBBB", body)
-            assert depth == 16 and color == 0 and interlace == 0, "expected 16-bit grey"
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + length
-    raw, stride, bpp = zlib.decompress(idat), width * 2, 2
-    rows, prev = [], bytearray(stride)
-    for y in range(height):
-        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - bpp] if i >= bpp else 0
-            b, c = prev[i], prev[i - bpp] if i >= bpp else 0
-            if f == 1: line[i] = (line[i] + a) & 255
-            elif f == 2: line[i] = (line[i] + b) & 255
-            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line))
-        prev = line
-    return struct.unpack(">%dH" % (width * height), b"".join(rows))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from png16 import read_png16  # noqa: E402
 
 
 def main():
@@ -59,7 +28,7 @@ def main():
         print("FAIL: %d PNGs, %d bag images" % (len(pngs), len(images)))
         return 1
     for path, image in zip(pngs, images):
-        png = read_png16(path)
+        _, _, png = read_png16(path)
         diff = sum(1 for a, b in zip(png, image) if a != b)
         if diff:
             print("FAIL: %s differs from the bag's image in %d pixels" % (os.path.basename(path), diff))

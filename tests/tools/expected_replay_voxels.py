@@ -16,39 +16,9 @@ import os
 import re
 import struct
 import sys
-import zlib
 
-
-def png_gray16(path):
-    data = open(path, 'rb').read()
-    assert data[:8] == b'\x89PNG\r\n\x1a\n', path
-    pos, idat, width = 8, b'', 0
-    while pos < len(data):
-        length, kind = struct.unpack('>I4s', data[pos:pos + 8])
-        chunk = data[pos + 8:pos + 8 + length]
-        if kind == b'IHDR':
-            width, height, depth, color, _, _, interlace = struct.unpack('>IIBBBBB', chunk)
-            assert depth == 16 and color == 0 and interlace == 0, path
-        elif kind == b'IDAT':
-            idat += chunk
-        pos += 12 + length
-    raw, stride = zlib.decompress(idat), 2 * width
-    rows, prev = [], bytearray(stride)
-    for v in range(height):
-        f, line = raw[v * (stride + 1)], bytearray(raw[v * (stride + 1) + 1:(v + 1) * (stride + 1)])
-        for i in range(stride):
-            a = line[i - 2] if i >= 2 else 0
-            b, c = prev[i], prev[i - 2] if i >= 2 else 0
-            if f == 1: line[i] = (line[i] + a) & 255
-            elif f == 2: line[i] = (line[i] + b) & 255
-            elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(struct.unpack('>%dH' % width, bytes(line)))
-        prev = line
-    return width, height, rows
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'support'))
+from png16 import read_png16  # noqa: E402
 
 
 def voxels(rows, unit, fx, fy, cx, cy, T, a):
@@ -100,7 +70,8 @@ def main():
             numbers = lambda key: [float(s) for s in re.search(key + r':.*?data:\s*\[([^\]]*)\]', text, re.S).group(1).split(',')]
             K, L = numbers('camera_matrix'), numbers('local_transform')
             T = ((L[0:3], L[4:7], L[8:11]), (L[3], L[7], L[11]))
-            _, _, rows = png_gray16(os.path.join(a.png, 'depth', n))
+            width, height, values = read_png16(os.path.join(a.png, 'depth', n))
+            rows = [values[v * width:(v + 1) * width] for v in range(height)]
             sets.append(voxels(rows, a.scale, K[0], K[4], K[2], K[5], T, a))
     union = set().union(*sets)
     print(len(sets[-1]), len(union))
