@@ -4,7 +4,8 @@
   make_bad_recording.py KIND REAL_BAG OUT
 
 The message classes come from the real D435 bag's own definitions (genpy), so the bags are what a ROS 1 recorder
-writes but for the one fault. KIND: truncated, no_depth, rgb8, mono8, size_mismatch, short_step, zero_fx, nan_fx.
+writes but for the one fault. KIND: truncated, no_depth, rgb8, mono8, size_mismatch, short_step, zero_fx, nan_fx; valid, valid_bz2, valid_lz4
+(well-formed small bags: the recording fuzz target's seeds).
 """
 import shutil
 import sys
@@ -52,10 +53,11 @@ elif kind == 'zero_fx':
     info.K[0] = 0.0
 elif kind == 'nan_fx':
     info.K[0] = float('nan')
-elif kind != 'no_depth':
+elif kind not in ('no_depth', 'valid', 'valid_bz2', 'valid_lz4'):
     sys.exit('unknown kind ' + kind)
 
-with rosbag.Bag(out, 'w') as bag:
+compression = {'valid_bz2': 'bz2', 'valid_lz4': 'lz4'}.get(kind, 'none')
+with rosbag.Bag(out, 'w', compression=compression) as bag:
     for i in range(2):
         t = genpy.Time(1, i * 33333333)
         info.header.stamp = image.header.stamp = t
