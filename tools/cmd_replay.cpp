@@ -89,7 +89,22 @@ int replay(const ReplayCommandOptions& o) {
   settings.pipeline.cameras.front().name = settings.camera_name;
   if (!o.params.empty()) {
     const RosStvlLayer layer = load_ros_stvl_layer(o.params, o.layer, o.costmap);
-    apply_ros_layer(layer, settings.pipeline, true);
+    try {
+      apply_ros_layer(layer, settings.pipeline, true);
+    } catch (const std::invalid_argument& e) {
+      // The recording's camera is named after its depth topic; the file may name it otherwise.
+      std::string hint;
+      for (const auto& source : layer.sources) {
+        const std::string& t = source.topic;
+        const std::size_t end = t.find('/', 1);
+        if (source.enabled && t.size() > 1 && t[0] == '/' && end != std::string::npos) {
+          hint = "; to bind the recording's camera to it, add --camera-name " + t.substr(1, end - 1);
+          break;
+        }
+      }
+      if (!o.camera_name.empty() || hint.empty()) throw;
+      throw std::invalid_argument(e.what() + hint);
+    }
   }
 
   RunOptions options;

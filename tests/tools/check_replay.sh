@@ -94,6 +94,21 @@ with rosbag.Bag(sys.argv[1]) as b:
     "$bench" replay "$out/replay.bag" --scenario "$scenario" --out "$out/replay2" --no-progress
     $py "$src/tests/scenarios/compare_ply_voxels.py" "$out/replay/map.ply" "$out/replay2/map.ply" 0.05 0.999 ||
       fail "the re-exported bag replays to another map"
+    # The nav2 tutorial's STVL layer three ways: --params (the recording's camera bound by --camera-name), a
+    # scenario that reads the parameter file, and that scenario's native twin: one map.
+    if "$bench" replay "$out/run.bag" --params "$src/scenarios/ros/nav2_stvl_tutorial.yaml" --out "$out/unbound" \
+        --no-progress 2>"$out/unbound.err"; then
+      fail "a source bound to no camera was accepted"
+    fi
+    grep -q "add --camera-name intel_realsense_r200_depth" "$out/unbound.err" || fail "no --camera-name hint: $(cat "$out/unbound.err")"
+    "$bench" replay "$out/run.bag" --params "$src/scenarios/ros/nav2_stvl_tutorial.yaml" \
+      --camera-name intel_realsense_r200_depth --out "$out/params" --no-progress
+    "$bench" replay "$out/run.bag" --scenario "$src/scenarios/nav2_stvl_tutorial.yaml" --out "$out/ros_scenario" --no-progress
+    "$bench" replay "$out/run.bag" --scenario "$src/tests/scenarios/nav2_tutorial_native.yaml" --out "$out/native" --no-progress
+    for other in ros_scenario native; do
+      $py "$src/tests/scenarios/compare_ply_voxels.py" "$out/params/map.ply" "$out/$other/map.ply" 0.05 1.0 ||
+        fail "--params and $other replay to different maps"
+    done
     ;;
   *) echo "unknown case $case_name" >&2; exit 2 ;;
 esac
