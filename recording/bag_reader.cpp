@@ -1,0 +1,509 @@
+// ROS 1 bags through rosbag_storage: realsense-ros's layout (/camera/depth/..., /tf, /tf_static, odometry) and
+// librealsense's recorder layout (/device_0/sensor_N/Depth_0/...).
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <std_msgs/Float32.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <regex>
+#include <set>
+#include <stdexcept>
+
+#include "recording/detail.hpp"
+
+namespace stvl::recording::detail {
+namespace {
+
+constexpr double kTimeTolerance_s = 1e-6;
+
+std::string join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+std::string strip_slash(std::string frame) {
+  if (!frame.empty() && frame.front() == '/') frame.erase(0, 1);
+  return frame;
+}
+
+Eigen::Isometry3d interpolate(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double w) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = (1 - w) * a.translation() + w * b.translation();
+  T.linear() = Eigen::Quaterniond(a.linear()).slerp(w, Eigen::Quaterniond(b.linear())).toRotationMatrix();
+  return T;
+}
+
+// Time series of one pose, interpolated (linear translation, slerp); no extrapolation.
+struct PoseSeries {
+  std::vector<std::pair<double, Eigen::Isometry3d>> samples;  // sorted by time after sort()
+
+  void sort() {
+    std::stable_sort(samples.begin(), samples.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  }
+  // Empty when t lies outside the samples' span.
+  std::optional<Eigen::Isometry3d> at(double t) const {
+    if (samples.empty() || t < samples.front().first - kTimeTolerance_s ||
+        t > samples.back().first + kTimeTolerance_s) {
+      return std::nullopt;
+    }
+    auto it = std::lower_bound(samples.begin(), samples.end(), t,
+                               [](const auto& s, double time) { return s.first < time; });
+    if (it == samples.end()) return samples.back().second;
+    if (it == samples.begin() || it->first - t <= kTimeTolerance_s) return it->second;
+    const auto& a = *(it - 1);
+    const double w = (t - a.first) / (it->first - a.first);
+    return interpolate(a.second, it->second, w);
+  }
+  std::string span() const {
+    return "[" + std::to_string(samples.front().first) + ", " + std::to_string(samples.back().first) + "] s";
+  }
+};
+
+// A small tf buffer: one parent per child frame; static edges constant, dynamic ones interpolated.
+struct TfBuffer {
+  struct Edge {
+    std::string parent;
+    bool is_static = false;
+    Eigen::Isometry3d T_static = Eigen::Isometry3d::Identity();
+    PoseSeries series;
+  };
+  std::map<std::string, Edge> edges;  // by child
+
+  bool has(const std::string& frame) const {
+    if (edges.count(frame)) return true;
+    for (const auto& [child, e] : edges) if (e.parent == frame) return true;
+    return false;
+  }
+  std::string root_of(std::string frame) const {
+    for (std::size_t i = 0; i <= edges.size(); ++i) {
+      const auto it = edges.find(frame);
+      if (it == edges.end()) return frame;
+      frame = it->second.parent;
+    }
+    throw std::invalid_argument("tf has a cycle through frame '" + frame + "'");
+  }
+  // Frames from `frame` up to the root, `frame` first.
+  std::vector<std::string> chain(std::string frame) const {
+    std::vector<std::string> out{frame};
+    for (auto it = edges.find(frame); it != edges.end() && out.size() <= edges.size() + 1;
+         it = edges.find(it->second.parent)) {
+      out.push_back(it->second.parent);
+    }
+    return out;
+  }
+  bool links(const std::string& ancestor, const std::string& frame) const {
+    const auto c = chain(frame);
+    return std::find(c.begin(), c.end(), ancestor) != c.end();
+  }
+  // T_ancestor_frame at time t; throws naming the edge with no pose at t.
+  Eigen::Isometry3d lookup(const std::string& ancestor, const std::string& frame, double t) const {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    std::string f = frame;
+    while (f != ancestor) {
+      const auto it = edges.find(f);
+      if (it == edges.end()) {
+        throw std::invalid_argument("tf: frame '" + frame + "' is not linked to '" + ancestor + "'");
+      }
+      const Edge& e = it->second;
+      if (e.is_static) {
+        T = e.T_static * T;
+      } else {
+        const auto T_edge = e.series.at(t);
+        if (!T_edge) {
+          throw std::invalid_argument("no pose at t = " + std::to_string(t) + " s: /tf " + e.parent + " -> " + f +
+                                      " covers only " + e.series.span() + " (no extrapolation)");
+        }
+        T = *T_edge * T;
+      }
+      f = e.parent;
+    }
+    return T;
+  }
+};
+
+double to_seconds(const ros::Time& t) { return t.toSec(); }
+
+class BagRecording final : public Recording {
+ public:
+  BagRecording(const std::string& path, const RecordingOptions& options) : options_(options) {
+    info_.path = path;
+    try {
+      bag_.open(path, rosbag::bagmode::Read);
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(path + ": cannot read the bag (truncated or corrupt?): " + e.what());
+    }
+    try {
+      open();
+    } catch (const rosbag::BagException& e) {
+      throw std::invalid_argument(path + ": corrupt bag (while reading its index or messages): " + e.what());
+    } catch (const ros::Exception& e) {
+      throw std::invalid_argument(path + ": corrupt bag (while reading its messages): " + e.what());
+    }
+  }
+
+  const RecordingInfo& info() const override { return info_; }
+
+  bool next(RecordedFrame& frame) override {
+    if (!view_ || done_) return false;
+    boost::shared_ptr<sensor_msgs::Image> image;
+    try {
+      if (started_) ++it_;  // never past end(): rosbag's iterator crashes there
+      started_ = true;
+      if (it_ == view_->end()) {
+        done_ = true;
+        return false;
+      }
+      image = it_->instantiate<sensor_msgs::Image>();
+    } catch (const std::exception& e) {
+      throw std::invalid_argument(where() + ": frame " + std::to_string(index_) +
+                                  " cannot be read (truncated or corrupt chunk?): " + e.what());
+    }
+    if (!image) throw std::invalid_argument(where() + ": message " + std::to_string(index_) + " is not an image");
+    frame.index = index_;
+    frame.stamp_s = to_seconds(image->header.stamp);
+    frame.time_s = frame.stamp_s - info_.start_time_s;
+    frame.intrinsics = intrinsics_at(frame.stamp_s);
+    decode(*image, frame.intrinsics, frame.depth);
+    pose_at(frame.stamp_s, frame.T_fixed_camera, frame.T_fixed_base);
+    ++index_;
+    return true;
+  }
+
+ private:
+  std::string where() const { return info_.path + ": " + info_.depth_topic; }
+
+  void open() {
+    std::map<std::string, std::string> types;  // topic -> datatype
+    {
+      rosbag::View all(bag_);
+      for (const auto* c : all.getConnections()) types[c->topic] = c->datatype;
+    }
+    std::vector<std::string> topics;
+    for (const auto& [t, type] : types) topics.push_back(t);
+    auto require_topic = [&](const std::string& topic, const std::string& type, const char* option) {
+      const auto it = types.find(topic);
+      if (it == types.end()) {
+        const std::string near = nearest_name(topic, topics);
+        throw std::invalid_argument(info_.path + ": no topic " + topic + " (" + option + ")" +
+                                    (near.empty() ? std::string(", the bag has no topics")
+                                                  : ", nearest existing topic: " + near));
+      }
+      if (it->second != type) {
+        throw std::invalid_argument(info_.path + ": topic " + topic + " is " + it->second + ", expected " + type);
+      }
+    };
+
+    // Depth topic.
+    static const std::regex kLibrealsense(R"(^/device_\d+/sensor_\d+/Depth_\d+/image/data$)");
+    if (!options_.depth_topic.empty()) {
+      require_topic(options_.depth_topic, "sensor_msgs/Image", "--depth-topic");
+      info_.depth_topic = options_.depth_topic;
+    } else {
+      std::vector<std::string> candidates;
+      for (const auto& [t, type] : types) {
+        if (type != "sensor_msgs/Image") continue;
+        const bool rs_ros = t.size() >= 21 && t.compare(t.size() - 21, 21, "/depth/image_rect_raw") == 0;
+        const bool aligned = t.size() >= 34 && t.compare(t.size() - 34, 34, "/aligned_depth_to_color/image_raw") == 0;
+        if (rs_ros || aligned || std::regex_match(t, kLibrealsense)) candidates.push_back(t);
+      }
+      if (candidates.empty()) {
+        throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
+                                    "*/aligned_depth_to_color/image_raw, /device_N/sensor_N/Depth_N/image/data; "
+                                    "the bag has: " + join(topics) + "); name one with --depth-topic");
+      }
+      if (candidates.size() > 1) {
+        throw std::invalid_argument(info_.path + ": several depth topics: " + join(candidates) +
+                                    "; choose one with --depth-topic");
+      }
+      info_.depth_topic = candidates.front();
+    }
+    const std::string& depth = info_.depth_topic;
+    const bool librealsense = std::regex_match(depth, kLibrealsense);
+    info_.format = librealsense ? "ros1 bag (librealsense)" : "ros1 bag (realsense-ros)";
+
+    // Camera info beside it.
+    if (!options_.info_topic.empty()) {
+      require_topic(options_.info_topic, "sensor_msgs/CameraInfo", "--info-topic");
+      info_.info_topic = options_.info_topic;
+    } else {
+      info_.info_topic = librealsense ? depth.substr(0, depth.size() - 11) + "/info/camera_info"
+                                      : depth.substr(0, depth.rfind('/')) + "/camera_info";
+      if (!types.count(info_.info_topic)) {
+        throw std::invalid_argument(info_.path + ": no camera info for " + depth + " (expected " + info_.info_topic +
+                                    "); name one with --info-topic");
+      }
+      require_topic(info_.info_topic, "sensor_msgs/CameraInfo", "camera info");
+    }
+    {
+      rosbag::View view(bag_, rosbag::TopicQuery(info_.info_topic));
+      for (const auto& m : view) {
+        const auto msg = m.instantiate<sensor_msgs::CameraInfo>();
+        if (!msg) continue;
+        const std::string what = info_.path + ": " + info_.info_topic + " K";
+        infos_.emplace_back(to_seconds(msg->header.stamp),
+                            make_intrinsics(msg->width, msg->height, msg->K[0], msg->K[4], msg->K[2], msg->K[5],
+                                            options_.rate_hz, options_, what));
+      }
+      std::stable_sort(infos_.begin(), infos_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      if (infos_.empty()) throw std::invalid_argument(info_.path + ": " + info_.info_topic + " has no messages");
+    }
+
+    // librealsense's depth units.
+    if (librealsense) {
+      const std::string units = depth.substr(0, depth.find("/Depth_")) + "/option/Depth Units/value";
+      if (types.count(units) && types[units] == "std_msgs/Float32") {
+        rosbag::View view(bag_, rosbag::TopicQuery(units));
+        for (const auto& m : view) {
+          if (const auto msg = m.instantiate<std_msgs::Float32>()) {
+            if (!std::isfinite(msg->data) || !(msg->data > 0)) {
+              throw std::invalid_argument(info_.path + ": " + units + " is " + std::to_string(msg->data) +
+                                          ", expected a positive number of metres");
+            }
+            info_.depth_unit_m = msg->data;
+            break;
+          }
+        }
+      }
+    }
+
+    // Depth frames: count, first and last stamps, encoding and frame_id of the first.
+    view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(depth));
+    info_.frame_count = view_->size();
+    if (info_.frame_count == 0) throw std::invalid_argument(where() + ": no depth images on the topic");
+    {
+      const auto first = view_->begin()->instantiate<sensor_msgs::Image>();
+      if (!first) throw std::invalid_argument(where() + ": not a sensor_msgs/Image");
+      rosbag::View::iterator last_it = view_->begin();
+      for (auto it = view_->begin(); it != view_->end(); ++it) last_it = it;
+      const auto last = last_it->instantiate<sensor_msgs::Image>();
+      info_.encoding = first->encoding;
+      bytes_per_pixel(first->encoding);  // rejects what is not depth before the first frame
+      info_.camera_frame = strip_slash(first->header.frame_id);
+      info_.start_time_s = to_seconds(first->header.stamp);
+      info_.end_time_s = last ? to_seconds(last->header.stamp) : info_.start_time_s;
+    }
+    if (info_.frame_count > 1 && info_.end_time_s > info_.start_time_s) {
+      const double rate_hz = (info_.frame_count - 1) / (info_.end_time_s - info_.start_time_s);
+      for (auto& [t, k] : infos_) k.rate_hz = rate_hz;
+    }
+    info_.intrinsics = intrinsics_at(info_.start_time_s);
+
+    read_poses(types, require_topic);
+    // The first frame's pose now, so that a recording without one fails at open.
+    Eigen::Isometry3d T_fixed_camera, T_fixed_base;
+    pose_at(info_.start_time_s, T_fixed_camera, T_fixed_base);
+    it_ = view_->begin();
+  }
+
+  template <typename RequireTopic>
+  void read_poses(const std::map<std::string, std::string>& types, RequireTopic& require_topic) {
+    // /tf_static and /tf.
+    for (const char* topic : {"/tf_static", "/tf"}) {
+      const auto it = types.find(topic);
+      if (it == types.end() || it->second != "tf2_msgs/TFMessage") continue;
+      const bool is_static = std::string(topic) == "/tf_static";
+      rosbag::View view(bag_, rosbag::TopicQuery(topic));
+      for (const auto& m : view) {
+        const auto msg = m.instantiate<tf2_msgs::TFMessage>();
+        if (!msg) continue;
+        for (const auto& tf : msg->transforms) {
+          const std::string parent = strip_slash(tf.header.frame_id), child = strip_slash(tf.child_frame_id);
+          const auto& t = tf.transform.translation;
+          const auto& q = tf.transform.rotation;
+          const Eigen::Isometry3d T = rigid_from_quaternion(
+              t.x, t.y, t.z, q.x, q.y, q.z, q.w,
+              info_.path + ": " + topic + " " + parent + " -> " + child + " at t = " +
+                  std::to_string(to_seconds(tf.header.stamp)) + " s");
+          auto& edge = tf_.edges[child];
+          if (!edge.parent.empty() && edge.parent != parent) {
+            throw std::invalid_argument(info_.path + ": " + topic + ": frame '" + child + "' has two parents ('" +
+                                        edge.parent + "' and '" + parent + "')");
+          }
+          edge.parent = parent;
+          if (is_static) {
+            edge.is_static = true, edge.T_static = T;
+          } else if (!edge.is_static) {
+            edge.series.samples.emplace_back(to_seconds(tf.header.stamp), T);
+          }
+        }
+      }
+    }
+    for (auto& [child, edge] : tf_.edges) edge.series.sort();
+    const std::string& camera = info_.camera_frame;
+
+    if (!options_.odom_topic.empty()) {
+      require_topic(options_.odom_topic, "nav_msgs/Odometry", "--odom-topic");
+      rosbag::View view(bag_, rosbag::TopicQuery(options_.odom_topic));
+      for (const auto& m : view) {
+        const auto msg = m.instantiate<nav_msgs::Odometry>();
+        if (!msg) continue;
+        const auto& p = msg->pose.pose.position;
+        const auto& q = msg->pose.pose.orientation;
+        if (odom_.samples.empty()) {
+          info_.fixed_frame = strip_slash(msg->header.frame_id);
+          base_frame_ = strip_slash(msg->child_frame_id);
+        }
+        odom_.samples.emplace_back(
+            to_seconds(msg->header.stamp),
+            rigid_from_quaternion(p.x, p.y, p.z, q.x, q.y, q.z, q.w,
+                                  info_.path + ": " + options_.odom_topic + " pose at t = " +
+                                      std::to_string(to_seconds(msg->header.stamp)) + " s"));
+      }
+      if (odom_.samples.empty()) throw std::invalid_argument(info_.path + ": " + options_.odom_topic + " has no messages");
+      odom_.sort();
+      if (!options_.fixed_frame.empty() && options_.fixed_frame != info_.fixed_frame) {
+        throw std::invalid_argument(info_.path + ": fixed frame '" + options_.fixed_frame + "' but " +
+                                    options_.odom_topic + " gives poses in '" + info_.fixed_frame + "'");
+      }
+      T_base_camera_ = options_.T_base_camera;
+      bool all_static = true;
+      for (const auto& f : tf_.chain(camera)) {
+        if (f == base_frame_) break;
+        const auto e = tf_.edges.find(f);
+        all_static = all_static && e != tf_.edges.end() && e->second.is_static;
+      }
+      if (!base_frame_.empty() && tf_.links(base_frame_, camera) && all_static) {
+        T_base_camera_ = tf_.lookup(base_frame_, camera, 0.0);
+      }
+      info_.pose_source = PoseSource::kOdometry;
+      return;
+    }
+    if (tf_.has(camera)) {
+      info_.fixed_frame = options_.fixed_frame.empty() ? tf_.root_of(camera) : options_.fixed_frame;
+      if (!tf_.links(info_.fixed_frame, camera)) {
+        throw std::invalid_argument(info_.path + ": fixed frame '" + info_.fixed_frame + "' is not above '" + camera +
+                                    "' in /tf (its chain: " + join(tf_.chain(camera)) + ")");
+      }
+      const auto chain = tf_.chain(camera);
+      for (const char* base : {"base_link", "base_footprint"}) {
+        if (std::find(chain.begin(), chain.end(), base) != chain.end() && tf_.links(info_.fixed_frame, base)) {
+          base_frame_ = base;
+          break;
+        }
+      }
+      info_.pose_source = PoseSource::kTf;
+      return;
+    }
+    if (!options_.fixed_frame.empty()) {
+      throw std::invalid_argument(info_.path + ": fixed frame '" + options_.fixed_frame + "' asked for, but the bag's " +
+                                  "/tf has no frame '" + camera + "' (the images' frame_id)");
+    }
+    info_.fixed_frame = "world";
+    info_.pose_source = PoseSource::kStatic;
+  }
+
+  void pose_at(double t, Eigen::Isometry3d& T_fixed_camera, Eigen::Isometry3d& T_fixed_base) const {
+    try {
+      switch (info_.pose_source) {
+        case PoseSource::kTf:
+          T_fixed_camera = tf_.lookup(info_.fixed_frame, info_.camera_frame, t);
+          T_fixed_base = base_frame_.empty() ? T_fixed_camera * options_.T_base_camera.inverse()
+                                             : tf_.lookup(info_.fixed_frame, base_frame_, t);
+          return;
+        case PoseSource::kOdometry: {
+          const auto T = odom_.at(t);
+          if (!T) {
+            throw std::invalid_argument("no pose at t = " + std::to_string(t) + " s: " + options_.odom_topic +
+                                        " covers only " + odom_.span() + " (no extrapolation)");
+          }
+          T_fixed_base = *T;
+          T_fixed_camera = T_fixed_base * T_base_camera_;
+          return;
+        }
+        default:
+          T_fixed_base = options_.T_fixed_base;
+          T_fixed_camera = options_.T_fixed_base * options_.T_base_camera;
+      }
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(where() + " (frame_id '" + info_.camera_frame + "'): " + e.what());
+    }
+  }
+
+  const sensors::CameraIntrinsics& intrinsics_at(double t) const {
+    auto it = std::upper_bound(infos_.begin(), infos_.end(), t,
+                               [](double time, const auto& s) { return time < s.first; });
+    return it == infos_.begin() ? infos_.front().second : (it - 1)->second;
+  }
+
+  int bytes_per_pixel(const std::string& encoding) const {
+    if (encoding == "16UC1" || encoding == "mono16") return 2;
+    if (encoding == "32FC1") return 4;
+    throw std::invalid_argument(where() + ": encoding '" + encoding +
+                                "' is not depth (expected 16UC1, mono16 or 32FC1)");
+  }
+
+  void decode(const sensor_msgs::Image& image, const sensors::CameraIntrinsics& k, sensors::DepthImage& out) const {
+    const std::string at = where() + ": frame " + std::to_string(index_);
+    const int bpp = bytes_per_pixel(image.encoding);
+    if (image.width == 0 || image.height == 0) {
+      throw std::invalid_argument(at + ": empty image (" + std::to_string(image.width) + "x" +
+                                  std::to_string(image.height) + ")");
+    }
+    if (int(image.width) != k.width || int(image.height) != k.height) {
+      throw std::invalid_argument(at + ": image is " + std::to_string(image.width) + "x" +
+                                  std::to_string(image.height) + " but " + info_.info_topic + " says " +
+                                  std::to_string(k.width) + "x" + std::to_string(k.height));
+    }
+    const std::size_t row_bytes = std::size_t(image.width) * bpp;
+    if (image.step < row_bytes) {
+      throw std::invalid_argument(at + ": step " + std::to_string(image.step) + " < width x " + std::to_string(bpp) +
+                                  " bytes = " + std::to_string(row_bytes));
+    }
+    if (image.data.size() < std::size_t(image.step) * image.height) {
+      throw std::invalid_argument(at + ": data has " + std::to_string(image.data.size()) + " bytes < step x height = " +
+                                  std::to_string(std::size_t(image.step) * image.height));
+    }
+    const bool swap = (image.is_bigendian != 0) != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__);
+    out.width = k.width, out.height = k.height;
+    out.depth_m.resize(std::size_t(k.width) * k.height);
+    const float unit = static_cast<float>(info_.depth_unit_m);
+    for (int v = 0; v < k.height; ++v) {
+      const std::uint8_t* row = image.data.data() + std::size_t(v) * image.step;
+      float* dst = out.depth_m.data() + std::size_t(v) * k.width;
+      for (int u = 0; u < k.width; ++u) {
+        std::uint8_t b[4];
+        std::memcpy(b, row + std::size_t(u) * bpp, bpp);
+        if (swap) std::reverse(b, b + bpp);
+        if (bpp == 2) {
+          std::uint16_t d;
+          std::memcpy(&d, b, 2);
+          dst[u] = d * unit;
+        } else {
+          float d;
+          std::memcpy(&d, b, 4);
+          dst[u] = std::isfinite(d) && d > 0 ? d : 0.0f;
+        }
+      }
+    }
+  }
+
+  RecordingOptions options_;
+  RecordingInfo info_;
+  rosbag::Bag bag_;
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+  bool started_ = false, done_ = false;
+  std::size_t index_ = 0;
+  std::vector<std::pair<double, sensors::CameraIntrinsics>> infos_;
+  TfBuffer tf_;
+  PoseSeries odom_;
+  std::string base_frame_;
+  Eigen::Isometry3d T_base_camera_ = Eigen::Isometry3d::Identity();
+};
+
+}  // namespace
+
+std::unique_ptr<Recording> open_bag(const std::string& path, const RecordingOptions& options) {
+  return std::make_unique<BagRecording>(path, options);
+}
+
+}  // namespace stvl::recording::detail
