@@ -35,14 +35,16 @@ struct DepthNoiseConfig {
   // point's disparity (px), pixel u appears at column u - d in the right image; it is invalid when that column is
   // left of left_band_margin_px - 0.5 (the left-edge band; geometric width d, widened by the margin, which the real
   // D435 shows: 23 px at 1.7 m where d = 11.5 px) or when a nearer pixel to its right lands at the same column or
-  // further left (the occlusion shadow on the left of a foreground edge), widened leftwards by shadow_margin_px.
+  // further left (the occlusion shadow on the left of a foreground edge), widened leftwards by shadow_margin_px
+  // (real shadows are 3.7 px wider than their geometric width, median; simulated ones with margin 0 already 1.9 px,
+  // from the edge artifacts and rounding).
   // Computed on the clean image, before the other artifacts. Margins measured with stvl-bench noise-stats on the
   // real D435 recording in ../shared/realdata (see docs/fidelity.md); the band's edge moves per row and frame by a
   // uniform draw in [-left_band_jitter_px, +left_band_jitter_px] (real: 21 to 25 px, 10th to 90th percentile).
   bool stereo_occlusion = false;
   double left_band_margin_px = 12.0;
   double left_band_jitter_px = 2.0;
-  double shadow_margin_px = 6.0;
+  double shadow_margin_px = 2.0;
 
   // Throws std::invalid_argument naming the first bad field (negative, non-finite, probabilities outside [0, 1]).
   void validate() const;
