@@ -117,25 +117,49 @@ DiscontinuityHoles discontinuity_holes(const DepthImage& image, double min_jump_
 }
 
 std::vector<DepthBinStat> temporal_sigma_m(const DepthImage& a, const DepthImage& b, const std::vector<double>& centres_m,
-                                           double half_width_m, long min_samples) {
+                                           double half_width_m, long min_samples, double sigma_at_1m_m) {
   if (a.width != b.width || a.height != b.height || a.depth_m.size() != b.depth_m.size())
     throw std::invalid_argument("temporal_sigma_m: frames of different sizes");
-  std::vector<std::vector<double>> diffs(centres_m.size());
+  std::vector<std::vector<double>> diffs(centres_m.size()), normalized(centres_m.size());
+  std::vector<double> depth_sum(centres_m.size(), 0.0);
   for (size_t i = 0; i < a.depth_m.size(); ++i) {
     if (!valid(a.depth_m[i]) || !valid(b.depth_m[i])) continue;
-    const int k = bin_of(0.5 * (double(a.depth_m[i]) + b.depth_m[i]), centres_m, half_width_m);
-    if (k >= 0) diffs[size_t(k)].push_back(double(a.depth_m[i]) - b.depth_m[i]);
+    const double z = 0.5 * (double(a.depth_m[i]) + b.depth_m[i]);
+    const int k = bin_of(z, centres_m, half_width_m);
+    if (k < 0) continue;
+    diffs[size_t(k)].push_back(double(a.depth_m[i]) - b.depth_m[i]);
+    if (sigma_at_1m_m > 0.0) normalized[size_t(k)].push_back(diffs[size_t(k)].back() / (sigma_at_1m_m * z * z));
+    depth_sum[size_t(k)] += z;
   }
   std::vector<DepthBinStat> out;
   for (size_t k = 0; k < centres_m.size(); ++k) {
     DepthBinStat s;
     s.centre_m = centres_m[k];
     s.samples = long(diffs[k].size());
-    s.value_m = kNaN;
+    s.mean_depth_m = s.samples > 0 ? depth_sum[k] / double(s.samples) : kNaN;
+    s.value_m = s.ratio_to_z2_law = kNaN;
+    // RMS of the differences within 4 MAD-sigmas of their median, / sqrt(2). The MAD alone is biased on quantized
+    // depth (its median lands on the grid): on the simulated D435 (1/32 px disparity steps) 1.4826 MAD / sqrt(2)
+    // reads 0.82 of the noise's known sigma, this 1.00; real depth is quantized too (1/32 px, then 1 mm units).
+    const auto robust_sigma = [](std::vector<double> values, double* mad_sigma) {
+      const double m = median(values);
+      std::vector<double> deviations(values.size());
+      for (size_t i = 0; i < values.size(); ++i) deviations[i] = std::abs(values[i] - m);
+      const double sigma_mad = 1.4826 * median(deviations);
+      if (mad_sigma) *mad_sigma = sigma_mad / std::sqrt(2.0);
+      double sum_sq = 0.0;
+      long kept = 0;
+      for (double d : values)
+        if (std::abs(d - m) <= 4.0 * sigma_mad) {
+          sum_sq += (d - m) * (d - m);
+          ++kept;
+        }
+      return kept > 0 ? std::sqrt(sum_sq / double(kept)) / std::sqrt(2.0) : kNaN;
+    };
+    s.mad_sigma_m = kNaN;
     if (s.samples >= min_samples && s.samples > 0) {
-      const double m = median(diffs[k]);
-      for (double& d : diffs[k]) d = std::abs(d - m);
-      s.value_m = 1.4826 * median(diffs[k]) / std::sqrt(2.0);
+      s.value_m = robust_sigma(diffs[k], &s.mad_sigma_m);
+      if (sigma_at_1m_m > 0.0) s.ratio_to_z2_law = robust_sigma(normalized[k], nullptr);
     }
     out.push_back(s);
   }
@@ -144,9 +168,10 @@ std::vector<DepthBinStat> temporal_sigma_m(const DepthImage& a, const DepthImage
 
 std::vector<DepthBinStat> plane_fit_rms_m(const DepthImage& image, const std::vector<double>& centres_m,
                                           double half_width_m, int patch_px, double max_range_fraction,
-                                          long min_samples) {
+                                          long min_samples, double sigma_at_1m_m) {
   if (patch_px < 3) throw std::invalid_argument("plane_fit_rms_m: patch_px must be >= 3");
-  std::vector<std::vector<double>> rms(centres_m.size());
+  std::vector<std::vector<double>> rms(centres_m.size()), normalized(centres_m.size());
+  std::vector<double> depth_sum(centres_m.size(), 0.0);
   const double c = 0.5 * (patch_px - 1);  // patch-centred coordinates keep the normal equations well conditioned
   for (int v0 = 0; v0 + patch_px <= image.height; v0 += patch_px) {
     for (int u0 = 0; u0 + patch_px <= image.width; u0 += patch_px) {
@@ -185,6 +210,8 @@ std::vector<DepthBinStat> plane_fit_rms_m(const DepthImage& image, const std::ve
           sq += r * r;
         }
       rms[size_t(k)].push_back(std::sqrt(sq / (patch_px * patch_px)));
+      depth_sum[size_t(k)] += mean;
+      if (sigma_at_1m_m > 0.0) normalized[size_t(k)].push_back(rms[size_t(k)].back() / (sigma_at_1m_m * mean * mean));
     }
   }
   std::vector<DepthBinStat> out;
@@ -192,7 +219,11 @@ std::vector<DepthBinStat> plane_fit_rms_m(const DepthImage& image, const std::ve
     DepthBinStat s;
     s.centre_m = centres_m[k];
     s.samples = long(rms[k].size());
-    s.value_m = s.samples >= min_samples && s.samples > 0 ? median(rms[k]) : kNaN;
+    s.mean_depth_m = s.samples > 0 ? depth_sum[k] / double(s.samples) : kNaN;
+    s.mad_sigma_m = kNaN;
+    const bool enough = s.samples >= min_samples && s.samples > 0;
+    s.value_m = enough ? median(rms[k]) : kNaN;
+    s.ratio_to_z2_law = enough && sigma_at_1m_m > 0.0 ? median(normalized[k]) : kNaN;
     out.push_back(s);
   }
   return out;

@@ -38,13 +38,20 @@ DiscontinuityHoles discontinuity_holes(const DepthImage& image, double min_jump_
 struct DepthBinStat {
   double centre_m = 0;
   long samples = 0;   // pixels (temporal) or patches (plane fit) in the bin
+  double mean_depth_m = 0;  // of those samples (NaN when none): a bin's samples need not sit at its centre
   double value_m = 0; // NaN when samples < the minimum asked for
+  // With sigma_at_1m_m > 0 (a z^2 law, e.g. Intel's RMS formula z^2 * subpixel / (fx * baseline)): the same
+  // statistic over each sample divided by sigma_at_1m_m * z^2, so that samples at different depths within the bin
+  // are each held against the law at their own depth. NaN otherwise.
+  double ratio_to_z2_law = 0;
+  double mad_sigma_m = 0;  // temporal_sigma_m only: 1.4826 * MAD(a - b) / sqrt(2), biased low on quantized depth
 };
 
 // Robust temporal sigma between two frames of a static camera: over pixels valid in both, binned by their mean
-// depth, 1.4826 * MAD(a - b) / sqrt(2) (MAD about the median difference). Sizes must match (std::invalid_argument).
+// depth, the RMS of a - b about its median over the differences within 4 * 1.4826 * MAD of it, / sqrt(2) (outliers
+// out, unbiased on quantized depth, unlike the MAD itself: mad_sigma_m). Sizes must match (std::invalid_argument).
 std::vector<DepthBinStat> temporal_sigma_m(const DepthImage& a, const DepthImage& b, const std::vector<double>& centres_m,
-                                           double half_width_m, long min_samples = 100);
+                                           double half_width_m, long min_samples = 100, double sigma_at_1m_m = 0);
 
 // Plane fits over square patches of patch_px x patch_px (tiling the image, no overlap): a patch is flat when all
 // its pixels are valid and its depth range is below max_range_fraction of its mean depth; 1/z is fitted as a
@@ -52,6 +59,6 @@ std::vector<DepthBinStat> temporal_sigma_m(const DepthImage& a, const DepthImage
 // goes to the bin of its mean depth. value_m is the median patch RMS in the bin.
 std::vector<DepthBinStat> plane_fit_rms_m(const DepthImage& image, const std::vector<double>& centres_m,
                                           double half_width_m, int patch_px = 12, double max_range_fraction = 0.25,
-                                          long min_samples = 5);
+                                          long min_samples = 5, double sigma_at_1m_m = 0);
 
 }  // namespace stvl::sensors

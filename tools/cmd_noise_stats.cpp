@@ -144,7 +144,14 @@ int noise_stats(const NoiseStatsCommandOptions& o) {
     sensors::write_depth_png_colorized(real[0], (dir / "real.png").string(), 0.3, far_m);
     sensors::write_depth_png_colorized(before[0], (dir / "simulated_before.png").string(), 0.3, far_m);
     sensors::write_depth_png_colorized(after[0], (dir / "simulated_after.png").string(), 0.3, far_m);
-    std::printf("wrote real.png, simulated_before.png, simulated_after.png in %s\n", o.figures.c_str());
+    for (int k = 0; k < 2; ++k) {  // the frames themselves, 16-bit millimetres
+      const std::string n = std::to_string(k);
+      sensors::write_depth_png_mm(real[k], (dir / ("real_mm_" + n + ".png")).string());
+      sensors::write_depth_png_mm(before[k], (dir / ("simulated_before_mm_" + n + ".png")).string());
+      sensors::write_depth_png_mm(after[k], (dir / ("simulated_after_mm_" + n + ".png")).string());
+    }
+    std::printf("wrote real.png, simulated_before.png, simulated_after.png (colorized) and *_mm_0.png, *_mm_1.png "
+                "(16-bit mm) in %s\n", o.figures.c_str());
   }
   return kExitOk;
 }
@@ -156,7 +163,8 @@ const CommandRegistration kNoiseStats{"noise-stats", [](CLI::App& app) {
   cmd->add_option("--real", o->real, "Recording: a ROS 1 bag or a folder of 16-bit depth PNGs (two frames or more)")
       ->required();
   cmd->add_option("--out", o->out, "Write the figures as JSON to this file");
-  cmd->add_option("--figures", o->figures, "Write colorized depth PNGs (real, simulated before / after) here");
+  cmd->add_option("--figures", o->figures,
+                  "Write the depth images (real, simulated before / after) here: colorized and 16-bit mm PNGs");
   cmd->add_option("--gl", o->gl, "auto | egl | osmesa")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Noise seed of the simulated frames")->capture_default_str();
   return [o] { return noise_stats(*o); };

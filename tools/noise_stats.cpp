@@ -20,11 +20,15 @@ std::string cell(double x, const char* format) {
 nlohmann::json bins(const std::vector<sensors::DepthBinStat>& stats, double fx_px, const NoiseStatsOptions& options) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& b : stats) {
+    // ratio_to_intel: each sample against Intel's formula at its own depth (a bin mixes depths: a wall at 1.7 m
+    // sits in the 1.5 m bin); intel_rms_m: the formula at the samples' mean depth.
     out.push_back({{"centre_m", b.centre_m},
                    {"samples", b.samples},
+                   {"mean_depth_m", number(b.mean_depth_m)},
                    {"value_m", number(b.value_m)},
-                   {"intel_rms_m", intel_rms_m(b.centre_m, fx_px, options)},
-                   {"ratio_to_intel", number(b.value_m / intel_rms_m(b.centre_m, fx_px, options))}});
+                   {"mad_sigma_m", number(b.mad_sigma_m)},
+                   {"intel_rms_m", number(intel_rms_m(b.mean_depth_m, fx_px, options))},
+                   {"ratio_to_intel", number(b.ratio_to_z2_law)}});
   }
   return out;
 }
@@ -49,8 +53,11 @@ NoiseStats compute_noise_stats(const sensors::DepthImage& first, const sensors::
   s.bands = sensors::invalid_edge_bands_px(first);
   s.left_band_geometric_px = sensors::left_band_geometric_px(first, intrinsics.fx, options.baseline_m);
   s.holes = sensors::discontinuity_holes(first, options.min_jump_m, intrinsics.fx, options.baseline_m);
-  s.plane_fit_rms = sensors::plane_fit_rms_m(first, options.bin_centres_m, options.bin_half_width_m);
-  s.temporal_sigma = sensors::temporal_sigma_m(first, second, options.bin_centres_m, options.bin_half_width_m);
+  const double intel_at_1m_m = intel_rms_m(1.0, intrinsics.fx, options);
+  s.plane_fit_rms = sensors::plane_fit_rms_m(first, options.bin_centres_m, options.bin_half_width_m, 12, 0.25, 5,
+                                             intel_at_1m_m);
+  s.temporal_sigma = sensors::temporal_sigma_m(first, second, options.bin_centres_m, options.bin_half_width_m, 100,
+                                               intel_at_1m_m);
   return s;
 }
 
@@ -86,6 +93,28 @@ std::string noise_stats_table(const std::vector<std::string>& names, const std::
     for (const auto& s : stats) out += " " + cell(value(s), format) + " |";
     out += " " + cell(formula, format) + " |\n";
   };
+  // A depth bin: each camera's figure in mm, its ratio to Intel's formula (each sample at its own depth) and the
+  // samples' mean depth.
+  auto bin_row = [&](const std::string& label, std::vector<sensors::DepthBinStat> NoiseStats::*member, size_t k,
+                     bool mad = false) {
+    out += "| " + label + " |";
+    for (const auto& s : stats) {
+      const auto& bins = s.*member;
+      if (k >= bins.size() || !std::isfinite(bins[k].value_m)) {
+        out += " - |";
+        continue;
+      }
+      if (mad) {  // ratio at the samples' mean depth
+        const double value = bins[k].mad_sigma_m;
+        out += " " + cell(1e3 * value, "%.2f") + " (x" +
+               cell(value / intel_rms_m(bins[k].mean_depth_m, fx_px, options), "%.2f") + ") |";
+        continue;
+      }
+      out += " " + cell(1e3 * bins[k].value_m, "%.2f") + " (x" + cell(bins[k].ratio_to_z2_law, "%.2f") + ", " +
+             cell(bins[k].mean_depth_m, "%.2f") + " m) |";
+    }
+    out += " " + cell(1e3 * intel_rms_m(options.bin_centres_m[k], fx_px, options), "%.2f") + " |\n";
+  };
   row("invalid pixels (%)", [](const NoiseStats& s) { return 100.0 * s.invalid_fraction; }, "%.1f");
   row("left band (px)", [](const NoiseStats& s) { return s.bands.left_px; }, "%.0f");
   row("left band, geometric fx*b/z (px)", [](const NoiseStats& s) { return s.left_band_geometric_px; }, "%.1f");
@@ -99,18 +128,19 @@ std::string noise_stats_table(const std::vector<std::string>& names, const std::
   row("shadow run, median (px)", [](const NoiseStats& s) { return s.holes.median_run_px; }, "%.0f");
   row("shadow, geometric median (px)", [](const NoiseStats& s) { return s.holes.median_geometric_px; }, "%.1f");
   for (size_t k = 0; k < options.bin_centres_m.size(); ++k) {
-    const double z = options.bin_centres_m[k];
     char label[64];
-    std::snprintf(label, sizeof label, "plane-fit RMS at %.1f m (mm)", z);
-    row(label, [k](const NoiseStats& s) { return k < s.plane_fit_rms.size() ? 1e3 * s.plane_fit_rms[k].value_m : NAN; },
-        "%.2f", 1e3 * intel_rms_m(z, fx_px, options));
+    std::snprintf(label, sizeof label, "plane-fit RMS, %.1f m bin (mm)", options.bin_centres_m[k]);
+    bin_row(label, &NoiseStats::plane_fit_rms, k);
   }
   for (size_t k = 0; k < options.bin_centres_m.size(); ++k) {
-    const double z = options.bin_centres_m[k];
     char label[64];
-    std::snprintf(label, sizeof label, "temporal sigma at %.1f m (mm)", z);
-    row(label, [k](const NoiseStats& s) { return k < s.temporal_sigma.size() ? 1e3 * s.temporal_sigma[k].value_m : NAN; },
-        "%.2f", 1e3 * intel_rms_m(z, fx_px, options));
+    std::snprintf(label, sizeof label, "temporal sigma, %.1f m bin (mm)", options.bin_centres_m[k]);
+    bin_row(label, &NoiseStats::temporal_sigma, k);
+  }
+  for (size_t k = 0; k < options.bin_centres_m.size(); ++k) {
+    char label[64];
+    std::snprintf(label, sizeof label, "temporal 1.4826 MAD / sqrt 2, %.1f m bin (mm)", options.bin_centres_m[k]);
+    bin_row(label, &NoiseStats::temporal_sigma, k, true);
   }
   return out;
 }

@@ -94,6 +94,16 @@ TEST(DepthStats, TemporalSigmaOfTwoFrames) {
   EXPECT_NEAR(sigma[0].value_m, 0.005, 0.005 * 0.05);
   EXPECT_NEAR(sigma[1].value_m, 0.010, 0.010 * 0.05);
   EXPECT_TRUE(std::isnan(sigma[2].value_m));
+  // Against a z^2 law with 5 mm at 1 m, each pixel at its own depth: x1.0 at 1 m, x0.5 at 2 m (10 mm vs 20 mm).
+  const auto ratio = temporal_sigma_m(a, b, {1.0, 2.0}, 0.25, 100, 0.005);
+  EXPECT_NEAR(ratio[0].ratio_to_z2_law, 1.0, 0.05);
+  EXPECT_NEAR(ratio[1].ratio_to_z2_law, 0.5, 0.025);
+  // Quantized depth (a 3 mm grid for a 5 mm sigma, as the simulated D435's 1/32 px disparity steps are at 1 m):
+  // still 5 mm, within 5 %.
+  DepthImage qa = a, qb = b;
+  for (DepthImage* image : {&qa, &qb})
+    for (float& z : image->depth_m) z = z > 0.0f ? float(0.003 * std::round(z / 0.003)) : 0.0f;
+  EXPECT_NEAR(temporal_sigma_m(qa, qb, {1.0}, 0.25)[0].value_m, 0.005, 0.005 * 0.05);
   EXPECT_THROW(temporal_sigma_m(a, DepthImage(3, 3), {1.0}, 0.25), std::invalid_argument);
 }
 

@@ -51,17 +51,28 @@ check(abs(rr - ar) <= 2, "shadow width: simulated after %.0f px within 2 px of r
 ri, bi, ai = real["invalid_fraction"], before["invalid_fraction"], after["invalid_fraction"]
 check(abs(ai - ri) < 0.015 and abs(bi - ri) > 0.03,
       "invalid: real %.1f %%, before %.1f %%, after %.1f %%" % (100 * ri, 100 * bi, 100 * ai))
-# Intel's formula (subpixel 0.08): the real temporal sigma is within 10 % of it at 0.5 and 1.0 m (measured 3 and
-# 2 %), and above it by more than 1.25x at 1.5, 2.0 and 2.5 m (measured 1.48, 1.34, 2.09).
-for z in (0.5, 1.0):
+# Intel's formula (subpixel 0.08), each sample held against it at its own depth. The simulated model follows it
+# (measured x0.98 to x1.04 temporal, x0.99 to x1.01 plane fits): within 10 % in every bin with data.
+for key in ("temporal_sigma", "plane_fit_rms"):
+    for b in before[key]:
+        if b["ratio_to_intel"] is not None:
+            check(abs(b["ratio_to_intel"] - 1) < 0.10, "simulated %s at %.1f m: x%.2f of the formula" %
+                  (key, b["centre_m"], b["ratio_to_intel"]))
+# The real D435: temporal noise as the formula at 0.5 m (x0.98), above it from 1 m on (x1.44, 1.52, 1.71, 2.30 at
+# 1.0 to 2.5 m: more than x1.25); within one frame smoother than it (plane fits x0.67, 0.67, 0.50, 0.48 at 0.5 to
+# 2.0 m: below x0.85): the error is spatially correlated.
+b = at(real, "temporal_sigma", 0.5)
+check(b["samples"] > 1000 and abs(b["ratio_to_intel"] - 1) < 0.10,
+      "real temporal sigma at 0.5 m: x%.2f of the formula (%d pixels)" % (b["ratio_to_intel"], b["samples"]))
+for z in (1.0, 1.5, 2.0, 2.5):
     b = at(real, "temporal_sigma", z)
-    check(b["samples"] > 1000 and abs(b["ratio_to_intel"] - 1) < 0.10,
-          "real temporal sigma at %.1f m %.2f mm, formula %.2f mm (ratio %.3f, %d pixels)" %
-          (z, 1e3 * b["value_m"], 1e3 * b["intel_rms_m"], b["ratio_to_intel"], b["samples"]))
-for z in (1.5, 2.0, 2.5):
-    b = at(real, "temporal_sigma", z)
-    check(b["ratio_to_intel"] > 1.25, "real temporal sigma at %.1f m %.1f mm > 1.25 x formula %.1f mm (ratio %.2f)" %
-          (z, 1e3 * b["value_m"], 1e3 * b["intel_rms_m"], b["ratio_to_intel"]))
+    check(b["samples"] > 1000 and b["ratio_to_intel"] > 1.25,
+          "real temporal sigma at %.1f m %.1f mm: x%.2f of the formula (> 1.25)" % (z, 1e3 * b["value_m"], b["ratio_to_intel"]))
+for z in (0.5, 1.0, 1.5, 2.0):
+    b = at(real, "plane_fit_rms", z)
+    check(b["samples"] >= 20 and b["ratio_to_intel"] < 0.85,
+          "real plane-fit RMS at %.1f m %.2f mm: x%.2f of the formula (< 0.85, %d patches)" %
+          (z, 1e3 * b["value_m"], b["ratio_to_intel"], b["samples"]))
 if failures:
     sys.exit("%d check(s) failed" % len(failures))
 print("PASS")
