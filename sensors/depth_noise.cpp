@@ -119,6 +119,10 @@ void DepthNoiseConfig::validate() const {
   require_non_negative(left_band_margin_px, "left_band_margin_px");
   require_non_negative(left_band_jitter_px, "left_band_jitter_px");
   require_non_negative(shadow_margin_px, "shadow_margin_px");
+  require(std::isfinite(correlated_fraction) && correlated_fraction >= 0.0 && correlated_fraction <= 1.0,
+          "correlated_fraction " + std::to_string(correlated_fraction) + " not in [0, 1]");
+  require(std::isfinite(correlated_cell_px) && correlated_cell_px >= 1.0 && correlated_cell_px <= 1e3,
+          "correlated_cell_px " + std::to_string(correlated_cell_px) + " not in [1, 1000]");
   require(left_band_margin_px <= 1e4 && left_band_jitter_px <= 1e4 && shadow_margin_px <= 1e4,
           "left_band_margin_px, left_band_jitter_px and shadow_margin_px must be <= 10000");
 }
@@ -156,6 +160,18 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
   if (occlusion) occluded_.resize(truth_.size());
   const uint64_t band_key = splitmix64_mix(key ^ 0x5BD1E9955BD1E995ULL);  // own draws: the others stay as they were
   const int shadow_margin = int(std::lround(config_.shadow_margin_px));
+  // Correlated disparity error: a grid of normals every cell px (one beyond each edge), bilinearly interpolated and
+  // renormalized to unit variance per pixel; drawn from a key of its own.
+  const bool correlated = config_.correlated_fraction > 0.0 && config_.subpixel > 0.0;
+  const int cell = std::max(1, int(std::lround(config_.correlated_cell_px)));
+  const int grid_w = W / cell + 2, grid_h = H / cell + 2;
+  const double white_scale = std::sqrt(1.0 - config_.correlated_fraction);
+  const double field_scale = std::sqrt(config_.correlated_fraction);
+  if (correlated) {
+    const uint64_t field_key = splitmix64_mix(key ^ 0xC2B2AE3D27D4EB4FULL);
+    field_grid_.resize(size_t(grid_w) * grid_h);
+    for (size_t j = 0; j < field_grid_.size(); ++j) field_grid_[j] = normal_table()[draw(field_key, j, kGauss) & (kNormalBins - 1)];
+  }
 
   const std::array<float, kNormalBins>& normal = normal_table();
   // Every pixel is a function of the frame key, its index and the clean image, so rows run in parallel (TBB)
@@ -201,7 +217,19 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
           }
         }
 
-        if (stereo) {
+        if (stereo && correlated) {
+          const double white = double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
+          const int gx = u / cell, gy = v / cell;
+          const double tx = (u - gx * cell + 0.5) / cell, ty = (v - gy * cell + 0.5) / cell;
+          const float* g0 = &field_grid_[size_t(gy) * grid_w + gx];
+          const float* g1 = g0 + grid_w;
+          const double w00 = (1 - tx) * (1 - ty), w10 = tx * (1 - ty), w01 = (1 - tx) * ty, w11 = tx * ty;
+          const double field = (w00 * g0[0] + w10 * g0[1] + w01 * g1[0] + w11 * g1[1]) /
+                               std::sqrt(w00 * w00 + w10 * w10 + w01 * w01 + w11 * w11);
+          double disparity = fb / z + config_.subpixel * (white_scale * white + field_scale * field);
+          if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
+          z = disparity > 0.0 ? fb / disparity : 0.0;
+        } else if (stereo) {
           double disparity = fb / z + config_.subpixel * double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
           if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
           z = disparity > 0.0 ? fb / disparity : 0.0;

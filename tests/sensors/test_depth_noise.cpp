@@ -355,3 +355,66 @@ TEST(StereoOcclusion, BadMarginsThrow) {
 
 }  // namespace
 }  // namespace stvl::sensors
+
+namespace stvl::sensors {
+namespace {
+
+// correlated_fraction: the disparity noise becomes (mostly) a smooth field; each pixel's total stays Intel's formula.
+TEST(CorrelatedNoise, KeepsIntelsRmsAndCorrelatesNeighbours) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  const auto stats = [&](double fraction, uint64_t seed, double* lag1, double* lag32) {
+    DepthNoiseConfig config = stereo_only();
+    config.correlated_fraction = fraction;
+    config.correlated_cell_px = 16.0;
+    DepthNoise noise(config, k);
+    DepthImage image = flat_wall(k, 2.0f);
+    noise.apply(image, seed, 0);
+    double sum_sq = 0.0, c1 = 0.0, c32 = 0.0;
+    for (int v = 0; v < k.height; ++v)
+      for (int u = 0; u < k.width; ++u) {
+        const double e = image.at(u, v) - 2.0;
+        sum_sq += e * e;
+        if (u + 1 < k.width) c1 += e * (image.at(u + 1, v) - 2.0);
+        if (u + 32 < k.width) c32 += e * (image.at(u + 32, v) - 2.0);
+      }
+    const double n = double(k.width) * k.height;
+    *lag1 = c1 / sum_sq;
+    *lag32 = c32 / sum_sq;
+    return std::sqrt(sum_sq / n) / noise.rms_error_m(2.0);
+  };
+  double lag1 = 0, lag32 = 0;
+  // A 16 px grid gives about 40 x 30 independent values per frame: the frame's RMS scatters by about 5 %.
+  double ratio = 0;
+  for (uint64_t seed = 1; seed <= 4; ++seed) ratio += stats(0.95, seed, &lag1, &lag32) / 4;
+  EXPECT_NEAR(ratio, 1.0, 0.08);
+  EXPECT_GT(lag1, 0.85);  // 0.93 expected: sqrt(0.95)^2 of the field (~0.98 between neighbours) + white 0.05
+  EXPECT_LT(std::abs(lag32), 0.15);  // beyond two cells: independent
+  EXPECT_NEAR(stats(0.0, 1, &lag1, &lag32), 1.0, kRmsTolerance);
+  EXPECT_LT(std::abs(lag1), 0.05);  // white noise: no correlation
+}
+
+TEST(CorrelatedNoise, SeededAndSameOnOneThreadAndOnMany) {
+  const CameraIntrinsics k = CameraIntrinsics::from_hfov(101, 37, 1.2, 0.2, 8.0, 30.0);
+  DepthNoiseConfig config;
+  config.correlated_fraction = 0.9;
+  config.correlated_cell_px = 7.0;
+  DepthNoise noise(config, k);
+  const auto noisy = [&](bool parallel, uint64_t seed, uint64_t frame) {
+    DepthImage image = flat_wall(k, 2.0f);
+    noise.apply(image, seed, frame, parallel);
+    return image.depth_m;
+  };
+  const std::vector<float> reference = noisy(false, 3, 2);
+  EXPECT_EQ(noisy(true, 3, 2), reference);
+  EXPECT_NE(noisy(true, 3, 3), reference);
+  EXPECT_NE(noisy(true, 4, 2), reference);
+  DepthNoiseConfig bad;
+  bad.correlated_fraction = 1.5;
+  EXPECT_THROW(DepthNoise(bad, k), std::invalid_argument);
+  bad = DepthNoiseConfig{};
+  bad.correlated_cell_px = 0.5;
+  EXPECT_THROW(DepthNoise(bad, k), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace stvl::sensors

@@ -77,6 +77,8 @@ camera:
     left_band_margin_px: 10
     left_band_jitter_px: 1.5
     shadow_margin_px: 3
+    correlated_fraction: 0.5
+    correlated_cell_px: 8
 filter:
   type: csnb
   device: cpu
