@@ -30,6 +30,10 @@ std::string join(const std::vector<std::string>& names) {
   return out;
 }
 
+bool ends_with(const std::string& text, const std::string& tail) {
+  return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+}
+
 std::string strip_slash(std::string frame) {
   if (!frame.empty() && frame.front() == '/') frame.erase(0, 1);
   return frame;
@@ -173,7 +177,7 @@ class BagRecording final : public Recording {
     frame.time_s = frame.stamp_s - info_.start_time_s;
     frame.intrinsics = intrinsics_at(frame.stamp_s);
     decode(*image, frame.intrinsics, frame.depth);
-    pose_at(frame.stamp_s, frame.T_fixed_camera, frame.T_fixed_base);
+    pose_at(frame.stamp_s, index_, frame.T_fixed_camera, frame.T_fixed_base);
     ++index_;
     return true;
   }
@@ -192,8 +196,11 @@ class BagRecording final : public Recording {
     auto require_topic = [&](const std::string& topic, const std::string& type, const char* option) {
       const auto it = types.find(topic);
       if (it == types.end()) {
-        const std::string near = nearest_name(topic, topics);
+        std::vector<std::string> same_type;  // the nearest of the expected type, else of all
+        for (const auto& [t, ty] : types) if (ty == type) same_type.push_back(t);
+        const std::string near = nearest_name(topic, same_type.empty() ? topics : same_type);
         throw std::invalid_argument(info_.path + ": no topic " + topic + " (" + option + ")" +
+                                    (same_type.empty() ? ", the bag has no " + type + " topic" : std::string()) +
                                     (near.empty() ? std::string(", the bag has no topics")
                                                   : ", nearest existing topic: " + near));
       }
@@ -211,9 +218,10 @@ class BagRecording final : public Recording {
       std::vector<std::string> candidates;
       for (const auto& [t, type] : types) {
         if (type != "sensor_msgs/Image") continue;
-        const bool rs_ros = t.size() >= 21 && t.compare(t.size() - 21, 21, "/depth/image_rect_raw") == 0;
-        const bool aligned = t.size() >= 34 && t.compare(t.size() - 34, 34, "/aligned_depth_to_color/image_raw") == 0;
-        if (rs_ros || aligned || std::regex_match(t, kLibrealsense)) candidates.push_back(t);
+        if (ends_with(t, "/depth/image_rect_raw") || ends_with(t, "/aligned_depth_to_color/image_raw") ||
+            std::regex_match(t, kLibrealsense)) {
+          candidates.push_back(t);
+        }
       }
       if (candidates.empty()) {
         throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
@@ -300,7 +308,7 @@ class BagRecording final : public Recording {
     read_poses(types, require_topic);
     // The first frame's pose now, so that a recording without one fails at open.
     Eigen::Isometry3d T_fixed_camera, T_fixed_base;
-    pose_at(info_.start_time_s, T_fixed_camera, T_fixed_base);
+    pose_at(info_.start_time_s, 0, T_fixed_camera, T_fixed_base);
     it_ = view_->begin();
   }
 
@@ -393,6 +401,19 @@ class BagRecording final : public Recording {
       info_.pose_source = PoseSource::kTf;
       return;
     }
+    // The camera is not in /tf but the robot is: base_link from /tf, the camera on it from the options.
+    for (const char* base : {"base_link", "base_footprint"}) {
+      if (!tf_.edges.count(base)) continue;
+      info_.fixed_frame = options_.fixed_frame.empty() ? tf_.root_of(base) : options_.fixed_frame;
+      if (!tf_.links(info_.fixed_frame, base)) {
+        throw std::invalid_argument(info_.path + ": fixed frame '" + info_.fixed_frame + "' is not above '" + base +
+                                    "' in /tf (its chain: " + join(tf_.chain(base)) + ")");
+      }
+      base_frame_ = base;
+      camera_from_options_ = true;
+      info_.pose_source = PoseSource::kTf;
+      return;
+    }
     if (!options_.fixed_frame.empty()) {
       throw std::invalid_argument(info_.path + ": fixed frame '" + options_.fixed_frame + "' asked for, but the bag's " +
                                   "/tf has no frame '" + camera + "' (the images' frame_id)");
@@ -401,10 +422,15 @@ class BagRecording final : public Recording {
     info_.pose_source = PoseSource::kStatic;
   }
 
-  void pose_at(double t, Eigen::Isometry3d& T_fixed_camera, Eigen::Isometry3d& T_fixed_base) const {
+  void pose_at(double t, std::size_t index, Eigen::Isometry3d& T_fixed_camera, Eigen::Isometry3d& T_fixed_base) const {
     try {
       switch (info_.pose_source) {
         case PoseSource::kTf:
+          if (camera_from_options_) {
+            T_fixed_base = tf_.lookup(info_.fixed_frame, base_frame_, t);
+            T_fixed_camera = T_fixed_base * options_.T_base_camera;
+            return;
+          }
           T_fixed_camera = tf_.lookup(info_.fixed_frame, info_.camera_frame, t);
           T_fixed_base = base_frame_.empty() ? T_fixed_camera * options_.T_base_camera.inverse()
                                              : tf_.lookup(info_.fixed_frame, base_frame_, t);
@@ -424,7 +450,8 @@ class BagRecording final : public Recording {
           T_fixed_camera = options_.T_fixed_base * options_.T_base_camera;
       }
     } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(where() + " (frame_id '" + info_.camera_frame + "'): " + e.what());
+      throw std::invalid_argument(where() + ": frame " + std::to_string(index) + " (frame_id '" + info_.camera_frame +
+                                  "'): " + e.what());
     }
   }
 
@@ -497,6 +524,7 @@ class BagRecording final : public Recording {
   TfBuffer tf_;
   PoseSeries odom_;
   std::string base_frame_;
+  bool camera_from_options_ = false;  // /tf reaches base_frame_ but not the images' frame_id
   Eigen::Isometry3d T_base_camera_ = Eigen::Isometry3d::Identity();
 };
 
