@@ -30,7 +30,17 @@ CameraIntrinsics d435(int width) {
 }  // namespace
 
 CameraIntrinsics CameraIntrinsics::d435_848x480() { return d435(848); }
-CameraIntrinsics CameraIntrinsics::d435_640x480() { return d435(640); }
+// The real D435's 640x480 depth stream is not a crop of 848x480 but a wider, scaled mode: the camera_info of the
+// D435 recording in ../shared/realdata (d435_office_corner/single_depth_color_640x480.bag, librealsense, firmware
+// 05.09.14.00) gives fx = fy = 390.43 px, cx 331.39, cy 242.19 (78.7 x 63.2 deg). The principal point is off
+// centre; the renderer draws it so (frustum_center/top/bottom).
+CameraIntrinsics CameraIntrinsics::d435_640x480() {
+  CameraIntrinsics k = d435(640);
+  k.fx = k.fy = 390.43;
+  k.cx = 331.39;
+  k.cy = 242.19;
+  return k;
+}
 
 CameraIntrinsics CameraIntrinsics::from_hfov(int width, int height, double hfov_rad, double min_range_m,
                                              double max_range_m, double rate_hz) {

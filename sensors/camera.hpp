@@ -18,9 +18,10 @@ struct CameraIntrinsics {
   double max_range_m = 10.0;
   double rate_hz = 30.0;
 
-  // RealSense D435 depth stream, nominal 87 x 58 deg. The renderer draws square pixels, so both presets keep the
-  // vertical 58 deg (fx = fy = 433.0 px at 480 rows) and the horizontal FOV follows from the width:
-  // 848x480 -> 88.8 deg (spec 87 +- 3), 640x480 -> 72.9 deg (the 4:3 mode is a centre crop, as on the device).
+  // RealSense D435 depth stream, nominal 87 x 58 deg. The renderer draws square pixels. 848x480 keeps the vertical
+  // 58 deg (fx = fy = 433.0 px at 480 rows; 88.8 deg horizontally, spec 87 +- 3). 640x480 is the real stream's
+  // geometry from a D435's camera_info (../shared/realdata): fx = fy = 390.43 px, cx 331.39, cy 242.19
+  // (78.7 x 63.2 deg, principal point off centre).
   static CameraIntrinsics d435_848x480();
   static CameraIntrinsics d435_640x480();
   // Square pixels from a horizontal FOV, principal point at the image centre.

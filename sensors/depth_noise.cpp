@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -64,6 +65,31 @@ const std::array<float, kNormalBins>& normal_table() {
   return table;
 }
 
+// One row of the stereo-occlusion mask (DepthNoiseConfig::stereo_occlusion), scanned right to left: x = u - d is
+// the column where pixel u appears in the right image; a pixel is shadowed when a pixel to its right lands at or
+// left of x (min_x), and the shadow is widened leftwards by shadow_margin_px pixels.
+void occlusion_row(const float* z_m, uint8_t* occluded, int W, double fb, double band_margin_px, int shadow_margin_px) {
+  double min_x = std::numeric_limits<double>::infinity();
+  int extend = 0;
+  for (int u = W - 1; u >= 0; --u) {
+    occluded[u] = 0;
+    if (!(z_m[u] > 0.0f)) {
+      if (extend > 0) --extend;
+      continue;
+    }
+    const double x = u - fb / double(z_m[u]);
+    bool shadow = x >= min_x;
+    if (shadow) {
+      extend = shadow_margin_px;
+    } else if (extend > 0) {
+      shadow = true;
+      --extend;
+    }
+    occluded[u] = shadow || x < band_margin_px - 0.5;
+    min_x = std::min(min_x, x);
+  }
+}
+
 void require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument("DepthNoiseConfig: " + message);
 }
@@ -90,6 +116,15 @@ void DepthNoiseConfig::validate() const {
   require(holes_per_frame <= 1e4, "holes_per_frame " + std::to_string(holes_per_frame) + " above 10000");
   require(std::isfinite(hole_max_radius_px) && hole_max_radius_px >= 1.0 && hole_max_radius_px <= 1e3,
           "hole_max_radius_px " + std::to_string(hole_max_radius_px) + " not in [1, 1000]");
+  require_non_negative(left_band_margin_px, "left_band_margin_px");
+  require_non_negative(left_band_jitter_px, "left_band_jitter_px");
+  require_non_negative(shadow_margin_px, "shadow_margin_px");
+  require(std::isfinite(correlated_fraction) && correlated_fraction >= 0.0 && correlated_fraction <= 1.0,
+          "correlated_fraction " + std::to_string(correlated_fraction) + " not in [0, 1]");
+  require(std::isfinite(correlated_cell_px) && correlated_cell_px >= 1.0 && correlated_cell_px <= 1e3,
+          "correlated_cell_px " + std::to_string(correlated_cell_px) + " not in [1, 1000]");
+  require(left_band_margin_px <= 1e4 && left_band_jitter_px <= 1e4 && shadow_margin_px <= 1e4,
+          "left_band_margin_px, left_band_jitter_px and shadow_margin_px must be <= 10000");
 }
 
 DepthNoise::DepthNoise(const DepthNoiseConfig& config, const CameraIntrinsics& intrinsics)
@@ -121,17 +156,39 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
   const uint64_t edge_threshold = threshold(config_.edge_probability);
   const uint64_t dropout_threshold = threshold(config_.dropout_probability);
 
+  const bool occlusion = config_.stereo_occlusion;
+  if (occlusion) occluded_.resize(truth_.size());
+  const uint64_t band_key = splitmix64_mix(key ^ 0x5BD1E9955BD1E995ULL);  // own draws: the others stay as they were
+  const int shadow_margin = int(std::lround(config_.shadow_margin_px));
+  // Correlated disparity error: a grid of normals every cell px (one beyond each edge), bilinearly interpolated and
+  // renormalized to unit variance per pixel; drawn from a key of its own.
+  const bool correlated = config_.correlated_fraction > 0.0 && config_.subpixel > 0.0;
+  const int cell = std::max(1, int(std::lround(config_.correlated_cell_px)));
+  const int grid_w = W / cell + 2, grid_h = H / cell + 2;
+  const double white_scale = std::sqrt(1.0 - config_.correlated_fraction);
+  const double field_scale = std::sqrt(config_.correlated_fraction);
+  if (correlated) {
+    const uint64_t field_key = splitmix64_mix(key ^ 0xC2B2AE3D27D4EB4FULL);
+    field_grid_.resize(size_t(grid_w) * grid_h);
+    for (size_t j = 0; j < field_grid_.size(); ++j) field_grid_[j] = normal_table()[draw(field_key, j, kGauss) & (kNormalBins - 1)];
+  }
+
   const std::array<float, kNormalBins>& normal = normal_table();
   // Every pixel is a function of the frame key, its index and the clean image, so rows run in parallel (TBB)
   // and give the same image as one thread does.
   const auto noise_rows = [&](const tbb::blocked_range<int>& rows) {
     uint64_t normal_bits = 0;  // four 16-bit fields per draw, 12 bits used each: those of pixel group i / 4
     for (int v = rows.begin(); v < rows.end(); ++v) {
+      if (occlusion) {
+        const double band = config_.left_band_margin_px +
+                             config_.left_band_jitter_px * (2.0 * uniform(band_key, uint64_t(v), kGauss) - 1.0);
+        occlusion_row(&truth_[size_t(v) * W], &occluded_[size_t(v) * W], W, fb, band, shadow_margin);
+      }
       for (int u = 0; u < W; ++u) {
         const size_t i = size_t(v) * W + u;
         if ((i & 3) == 0 || u == 0) normal_bits = draw(key, i >> 2, kGauss);
         const float z_true = truth_[i];
-        if (!(z_true > 0.0f)) {
+        if (!(z_true > 0.0f) || (occlusion && occluded_[i])) {
           image.depth_m[i] = 0.0f;
           continue;
         }
@@ -160,7 +217,19 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
           }
         }
 
-        if (stereo) {
+        if (stereo && correlated) {
+          const double white = double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
+          const int gx = u / cell, gy = v / cell;
+          const double tx = (u - gx * cell + 0.5) / cell, ty = (v - gy * cell + 0.5) / cell;
+          const float* g0 = &field_grid_[size_t(gy) * grid_w + gx];
+          const float* g1 = g0 + grid_w;
+          const double w00 = (1 - tx) * (1 - ty), w10 = tx * (1 - ty), w01 = (1 - tx) * ty, w11 = tx * ty;
+          const double field = (w00 * g0[0] + w10 * g0[1] + w01 * g1[0] + w11 * g1[1]) /
+                               std::sqrt(w00 * w00 + w10 * w10 + w01 * w01 + w11 * w11);
+          double disparity = fb / z + config_.subpixel * (white_scale * white + field_scale * field);
+          if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
+          z = disparity > 0.0 ? fb / disparity : 0.0;
+        } else if (stereo) {
           double disparity = fb / z + config_.subpixel * double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
           if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
           z = disparity > 0.0 ? fb / disparity : 0.0;

@@ -30,6 +30,29 @@ struct DepthNoiseConfig {
   // [1, hole_max_radius_px] px.
   double holes_per_frame = 2.0;
   double hole_max_radius_px = 4.0;
+  // Stereo occlusion (ours, off by default): the D435's depth is the left imager's view, and a pixel has depth
+  // only where the right imager, baseline_m to its right, sees the same point. With d = fx * baseline / z the
+  // point's disparity (px), pixel u appears at column u - d in the right image; it is invalid when that column is
+  // left of left_band_margin_px - 0.5 (the left-edge band; geometric width d, widened by the margin, which the real
+  // D435 shows: 23 px at 1.7 m where d = 11.5 px) or when a nearer pixel to its right lands at the same column or
+  // further left (the occlusion shadow on the left of a foreground edge), widened leftwards by shadow_margin_px
+  // (real shadows are 3.7 px wider than their geometric width, median; simulated ones with margin 0 already 1.9 px,
+  // from the edge artifacts and rounding).
+  // Computed on the clean image, before the other artifacts. Margins measured with stvl-bench noise-stats on the
+  // real D435 recording in ../shared/realdata (see docs/fidelity.md); the band's edge moves per row and frame by a
+  // uniform draw in [-left_band_jitter_px, +left_band_jitter_px] (real: 21 to 25 px, 10th to 90th percentile).
+  bool stereo_occlusion = false;
+  double left_band_margin_px = 12.0;
+  double left_band_jitter_px = 2.0;
+  double shadow_margin_px = 2.0;
+  // Correlated disparity error (ours, off at 0): this share of the disparity noise variance (subpixel^2) is a smooth
+  // field instead of per-pixel white noise, so Intel's RMS formula still gives each pixel's total. The field is a
+  // grid of normals every correlated_cell_px, bilinearly interpolated (renormalized to unit variance), new each
+  // frame. The real D435 (stvl-bench noise-stats, docs/fidelity.md): the difference of two frames of a wall at
+  // 1.7 m correlates 0.98 between neighbours, 0.87 / 0.63 / 0.20 at 4 / 8 / 16 px along a row and 0.75 / 0.35 / 0.02
+  // down a column; a 12 px grid gives 0.81 / 0.52 / 0.05 (isotropic: the mean of the two), hence 0.95 and 12 px.
+  double correlated_fraction = 0.0;
+  double correlated_cell_px = 12.0;
 
   // Throws std::invalid_argument naming the first bad field (negative, non-finite, probabilities outside [0, 1]).
   void validate() const;
@@ -54,6 +77,8 @@ class DepthNoise {
   DepthNoiseConfig config_;
   CameraIntrinsics intrinsics_;
   std::vector<float> truth_;  // the input image, read while the output is modified
+  std::vector<uint8_t> occluded_;
+  std::vector<float> field_grid_;  // correlated_fraction: this frame's grid of normals  // stereo_occlusion: 1 where the right imager cannot see the pixel
 };
 
 }  // namespace stvl::sensors

@@ -230,13 +230,24 @@ void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c) {
     noise.get("dropout_probability", n.dropout_probability);
     noise.get("holes_per_frame", n.holes_per_frame);
     noise.get("hole_max_radius_px", n.hole_max_radius_px);
+    noise.get("stereo_occlusion", n.stereo_occlusion);  // ours (real D435 artifacts), off by default
+    noise.get("left_band_margin_px", n.left_band_margin_px);
+    noise.get("left_band_jitter_px", n.left_band_jitter_px);
+    noise.get("shadow_margin_px", n.shadow_margin_px);
+    noise.get("correlated_fraction", n.correlated_fraction);  // ours, 0 = off
+    noise.get("correlated_cell_px", n.correlated_cell_px);
     noise.finish();
     validate_keys({{"enabled", &noise, "enabled"}, {"baseline_m", &noise, "baseline_m"}, {"subpixel", &noise, "subpixel"},
                    {"disparity_step_px", &noise, "disparity_step_px"}, {"edge_jump_m", &noise, "edge_jump_m"},
                    {"edge_probability", &noise, "edge_probability"},
                    {"edge_invalid_fraction", &noise, "edge_invalid_fraction"},
                    {"dropout_probability", &noise, "dropout_probability"}, {"holes_per_frame", &noise, "holes_per_frame"},
-                   {"hole_max_radius_px", &noise, "hole_max_radius_px"}},
+                   {"hole_max_radius_px", &noise, "hole_max_radius_px"},
+                   {"left_band_margin_px", &noise, "left_band_margin_px"},
+                   {"left_band_jitter_px", &noise, "left_band_jitter_px"},
+                   {"shadow_margin_px", &noise, "shadow_margin_px"},
+                   {"correlated_fraction", &noise, "correlated_fraction"},
+                   {"correlated_cell_px", &noise, "correlated_cell_px"}},
                   [&] { n.validate(); });
   }
   if (camera.has("edge_filter")) {  // ours (sensors/depth_edge_filter.hpp); STVL has none

@@ -452,6 +452,35 @@ EOF
     expect_no_results "$tmp"
     ;;
 
+  noise_stats_missing | noise_stats_one_frame | noise_stats_not_a_recording)
+    # stvl-bench noise-stats needs a readable recording with two frames of a static camera: else exit 2.
+    case $case_name in
+      noise_stats_missing) real=$tmp/none.bag pattern="none\.bag" ;;
+      noise_stats_one_frame)  # the first Kinect frame alone, with its calibration
+        mkdir -p "$tmp/one/depth" "$tmp/one/calib"
+        cp "$src/../shared/realdata/robot_kinect_frames/depth/17.png" "$tmp/one/depth/" 2>/dev/null || skip "no realdata"
+        cp "$src/../shared/realdata/robot_kinect_frames/calib/17.yaml" "$tmp/one/calib/"
+        real=$tmp/one pattern="one: noise-stats needs two frames of a static camera, the recording has 1" ;;
+      noise_stats_not_a_recording) printf 'not a bag\n' >"$tmp/text.bag"; real=$tmp/text.bag pattern="text\.bag" ;;
+    esac
+    run_bench noise-stats --real "$real" --out "$tmp/out/stats.json"
+    expect_rc 2
+    expect_error_line "$pattern"
+    [[ ! -e "$tmp/out/stats.json" ]] || fail "wrote stats.json"
+    ;;
+
+  noise_occlusion_bad_margin)
+    # A negative margin of the stereo-occlusion artifacts names file, line and key.
+    sed "s#^  noise: {enabled: true}#  noise: {enabled: true, stereo_occlusion: true, left_band_margin_px: -3}#" "$scenario" >"$tmp/s.yaml"
+    sed -i "s#^world: .*#world: $src/worlds/office_corridor.xml#" "$tmp/s.yaml"
+    line=$(grep -n "left_band_margin_px: -3" "$tmp/s.yaml" | cut -d: -f1)
+    [[ -n "$line" ]] || fail "no noise line in office_corridor.yaml"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "s\.yaml:$line: camera\.noise\.left_band_margin_px: .*must be finite and >= 0"
+    expect_no_results "$tmp"
+    ;;
+
   *)
     echo "faults.sh: unknown case '$case_name'" >&2
     exit 2

@@ -16,17 +16,28 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-TEST(CameraIntrinsics, D435PresetsKeepVerticalFovWithSquarePixels) {
+TEST(CameraIntrinsics, D435PresetsHaveSquarePixels) {
   for (const CameraIntrinsics& k : {CameraIntrinsics::d435_848x480(), CameraIntrinsics::d435_640x480()}) {
     EXPECT_NO_THROW(k.validate());
     EXPECT_TRUE(k.square_pixels());
-    EXPECT_NEAR(k.vfov_rad(), 58.0 * kDeg, 1e-9);
     EXPECT_DOUBLE_EQ(k.min_range_m, 0.28);
     EXPECT_DOUBLE_EQ(k.max_range_m, 10.0);
   }
+  EXPECT_NEAR(CameraIntrinsics::d435_848x480().vfov_rad(), 58.0 * kDeg, 1e-9);
   EXPECT_NEAR(CameraIntrinsics::d435_848x480().hfov_rad() / kDeg, 88.8, 0.1);
-  EXPECT_NEAR(CameraIntrinsics::d435_640x480().hfov_rad() / kDeg, 72.9, 0.1);
   EXPECT_NEAR(CameraIntrinsics::d435_848x480().fx, 433.0, 0.1);
+}
+
+// 640x480 is the real stream's geometry: the camera_info of the D435 bag in ../shared/realdata
+// (fx = fy = 390.43145751953125, cx 331.38787841796875, cy 242.18734741210938).
+TEST(CameraIntrinsics, D435At640x480IsTheRealStream) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  EXPECT_NEAR(k.fx, 390.4315, 0.01);
+  EXPECT_NEAR(k.fy, 390.4315, 0.01);
+  EXPECT_NEAR(k.cx, 331.3879, 0.01);
+  EXPECT_NEAR(k.cy, 242.1873, 0.01);
+  EXPECT_NEAR(k.hfov_rad() / kDeg, 78.7, 0.1);
+  EXPECT_NEAR(k.vfov_rad() / kDeg, 63.2, 0.1);
 }
 
 TEST(CameraIntrinsics, FromHfov) {

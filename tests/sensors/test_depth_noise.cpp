@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <vector>
 #include <cstdio>
 #include <stdexcept>
 
@@ -197,6 +200,220 @@ TEST(DepthNoise, BadConfigAndSizeThrow) {
   DepthNoise noise(DepthNoiseConfig{}, k);
   DepthImage wrong(4, 4);
   EXPECT_THROW(noise.apply(wrong, 1, 1), std::invalid_argument);
+}
+
+// ---- Stereo occlusion (DepthNoiseConfig::stereo_occlusion): the real D435's left band and shadows. ----
+
+// Only the occlusion mask: no stereo noise, no other artifacts.
+DepthNoiseConfig occlusion_only(double band_margin_px, double jitter_px, double shadow_margin_px) {
+  DepthNoiseConfig config = stereo_only();
+  config.subpixel = 0.0;
+  config.disparity_step_px = 0.0;
+  config.stereo_occlusion = true;
+  config.left_band_margin_px = band_margin_px;
+  config.left_band_jitter_px = jitter_px;
+  config.shadow_margin_px = shadow_margin_px;
+  return config;
+}
+
+int leading_invalid(const DepthImage& image, int v) {
+  int u = 0;
+  while (u < image.width && image.at(u, v) == 0.0f) ++u;
+  return u;
+}
+
+// Pixel u lands at column u - fx * b / z of the right image; invalid when that is left of margin - 0.5, so the
+// band is ceil(fx * b / z + margin - 0.5) px wide in every row.
+TEST(StereoOcclusion, LeftBandWidthFollowsBaselineAndDepth) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  for (double margin : {0.0, 12.0}) {
+    for (float z : {0.8f, 1.0f, 2.0f, 4.0f}) {
+      DepthNoise noise(occlusion_only(margin, 0.0, 0.0), k);
+      DepthImage image = flat_wall(k, z);
+      noise.apply(image, 1, 0);
+      const int expected = int(std::ceil(k.fx * 0.05 / z + margin - 0.5));
+      for (int v = 0; v < k.height; v += 37) EXPECT_EQ(leading_invalid(image, v), expected) << "z " << z << " row " << v;
+      EXPECT_EQ(image.valid_count(), (k.width - expected) * k.height) << "only the band is invalid, z " << z;
+    }
+  }
+  // 1 m, no margin: fx * b / z = 19.5 px -> 20 columns (0 to 19).
+  DepthNoise noise(occlusion_only(0.0, 0.0, 0.0), k);
+  DepthImage image = flat_wall(k, 1.0f);
+  noise.apply(image, 1, 0);
+  EXPECT_EQ(leading_invalid(image, 100), 20);
+}
+
+TEST(StereoOcclusion, BandJitterIsSeededPerRowAndFrame) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  DepthNoise noise(occlusion_only(12.0, 2.0, 0.0), k);
+  const auto bands = [&](uint64_t seed, uint64_t frame) {
+    DepthImage image = flat_wall(k, 1.7f);
+    noise.apply(image, seed, frame);
+    std::vector<int> widths;
+    for (int v = 0; v < k.height; ++v) widths.push_back(leading_invalid(image, v));
+    return widths;
+  };
+  const std::vector<int> a = bands(3, 0);
+  const double d = k.fx * 0.05 / 1.7;
+  int lo = k.width, hi = 0;
+  for (int w : a) {
+    lo = std::min(lo, w);
+    hi = std::max(hi, w);
+    EXPECT_GE(w, int(std::ceil(d + 12.0 - 2.0 - 0.5)));
+    EXPECT_LE(w, int(std::ceil(d + 12.0 + 2.0 - 0.5)));
+  }
+  EXPECT_GE(hi - lo, 3);  // uniform over 4 px: every row the same would be a bug
+  EXPECT_EQ(bands(3, 0), a);
+  EXPECT_NE(bands(3, 1), a);
+  EXPECT_NE(bands(4, 0), a);
+}
+
+// A foreground block at 1 m (columns 300 to 379) before a wall at 2 m: the right imager, 5 cm to the right, sees
+// the block shifted left by fx * b / 1 = 19.5 px and the wall by 9.8 px, so the wall's pixels u with
+// u - 9.8 >= 300 - 19.5 (u >= 290.7: 291 to 299) are hidden; on the block's right the wall stays visible.
+TEST(StereoOcclusion, ShadowLeftOfForegroundEdges) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  DepthImage truth = flat_wall(k, 2.0f);
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 300; u < 380; ++u) truth.at(u, v) = 1.0f;
+  const double d_fg = k.fx * 0.05 / 1.0, d_bg = k.fx * 0.05 / 2.0;
+  const int first_hidden = int(std::ceil(300 - d_fg + d_bg));
+  ASSERT_EQ(first_hidden, 291);
+  for (int margin : {0, 6}) {
+    DepthNoise noise(occlusion_only(0.0, 0.0, margin), k);
+    DepthImage image = truth;
+    noise.apply(image, 1, 0);
+    for (int v = 0; v < k.height; v += 53) {
+      for (int u = 200; u < 460; ++u) {
+        const bool hidden = u >= first_hidden - margin && u < 300;
+        EXPECT_EQ(image.at(u, v) == 0.0f, hidden) << "u " << u << " v " << v << " margin " << margin;
+      }
+    }
+  }
+}
+
+TEST(StereoOcclusion, SameSeedSameImageOnOneThreadAndOnMany) {
+  const CameraIntrinsics k = CameraIntrinsics::from_hfov(101, 37, 1.2, 0.2, 8.0, 30.0);
+  DepthImage truth = flat_wall(k, 2.0f);
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 60; u < 80; ++u) truth.at(u, v) = 0.6f;
+  DepthNoiseConfig config;
+  config.stereo_occlusion = true;
+  DepthNoise noise(config, k);
+  const auto noisy = [&](bool parallel, uint64_t seed) {
+    DepthImage image = truth;
+    noise.apply(image, seed, 5, parallel);
+    return image.depth_m;
+  };
+  const std::vector<float> reference = noisy(false, 11);
+  EXPECT_EQ(noisy(true, 11), reference);
+  EXPECT_EQ(noisy(true, 11), noisy(true, 11));
+  EXPECT_NE(noisy(true, 12), reference);
+  DepthNoiseConfig off = config;
+  off.stereo_occlusion = false;
+  DepthImage without = truth;
+  DepthNoise(off, k).apply(without, 11, 5);
+  EXPECT_GT(std::count(reference.begin(), reference.end(), 0.0f),
+            std::count(without.depth_m.begin(), without.depth_m.end(), 0.0f) + 10 * k.height);
+}
+
+// With the new switches off the model is the one before them, bit for bit: the FNV-1a hash of this image's floats
+// as computed by the model of commit 758bf7c (before stereo_occlusion existed), built separately.
+TEST(StereoOcclusion, OffIsBitIdenticalToTheModelBefore) {
+  const CameraIntrinsics k = CameraIntrinsics::from_hfov(97, 41, 1.2, 0.2, 8.0, 30.0);
+  DepthImage image(k.width, k.height);
+  for (int v = 0; v < k.height; ++v)
+    for (int u = 0; u < k.width; ++u) image.at(u, v) = (u > 40 && u < 60 && v > 10) ? 1.2f : 2.0f + 0.01f * float(u);
+  DepthNoiseConfig config;
+  config.holes_per_frame = 3.0;
+  config.dropout_probability = 0.01;
+  ASSERT_FALSE(config.stereo_occlusion);  // off by default
+  DepthNoise(config, k).apply(image, 123, 4, false);
+  uint64_t hash = 1469598103934665603ULL;
+  for (float f : image.depth_m) {
+    uint32_t bits;
+    std::memcpy(&bits, &f, 4);
+    for (int i = 0; i < 4; ++i) {
+      hash ^= (bits >> (8 * i)) & 255u;
+      hash *= 1099511628211ULL;
+    }
+  }
+  EXPECT_EQ(hash, 6866128612431820113ULL);
+  EXPECT_EQ(image.valid_count(), 3786);
+}
+
+TEST(StereoOcclusion, BadMarginsThrow) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  for (auto change : {+[](DepthNoiseConfig& c) { c.left_band_margin_px = -1.0; },
+                      +[](DepthNoiseConfig& c) { c.left_band_jitter_px = std::nan(""); },
+                      +[](DepthNoiseConfig& c) { c.shadow_margin_px = 1e9; }}) {
+    DepthNoiseConfig config;
+    change(config);
+    EXPECT_THROW(DepthNoise(config, k), std::invalid_argument);
+  }
+}
+
+}  // namespace
+}  // namespace stvl::sensors
+
+namespace stvl::sensors {
+namespace {
+
+// correlated_fraction: the disparity noise becomes (mostly) a smooth field; each pixel's total stays Intel's formula.
+TEST(CorrelatedNoise, KeepsIntelsRmsAndCorrelatesNeighbours) {
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  const auto stats = [&](double fraction, uint64_t seed, double* lag1, double* lag32) {
+    DepthNoiseConfig config = stereo_only();
+    config.correlated_fraction = fraction;
+    config.correlated_cell_px = 16.0;
+    DepthNoise noise(config, k);
+    DepthImage image = flat_wall(k, 2.0f);
+    noise.apply(image, seed, 0);
+    double sum_sq = 0.0, c1 = 0.0, c32 = 0.0;
+    for (int v = 0; v < k.height; ++v)
+      for (int u = 0; u < k.width; ++u) {
+        const double e = image.at(u, v) - 2.0;
+        sum_sq += e * e;
+        if (u + 1 < k.width) c1 += e * (image.at(u + 1, v) - 2.0);
+        if (u + 32 < k.width) c32 += e * (image.at(u + 32, v) - 2.0);
+      }
+    const double n = double(k.width) * k.height;
+    *lag1 = c1 / sum_sq;
+    *lag32 = c32 / sum_sq;
+    return std::sqrt(sum_sq / n) / noise.rms_error_m(2.0);
+  };
+  double lag1 = 0, lag32 = 0;
+  // A 16 px grid gives about 40 x 30 independent values per frame: the frame's RMS scatters by about 5 %.
+  double ratio = 0;
+  for (uint64_t seed = 1; seed <= 4; ++seed) ratio += stats(0.95, seed, &lag1, &lag32) / 4;
+  EXPECT_NEAR(ratio, 1.0, 0.08);
+  EXPECT_GT(lag1, 0.85);  // 0.93 expected: sqrt(0.95)^2 of the field (~0.98 between neighbours) + white 0.05
+  EXPECT_LT(std::abs(lag32), 0.15);  // beyond two cells: independent
+  EXPECT_NEAR(stats(0.0, 1, &lag1, &lag32), 1.0, kRmsTolerance);
+  EXPECT_LT(std::abs(lag1), 0.05);  // white noise: no correlation
+}
+
+TEST(CorrelatedNoise, SeededAndSameOnOneThreadAndOnMany) {
+  const CameraIntrinsics k = CameraIntrinsics::from_hfov(101, 37, 1.2, 0.2, 8.0, 30.0);
+  DepthNoiseConfig config;
+  config.correlated_fraction = 0.9;
+  config.correlated_cell_px = 7.0;
+  DepthNoise noise(config, k);
+  const auto noisy = [&](bool parallel, uint64_t seed, uint64_t frame) {
+    DepthImage image = flat_wall(k, 2.0f);
+    noise.apply(image, seed, frame, parallel);
+    return image.depth_m;
+  };
+  const std::vector<float> reference = noisy(false, 3, 2);
+  EXPECT_EQ(noisy(true, 3, 2), reference);
+  EXPECT_NE(noisy(true, 3, 3), reference);
+  EXPECT_NE(noisy(true, 4, 2), reference);
+  DepthNoiseConfig bad;
+  bad.correlated_fraction = 1.5;
+  EXPECT_THROW(DepthNoise(bad, k), std::invalid_argument);
+  bad = DepthNoiseConfig{};
+  bad.correlated_cell_px = 0.5;
+  EXPECT_THROW(DepthNoise(bad, k), std::invalid_argument);
 }
 
 }  // namespace

@@ -111,6 +111,31 @@ TEST_P(Renderer, MatchesRayCastsAt848x480) {
   expect_matches_ray_cast(CameraIntrinsics::d435_848x480(), looking_along_x({0.0, 0.0, 1.0}));
 }
 
+// The real 640x480 stream's off-centre principal point (cx 331.39, cy 242.19): a known point lands on the pixel
+// project_to_pixel gives, with the depth the ray cast gives (also checked over the whole image above).
+TEST_P(Renderer, RealD435At640x480ProjectsAKnownPoint) {
+  World world("<mujoco><worldbody><geom type='box' size='0.05 2 2' pos='2.05 0 1'/>"
+              "<geom type='box' size='0.02 0.02 0.02' pos='1.5 -0.3 0.8'/></worldbody></mujoco>");
+  const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  std::string why;
+  auto renderer = try_renderer(world, k, GetParam(), why);
+  if (!renderer) GTEST_SKIP() << why;
+  const Eigen::Isometry3d T = looking_along_x({0.0, 0.0, 1.0});
+  const DepthImage& image = renderer->render(world.model, world.data, T);
+  // The small cube's front face at x = 1.48: optical (0.3, 0.2, 1.48) -> u = 331.39 + 390.43 * 0.3 / 1.48.
+  const auto uv = project_to_pixel(k, T.inverse() * Eigen::Vector3d(1.48, -0.3, 0.8));
+  ASSERT_TRUE(uv.has_value());
+  EXPECT_NEAR(uv->x(), 331.39 + 390.43 * 0.3 / 1.48, 1e-9);
+  EXPECT_NEAR(uv->y(), 242.19 + 390.43 * 0.2 / 1.48, 1e-9);
+  const int u = int(std::lround(uv->x())), v = int(std::lround(uv->y()));
+  EXPECT_NEAR(image.at(u, v), 1.48, 2e-3);
+  // The cube's face spans 0.04 m / 1.48 m * 390.43 = 10.6 px and its sides about 2 px more (seen obliquely):
+  // 9 px away it is the wall at 2.0 m, on every side.
+  for (auto [du, dv] : {std::pair{9, 0}, {-9, 0}, {0, 9}, {0, -9}}) EXPECT_NEAR(image.at(u + du, v + dv), 2.0, 2e-3);
+  // The optical axis hits the wall at the principal point.
+  EXPECT_NEAR(image.at(331, 242), 2.0, 2e-3);
+}
+
 TEST_P(Renderer, PrincipalPointOffset) {
   CameraIntrinsics k = CameraIntrinsics::d435_640x480();
   k.cx = 250.0;
@@ -184,7 +209,10 @@ TEST_P(Renderer, RobotGeomMovedToGroupThreeIsDrawnOthersAreNot) {
 TEST_P(Renderer, TwoRenderersInOneProcess) {
   World world(kShapes);
   std::string why;
-  auto first = try_renderer(world, CameraIntrinsics::d435_640x480(), GetParam(), why);
+  CameraIntrinsics crop = CameraIntrinsics::d435_848x480();  // its 640-wide centre crop (not the real 640 stream)
+  crop.width = 640;
+  crop.cx = 319.5;
+  auto first = try_renderer(world, crop, GetParam(), why);
   if (!first) GTEST_SKIP() << why;
   DepthRenderer second(world.model, CameraIntrinsics::d435_848x480(), GetParam());
   const Eigen::Isometry3d T = looking_along_x({0.0, 0.0, 1.0});

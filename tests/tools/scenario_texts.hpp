@@ -73,6 +73,12 @@ camera:
     dropout_probability: 0.01
     holes_per_frame: 3
     hole_max_radius_px: 5
+    stereo_occlusion: true
+    left_band_margin_px: 10
+    left_band_jitter_px: 1.5
+    shadow_margin_px: 3
+    correlated_fraction: 0.5
+    correlated_cell_px: 8
 filter:
   type: csnb
   device: cpu

@@ -140,6 +140,12 @@ TEST(ScenarioParse, EveryKeyIsRead) {
   EXPECT_DOUBLE_EQ(n.dropout_probability, 0.01);
   EXPECT_DOUBLE_EQ(n.holes_per_frame, 3.0);
   EXPECT_DOUBLE_EQ(n.hole_max_radius_px, 5.0);
+  EXPECT_TRUE(n.stereo_occlusion);
+  EXPECT_DOUBLE_EQ(n.left_band_margin_px, 10.0);
+  EXPECT_DOUBLE_EQ(n.left_band_jitter_px, 1.5);
+  EXPECT_DOUBLE_EQ(n.shadow_margin_px, 3.0);
+  EXPECT_DOUBLE_EQ(n.correlated_fraction, 0.5);
+  EXPECT_DOUBLE_EQ(n.correlated_cell_px, 8.0);
   const auto& f = s.pipeline.filter;
   EXPECT_EQ(f.type, filter::FilterType::kCsnb);
   EXPECT_EQ(f.device, filter::Device::kCpu);
