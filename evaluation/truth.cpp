@@ -118,9 +118,19 @@ bool Truth::near(const VoxelKey& k, int tol) const {
 bool Truth::near_static(const VoxelKey& k) const { return near_voxel(static_truth_, k, config_.tolerance_voxels); }
 
 int Truth::body_of(const VoxelKey& k) const {
-  if (const auto it = static_body_of_.find(k); it != static_body_of_.end()) return it->second;
-  if (const auto it = dynamic_body_of_.find(k); it != dynamic_body_of_.end()) return it->second;
-  return -1;
+  const int body = static_body_of(k);
+  return body >= 0 ? body : moving_body_of(k);
+}
+
+int Truth::static_body_of(const VoxelKey& k) const {
+  const auto it = static_body_of_.find(k);
+  return it == static_body_of_.end() ? -1 : it->second;
+}
+
+int Truth::moving_body_of(const VoxelKey& k) const {
+  if (dynamic_body_of_.empty()) return -1;
+  const auto it = dynamic_body_of_.find(k);
+  return it == dynamic_body_of_.end() ? -1 : it->second;
 }
 
 CellSet Truth::footprint() const {
@@ -151,18 +161,35 @@ std::optional<double> Truth::distance_to_surface_m(const Eigen::Vector3d& c) con
   return distance_in(bucket == geoms_near_.end() ? nullptr : &bucket->second, c, &fell_back);
 }
 
-std::optional<double> Truth::voxel_distance_to_surface_m(const VoxelKey& key) {
+std::optional<double> Truth::voxel_distance_to_surface_m(const VoxelKey& key, bool* fixed) {
   const Eigen::Vector3d c = voxel_center(key, config_.voxel_size_m);
   const auto bucket = geoms_near_.find(cell_key(c.head<2>(), kBucketCell_m));
   // Only static geoms decide the distance of a voxel whose bucket holds no moving geom, unless the search falls
   // back to every geom; those static geoms and their order never change.
   const bool static_bucket = bucket != geoms_near_.end() && !bucket->second.has_moving;
+  if (fixed) *fixed = false;
   if (static_bucket)
-    if (const auto cached = static_distance_m_.find(key); cached != static_distance_m_.end()) return cached->second;
+    if (const auto cached = static_distance_m_.find(key); cached != static_distance_m_.end()) {
+      if (fixed) *fixed = true;
+      return cached->second;
+    }
   bool fell_back = false;
   const auto d = distance_in(bucket == geoms_near_.end() ? nullptr : &bucket->second, c, &fell_back);
-  if (static_bucket && !fell_back && d) static_distance_m_.emplace(key, *d);
+  if (static_bucket && !fell_back && d) {
+    static_distance_m_.emplace(key, *d);
+    if (fixed) *fixed = true;
+  }
   return d;
+}
+
+bool Truth::moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const {
+  const CellKey a = cell_key(voxel_center(lo, config_.voxel_size_m).head<2>(), kBucketCell_m);
+  const CellKey b = cell_key(voxel_center(hi, config_.voxel_size_m).head<2>(), kBucketCell_m);
+  for (int x = a.x; x <= b.x; ++x)
+    for (int y = a.y; y <= b.y; ++y)
+      if (const auto bucket = geoms_near_.find({x, y}); bucket != geoms_near_.end() && bucket->second.has_moving)
+        return true;
+  return false;
 }
 
 Eigen::AlignedBox2d Truth::bounds_W() const {

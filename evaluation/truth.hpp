@@ -30,6 +30,9 @@ class Truth {
   bool near_moving(const VoxelKey& key) const { return dynamic_near_.count(key) > 0; }
   // Index into bodies() of the first body holding `key` (static bodies first), -1 when none does.
   int body_of(const VoxelKey& key) const;
+  // Its two halves: body_of() is static_body_of() when that is >= 0 (never changes), else moving_body_of().
+  int static_body_of(const VoxelKey& key) const;
+  int moving_body_of(const VoxelKey& key) const;
   // Static bodies, then moving ones; each with its voxels in the band.
   const std::vector<const sim::BodyVoxels*>& bodies() const { return bodies_; }
   bool has_moving_bodies() const { return !dynamic_geoms_.empty(); }
@@ -41,7 +44,11 @@ class Truth {
   std::optional<double> distance_to_surface_m(const Eigen::Vector3d& p_W) const;
   // The same for a voxel's centre, remembered per voxel where no moving body can change it (no moving geom in
   // its search bucket and a hit within reach): the same value, computed once.
-  std::optional<double> voxel_distance_to_surface_m(const VoxelKey& key);
+  // *fixed (when given) says whether the value is such a remembered one: it holds for every later version in
+  // which moving_distance_in() is false around the voxel.
+  std::optional<double> voxel_distance_to_surface_m(const VoxelKey& key, bool* fixed = nullptr);
+  // Whether a moving geom is in the distance search of a voxel centre in lo..hi (keys, each axis) now.
+  bool moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const;
   // x/y extent of every obstacle now.
   Eigen::AlignedBox2d bounds_W() const;
   // Truth voxel centres, sorted by key.

@@ -1,0 +1,127 @@
+#include "evaluation/mapped_index.hpp"
+
+namespace stvl::evaluation {
+namespace {
+
+constexpr int kDim = 8;
+
+VoxelKey origin_of(const VoxelKey& k) { return {k.x & ~(kDim - 1), k.y & ~(kDim - 1), k.z & ~(kDim - 1)}; }
+int offset_of(const VoxelKey& k) { return ((k.x & 7) << 6) | ((k.y & 7) << 3) | (k.z & 7); }
+VoxelKey key_at(const VoxelKey& origin, int i) { return {origin.x + (i >> 6), origin.y + ((i >> 3) & 7), origin.z + (i & 7)}; }
+
+// Calls f(i) for every set bit of m, in increasing order.
+template <class F>
+void for_each_bit(const std::array<std::uint64_t, 8>& m, F&& f) {
+  for (int w = 0; w < 8; ++w)
+    for (std::uint64_t bits = m[w]; bits; bits &= bits - 1) f(64 * w + __builtin_ctzll(bits));
+}
+
+void set_bit(std::array<std::uint64_t, 8>& m, int i) { m[i >> 6] |= std::uint64_t{1} << (i & 63); }
+
+}  // namespace
+
+VoxelMatches match_mapped_plain(const mapping::VoxelMap& map, Truth& truth, int tol,
+                                std::map<double, std::size_t>& distance_counts_m) {
+  VoxelMatches m;
+  map.for_each_key([&](const VoxelKey& k) {
+    ++m.mapped;
+    if (truth.near(k, tol)) ++m.matched_mapped;
+    if (const auto d = truth.voxel_distance_to_surface_m(k)) ++distance_counts_m[*d];
+  });
+  return m;
+}
+
+std::uint32_t MappedIndex::intern(double d) {
+  const auto [it, fresh] = distance_ids_.try_emplace(d, static_cast<std::uint32_t>(distances_.size()));
+  if (fresh) distances_.push_back(d), counts_.push_back(0);
+  return it->second;
+}
+
+VoxelMatches MappedIndex::match(const mapping::VoxelMap& map, Truth& truth) {
+  VoxelMatches m;
+  ++stamp_;
+  const std::size_t version = truth.version();
+  map.for_each_leaf([&](const VoxelKey& origin, const std::uint64_t* on) {
+    Leaf& leaf = leaves_[origin];
+    leaf.stamp = stamp_;
+    if (leaf.version != version) {  // the truth changed since this leaf's results
+      leaf.version = version;
+      leaf.moving_done = {};
+      const bool moving = truth.moving_distance_in(origin, {origin.x + 7, origin.y + 7, origin.z + 7});
+      for (int w = 0; w < 8; ++w) {
+        if (moving) leaf.distance_fixed[w] = 0;
+        leaf.distance_done[w] &= leaf.distance_fixed[w];
+      }
+    }
+    Mask todo_static{}, todo_moving{}, todo_distance{};
+    for (int w = 0; w < 8; ++w) {
+      leaf.on[w] = on[w];
+      todo_static[w] = on[w] & ~leaf.static_done[w];
+      todo_distance[w] = on[w] & ~leaf.distance_done[w];
+    }
+    for_each_bit(todo_static, [&](int i) {
+      set_bit(leaf.static_done, i);
+      if (truth.near_static(key_at(origin, i))) set_bit(leaf.static_near, i);
+    });
+    for (int w = 0; w < 8; ++w) todo_moving[w] = on[w] & ~leaf.static_near[w] & ~leaf.moving_done[w];
+    for_each_bit(todo_moving, [&](int i) {
+      set_bit(leaf.moving_done, i);
+      const std::uint64_t bit = std::uint64_t{1} << (i & 63);
+      if (truth.near_moving(key_at(origin, i)))
+        leaf.moving_near[i >> 6] |= bit;
+      else
+        leaf.moving_near[i >> 6] &= ~bit;
+    });
+    for_each_bit(todo_distance, [&](int i) {
+      bool fixed = false;
+      const auto d = truth.voxel_distance_to_surface_m(key_at(origin, i), &fixed);
+      leaf.distance_id[i] = d ? intern(*d) : kNoDistance;
+      set_bit(leaf.distance_done, i);
+      const std::uint64_t bit = std::uint64_t{1} << (i & 63);
+      if (fixed)
+        leaf.distance_fixed[i >> 6] |= bit;
+      else
+        leaf.distance_fixed[i >> 6] &= ~bit;
+    });
+    for (int w = 0; w < 8; ++w) {
+      m.mapped += __builtin_popcountll(on[w]);
+      m.matched_mapped += __builtin_popcountll(on[w] & (leaf.static_near[w] | (leaf.moving_near[w] & leaf.moving_done[w])));
+    }
+    for_each_bit(leaf.on, [&](int i) {
+      if (leaf.distance_id[i] != kNoDistance) ++counts_[leaf.distance_id[i]];
+    });
+  });
+  for (auto it = leaves_.begin(); it != leaves_.end();)  // leaves gone from the map: forget them (memory)
+    it = it->second.stamp == stamp_ ? std::next(it) : leaves_.erase(it);
+  last_leaf_ = nullptr, last_origin_ = {1, 1, 1};  // no leaf's origin
+  return m;
+}
+
+std::map<double, std::size_t> MappedIndex::distance_counts() const {
+  std::map<double, std::size_t> counts;
+  for (std::size_t id = 0; id < distances_.size(); ++id)
+    if (counts_[id] > 0) counts.emplace(distances_[id], counts_[id]);
+  return counts;
+}
+
+const MappedIndex::Leaf* MappedIndex::leaf_of(const VoxelKey& key) const {
+  const VoxelKey origin = origin_of(key);
+  if (origin == last_origin_) return last_leaf_;
+  const auto it = leaves_.find(origin);
+  last_origin_ = origin;
+  last_leaf_ = it == leaves_.end() ? nullptr : &it->second;
+  return last_leaf_;
+}
+
+bool MappedIndex::contains(const VoxelKey& key) const {
+  const Leaf* leaf = leaf_of(key);
+  if (!leaf) return false;
+  const int i = offset_of(key);
+  return (leaf->on[i >> 6] >> (i & 63)) & 1u;
+}
+
+bool MappedIndex::near(const VoxelKey& key, int tol) const {
+  return any_within(key, tol, [&](const VoxelKey& n) { return contains(n); });
+}
+
+}  // namespace stvl::evaluation
