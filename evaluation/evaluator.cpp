@@ -187,6 +187,10 @@ void Evaluator::observe_clearing(double time_s, const sim::World& world, const C
 }
 
 void Evaluator::after_update(double time_s, const mapping::VoxelMap& map, const std::vector<VoxelKey>& cleared_keys) {
+  {  // the next evaluation's per-voxel results, a frame's share at a time (the figures do not depend on it)
+    const PhaseTimer timer(times_.mapped_ms);
+    mapped_.update(map, truth_);
+  }
   const PhaseTimer timer(times_.clearing_ms);
   // A true voxel the rays removed and no point marked again in the same update: gone from the map. (In frustum
   // mode cleared_keys holds what the acceleration removed: observe_hidden_clears() looks at those.)
@@ -264,7 +268,7 @@ std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const VoxelMa
 void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap) {
   const double cell_m = config_.voxel_size_m;
   std::optional<PhaseTimer> timer(std::in_place, times_.costmap_ms);
-  const CellSet footprint = truth_.footprint();
+  const CellSet& footprint = truth_.footprint();
   const std::vector<Eigen::Vector2d> footprint_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
   CellSet lethal;
   if (!map.empty()) {
@@ -278,7 +282,9 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& obser
       for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m)) freed.insert({x, y});
     }
     lethal = lethal_cells(map.project_costmap(options), cell_m);
-    snap.projection = guard_projection(map, lethal, options.min_obstacle_height_m, options.max_obstacle_height_m, freed);
+    snap.projection = guard_projection(
+        mapped_.column_counts(map.voxel_size_m(), options.min_obstacle_height_m, options.max_obstacle_height_m),
+        std::max(map.config().mark_threshold, 1), lethal, freed);  // the map's columns, from match_mapped_voxels()
   }
   snap.self_marking = count_self_marking(lethal, footprint_W, cell_m, config_.self_ring_m, footprint, config_.tolerance_voxels);
   CostmapMatches m = match_costmap(lethal, footprint, observed_cells, config_.tolerance_voxels);

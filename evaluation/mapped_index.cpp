@@ -37,10 +37,21 @@ std::uint32_t MappedIndex::intern(double d) {
   return it->second;
 }
 
+void MappedIndex::update(const mapping::VoxelMap& map, Truth& truth) { walk(map, truth, nullptr); }
+
 VoxelMatches MappedIndex::match(const mapping::VoxelMap& map, Truth& truth) {
   VoxelMatches m;
   ++stamp_;
+  walk(map, truth, &m);
+  for (auto it = leaves_.begin(); it != leaves_.end();)  // leaves gone from the map: forget them (memory)
+    it = it->second.stamp == stamp_ ? std::next(it) : leaves_.erase(it);
+  last_leaf_ = nullptr, last_origin_ = {1, 1, 1};  // no leaf's origin
+  return m;
+}
+
+void MappedIndex::walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches* counts) {
   const std::size_t version = truth.version();
+  last_leaf_ = nullptr, last_origin_ = {1, 1, 1};
   map.for_each_leaf([&](const VoxelKey& origin, const std::uint64_t* on) {
     Leaf& leaf = leaves_[origin];
     leaf.stamp = stamp_;
@@ -83,24 +94,42 @@ VoxelMatches MappedIndex::match(const mapping::VoxelMap& map, Truth& truth) {
       else
         leaf.distance_fixed[i >> 6] &= ~bit;
     });
+    if (!counts) return;
     for (int w = 0; w < 8; ++w) {
-      m.mapped += __builtin_popcountll(on[w]);
-      m.matched_mapped += __builtin_popcountll(on[w] & (leaf.static_near[w] | (leaf.moving_near[w] & leaf.moving_done[w])));
+      counts->mapped += static_cast<std::size_t>(__builtin_popcountll(on[w]));
+      counts->matched_mapped += static_cast<std::size_t>(
+          __builtin_popcountll(on[w] & (leaf.static_near[w] | (leaf.moving_near[w] & leaf.moving_done[w]))));
     }
     for_each_bit(leaf.on, [&](int i) {
       if (leaf.distance_id[i] != kNoDistance) ++counts_[leaf.distance_id[i]];
     });
   });
-  for (auto it = leaves_.begin(); it != leaves_.end();)  // leaves gone from the map: forget them (memory)
-    it = it->second.stamp == stamp_ ? std::next(it) : leaves_.erase(it);
-  last_leaf_ = nullptr, last_origin_ = {1, 1, 1};  // no leaf's origin
-  return m;
 }
 
 std::map<double, std::size_t> MappedIndex::distance_counts() const {
   std::map<double, std::size_t> counts;
   for (std::size_t id = 0; id < distances_.size(); ++id)
     if (counts_[id] > 0) counts.emplace(distances_[id], counts_[id]);
+  return counts;
+}
+
+ColumnCounts MappedIndex::column_counts(double voxel_size_m, double min_z_m, double max_z_m) const {
+  ColumnCounts counts;
+  for (const auto& [origin, leaf] : leaves_) {
+    if (leaf.stamp != stamp_) continue;  // not in the map at the last match()
+    std::uint64_t band = 0;  // the z bits (of each 8-bit column) whose centres lie in the band, as the plain test
+    for (int z = 0; z < kDim; ++z) {
+      const double z_m = (origin.z + z + 0.5) * voxel_size_m;
+      if (z_m >= min_z_m && z_m <= max_z_m) band |= std::uint64_t{1} << z;
+    }
+    band *= 0x0101010101010101ull;  // every column of a word
+    for (int x = 0; x < kDim; ++x) {  // word x holds the columns (x, y = 0..7), 8 z bits each
+      const std::uint64_t in_band = leaf.on[x] & band;
+      if (!in_band) continue;
+      for (int y = 0; y < kDim; ++y)
+        if (const int n = __builtin_popcountll((in_band >> (8 * y)) & 0xffu)) counts[{origin.x + x, origin.y + y}] += n;
+    }
+  }
   return counts;
 }
 

@@ -28,11 +28,16 @@ class MappedIndex {
   // The same counts as match_mapped_plain(map, truth, tol, ...) at the truth's tolerance_voxels (its
   // near_static() and near_moving()); the distances pooled inside (distance_counts()).
   VoxelMatches match(const mapping::VoxelMap& map, Truth& truth);
+  // Computes the results match() will need for the map as it is now (between evaluations, so that an
+  // evaluation finds little left to compute); counts nothing. Optional: match() alone gives the same figures.
+  void update(const mapping::VoxelMap& map, Truth& truth);
   // Every distance counted so far: distance -> count (as match_mapped_plain's map after the same calls).
   std::map<double, std::size_t> distance_counts() const;
   // The map as of the last match(): whether key is in it, and whether a voxel within tol (Chebyshev) is.
   bool contains(const VoxelKey& key) const;
   bool near(const VoxelKey& key, int tol) const;
+  // column_counts(map, min_z_m, max_z_m) of that map (voxel size voxel_size_m): a popcount per column of a leaf.
+  ColumnCounts column_counts(double voxel_size_m, double min_z_m, double max_z_m) const;
   std::size_t leaves() const { return leaves_.size(); }
 
  private:
@@ -48,6 +53,7 @@ class MappedIndex {
   };
   static constexpr std::uint32_t kNoDistance = 0xffffffffu;
   std::uint32_t intern(double d);
+  void walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches* counts);  // counts: match() only
   const Leaf* leaf_of(const VoxelKey& key) const;
 
   std::unordered_map<VoxelKey, Leaf, VoxelKeyHash> leaves_;  // by origin

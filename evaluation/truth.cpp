@@ -133,12 +133,15 @@ int Truth::moving_body_of(const VoxelKey& k) const {
   return it == dynamic_body_of_.end() ? -1 : it->second;
 }
 
-CellSet Truth::footprint() const {
+const CellSet& Truth::footprint() const {
+  if (footprint_version_ == version_) return footprint_;
+  footprint_version_ = version_;
   CellSet footprint = static_footprint_;
   for (const auto& body : sim::footprints(dynamic_geoms_, config_.voxel_size_m, config_.min_obstacle_height_m,
                                           config_.max_obstacle_height_m))
     footprint.insert(body.cells.begin(), body.cells.end());
-  return footprint;
+  footprint_ = std::move(footprint);
+  return footprint_;
 }
 
 std::optional<double> Truth::distance_in(const Bucket* bucket, const Eigen::Vector3d& c, bool* fell_back) const {

@@ -1,6 +1,7 @@
 // MappedIndex (evaluation/mapped_index.hpp) against its definition, match_mapped_plain(), on a tiny world of its
 // own: a static box and a mocap cart that moves between evaluations (next to the box, away from it, back), with
-// random maps that change between calls (voxels added and removed, whole leaves emptied).
+// random maps that change between calls (voxels added and removed, whole leaves emptied), with and without
+// update() between evaluations; and the columns' voxel counts against metrics.hpp's column_counts().
 #include "evaluation/mapped_index.hpp"
 
 #include <gtest/gtest.h>
@@ -65,6 +66,7 @@ TEST_P(MappedIndexTest, EqualsThePlainDefinitionAsTheMapAndTheCartChange) {
     std::vector<mapping::Voxel> added;
     for (const auto& k : random_keys(rng, 400)) added.push_back({k, static_cast<double>(step)});
     map.set_voxels(added);
+    if (step % 2 == 1) index.update(map, index_truth);  // between evaluations: results computed ahead
     std::vector<VoxelKey> removed = random_keys(rng, 1500);  // some of them mapped
     if (step % 4 == 1) {  // a whole region goes: leaves emptied
       for (const auto& k : map.voxel_keys())
@@ -76,6 +78,7 @@ TEST_P(MappedIndexTest, EqualsThePlainDefinitionAsTheMapAndTheCartChange) {
     ASSERT_EQ(indexed.mapped, plain.mapped) << "step " << step;
     ASSERT_EQ(indexed.matched_mapped, plain.matched_mapped) << "step " << step;
     ASSERT_EQ(index.distance_counts(), plain_counts) << "step " << step;
+    ASSERT_EQ(index.column_counts(0.1, 0.25, 0.75), column_counts(map, 0.25, 0.75)) << "step " << step;
     for (const auto& k : random_keys(rng, 300)) {
       ASSERT_EQ(index.contains(k), map.contains(k));
       for (int t = 0; t <= 1; ++t)
