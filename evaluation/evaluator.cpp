@@ -122,10 +122,19 @@ void Evaluator::observe(double time_s, const CameraView& view) {
         keys.push_back(key);
       }
     }
+    std::sort(keys.begin(), keys.end());  // each block sorted in parallel, then merged: the same sorted set
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   });
-  frame_keys_.clear();
-  for (const auto& keys : block_keys) frame_keys_.insert(frame_keys_.end(), keys.begin(), keys.end());
-  std::sort(frame_keys_.begin(), frame_keys_.end());
+  for (std::size_t step = 1; step < block_keys.size(); step *= 2)  // pairwise merges, log2(blocks) rounds
+    for (std::size_t b = 0; b + step < block_keys.size(); b += 2 * step) {
+      std::vector<VoxelKey>& a = block_keys[b];
+      std::vector<VoxelKey>& c = block_keys[b + step];
+      frame_keys_.resize(a.size() + c.size());
+      std::merge(a.begin(), a.end(), c.begin(), c.end(), frame_keys_.begin());
+      a.swap(frame_keys_);
+      std::vector<VoxelKey>().swap(c);
+    }
+  frame_keys_.swap(block_keys.front());
   frame_keys_.erase(std::unique(frame_keys_.begin(), frame_keys_.end()), frame_keys_.end());
   auto* by_camera = last_seen_by_camera_.empty() ? nullptr : &last_seen_by_camera_[view.camera_index];
   for (const VoxelKey& key : frame_keys_) {

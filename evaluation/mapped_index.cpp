@@ -52,9 +52,22 @@ VoxelMatches MappedIndex::match(const mapping::VoxelMap& map, Truth& truth) {
 void MappedIndex::walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches* counts) {
   const std::size_t version = truth.version();
   last_leaf_ = nullptr, last_origin_ = {1, 1, 1};
+  // The map's leaves come in the tree's order, mostly the same leaves as last time: follow the last walk's
+  // chain and look a leaf up by its origin only where the chain does not hold it (a leaf came or went).
+  Leaf* previous = nullptr;
   map.for_each_leaf([&](const VoxelKey& origin, const std::uint64_t* on) {
-    Leaf& leaf = leaves_[origin];
+    Leaf* expected = previous ? previous->next : first_;
+    if (!expected || expected->origin != origin) {
+      expected = &leaves_[origin];
+      expected->origin = origin;
+    }
+    (previous ? previous->next : first_) = expected;
+    previous = expected;
+    Leaf& leaf = *expected;
     leaf.stamp = stamp_;
+    // Between evaluations, a leaf whose results are of an older truth is left for match(): while a body keeps
+    // moving, each frame's results would be stale by the evaluation.
+    if (!counts && leaf.version != 0 && leaf.version != version) return;
     if (leaf.version != version) {  // the truth changed since this leaf's results
       leaf.version = version;
       leaf.moving_done = {};
@@ -104,6 +117,7 @@ void MappedIndex::walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches*
       if (leaf.distance_id[i] != kNoDistance) ++counts_[leaf.distance_id[i]];
     });
   });
+  (previous ? previous->next : first_) = nullptr;  // every pointer in the chain is to a leaf of this walk
 }
 
 std::map<double, std::size_t> MappedIndex::distance_counts() const {

@@ -49,6 +49,8 @@ class MappedIndex {
     Mask distance_done{}, distance_fixed{};  // distance_id valid (at `version`, or for good where fixed)
     std::size_t version = 0;
     std::size_t stamp = 0;  // the last match() that saw the leaf in the map
+    VoxelKey origin;
+    Leaf* next = nullptr;  // the leaf after it in the last walk's (the tree's) order: most walks find it there
     std::array<std::uint32_t, 512> distance_id;  // into distances_; kNoDistance when there is none
   };
   static constexpr std::uint32_t kNoDistance = 0xffffffffu;
@@ -57,6 +59,7 @@ class MappedIndex {
   const Leaf* leaf_of(const VoxelKey& key) const;
 
   std::unordered_map<VoxelKey, Leaf, VoxelKeyHash> leaves_;  // by origin
+  Leaf* first_ = nullptr;  // the last walk's first leaf
   std::size_t stamp_ = 0;
   std::vector<double> distances_;        // distinct distances, by id
   std::vector<std::size_t> counts_;      // pooled count per id

@@ -51,6 +51,7 @@ Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(
   for (const auto& g : geoms_) (is_mocap(world, g.body_id) ? dynamic_geoms_ : statics).push_back(g);
   static_bodies_ = voxelize_in_band(statics, config_);
   for (const auto& body : static_bodies_) static_truth_.insert(body.voxels.begin(), body.voxels.end());
+  for (const auto& k : static_truth_) static_mask_.insert(k);
   for (std::size_t b = 0; b < static_bodies_.size(); ++b)
     for (const auto& k : static_bodies_[b].voxels) static_body_of_.emplace(k, static_cast<int>(b));
   for (const auto& body : sim::footprints(statics, config_.voxel_size_m, config_.min_obstacle_height_m,
@@ -112,10 +113,14 @@ void Truth::index_geoms() {
 bool Truth::contains(const VoxelKey& k) const { return static_truth_.count(k) || dynamic_truth_.count(k); }
 
 bool Truth::near(const VoxelKey& k, int tol) const {
-  return near_voxel(static_truth_, k, tol) || near_voxel(dynamic_truth_, k, tol);
+  return near_static_mask(k, tol) || near_voxel(dynamic_truth_, k, tol);
 }
 
-bool Truth::near_static(const VoxelKey& k) const { return near_voxel(static_truth_, k, config_.tolerance_voxels); }
+bool Truth::near_static(const VoxelKey& k) const { return near_static_mask(k, config_.tolerance_voxels); }
+
+bool Truth::near_static_mask(const VoxelKey& k, int tol) const {  // near_voxel(static_truth_, k, tol)
+  return any_within(k, tol, [&](const VoxelKey& n) { return static_mask_.contains(n); });
+}
 
 int Truth::body_of(const VoxelKey& k) const {
   const int body = static_body_of(k);

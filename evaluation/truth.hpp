@@ -10,6 +10,7 @@
 
 #include "common/voxel_key.hpp"
 #include "evaluation/config.hpp"
+#include "evaluation/voxel_mask_set.hpp"
 #include "sim/ground_truth.hpp"
 
 namespace stvl::evaluation {
@@ -56,6 +57,7 @@ class Truth {
 
  private:
   void index_geoms();  // the buckets distance_to_surface_m() searches
+  bool near_static_mask(const VoxelKey& key, int tol) const;
 
   EvaluationConfig config_;
   std::vector<sim::ObstacleGeom> geoms_;          // every obstacle geom, current poses
@@ -63,6 +65,7 @@ class Truth {
   std::vector<sim::BodyVoxels> static_bodies_, dynamic_bodies_;
   std::vector<const sim::BodyVoxels*> bodies_;
   VoxelSet static_truth_, dynamic_truth_;
+  VoxelMaskSet static_mask_;  // static_truth_ again, for near_static()'s neighbour tests (not thread-safe)
   VoxelSet dynamic_near_;  // dynamic_truth_ grown by tolerance_voxels
   std::unordered_map<VoxelKey, int, VoxelKeyHash> static_body_of_, dynamic_body_of_;
   CellSet static_footprint_;

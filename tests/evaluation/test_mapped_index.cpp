@@ -110,3 +110,35 @@ TEST(MappedIndex, ForgetsLeavesThatLeftTheMap) {
 
 }  // namespace
 }  // namespace stvl::evaluation
+
+namespace stvl::evaluation {
+namespace {
+
+// VoxelMaskSet against the plain VoxelSet it stands in for (Truth's static voxels), on random keys around 0,
+// negative ones included, queried in and out of order.
+TEST(VoxelMaskSet, AnswersAsTheVoxelSetItReplaces) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> coord(-20, 20);
+  VoxelSet plain;
+  VoxelMaskSet masks;
+  for (int i = 0; i < 5000; ++i) {
+    const VoxelKey k{coord(rng), coord(rng), coord(rng)};
+    plain.insert(k), masks.insert(k);
+  }
+  std::size_t hits = 0;
+  for (int x = -22; x <= 22; ++x)
+    for (int y = -22; y <= 22; ++y)
+      for (int z = -22; z <= 22; ++z) {
+        const VoxelKey k{x, y, z};
+        ASSERT_EQ(masks.contains(k), plain.count(k) > 0) << x << " " << y << " " << z;
+        hits += plain.count(k);
+      }
+  for (int i = 0; i < 20000; ++i) {
+    const VoxelKey k{coord(rng), coord(rng), coord(rng)};
+    ASSERT_EQ(masks.contains(k), plain.count(k) > 0);
+  }
+  EXPECT_GT(hits, 4000u);
+}
+
+}  // namespace
+}  // namespace stvl::evaluation
