@@ -128,6 +128,7 @@ int Truth::body_of(const VoxelKey& k) const {
 }
 
 int Truth::static_body_of(const VoxelKey& k) const {
+  if (!static_mask_.contains(k)) return -1;  // the same keys: a bit test spares the large map's lookup
   const auto it = static_body_of_.find(k);
   return it == static_body_of_.end() ? -1 : it->second;
 }
