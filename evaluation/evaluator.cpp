@@ -28,11 +28,6 @@ class PhaseTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
-// near_voxel() against the map itself.
-bool near_in_map(const mapping::VoxelMap& map, const VoxelKey& k, int tol) {
-  return any_within(k, tol, [&](const VoxelKey& n) { return map.contains(n); });
-}
-
 }  // namespace
 
 EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double warm_up_s) {
@@ -127,17 +122,32 @@ void Evaluator::observe(double time_s, const CameraView& view) {
         keys.push_back(key);
       }
     }
+    std::sort(keys.begin(), keys.end());  // each block sorted in parallel, then merged: the same sorted set
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   });
-  frame_keys_.clear();
-  for (const auto& keys : block_keys) frame_keys_.insert(frame_keys_.end(), keys.begin(), keys.end());
-  std::sort(frame_keys_.begin(), frame_keys_.end());
+  for (std::size_t step = 1; step < block_keys.size(); step *= 2)  // pairwise merges, log2(blocks) rounds
+    for (std::size_t b = 0; b + step < block_keys.size(); b += 2 * step) {
+      std::vector<VoxelKey>& a = block_keys[b];
+      std::vector<VoxelKey>& c = block_keys[b + step];
+      frame_keys_.resize(a.size() + c.size());
+      std::merge(a.begin(), a.end(), c.begin(), c.end(), frame_keys_.begin());
+      a.swap(frame_keys_);
+      std::vector<VoxelKey>().swap(c);
+    }
+  frame_keys_.swap(block_keys.front());
   frame_keys_.erase(std::unique(frame_keys_.begin(), frame_keys_.end()), frame_keys_.end());
   auto* by_camera = last_seen_by_camera_.empty() ? nullptr : &last_seen_by_camera_[view.camera_index];
   for (const VoxelKey& key : frame_keys_) {
-    last_seen_[key] = time_s;
-    if (by_camera) (*by_camera)[key] = time_s;
-    if (!truth_.contains(key)) off_truth_keys_.insert(key);
+    Seen& seen = last_seen_[key];
+    seen.time_s = time_s;
+    if (by_camera) (*by_camera)[key].time_s = time_s;
+    if (!seen.off_truth && body_of(key, seen) < 0) off_truth_keys_.insert(key), seen.off_truth = true;
   }
+}
+
+int Evaluator::body_of(const VoxelKey& key, Seen& seen) const {
+  if (seen.static_body == Seen::kUnknown) seen.static_body = truth_.static_body_of(key);
+  return seen.static_body >= 0 ? seen.static_body : truth_.moving_body_of(key);
 }
 
 void Evaluator::update_stale_candidates() {
@@ -186,6 +196,10 @@ void Evaluator::observe_clearing(double time_s, const sim::World& world, const C
 }
 
 void Evaluator::after_update(double time_s, const mapping::VoxelMap& map, const std::vector<VoxelKey>& cleared_keys) {
+  {  // the next evaluation's per-voxel results, a frame's share at a time (the figures do not depend on it)
+    const PhaseTimer timer(times_.mapped_ms);
+    mapped_.update(map, truth_);
+  }
   const PhaseTimer timer(times_.clearing_ms);
   // A true voxel the rays removed and no point marked again in the same update: gone from the map. (In frustum
   // mode cleared_keys holds what the acceleration removed: observe_hidden_clears() looks at those.)
@@ -208,31 +222,25 @@ void Evaluator::observe_hidden_clears(double time_s, const CameraView& view, con
 
 VoxelMatches Evaluator::match_mapped_voxels(const mapping::VoxelMap& map) {
   const PhaseTimer timer(times_.mapped_ms);
-  VoxelMatches m;
-  map.for_each_key([&](const VoxelKey& k) {
-    ++m.mapped;
-    if (truth_.near(k, config_.tolerance_voxels)) ++m.matched_mapped;
-    if (const auto d = truth_.voxel_distance_to_surface_m(k)) ++distance_counts_m_[*d];
-  });
-  return m;
+  return mapped_.match(map, truth_);  // match_mapped_plain()'s figures, kept from one evaluation to the next
 }
 
-VoxelMatches Evaluator::match_observed_truth(double time_s, const mapping::VoxelMap& map, CellSet& observed_cells) {
+VoxelMatches Evaluator::match_observed_truth(double time_s, CellSet& observed_cells) {
   const PhaseTimer timer(times_.observed_ms);
   VoxelMatches m;
   const auto& bodies = truth_.bodies();
   std::vector<std::size_t> body_observed(bodies.size()), body_matched(bodies.size());
   for (auto it = last_seen_.begin(); it != last_seen_.end();) {
-    if (it->second < time_s - config_.recall_window_s) {
+    if (it->second.time_s < time_s - config_.recall_window_s) {
       it = last_seen_.erase(it);
       continue;
     }
-    const int body = truth_.body_of(it->first);
+    const int body = body_of(it->first, it->second);
     if (body >= 0) {
       ++m.observed_truth;
       ++body_observed[body];
       observed_cells.insert({it->first.x, it->first.y});
-      if (near_in_map(map, it->first, config_.tolerance_voxels)) ++m.matched_truth, ++body_matched[body];
+      if (mapped_.near(it->first, config_.tolerance_voxels)) ++m.matched_truth, ++body_matched[body];
     }
     ++it;
   }
@@ -241,8 +249,7 @@ VoxelMatches Evaluator::match_observed_truth(double time_s, const mapping::Voxel
   return m;
 }
 
-std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const mapping::VoxelMap& map,
-                                                    const VoxelMatches& total) {
+std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const VoxelMatches& total) {
   const auto recall_of = [](CameraRecall r) {
     r.recall = voxel_scores({0, 0, r.observed_truth_voxels, r.matched_truth}).recall;
     return r;
@@ -252,13 +259,13 @@ std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const mapping
   for (auto& seen : last_seen_by_camera_) {
     CameraRecall r;
     for (auto it = seen.begin(); it != seen.end();) {
-      if (it->second < time_s - config_.recall_window_s) {
+      if (it->second.time_s < time_s - config_.recall_window_s) {
         it = seen.erase(it);
         continue;
       }
-      if (truth_.body_of(it->first) >= 0) {
+      if (body_of(it->first, it->second) >= 0) {
         ++r.observed_truth_voxels;
-        if (near_in_map(map, it->first, config_.tolerance_voxels)) ++r.matched_truth;
+        if (mapped_.near(it->first, config_.tolerance_voxels)) ++r.matched_truth;
       }
       ++it;
     }
@@ -270,7 +277,7 @@ std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const mapping
 void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap) {
   const double cell_m = config_.voxel_size_m;
   std::optional<PhaseTimer> timer(std::in_place, times_.costmap_ms);
-  const CellSet footprint = truth_.footprint();
+  const CellSet& footprint = truth_.footprint();
   const std::vector<Eigen::Vector2d> footprint_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
   CellSet lethal;
   if (!map.empty()) {
@@ -284,7 +291,9 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& obser
       for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m)) freed.insert({x, y});
     }
     lethal = lethal_cells(map.project_costmap(options), cell_m);
-    snap.projection = guard_projection(map, lethal, options.min_obstacle_height_m, options.max_obstacle_height_m, freed);
+    snap.projection = guard_projection(
+        mapped_.column_counts(map.voxel_size_m(), options.min_obstacle_height_m, options.max_obstacle_height_m),
+        std::max(map.config().mark_threshold, 1), lethal, freed);  // the map's columns, from match_mapped_voxels()
   }
   snap.self_marking = count_self_marking(lethal, footprint_W, cell_m, config_.self_ring_m, footprint, config_.tolerance_voxels);
   CostmapMatches m = match_costmap(lethal, footprint, observed_cells, config_.tolerance_voxels);
@@ -310,7 +319,7 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   snap.time_s = time_s;
   const VoxelMatches mapped_matches = match_mapped_voxels(map);
   CellSet observed_cells;
-  const VoxelMatches truth_matches = match_observed_truth(time_s, map, observed_cells);
+  const VoxelMatches truth_matches = match_observed_truth(time_s, observed_cells);
   VoxelMatches matches = mapped_matches;
   matches.observed_truth = truth_matches.observed_truth;
   matches.matched_truth = truth_matches.matched_truth;
@@ -322,7 +331,7 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   snap.precision = scores.precision, snap.recall = scores.recall, snap.f1 = scores.f1, snap.iou = scores.iou;
   {
     const PhaseTimer timer(times_.observed_ms);
-    snap.cameras = camera_recalls(time_s, map, truth_matches);
+    snap.cameras = camera_recalls(time_s, truth_matches);
   }
   score_costmap(map, observed_cells, snap);
   snapshots_.push_back(snap);
@@ -335,7 +344,7 @@ EvaluationSummary Evaluator::finish(double time_s, const sim::World& world, cons
   summary.snapshots = snapshots_;
   summary.mean = mean_of(snapshots_, config_.recall_window_s);
   for (const auto& [name, result] : obstacles_) summary.obstacles.push_back(result);
-  summary.accuracy = distance_stats_of_counts(distance_counts_m_);
+  summary.accuracy = distance_stats_of_counts(mapped_.distance_counts());
   summary.clearing = clearing_.result(time_s);
   summary.observed_off_truth_voxels = off_truth_keys_.size();
   summary.false_clears = false_clears_;

@@ -75,15 +75,22 @@ CellSet lethal_cells(const mapping::Costmap2D& costmap, double cell_m) {
   return lethal;
 }
 
-ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m,
-                                 const CellSet& freed) {
+ColumnCounts column_counts(const mapping::VoxelMap& map, double min_z_m, double max_z_m) {
   const double s = map.voxel_size_m();
-  std::unordered_map<CellKey, int, CellKeyHash> counts;
+  ColumnCounts counts;
   map.for_each_key([&](const VoxelKey& k) {
     const double z_m = (k.z + 0.5) * s;
     if (z_m >= min_z_m && z_m <= max_z_m) ++counts[{k.x, k.y}];
   });
-  const int needed = std::max(map.config().mark_threshold, 1);
+  return counts;
+}
+
+ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m,
+                                 const CellSet& freed) {
+  return guard_projection(column_counts(map, min_z_m, max_z_m), std::max(map.config().mark_threshold, 1), lethal, freed);
+}
+
+ProjectionGuard guard_projection(const ColumnCounts& counts, int needed, const CellSet& lethal, const CellSet& freed) {
   ProjectionGuard guard;
   for (const auto& cell : lethal) {
     const auto it = counts.find(cell);

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <map>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "common/voxel_key.hpp"
@@ -74,6 +75,11 @@ struct ProjectionGuard {
 // freed: cells the costmap set free on purpose (STVL's footprint clearing); their columns are not counted.
 ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m,
                                  const CellSet& freed = {});
+// The same from the voxels per column in the band (column_counts(), or MappedIndex::column_counts()) and
+// max(mark_threshold, 1).
+using ColumnCounts = std::unordered_map<CellKey, int, CellKeyHash>;
+ColumnCounts column_counts(const mapping::VoxelMap& map, double min_z_m, double max_z_m);
+ProjectionGuard guard_projection(const ColumnCounts& counts, int needed, const CellSet& lethal, const CellSet& freed);
 
 // The robot marking itself (STVL issue #214): lethal cells inside the footprint's convex fill (the cells STVL's
 // footprint clearing frees, mapping::footprint_cells) and in a ring of cells whose centres lie within ring_m

@@ -51,6 +51,7 @@ Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(
   for (const auto& g : geoms_) (is_mocap(world, g.body_id) ? dynamic_geoms_ : statics).push_back(g);
   static_bodies_ = voxelize_in_band(statics, config_);
   for (const auto& body : static_bodies_) static_truth_.insert(body.voxels.begin(), body.voxels.end());
+  for (const auto& k : static_truth_) static_mask_.insert(k);
   for (std::size_t b = 0; b < static_bodies_.size(); ++b)
     for (const auto& k : static_bodies_[b].voxels) static_body_of_.emplace(k, static_cast<int>(b));
   for (const auto& body : sim::footprints(statics, config_.voxel_size_m, config_.min_obstacle_height_m,
@@ -112,23 +113,41 @@ void Truth::index_geoms() {
 bool Truth::contains(const VoxelKey& k) const { return static_truth_.count(k) || dynamic_truth_.count(k); }
 
 bool Truth::near(const VoxelKey& k, int tol) const {
-  return near_voxel(static_truth_, k, tol) || near_voxel(dynamic_truth_, k, tol);
+  return near_static_mask(k, tol) || near_voxel(dynamic_truth_, k, tol);
 }
 
-bool Truth::near_static(const VoxelKey& k) const { return near_voxel(static_truth_, k, config_.tolerance_voxels); }
+bool Truth::near_static(const VoxelKey& k) const { return near_static_mask(k, config_.tolerance_voxels); }
+
+bool Truth::near_static_mask(const VoxelKey& k, int tol) const {  // near_voxel(static_truth_, k, tol)
+  return any_within(k, tol, [&](const VoxelKey& n) { return static_mask_.contains(n); });
+}
 
 int Truth::body_of(const VoxelKey& k) const {
-  if (const auto it = static_body_of_.find(k); it != static_body_of_.end()) return it->second;
-  if (const auto it = dynamic_body_of_.find(k); it != dynamic_body_of_.end()) return it->second;
-  return -1;
+  const int body = static_body_of(k);
+  return body >= 0 ? body : moving_body_of(k);
 }
 
-CellSet Truth::footprint() const {
+int Truth::static_body_of(const VoxelKey& k) const {
+  if (!static_mask_.contains(k)) return -1;  // the same keys: a bit test spares the large map's lookup
+  const auto it = static_body_of_.find(k);
+  return it == static_body_of_.end() ? -1 : it->second;
+}
+
+int Truth::moving_body_of(const VoxelKey& k) const {
+  if (dynamic_body_of_.empty()) return -1;
+  const auto it = dynamic_body_of_.find(k);
+  return it == dynamic_body_of_.end() ? -1 : it->second;
+}
+
+const CellSet& Truth::footprint() const {
+  if (footprint_version_ == version_) return footprint_;
+  footprint_version_ = version_;
   CellSet footprint = static_footprint_;
   for (const auto& body : sim::footprints(dynamic_geoms_, config_.voxel_size_m, config_.min_obstacle_height_m,
                                           config_.max_obstacle_height_m))
     footprint.insert(body.cells.begin(), body.cells.end());
-  return footprint;
+  footprint_ = std::move(footprint);
+  return footprint_;
 }
 
 std::optional<double> Truth::distance_in(const Bucket* bucket, const Eigen::Vector3d& c, bool* fell_back) const {
@@ -151,18 +170,35 @@ std::optional<double> Truth::distance_to_surface_m(const Eigen::Vector3d& c) con
   return distance_in(bucket == geoms_near_.end() ? nullptr : &bucket->second, c, &fell_back);
 }
 
-std::optional<double> Truth::voxel_distance_to_surface_m(const VoxelKey& key) {
+std::optional<double> Truth::voxel_distance_to_surface_m(const VoxelKey& key, bool* fixed) {
   const Eigen::Vector3d c = voxel_center(key, config_.voxel_size_m);
   const auto bucket = geoms_near_.find(cell_key(c.head<2>(), kBucketCell_m));
   // Only static geoms decide the distance of a voxel whose bucket holds no moving geom, unless the search falls
   // back to every geom; those static geoms and their order never change.
   const bool static_bucket = bucket != geoms_near_.end() && !bucket->second.has_moving;
+  if (fixed) *fixed = false;
   if (static_bucket)
-    if (const auto cached = static_distance_m_.find(key); cached != static_distance_m_.end()) return cached->second;
+    if (const auto cached = static_distance_m_.find(key); cached != static_distance_m_.end()) {
+      if (fixed) *fixed = true;
+      return cached->second;
+    }
   bool fell_back = false;
   const auto d = distance_in(bucket == geoms_near_.end() ? nullptr : &bucket->second, c, &fell_back);
-  if (static_bucket && !fell_back && d) static_distance_m_.emplace(key, *d);
+  if (static_bucket && !fell_back && d) {
+    static_distance_m_.emplace(key, *d);
+    if (fixed) *fixed = true;
+  }
   return d;
+}
+
+bool Truth::moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const {
+  const CellKey a = cell_key(voxel_center(lo, config_.voxel_size_m).head<2>(), kBucketCell_m);
+  const CellKey b = cell_key(voxel_center(hi, config_.voxel_size_m).head<2>(), kBucketCell_m);
+  for (int x = a.x; x <= b.x; ++x)
+    for (int y = a.y; y <= b.y; ++y)
+      if (const auto bucket = geoms_near_.find({x, y}); bucket != geoms_near_.end() && bucket->second.has_moving)
+        return true;
+  return false;
 }
 
 Eigen::AlignedBox2d Truth::bounds_W() const {

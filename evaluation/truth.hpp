@@ -10,6 +10,7 @@
 
 #include "common/voxel_key.hpp"
 #include "evaluation/config.hpp"
+#include "evaluation/voxel_mask_set.hpp"
 #include "sim/ground_truth.hpp"
 
 namespace stvl::evaluation {
@@ -30,18 +31,25 @@ class Truth {
   bool near_moving(const VoxelKey& key) const { return dynamic_near_.count(key) > 0; }
   // Index into bodies() of the first body holding `key` (static bodies first), -1 when none does.
   int body_of(const VoxelKey& key) const;
+  // Its two halves: body_of() is static_body_of() when that is >= 0 (never changes), else moving_body_of().
+  int static_body_of(const VoxelKey& key) const;
+  int moving_body_of(const VoxelKey& key) const;
   // Static bodies, then moving ones; each with its voxels in the band.
   const std::vector<const sim::BodyVoxels*>& bodies() const { return bodies_; }
   bool has_moving_bodies() const { return !dynamic_geoms_.empty(); }
   // Every voxel a moving body has occupied since the start, grown by one voxel: where stale map voxels can be.
   const VoxelSet& vacated() const { return vacated_; }
-  // Footprint cells (cell = voxel size) of every body's solid in the band, now.
-  CellSet footprint() const;
+  // Footprint cells (cell = voxel size) of every body's solid in the band, now (kept until the truth changes).
+  const CellSet& footprint() const;
   // Distance from p_W to the nearest obstacle surface now; nullopt when there is no obstacle at all.
   std::optional<double> distance_to_surface_m(const Eigen::Vector3d& p_W) const;
   // The same for a voxel's centre, remembered per voxel where no moving body can change it (no moving geom in
   // its search bucket and a hit within reach): the same value, computed once.
-  std::optional<double> voxel_distance_to_surface_m(const VoxelKey& key);
+  // *fixed (when given) says whether the value is such a remembered one: it holds for every later version in
+  // which moving_distance_in() is false around the voxel.
+  std::optional<double> voxel_distance_to_surface_m(const VoxelKey& key, bool* fixed = nullptr);
+  // Whether a moving geom is in the distance search of a voxel centre in lo..hi (keys, each axis) now.
+  bool moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const;
   // x/y extent of every obstacle now.
   Eigen::AlignedBox2d bounds_W() const;
   // Truth voxel centres, sorted by key.
@@ -49,6 +57,7 @@ class Truth {
 
  private:
   void index_geoms();  // the buckets distance_to_surface_m() searches
+  bool near_static_mask(const VoxelKey& key, int tol) const;
 
   EvaluationConfig config_;
   std::vector<sim::ObstacleGeom> geoms_;          // every obstacle geom, current poses
@@ -56,9 +65,12 @@ class Truth {
   std::vector<sim::BodyVoxels> static_bodies_, dynamic_bodies_;
   std::vector<const sim::BodyVoxels*> bodies_;
   VoxelSet static_truth_, dynamic_truth_;
+  VoxelMaskSet static_mask_;  // static_truth_ again, for near_static()'s neighbour tests (not thread-safe)
   VoxelSet dynamic_near_;  // dynamic_truth_ grown by tolerance_voxels
   std::unordered_map<VoxelKey, int, VoxelKeyHash> static_body_of_, dynamic_body_of_;
   CellSet static_footprint_;
+  mutable CellSet footprint_;              // footprint() at footprint_version_
+  mutable std::size_t footprint_version_ = 0;
   VoxelSet vacated_;
   // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so a distance tests a few geoms.
   struct Bucket {

@@ -181,6 +181,18 @@ void VoxelMap::for_each_key(const std::function<void(const VoxelKey&)>& visit) c
   }
 }
 
+void VoxelMap::for_each_leaf(const std::function<void(const VoxelKey&, const std::uint64_t*)>& visit) const {
+  static_assert(detail::LeafT::DIM == 8 && detail::LeafT::NodeMaskType::WORD_COUNT == 8, "8^3 leaves, 8 words of 64 bits");
+  std::uint64_t on[8];
+  for (auto leaf = impl_->grid->tree().cbeginLeaf(); leaf; ++leaf) {
+    const auto& mask = leaf->getValueMask();
+    if (mask.isOff()) continue;
+    for (int w = 0; w < 8; ++w) on[w] = mask.template getWord<std::uint64_t>(static_cast<openvdb::Index>(w));
+    const Coord o = leaf->origin();
+    visit({o.x(), o.y(), o.z()}, on);
+  }
+}
+
 void VoxelMap::for_each_key_in(const VoxelKey& lo, const VoxelKey& hi,
                                const std::function<void(const VoxelKey&)>& visit) const {
   if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return;

@@ -21,6 +21,7 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -93,6 +94,10 @@ class VoxelMap {
   // Calls visit(key) for every voxel with lo <= key <= hi on each axis, in the tree's order (leaf by leaf);
   // leaves outside the box are skipped whole.
   void for_each_key_in(const VoxelKey& lo, const VoxelKey& hi, const std::function<void(const VoxelKey&)>& visit) const;
+  // Calls visit(origin, on) for every leaf node (8^3 voxels) holding a voxel, in the tree's order: origin is its
+  // lowest key (multiples of 8); bit b of on[w] is the voxel origin + (i >> 6, (i >> 3) & 7, i & 7), i = 64 w + b.
+  // The same voxels as for_each_key(), a mask per leaf instead of a call per voxel (the evaluator's mirror).
+  void for_each_leaf(const std::function<void(const VoxelKey& origin, const std::uint64_t* on)>& visit) const;
   std::vector<Voxel> voxels() const;                // sorted by key
   Eigen::Matrix3Xf voxel_centers() const;           // in voxel_keys() order
   std::size_t leaf_count() const;

@@ -520,5 +520,30 @@ TEST(VoxelMapClear, FrustumReportsOnlyWhatItsAccelerationRemoved) {
   }
 }
 
+TEST(VoxelMap, LeafMasksHoldTheSameVoxelsAsForEachKey) {
+  VoxelMap map(exact_config());
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> coord(-20, 20);
+  std::vector<Voxel> voxels;
+  for (int i = 0; i < 3000; ++i) voxels.push_back({{coord(rng), coord(rng), coord(rng)}, 1.0});
+  map.set_voxels(voxels);
+  std::vector<VoxelKey> removed;  // a few voxels, and every voxel of the leaves with x keys -16..-9
+  for (int i = 0; i < 1500; ++i) removed.push_back({coord(rng), coord(rng), coord(rng)});
+  for (const auto& k : map.voxel_keys())
+    if (k.x >= -16 && k.x <= -9) removed.push_back(k);
+  map.erase(removed);
+  std::vector<VoxelKey> from_masks, from_keys;
+  map.for_each_leaf([&](const VoxelKey& origin, const std::uint64_t* on) {
+    EXPECT_TRUE(origin.x % 8 == 0 && origin.y % 8 == 0 && origin.z % 8 == 0);
+    for (int i = 0; i < 512; ++i)
+      if ((on[i / 64] >> (i % 64)) & 1u) from_masks.push_back({origin.x + (i >> 6), origin.y + ((i >> 3) & 7), origin.z + (i & 7)});
+  });
+  map.for_each_key([&](const VoxelKey& k) { from_keys.push_back(k); });
+  std::sort(from_masks.begin(), from_masks.end());
+  std::sort(from_keys.begin(), from_keys.end());
+  EXPECT_GT(from_keys.size(), 1000u);
+  EXPECT_EQ(from_masks, from_keys);
+}
+
 }  // namespace
 }  // namespace stvl::mapping

@@ -1,0 +1,71 @@
+#pragma once
+// evaluate()'s mapped-voxel phase kept from one evaluation to the next. Per leaf of the map (8^3 voxels, the
+// map's own masks: VoxelMap::for_each_leaf) each voxel's results are remembered: its static-truth
+// neighbourhood test (never changes), its moving-truth test (per truth version) and its surface distance
+// (per truth version, or for good where only static geoms decide it: Truth::voxel_distance_to_surface_m).
+// An evaluation reads the leaf masks and computes only voxels it has no valid result for, so a map that
+// changed little costs a mask walk. The figures equal match_mapped_plain()'s (the definition, beside it).
+#include <array>
+#include <cstdint>
+#include <map>
+#include <unordered_map>
+#include <vector>
+
+#include "common/voxel_key.hpp"
+#include "evaluation/metrics.hpp"
+#include "evaluation/truth.hpp"
+#include "mapping/voxel_map.hpp"
+
+namespace stvl::evaluation {
+
+// The definition: every mapped voxel counted, matched when truth.near(k, tol); its surface distance, when
+// there is one, counted once in distance_counts_m (distance -> count).
+VoxelMatches match_mapped_plain(const mapping::VoxelMap& map, Truth& truth, int tol,
+                                std::map<double, std::size_t>& distance_counts_m);
+
+class MappedIndex {
+ public:
+  // The same counts as match_mapped_plain(map, truth, tol, ...) at the truth's tolerance_voxels (its
+  // near_static() and near_moving()); the distances pooled inside (distance_counts()).
+  VoxelMatches match(const mapping::VoxelMap& map, Truth& truth);
+  // Computes the results match() will need for the map as it is now (between evaluations, so that an
+  // evaluation finds little left to compute); counts nothing. Optional: match() alone gives the same figures.
+  void update(const mapping::VoxelMap& map, Truth& truth);
+  // Every distance counted so far: distance -> count (as match_mapped_plain's map after the same calls).
+  std::map<double, std::size_t> distance_counts() const;
+  // The map as of the last match(): whether key is in it, and whether a voxel within tol (Chebyshev) is.
+  bool contains(const VoxelKey& key) const;
+  bool near(const VoxelKey& key, int tol) const;
+  // column_counts(map, min_z_m, max_z_m) of that map (voxel size voxel_size_m): a popcount per column of a leaf.
+  ColumnCounts column_counts(double voxel_size_m, double min_z_m, double max_z_m) const;
+  std::size_t leaves() const { return leaves_.size(); }
+
+ private:
+  using Mask = std::array<std::uint64_t, 8>;
+  struct Leaf {
+    Mask on{};                       // the map's voxels at the last match()
+    Mask static_done{}, static_near{};  // truth.near_static(), once per voxel
+    Mask moving_done{}, moving_near{};  // truth.near_moving(), at `version`
+    Mask distance_done{}, distance_fixed{};  // distance_id valid (at `version`, or for good where fixed)
+    std::size_t version = 0;
+    std::size_t stamp = 0;  // the last match() that saw the leaf in the map
+    VoxelKey origin;
+    Leaf* next = nullptr;  // the leaf after it in the last walk's (the tree's) order: most walks find it there
+    std::array<std::uint32_t, 512> distance_id;  // into distances_; kNoDistance when there is none
+  };
+  static constexpr std::uint32_t kNoDistance = 0xffffffffu;
+  std::uint32_t intern(double d);
+  void walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches* counts);  // counts: match() only
+  const Leaf* leaf_of(const VoxelKey& key) const;
+
+  std::unordered_map<VoxelKey, Leaf, VoxelKeyHash> leaves_;  // by origin
+  Leaf* first_ = nullptr;  // the last walk's first leaf
+  std::size_t stamp_ = 0;
+  std::vector<double> distances_;        // distinct distances, by id
+  std::vector<std::size_t> counts_;      // pooled count per id
+  std::unordered_map<double, std::uint32_t> distance_ids_;
+  mutable const Leaf* last_leaf_ = nullptr;  // near(): neighbours mostly share a leaf
+  mutable VoxelKey last_origin_{1, 1, 1};
+};
+
+}  // namespace stvl::evaluation

@@ -1,0 +1,144 @@
+// MappedIndex (evaluation/mapped_index.hpp) against its definition, match_mapped_plain(), on a tiny world of its
+// own: a static box and a mocap cart that moves between evaluations (next to the box, away from it, back), with
+// random maps that change between calls (voxels added and removed, whole leaves emptied), with and without
+// update() between evaluations; and the columns' voxel counts against metrics.hpp's column_counts().
+#include "evaluation/mapped_index.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+namespace stvl::evaluation {
+namespace {
+
+// box: x 2.05..2.65, |y| <= 0.25, z 0.15..0.65; cart: 0.2 m cube, moved by the test.
+constexpr const char* kWorld = R"(
+<mujoco>
+  <worldbody>
+    <body name="box" pos="2.35 0 0.4"><geom type="box" size="0.3 0.25 0.25"/></body>
+    <body name="cart" mocap="true" pos="1.0 0 0.4"><geom type="box" size="0.1 0.1 0.1"/></body>
+  </worldbody>
+</mujoco>)";
+
+EvaluationConfig config(int tol) {
+  EvaluationConfig c;
+  c.voxel_size_m = 0.1;
+  c.min_obstacle_height_m = 0.0;
+  c.max_obstacle_height_m = 2.0;
+  c.tolerance_voxels = tol;
+  return c;
+}
+
+void move_cart(sim::World& world, double x, double y) {
+  world.data()->mocap_pos[0] = x, world.data()->mocap_pos[1] = y;
+  world.forward();
+}
+
+// Random voxels around both bodies, dense next to the box's face and the cart's path.
+std::vector<VoxelKey> random_keys(std::mt19937& rng, std::size_t n) {
+  std::uniform_int_distribution<int> x(-30, 40), y(-15, 15), z(0, 9);
+  std::vector<VoxelKey> keys;
+  for (std::size_t i = 0; i < n; ++i) keys.push_back({x(rng), y(rng), z(rng)});
+  return keys;
+}
+
+class MappedIndexTest : public ::testing::TestWithParam<int> {};
+
+TEST_P(MappedIndexTest, EqualsThePlainDefinitionAsTheMapAndTheCartChange) {
+  const int tol = GetParam();
+  sim::World world = sim::World::from_string(kWorld);
+  Truth plain_truth(world, config(tol)), index_truth(world, config(tol));
+  mapping::StvlConfig map_config;
+  map_config.voxel_size_m = 0.1;
+  mapping::VoxelMap map(map_config);
+  MappedIndex index;
+  std::map<double, std::size_t> plain_counts;
+  std::mt19937 rng(7);
+  const std::vector<std::pair<double, double>> cart_xy = {{1.0, 0.0}, {1.0, 0.0}, {1.8, 0.0}, {-2.0, 1.2},
+                                                          {-2.0, 1.2}, {1.9, 0.3}, {3.2, -0.9}, {1.0, 0.0}};
+  std::size_t matched_seen = 0, unmatched_seen = 0;
+  for (std::size_t step = 0; step < cart_xy.size() * 3; ++step) {
+    if (step % 3 == 0) {
+      move_cart(world, cart_xy[step / 3].first, cart_xy[step / 3].second);
+      plain_truth.update(world), index_truth.update(world);
+    }
+    std::vector<mapping::Voxel> added;
+    for (const auto& k : random_keys(rng, 400)) added.push_back({k, static_cast<double>(step)});
+    map.set_voxels(added);
+    if (step % 2 == 1) index.update(map, index_truth);  // between evaluations: results computed ahead
+    std::vector<VoxelKey> removed = random_keys(rng, 1500);  // some of them mapped
+    if (step % 4 == 1) {  // a whole region goes: leaves emptied
+      for (const auto& k : map.voxel_keys())
+        if (k.x < 0) removed.push_back(k);
+    }
+    map.erase(removed);
+    const VoxelMatches plain = match_mapped_plain(map, plain_truth, tol, plain_counts);
+    const VoxelMatches indexed = index.match(map, index_truth);
+    ASSERT_EQ(indexed.mapped, plain.mapped) << "step " << step;
+    ASSERT_EQ(indexed.matched_mapped, plain.matched_mapped) << "step " << step;
+    ASSERT_EQ(index.distance_counts(), plain_counts) << "step " << step;
+    ASSERT_EQ(index.column_counts(0.1, 0.25, 0.75), column_counts(map, 0.25, 0.75)) << "step " << step;
+    for (const auto& k : random_keys(rng, 300)) {
+      ASSERT_EQ(index.contains(k), map.contains(k));
+      for (int t = 0; t <= 1; ++t)
+        ASSERT_EQ(index.near(k, t), any_within(k, t, [&](const VoxelKey& n) { return map.contains(n); }));
+    }
+    matched_seen += plain.matched_mapped, unmatched_seen += plain.mapped - plain.matched_mapped;
+  }
+  EXPECT_GT(matched_seen, 100u);  // both outcomes occur: the comparison is not vacuous
+  EXPECT_GT(unmatched_seen, 1000u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Tolerance, MappedIndexTest, ::testing::Values(0, 1));
+
+TEST(MappedIndex, ForgetsLeavesThatLeftTheMap) {
+  sim::World world = sim::World::from_string(kWorld);
+  Truth truth(world, config(1));
+  mapping::StvlConfig map_config;
+  map_config.voxel_size_m = 0.1;
+  mapping::VoxelMap map(map_config);
+  map.set_voxels({{{20, 0, 3}, 0.0}, {{-40, 0, 3}, 0.0}});
+  MappedIndex index;
+  EXPECT_EQ(index.match(map, truth).matched_mapped, 1u);
+  EXPECT_EQ(index.leaves(), 2u);
+  map.erase({{-40, 0, 3}});
+  EXPECT_EQ(index.match(map, truth).mapped, 1u);
+  EXPECT_EQ(index.leaves(), 1u);
+  EXPECT_FALSE(index.contains({-40, 0, 3}));
+}
+
+}  // namespace
+}  // namespace stvl::evaluation
+
+namespace stvl::evaluation {
+namespace {
+
+// VoxelMaskSet against the plain VoxelSet it stands in for (Truth's static voxels), on random keys around 0,
+// negative ones included, queried in and out of order.
+TEST(VoxelMaskSet, AnswersAsTheVoxelSetItReplaces) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> coord(-20, 20);
+  VoxelSet plain;
+  VoxelMaskSet masks;
+  for (int i = 0; i < 5000; ++i) {
+    const VoxelKey k{coord(rng), coord(rng), coord(rng)};
+    plain.insert(k), masks.insert(k);
+  }
+  std::size_t hits = 0;
+  for (int x = -22; x <= 22; ++x)
+    for (int y = -22; y <= 22; ++y)
+      for (int z = -22; z <= 22; ++z) {
+        const VoxelKey k{x, y, z};
+        ASSERT_EQ(masks.contains(k), plain.count(k) > 0) << x << " " << y << " " << z;
+        hits += plain.count(k);
+      }
+  for (int i = 0; i < 20000; ++i) {
+    const VoxelKey k{coord(rng), coord(rng), coord(rng)};
+    ASSERT_EQ(masks.contains(k), plain.count(k) > 0);
+  }
+  EXPECT_GT(hits, 4000u);
+}
+
+}  // namespace
+}  // namespace stvl::evaluation
