@@ -479,7 +479,8 @@ TEST(BagReaderErrors, TruncatedRealBag) {
   for (const double fraction : {0.5, 0.99}) {
     const fs::path cut = dir.path() / ("cut" + std::to_string(int(fraction * 100)) + ".bag");
     std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size() * fraction));
-    EXPECT_ERROR(cut.string(), {}, cut.filename().string().c_str(), "truncated or corrupt");
+    const std::string name = cut.filename().string();  // outlives the check (a temporary's c_str() would not)
+    EXPECT_ERROR(cut.string(), {}, name.c_str(), "truncated or corrupt");
   }
 }
 
