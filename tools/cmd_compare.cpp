@@ -20,9 +20,13 @@ struct CompareOptions {
 };
 
 int compare(const CompareOptions& o) {
-  std::vector<CompareRule> rules = o.no_default_rules ? std::vector<CompareRule>{} : default_compare_rules();
+  const nlohmann::json a = load_metrics(o.a), b = load_metrics(o.b);
+  if (is_replay(a) != is_replay(b))
+    throw std::invalid_argument((is_replay(a) ? o.a : o.b) + " is a replay of a recording and " +
+                                (is_replay(a) ? o.b : o.a) + " a simulated run: compare two runs or two replays");
+  std::vector<CompareRule> rules = o.no_default_rules ? std::vector<CompareRule>{} : default_compare_rules(!is_replay(a));
   for (const auto& text : o.fail_on) rules.push_back(parse_compare_rule(text));
-  const Comparison c = compare_metrics(load_metrics(o.a), load_metrics(o.b), rules, o.a, o.b);
+  const Comparison c = compare_metrics(a, b, rules, o.a, o.b);
   const std::string markdown = comparison_markdown(c);
   std::printf("%s", markdown.c_str());
   if (!o.markdown.empty()) write_file_atomically(o.markdown, markdown);

@@ -78,6 +78,8 @@ const char* const kHeadline[] = {"evaluation.mean.f1",
                                  "evaluation.final.phantom_obstacles",
                                  "evaluation.mean.max_phantom_obstacles",
                                  "evaluation.clearing.false_clears",
+                                 "map.voxels",
+                                 "map.costmap_lethal_cells",
                                  "timing_ms.filter.mean",
                                  "timing_ms.frame.mean",
                                  "real_time_factor"};
@@ -129,17 +131,20 @@ CompareRule parse_compare_rule(const std::string& text) {
   return rule;
 }
 
-std::vector<CompareRule> default_compare_rules() {
+std::vector<CompareRule> default_compare_rules(bool ground_truth) {
   std::vector<CompareRule> rules;
-  for (const char* text : {"delta(evaluation.mean.f1) < -0.01", "delta(evaluation.mean.precision) < -0.01",
-                           "delta(evaluation.mean.recall) < -0.01", "delta(evaluation.mean.costmap_precision) < -0.02",
-                           "delta(evaluation.final.phantom_obstacles) > 0",
-                           "delta(evaluation.mean.max_phantom_obstacles) > 0", "ratio(timing_ms.filter.mean) > 1.2",
-                           "ratio(timing_ms.clear.mean) > 1.2", "ratio(timing_ms.mark.mean) > 1.2",
-                           "ratio(timing_ms.frame.mean) > 1.2"})
+  if (ground_truth)
+    for (const char* text : {"delta(evaluation.mean.f1) < -0.01", "delta(evaluation.mean.precision) < -0.01",
+                             "delta(evaluation.mean.recall) < -0.01", "delta(evaluation.mean.costmap_precision) < -0.02",
+                             "delta(evaluation.final.phantom_obstacles) > 0", "delta(evaluation.mean.max_phantom_obstacles) > 0"})
+      rules.push_back(parse_compare_rule(text));
+  for (const char* text : {"ratio(timing_ms.filter.mean) > 1.2", "ratio(timing_ms.clear.mean) > 1.2",
+                           "ratio(timing_ms.mark.mean) > 1.2", "ratio(timing_ms.frame.mean) > 1.2"})
     rules.push_back(parse_compare_rule(text));
   return rules;
 }
+
+bool is_replay(const nlohmann::json& metrics) { return metrics.value("kind", std::string()) == "replay"; }
 
 Comparison compare_metrics(const nlohmann::json& a, const nlohmann::json& b, const std::vector<CompareRule>& rules,
                            std::string a_name, std::string b_name) {
@@ -194,8 +199,8 @@ nlohmann::json load_metrics(const std::string& run_folder_or_file) {
   std::ifstream in(path);
   try {
     nlohmann::json j = nlohmann::json::parse(in);
-    if (!j.is_object() || !j.contains("evaluation"))
-      throw std::invalid_argument(path.string() + ": not a stvl-bench metrics.json (no 'evaluation')");
+    if (!j.is_object() || !(j.contains("evaluation") || is_replay(j)))
+      throw std::invalid_argument(path.string() + ": not a stvl-bench metrics.json (no 'evaluation', not a replay's)");
     return j;
   } catch (const nlohmann::json::parse_error& e) {
     throw std::invalid_argument(path.string() + ": malformed JSON: " + e.what());

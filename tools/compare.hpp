@@ -29,8 +29,11 @@ CompareRule parse_compare_rule(const std::string& text);
 
 // The defaults: F1, precision and recall (mean) down by more than 0.01, costmap precision down by more than
 // 0.02, any new phantom (final or at any evaluation), and the filter, clear, mark and whole-frame mean times
-// more than 20 % slower.
-std::vector<CompareRule> default_compare_rules();
+// more than 20 % slower. Without ground truth (two replays of recordings) only the timing rules.
+std::vector<CompareRule> default_compare_rules(bool ground_truth = true);
+
+// A replay's metrics.json (stvl-bench replay: "kind": "replay", no evaluation).
+bool is_replay(const nlohmann::json& metrics);
 
 struct MetricDelta {
   std::string path;
@@ -54,7 +57,8 @@ struct Comparison {
 Comparison compare_metrics(const nlohmann::json& a, const nlohmann::json& b, const std::vector<CompareRule>& rules,
                            std::string a_name = "A", std::string b_name = "B");
 
-// metrics.json of a run folder or the file itself; throws std::invalid_argument when missing or malformed.
+// metrics.json of a run folder or the file itself (a run's or a replay's); throws std::invalid_argument when
+// missing or malformed.
 nlohmann::json load_metrics(const std::string& run_folder_or_file);
 
 // For a pull-request comment: the regressions first, then the headline figures, then every figure that changed.

@@ -131,6 +131,30 @@ TEST(Compare, LoadMetricsTakesAFolderOrAFileAndRejectsTheRest) {
               HasSubstr("not a stvl-bench metrics.json"));
 }
 
+TEST(Compare, TwoReplaysWithoutGroundTruth) {
+  // A replay's metrics.json (stvl-bench replay) has no evaluation: it loads, and the defaults without ground
+  // truth are the timing rules alone, which find a planted slowdown.
+  const nlohmann::json a = {{"kind", "replay"}, {"ground_truth", false}, {"map", {{"voxels", 100}}},
+                            {"timing_ms", {{"filter", {{"mean", 2.0}}}, {"clear", {{"mean", 1.0}}},
+                                           {"mark", {{"mean", 1.0}}}, {"frame", {{"mean", 10.0}}}}}};
+  nlohmann::json b = a;
+  b["timing_ms"]["frame"]["mean"] = 13.0;
+  const stvl::test::TempDir dir("compare_replay");
+  std::ofstream(dir.path() / "metrics.json") << a.dump();
+  EXPECT_TRUE(is_replay(load_metrics(dir.path().string())));
+  EXPECT_FALSE(is_replay(run_metrics()));
+  const auto rules = default_compare_rules(false);
+  EXPECT_EQ(rules.size(), 4u);
+  for (const auto& rule : rules) EXPECT_EQ(rule.path.rfind("timing_ms.", 0), 0u) << rule.text;
+  EXPECT_FALSE(compare_metrics(a, a, rules).regressed());
+  const Comparison c = compare_metrics(a, b, rules);
+  ASSERT_EQ(c.regressions.size(), 1u);
+  EXPECT_EQ(c.regressions[0].what, "ratio(timing_ms.frame.mean) > 1.2");
+  // The defaults with ground truth ask for figures a replay does not have.
+  EXPECT_THAT(invalid_argument_of([&] { compare_metrics(a, b, default_compare_rules()); }),
+              HasSubstr("evaluation.mean.f1 is not a figure"));
+}
+
 TEST(CompareCommand, ExitCodesAndOutputs) {
   const auto bin = stvl::test::stvl_bench_binary();
   if (bin.empty()) GTEST_SKIP() << "stvl-bench is not built";
