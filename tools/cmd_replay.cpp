@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -51,12 +52,17 @@ Eigen::Isometry3d parse_pose(const std::string& text) {
   return T;
 }
 
-// realsense-ros names topics after the camera (/camera/depth/image_rect_raw): its first segment; "camera" otherwise.
+// The first segment of an absolute topic with more than one ("/camera/depth/points" -> "camera"); "" otherwise.
+std::string first_segment(const std::string& topic) {
+  const std::size_t end = topic.size() > 1 && topic[0] == '/' ? topic.find('/', 1) : std::string::npos;
+  return end == std::string::npos ? "" : topic.substr(1, end - 1);
+}
+
+// realsense-ros names topics after the camera (/camera/depth/image_rect_raw): its first segment; "camera" for
+// librealsense's /device_N/... and anything else.
 std::string camera_name_of(const recording::RecordingInfo& info) {
-  const std::string& topic = info.depth_topic;
-  if (topic.size() < 2 || topic[0] != '/' || topic.rfind("/device_", 0) == 0) return "camera";
-  const std::size_t end = topic.find('/', 1);
-  return end == std::string::npos ? "camera" : topic.substr(1, end - 1);
+  const std::string name = first_segment(info.depth_topic);
+  return name.empty() || name.rfind("device_", 0) == 0 ? "camera" : name;
 }
 
 int replay(const ReplayCommandOptions& o) {
@@ -79,12 +85,8 @@ int replay(const ReplayCommandOptions& o) {
   settings.sample_depth_frames = scenario.outputs.sample_depth_frames;
   settings.publish_period_s = scenario.outputs.publish_period_s;
   settings.pipeline = scenario.pipeline;
-  if (o.camera_name.empty()) {
-    // Peek at the recording for its topic (the replay opens it again).
-    settings.camera_name = camera_name_of(recording::open_recording(o.recording, settings.recording)->info());
-  } else {
-    settings.camera_name = o.camera_name;
-  }
+  const std::unique_ptr<recording::Recording> recording = recording::open_recording(o.recording, settings.recording);
+  settings.camera_name = o.camera_name.empty() ? camera_name_of(recording->info()) : o.camera_name;
   settings.pipeline.cameras.resize(1);
   settings.pipeline.cameras.front().name = settings.camera_name;
   if (!o.params.empty()) {
@@ -94,14 +96,11 @@ int replay(const ReplayCommandOptions& o) {
     } catch (const std::invalid_argument& e) {
       // The recording's camera is named after its depth topic; the file may name it otherwise.
       std::string hint;
-      for (const auto& source : layer.sources) {
-        const std::string& t = source.topic;
-        const std::size_t end = t.find('/', 1);
-        if (source.enabled && t.size() > 1 && t[0] == '/' && end != std::string::npos) {
-          hint = "; to bind the recording's camera to it, add --camera-name " + t.substr(1, end - 1);
+      for (const auto& source : layer.sources)
+        if (source.enabled && !first_segment(source.topic).empty()) {
+          hint = "; to bind the recording's camera to it, add --camera-name " + first_segment(source.topic);
           break;
         }
-      }
       if (!o.camera_name.empty() || hint.empty()) throw;
       throw std::invalid_argument(e.what() + hint);
     }
@@ -113,7 +112,7 @@ int replay(const ReplayCommandOptions& o) {
   options.bag_compression = o.bag_compression;
   options.progress = !o.no_progress;
   options.stop_requested = catch_stop_signals();
-  const ReplayResult result = replay_recording(o.recording, settings, options);
+  const ReplayResult result = replay_recording(*recording, settings, options);
   if (result.interrupted) {
     std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written\n", caught_signal(), result.frames);
     return 128 + caught_signal();

@@ -7,7 +7,6 @@
 #include <limits>
 #include <memory>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 #include "common/atomic_file.hpp"
@@ -58,11 +57,10 @@ std::set<std::size_t> sample_indices(std::size_t total, int count) {
 
 }  // namespace
 
-ReplayResult replay_recording(const std::string& recording_path, const ReplaySettings& settings,
-                              const RunOptions& options) {
+ReplayResult replay_recording(recording::Recording& recording, const ReplaySettings& settings, const RunOptions& options) {
   ReplayResult r;
-  const std::unique_ptr<recording::Recording> recording = recording::open_recording(recording_path, settings.recording);
-  r.recording = recording->info();
+  r.recording = recording.info();
+  const std::string& recording_path = r.recording.path;
   r.pipeline = replay_config(settings, r.recording);
   const pipeline::CameraConfig& camera = r.pipeline.cameras.front();
   pipeline::MapStages stages(r.pipeline);
@@ -74,34 +72,22 @@ ReplayResult replay_recording(const std::string& recording_path, const ReplaySet
                                                     : r.recording.frame_count;
   const std::set<std::size_t> samples = options.out_dir.empty() ? std::set<std::size_t>{}
                                                                 : sample_indices(total, settings.sample_depth_frames);
-  std::unique_ptr<BagRecorder> bag;
-  if (!options.bag_path.empty()) {
-    // The camera's optical frame on base_link, from the first frame; camera_link is the optical frame turned back.
-    recording::RecordedFrame first;
-    const auto probe = recording::open_recording(recording_path, settings.recording);
-    if (probe->next(first)) {
-      const Eigen::Isometry3d T_link_optical = sim::DiffDriveRobot::T_camera_link_optical();
-      const Eigen::Isometry3d T_base_optical = first.T_fixed_base.inverse() * first.T_fixed_camera;
-      bag = std::make_unique<BagRecorder>(options.bag_path, parse_bag_compression(options.bag_compression),
-                                          std::vector<BagWriter::CameraFrames>{
-                                              {camera.name, T_base_optical * T_link_optical.inverse(), T_link_optical}},
-                                          nullptr);
-    }
-  }
-  Eigen::Isometry3d T_world_base_last = Eigen::Isometry3d::Identity();  // STVL frees the footprint at the last update's pose
-  const BagRecorder::MapState map_state{&stages.map(), [&] {
-    return stages.map().project_costmap(pipeline::costmap_options(r.pipeline, T_world_base_last));
-  }};
+  const BagCompression bag_compression = parse_bag_compression(options.bag_compression);
+  std::unique_ptr<BagRecorder> bag;  // opened at the first frame, whose poses give base_link -> camera
 
   pipeline::FrameResult f;
   f.camera_index = 0;
   f.camera = camera.name;
+  // STVL frees the footprint at the pose of the last update: the last frame's base.
+  const BagRecorder::MapState map_state{&stages.map(), [&] {
+    return stages.map().project_costmap(pipeline::costmap_options(r.pipeline, f.T_world_base));
+  }};
   recording::RecordedFrame frame;
   const pipeline::MapStages::CamerasNow now{[&](std::size_t) { return f.T_world_camera; },
                                             [](std::size_t) { return std::numeric_limits<double>::infinity(); }};
   double next_publish_s = 0.0, last_publish_s = -1.0;
   const auto wall_start = Clock::now();
-  while (r.frames < total && recording->next(frame)) {
+  while (r.frames < total && recording.next(frame)) {
     if (options.stop_requested && options.stop_requested->load()) {
       r.interrupted = true;
       break;
@@ -123,7 +109,6 @@ ReplayResult replay_recording(const std::string& recording_path, const ReplaySet
     f.times = {};
     stages.sense(f);
     stages.update(f, now);
-    T_world_base_last = f.T_world_base;
 
     r.times.cloud.push_back(f.times.cloud_ms);
     r.times.filter.push_back(f.times.filter_ms);
@@ -135,14 +120,19 @@ ReplayResult replay_recording(const std::string& recording_path, const ReplaySet
     r.map_voxels.push_back(stages.map().size());
     r.valid_fraction.push_back(double(f.depth.valid_count()) / double(std::max<std::size_t>(1, f.depth.depth_m.size())));
     if (samples.count(r.frames)) {
-      char name[64];
-      std::snprintf(name, sizeof name, "depth_%05zu", f.frame_index);
-      sensors::write_depth_png_mm(f.depth, (out / "frames" / (std::string(name) + ".png")).string());
-      sensors::write_depth_png_colorized(f.depth, (out / "frames" / (std::string(name) + "_color.png")).string(),
-                                         camera.intrinsics.min_range_m, 6.0);
+      write_sample_depth_frame(out / "frames", "", f.frame_index, f.depth, camera.intrinsics.min_range_m);
       r.sampled_frames.push_back(f.frame_index);
     }
     const auto bag_start = Clock::now();
+    if (!options.bag_path.empty() && !bag) {
+      // The camera's optical frame on base_link; camera_link is the optical frame turned back.
+      const Eigen::Isometry3d T_link_optical = sim::DiffDriveRobot::T_camera_link_optical();
+      const Eigen::Isometry3d T_base_optical = f.T_world_base.inverse() * f.T_world_camera;
+      bag = std::make_unique<BagRecorder>(
+          options.bag_path, bag_compression,
+          std::vector<BagWriter::CameraFrames>{{camera.name, T_base_optical * T_link_optical.inverse(), T_link_optical}},
+          nullptr);
+    }
     if (bag) {
       const bool publish_map = f.time_s + 1e-9 >= next_publish_s;
       if (publish_map) next_publish_s = f.time_s + settings.publish_period_s, last_publish_s = f.time_s;

@@ -42,12 +42,11 @@ struct ReplayResult {
   bool interrupted = false;
 };
 
-// The camera's observation sources take the recording's FOV where they had the scenario camera's (a FOV a
-// scenario or parameter file gives is kept). Throws std::invalid_argument for bad input (the recording, a
-// frame whose intrinsics differ from the first's, stamps that go back in time) and std::runtime_error for
-// unwritable outputs.
-ReplayResult replay_recording(const std::string& recording_path, const ReplaySettings& settings,
-                              const RunOptions& options);
+// Replays an opened recording (recording::open_recording) from its next frame. The camera's observation sources
+// take the recording's FOV where they had the scenario camera's (a FOV a scenario or parameter file gives is
+// kept). Throws std::invalid_argument for bad input (a frame that cannot be read, one whose intrinsics differ
+// from the first's, stamps that go back in time) and std::runtime_error for unwritable outputs.
+ReplayResult replay_recording(recording::Recording& recording, const ReplaySettings& settings, const RunOptions& options);
 
 // metrics.json of a replay: the recording, frames, points, valid pixels, the map, the sources and per-stage
 // timings; "ground_truth": false and no "evaluation" object.

@@ -57,11 +57,7 @@ class FrameSampler {
   }
   void offer(const pipeline::FrameResult& f, double min_range_m) const {
     if (!every_ || f.frame_index == 0 || f.frame_index % every_ != 0) return;
-    char name[64];
-    std::snprintf(name, sizeof name, "depth_%05zu", f.frame_index);
-    const std::string base = prefix_ + name;
-    sensors::write_depth_png_mm(f.depth, (dir_ / (base + ".png")).string());
-    sensors::write_depth_png_colorized(f.depth, (dir_ / (base + "_color.png")).string(), min_range_m, 6.0);
+    write_sample_depth_frame(dir_, prefix_, f.frame_index, f.depth, min_range_m);
   }
 
  private:
@@ -129,6 +125,15 @@ MapView make_map_view(const mapping::VoxelMap& map, const evaluation::Truth& tru
   view.mapped_false_W = thinned(bad_keys, bad, max_points);
   view.truth_W = thinned(truth_keys, truth_points, max_points);
   return view;
+}
+
+void write_sample_depth_frame(const std::filesystem::path& frames_dir, const std::string& prefix, std::size_t frame_index,
+                              const sensors::DepthImage& depth, double min_range_m) {
+  char name[64];
+  std::snprintf(name, sizeof name, "depth_%05zu", frame_index);
+  const std::string base = prefix + name;
+  sensors::write_depth_png_mm(depth, (frames_dir / (base + ".png")).string());
+  sensors::write_depth_png_colorized(depth, (frames_dir / (base + "_color.png")).string(), min_range_m, 6.0);
 }
 
 MapView make_map_view(const mapping::VoxelMap& map, std::size_t max_points) {

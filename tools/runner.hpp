@@ -2,6 +2,7 @@
 // Runs one scenario end to end: builds the pipeline, steps it frame by frame, hands each frame to the
 // evaluation and to the outputs (bag, sample depth frames), then checks the result.
 #include <atomic>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,11 @@ struct MapView {
 MapView make_map_view(const mapping::VoxelMap& map, const evaluation::Truth& truth, int tolerance_voxels,
                       std::size_t max_points = 60000);
 MapView make_map_view(const mapping::VoxelMap& map, std::size_t max_points = 60000);
+
+// A depth frame for the report: <frames_dir>/<prefix>depth_NNNNN.png (16-bit mm) and ..._color.png (near blue to
+// far red over min_range_m .. 6 m), each written atomically.
+void write_sample_depth_frame(const std::filesystem::path& frames_dir, const std::string& prefix, std::size_t frame_index,
+                              const sensors::DepthImage& depth, double min_range_m);
 
 struct RunResult {
   Scenario scenario;
