@@ -8,16 +8,11 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "common/stopwatch.hpp"
 #include "mapping/footprint.hpp"
 
 namespace stvl::pipeline {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 double process_cpu_ms() {
   timespec t{};
@@ -107,7 +102,7 @@ std::vector<SourceStatus> MapStages::source_status(double until_s) const {
 
 void MapStages::sense(FrameResult& f) {
   const CameraConfig& camera = config_.cameras.at(f.camera_index);
-  auto start = Clock::now();
+  auto start = SteadyClock::now();
   const sensors::DepthImage* cloud_depth = &f.depth;
   f.edge_dropped_pixels = 0;
   if (camera.edge_filter.enabled) {
@@ -120,7 +115,7 @@ void MapStages::sense(FrameResult& f) {
   transform(f.T_world_camera, f.points_C, f.point_count, f.cloud_W);
   f.times.cloud_ms = ms_since(start);
 
-  start = Clock::now();
+  start = SteadyClock::now();
   f.decimated_W = filter_.apply(f.cloud_W);
   f.marking_W = passthrough_ ? filter::passthrough(f.decimated_W, config_.filter.passthrough) : f.decimated_W;
   f.times.filter_ms = ms_since(start);
@@ -128,7 +123,7 @@ void MapStages::sense(FrameResult& f) {
 
 void MapStages::update(FrameResult& f, const CamerasNow& now) {
   Sources& camera = *cameras_.at(f.camera_index);
-  auto start = Clock::now();
+  auto start = SteadyClock::now();
   const double cpu_start_ms = process_cpu_ms();
   f.no_return_W.resize(3, 0);
   if (camera.no_return_range_m > 0.0)
@@ -177,7 +172,7 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
   f.cleared_keys.clear();
   map_.clear(clearing, f.time_s, &f.cleared_keys);
   f.times.clear_ms = ms_since(start);
-  start = Clock::now();
+  start = SteadyClock::now();
   for (const auto& [r, params] : marking) map_.mark(r->marking_W, r->T_world_camera, *params, f.time_s);
   f.footprint_cleared = 0;
   if (config_.map.footprint_clearing_height_m > 0.0) {

@@ -8,18 +8,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/stopwatch.hpp"
 #include "common/splitmix.hpp"
 #include "pipeline/map_stages.hpp"
 #include "sensors/depth_renderer.hpp"
 
 namespace stvl::pipeline {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // Camera 0 keeps the scenario's seed (its frames are what a one-camera run always had); the others get
 // splitmix64 of seed and index, so that no two cameras share noise.
@@ -216,11 +211,11 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   f.robot_upright = upright(*sim_);
   if (!f.robot_upright) return f;
 
-  auto start = Clock::now();
+  auto start = SteadyClock::now();
   f.clean_depth = camera.renderer.render(sim_->world().model(), sim_->world().data(), f.T_world_camera);
   f.times.render_ms = ms_since(start);
 
-  start = Clock::now();
+  start = SteadyClock::now();
   f.depth = f.clean_depth;
   camera.noise.apply(f.depth, camera.noise_seed, f.frame_index);
   f.times.noise_ms = ms_since(start);

@@ -9,18 +9,13 @@
 #include <set>
 #include <stdexcept>
 
+#include "common/stopwatch.hpp"
 #include "common/atomic_file.hpp"
 #include "pipeline/map_stages.hpp"
 #include "tools/bag_recorder.hpp"
 
 namespace stvl::tools {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 bool same_model(const sensors::CameraIntrinsics& a, const sensors::CameraIntrinsics& b) {
   return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy;
@@ -86,13 +81,13 @@ ReplayResult replay_recording(recording::Recording& recording, const ReplaySetti
   const pipeline::MapStages::CamerasNow now{[&](std::size_t) { return f.T_world_camera; },
                                             [](std::size_t) { return std::numeric_limits<double>::infinity(); }};
   double next_publish_s = 0.0, last_publish_s = -1.0;
-  const auto wall_start = Clock::now();
+  const auto wall_start = SteadyClock::now();
   while (r.frames < total && recording.next(frame)) {
     if (options.stop_requested && options.stop_requested->load()) {
       r.interrupted = true;
       break;
     }
-    const auto frame_start = Clock::now();
+    const auto frame_start = SteadyClock::now();
     if (!same_model(frame.intrinsics, camera.intrinsics))
       throw std::invalid_argument(recording_path + ": frame " + std::to_string(frame.index) +
                                   ": its camera model differs from the first frame's; a replay takes one camera model");
@@ -123,7 +118,7 @@ ReplayResult replay_recording(recording::Recording& recording, const ReplaySetti
       write_sample_depth_frame(out / "frames", "", f.frame_index, f.depth, camera.intrinsics.min_range_m);
       r.sampled_frames.push_back(f.frame_index);
     }
-    const auto bag_start = Clock::now();
+    const auto bag_start = SteadyClock::now();
     if (!options.bag_path.empty() && !bag) {
       // The camera's optical frame on base_link; camera_link is the optical frame turned back.
       const Eigen::Isometry3d T_link_optical = sim::DiffDriveRobot::T_camera_link_optical();
@@ -145,7 +140,7 @@ ReplayResult replay_recording(recording::Recording& recording, const ReplaySetti
     if (options.progress && (r.frames % 100 == 0 || r.frames == total))
       std::printf("replay: frame %zu of %zu, t=%.2f s\n", r.frames, total, f.time_s);
   }
-  r.wall_time_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  r.wall_time_s = std::chrono::duration<double>(SteadyClock::now() - wall_start).count();
   r.real_time_factor = r.wall_time_s > 0 ? r.recorded_s / r.wall_time_s : 0;
   if (r.interrupted) return r;
   if (r.frames == 0) throw std::invalid_argument(recording_path + ": no depth frame could be read");

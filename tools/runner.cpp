@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/stopwatch.hpp"
 #include "common/atomic_file.hpp"
 #include "common/splitmix.hpp"
 #include "pipeline/pipeline.hpp"
@@ -14,12 +15,6 @@
 
 namespace stvl::tools {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 class Progress {
  public:
@@ -184,7 +179,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   double next_publish_s = 0.0, last_publish_s = -1.0;
   Progress progress(options.progress, s.duration_s);
   SoakSampler soak(s.outputs.soak_sample_every_s);
-  const auto wall_start = Clock::now();
+  const auto wall_start = SteadyClock::now();
   bool path_done = false;
   double evaluation_ms = 0.0;
   const auto view_of = [&](const pipeline::FrameResult& f) {
@@ -196,7 +191,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
   };
   // The evaluation's look at the map before this frame's update (clearing latency).
   const auto before_map_update = [&](const pipeline::FrameResult& f, const mapping::VoxelMap& map) {
-    const auto start = Clock::now();
+    const auto start = SteadyClock::now();
     evaluator.observe_clearing(f.time_s, pipeline.simulator().world(), view_of(f), map);
     outages.before_update(f.time_s, map);
     evaluation_ms = ms_since(start);
@@ -217,7 +212,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     append_stages(r.times, f.times);
     append_stages(r.camera_times[f.camera_index], f.times);
 
-    auto start = Clock::now();
+    auto start = SteadyClock::now();
     evaluator.set_robot_pose(f.T_world_base);
     evaluator.after_update(f.time_s, pipeline.map(), f.cleared_keys);
     evaluator.observe_hidden_clears(f.time_s, view_of(f), pipeline.map(), f.cleared_keys);
@@ -233,7 +228,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
 
     samplers[f.camera_index].offer(f, s.pipeline.cameras[f.camera_index].intrinsics.min_range_m);
 
-    start = Clock::now();
+    start = SteadyClock::now();
     if (bag) {
       const bool publish_map = f.time_s + 1e-9 >= next_publish_s;
       if (publish_map) next_publish_s += s.outputs.publish_period_s, last_publish_s = f.time_s;
@@ -258,7 +253,7 @@ RunResult run_scenario(const Scenario& s, const RunOptions& options) {
     }
   }
   progress.done();
-  r.wall_time_s = std::chrono::duration<double>(Clock::now() - wall_start).count();
+  r.wall_time_s = std::chrono::duration<double>(SteadyClock::now() - wall_start).count();
   r.real_time_factor = r.wall_time_s > 0 ? r.sim_time_s / r.wall_time_s : 0;
   r.soak = soak.series();
   if (r.interrupted) return r;  // the bag stays as <bag>.active; no result file is written
