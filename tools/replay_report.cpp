@@ -1,6 +1,5 @@
 // metrics.json and report.html of a replayed recording (tools/replay.hpp).
 #include <algorithm>
-#include <numeric>
 #include <sstream>
 
 #include "common/atomic_file.hpp"
@@ -12,13 +11,6 @@
 
 namespace stvl::tools {
 namespace {
-
-double mean_of(const std::vector<double>& v) {
-  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
-}
-double mean_of(const std::vector<std::size_t>& v) {
-  return v.empty() ? 0.0 : double(std::accumulate(v.begin(), v.end(), std::size_t{0})) / double(v.size());
-}
 
 // The costmap for people: lethal black, free white, unknown light grey; the base's path in blue. Top row = highest y.
 RgbImage costmap_image(const mapping::Costmap2D& c, const std::vector<Eigen::Vector2d>& path_W) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <cstdio>
 #include <sstream>
 
@@ -15,7 +14,7 @@ namespace stvl::tools {
 
 nlohmann::json stage_stats(std::vector<double> ms) {
   if (ms.empty()) return {{"mean", 0.0}, {"p50", 0.0}, {"p95", 0.0}};
-  const double mean = std::accumulate(ms.begin(), ms.end(), 0.0) / ms.size();
+  const double mean = mean_of(ms);
   std::sort(ms.begin(), ms.end());
   const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * (ms.size() - 1) + 0.5))]; };
   return {{"mean", mean}, {"p50", at(0.5)}, {"p95", at(0.95)}};
@@ -294,8 +293,8 @@ nlohmann::json metrics_json(const RunResult& r) {
         {"cameras", cameras}}},
       {"checks", checks},
       {"points",
-       {{"raw_mean", r.points_raw.empty() ? 0.0 : std::accumulate(r.points_raw.begin(), r.points_raw.end(), 0.0) / r.points_raw.size()},
-        {"filtered_mean", r.points_filtered.empty() ? 0.0 : std::accumulate(r.points_filtered.begin(), r.points_filtered.end(), 0.0) / r.points_filtered.size()},
+       {{"raw_mean", mean_of(r.points_raw)},
+        {"filtered_mean", mean_of(r.points_filtered)},
         {"map_voxels_final", r.map_voxels.empty() ? 0 : r.map_voxels.back()}}},
       {"timing_ms",
        {{"render", stage_stats(t.render)},

@@ -5,11 +5,19 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "tools/runner.hpp"
 
 namespace stvl::tools {
 
+// The mean of per-frame values (0 when empty).
+template <class T>
+double mean_of(const std::vector<T>& values) {
+  double sum = 0.0;
+  for (const T& v : values) sum += static_cast<double>(v);
+  return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
+}
 // Mean, p50 and p95 of per-frame milliseconds (zeros when empty).
 nlohmann::json stage_stats(std::vector<double> ms);
 // Every figure of the run; timings under "timing_ms" (mean, p50, p95 per stage) and "real_time_factor".
