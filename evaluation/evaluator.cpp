@@ -10,7 +10,6 @@
 #include <optional>
 
 namespace stvl::evaluation {
-
 namespace {
 
 // Adds the scope's wall time to a PhaseTimes field.
@@ -136,18 +135,18 @@ void Evaluator::observe(double time_s, const CameraView& view) {
     }
   frame_keys_.swap(block_keys.front());
   frame_keys_.erase(std::unique(frame_keys_.begin(), frame_keys_.end()), frame_keys_.end());
-  auto* by_camera = last_seen_by_camera_.empty() ? nullptr : &last_seen_by_camera_[view.camera_index];
-  for (const VoxelKey& key : frame_keys_) {
-    Seen& seen = last_seen_[key];
-    seen.time_s = time_s;
-    if (by_camera) (*by_camera)[key].time_s = time_s;
-    if (!seen.off_truth && body_of(key, seen) < 0) off_truth_keys_.insert(key), seen.off_truth = true;
-  }
+  // Voxels last seen before the recall window are forgotten here as at an evaluation (evaluations come later).
+  const double oldest_s = time_s - config_.recall_window_s;
+  last_seen_.record(frame_keys_, time_s, oldest_s, [&](SeenVoxels::Entry& seen) {
+    if (!seen.off_truth && body_of(seen) < 0) off_truth_keys_.insert(seen.key), seen.off_truth = true;
+  });
+  if (!last_seen_by_camera_.empty())
+    last_seen_by_camera_[view.camera_index].record(frame_keys_, time_s, oldest_s, [](const SeenVoxels::Entry&) {});
 }
 
-int Evaluator::body_of(const VoxelKey& key, Seen& seen) const {
-  if (seen.static_body == Seen::kUnknown) seen.static_body = truth_.static_body_of(key);
-  return seen.static_body >= 0 ? seen.static_body : truth_.moving_body_of(key);
+int Evaluator::body_of(SeenVoxels::Entry& seen) const {
+  if (seen.static_body == SeenVoxels::Entry::kUnknown) seen.static_body = truth_.static_body_of(seen.key);
+  return seen.static_body >= 0 ? seen.static_body : truth_.moving_body_of(seen.key);
 }
 
 void Evaluator::update_stale_candidates() {
@@ -225,24 +224,19 @@ VoxelMatches Evaluator::match_mapped_voxels(const mapping::VoxelMap& map) {
   return mapped_.match(map, truth_);  // match_mapped_plain()'s figures, kept from one evaluation to the next
 }
 
-VoxelMatches Evaluator::match_observed_truth(double time_s, CellSet& observed_cells) {
+VoxelMatches Evaluator::match_observed_truth(double time_s, std::vector<CellKey>& observed_cells) {
   const PhaseTimer timer(times_.observed_ms);
   VoxelMatches m;
   const auto& bodies = truth_.bodies();
   std::vector<std::size_t> body_observed(bodies.size()), body_matched(bodies.size());
-  for (auto it = last_seen_.begin(); it != last_seen_.end();) {
-    if (it->second.time_s < time_s - config_.recall_window_s) {
-      it = last_seen_.erase(it);
-      continue;
-    }
-    const int body = body_of(it->first, it->second);
-    if (body >= 0) {
-      ++m.observed_truth;
-      ++body_observed[body];
-      observed_cells.insert({it->first.x, it->first.y});
-      if (mapped_.near(it->first, config_.tolerance_voxels)) ++m.matched_truth, ++body_matched[body];
-    }
-    ++it;
+  last_seen_.forget_before(time_s - config_.recall_window_s);
+  for (SeenVoxels::Entry& seen : last_seen_.entries()) {
+    const int body = body_of(seen);
+    if (body < 0) continue;
+    ++m.observed_truth;
+    ++body_observed[body];
+    observed_cells.push_back({seen.key.x, seen.key.y});
+    if (mapped_.near(seen.key, config_.tolerance_voxels)) ++m.matched_truth, ++body_matched[body];
   }
   for (std::size_t b = 0; b < bodies.size(); ++b)
     update_obstacle(obstacles_[bodies[b]->body_name], body_observed[b], body_matched[b], config_.min_observed_voxels);
@@ -256,30 +250,25 @@ std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const VoxelMa
   };
   if (last_seen_by_camera_.empty()) return {recall_of({total.observed_truth, total.matched_truth, 0.0})};
   std::vector<CameraRecall> recalls;
-  for (auto& seen : last_seen_by_camera_) {
+  for (SeenVoxels& camera_seen : last_seen_by_camera_) {
     CameraRecall r;
-    for (auto it = seen.begin(); it != seen.end();) {
-      if (it->second.time_s < time_s - config_.recall_window_s) {
-        it = seen.erase(it);
-        continue;
-      }
-      if (body_of(it->first, it->second) >= 0) {
-        ++r.observed_truth_voxels;
-        if (mapped_.near(it->first, config_.tolerance_voxels)) ++r.matched_truth;
-      }
-      ++it;
+    camera_seen.forget_before(time_s - config_.recall_window_s);
+    for (SeenVoxels::Entry& seen : camera_seen.entries()) {
+      if (body_of(seen) < 0) continue;
+      ++r.observed_truth_voxels;
+      if (mapped_.near(seen.key, config_.tolerance_voxels)) ++r.matched_truth;
     }
     recalls.push_back(recall_of(r));
   }
   return recalls;
 }
 
-void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap) {
+void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellGrid& observed_cells, EvaluationSnapshot& snap) {
   const double cell_m = config_.voxel_size_m;
   std::optional<PhaseTimer> timer(std::in_place, times_.costmap_ms);
-  const CellSet& footprint = truth_.footprint();
+  const CellGrid& footprint = truth_.footprint();
   const std::vector<Eigen::Vector2d> footprint_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
-  CellSet lethal;
+  CellGrid lethal;
   if (!map.empty()) {
     mapping::CostmapOptions options;
     options.resolution_m = cell_m;
@@ -303,13 +292,15 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellSet& obser
   snap.costmap_recall = m.recall;
   snap.phantoms = find_phantoms(lethal, footprint, cell_m, config_.phantom_clearance_m, config_.phantom_min_cells);
   snap.phantom_obstacles = static_cast<int>(snap.phantoms.size());
-  top_down_ = {};
   top_down_.cell_m = cell_m;
   top_down_.true_positive = std::move(m.true_positive);
   top_down_.false_positive = std::move(m.false_positive);
   top_down_.false_negative = std::move(m.false_negative);
-  top_down_.truth.assign(footprint.begin(), footprint.end());
-  top_down_.bounds_W = truth_.bounds_W();
+  if (top_down_version_ != truth_.version()) {  // the footprint's cells change with the truth only
+    top_down_version_ = truth_.version();
+    top_down_.truth = footprint.cells();
+    top_down_.bounds_W = truth_.bounds_W();
+  }
 }
 
 const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& world, const mapping::VoxelMap& map) {
@@ -318,7 +309,7 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   EvaluationSnapshot snap;
   snap.time_s = time_s;
   const VoxelMatches mapped_matches = match_mapped_voxels(map);
-  CellSet observed_cells;
+  std::vector<CellKey> observed_cells;  // once per observed truth voxel
   const VoxelMatches truth_matches = match_observed_truth(time_s, observed_cells);
   VoxelMatches matches = mapped_matches;
   matches.observed_truth = truth_matches.observed_truth;
@@ -333,7 +324,7 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
     const PhaseTimer timer(times_.observed_ms);
     snap.cameras = camera_recalls(time_s, truth_matches);
   }
-  score_costmap(map, observed_cells, snap);
+  score_costmap(map, CellGrid::of(observed_cells), snap);
   snapshots_.push_back(snap);
   return snapshots_.back();
 }

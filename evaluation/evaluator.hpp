@@ -13,6 +13,7 @@
 #include "evaluation/clearing.hpp"
 #include "evaluation/config.hpp"
 #include "evaluation/mapped_index.hpp"
+#include "evaluation/seen_voxels.hpp"
 #include "evaluation/metrics.hpp"
 #include "evaluation/occlusion.hpp"
 #include "evaluation/truth.hpp"
@@ -143,26 +144,18 @@ class Evaluator {
   // evaluate(), step by step.
   VoxelMatches match_mapped_voxels(const mapping::VoxelMap& map);  // also pools the surface distances
   // These two read the map as match_mapped_voxels() last saw it (mapped_, the same map in evaluate()).
-  VoxelMatches match_observed_truth(double time_s, CellSet& observed_cells);
+  VoxelMatches match_observed_truth(double time_s, std::vector<CellKey>& observed_cells);
   std::vector<CameraRecall> camera_recalls(double time_s, const VoxelMatches& total);
-  void score_costmap(const mapping::VoxelMap& map, const CellSet& observed_cells, EvaluationSnapshot& snap);
+  void score_costmap(const mapping::VoxelMap& map, const CellGrid& observed_cells, EvaluationSnapshot& snap);
 
   EvaluationConfig config_;
   Eigen::Isometry3d T_world_base_ = Eigen::Isometry3d::Identity();
   Truth truth_;
   std::map<std::string, ObstacleResult> obstacles_;
-  // An observed voxel: when it was last seen; its static body (Truth::static_body_of(), kUnknown until asked:
-  // it never changes) and whether it is in off_truth_keys_ already.
-  struct Seen {
-    static constexpr int kUnknown = -2;
-    double time_s = 0;
-    int static_body = kUnknown;
-    bool off_truth = false;
-  };
-  int body_of(const VoxelKey& key, Seen& seen) const;  // truth_.body_of(key), the static half remembered
-  std::unordered_map<VoxelKey, Seen, VoxelKeyHash> last_seen_;  // observed truth candidates -> last time
+  int body_of(SeenVoxels::Entry& seen) const;  // truth_.body_of(key), the static half remembered
+  SeenVoxels last_seen_;  // observed truth candidates -> last time
   // The same per camera, when there are several (one camera's is last_seen_ itself).
-  std::vector<std::unordered_map<VoxelKey, Seen, VoxelKeyHash>> last_seen_by_camera_;
+  std::vector<SeenVoxels> last_seen_by_camera_;
   VoxelSet off_truth_keys_;
   std::vector<float> ray_x_;          // observe(): per-column ray slopes
   std::vector<VoxelKey> frame_keys_;  // observe(): the voxels of one frame
@@ -176,6 +169,7 @@ class Evaluator {
   MappedIndex mapped_;  // the mapped voxels' results and pooled distances (bounded by distinct values: #270)
   std::vector<EvaluationSnapshot> snapshots_;
   TopDown top_down_;
+  std::size_t top_down_version_ = 0;  // the truth version of top_down_.truth (versions start at 1)
   PhaseTimes times_;
 };
 

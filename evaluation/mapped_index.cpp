@@ -127,8 +127,11 @@ std::map<double, std::size_t> MappedIndex::distance_counts() const {
   return counts;
 }
 
-ColumnCounts MappedIndex::column_counts(double voxel_size_m, double min_z_m, double max_z_m) const {
-  ColumnCounts counts;
+CellGrid MappedIndex::column_counts(double voxel_size_m, double min_z_m, double max_z_m) const {
+  std::vector<CellKey> corners;  // of the live leaves' columns
+  for (const auto& [origin, leaf] : leaves_)
+    if (leaf.stamp == stamp_) corners.push_back({origin.x, origin.y}), corners.push_back({origin.x + kDim - 1, origin.y + kDim - 1});
+  CellGrid counts = CellGrid::covering(corners);
   for (const auto& [origin, leaf] : leaves_) {
     if (leaf.stamp != stamp_) continue;  // not in the map at the last match()
     std::uint64_t band = 0;  // the z bits (of each 8-bit column) whose centres lie in the band, as the plain test
@@ -141,7 +144,7 @@ ColumnCounts MappedIndex::column_counts(double voxel_size_m, double min_z_m, dou
       const std::uint64_t in_band = leaf.on[x] & band;
       if (!in_band) continue;
       for (int y = 0; y < kDim; ++y)
-        if (const int n = __builtin_popcountll((in_band >> (8 * y)) & 0xffu)) counts[{origin.x + x, origin.y + y}] += n;
+        if (const int n = __builtin_popcountll((in_band >> (8 * y)) & 0xffu)) counts.add({origin.x + x, origin.y + y}, n);
     }
   }
   return counts;

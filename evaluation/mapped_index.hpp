@@ -37,7 +37,7 @@ class MappedIndex {
   bool contains(const VoxelKey& key) const;
   bool near(const VoxelKey& key, int tol) const;
   // column_counts(map, min_z_m, max_z_m) of that map (voxel size voxel_size_m): a popcount per column of a leaf.
-  ColumnCounts column_counts(double voxel_size_m, double min_z_m, double max_z_m) const;
+  CellGrid column_counts(double voxel_size_m, double min_z_m, double max_z_m) const;
   std::size_t leaves() const { return leaves_.size(); }
 
  private:

@@ -21,14 +21,6 @@ bool near_voxel(const VoxelSet& set, const VoxelKey& k, int tol) {
   return any_within(k, tol, [&](const VoxelKey& n) { return set.count(n) > 0; });
 }
 
-bool near_cell(const CellSet& set, const CellKey& c, int tol) {
-  if (set.count(c)) return true;
-  for (int dx = -tol; dx <= tol; ++dx)
-    for (int dy = -tol; dy <= tol; ++dy)
-      if (set.count({c.x + dx, c.y + dy})) return true;
-  return false;
-}
-
 VoxelScores voxel_scores(const VoxelMatches& m) {
   VoxelScores s;
   s.precision = ratio(m.matched_mapped, m.mapped);
@@ -46,58 +38,61 @@ void update_obstacle(ObstacleResult& o, std::size_t observed_voxels, std::size_t
   o.detected = o.detected || o.best_recall >= 0.5;
 }
 
-CostmapMatches match_costmap(const CellSet& lethal, const CellSet& footprint, const CellSet& observed, int tol) {
+CostmapMatches match_costmap(const CellGrid& lethal, const CellGrid& footprint, const CellGrid& observed, int tol) {
   CostmapMatches m;
   m.lethal = lethal.size();
   m.observed = observed.size();
-  for (const auto& c : lethal) {
-    const bool ok = near_cell(footprint, c, tol);
+  lethal.for_each([&](const CellKey& c, int) {
+    const bool ok = footprint.near(c, tol);
     m.lethal_true += ok;
     (ok ? m.true_positive : m.false_positive).push_back(c);
-  }
-  for (const auto& c : observed) {
-    if (near_cell(lethal, c, tol)) ++m.observed_hit;
+  });
+  observed.for_each([&](const CellKey& c, int) {
+    if (lethal.near(c, tol)) ++m.observed_hit;
     else m.false_negative.push_back(c);
-  }
+  });
   m.precision = ratio(m.lethal_true, m.lethal);
   m.recall = ratio(m.observed_hit, m.observed);
   return m;
 }
 
-CellSet lethal_cells(const mapping::Costmap2D& costmap, double cell_m) {
-  CellSet lethal;
+CellGrid lethal_cells(const mapping::Costmap2D& costmap, double cell_m) {
+  const auto key_of = [&](int ix, int iy) {
+    return cell_key({costmap.origin_m.x() + (ix + 0.5) * costmap.resolution_m,
+                     costmap.origin_m.y() + (iy + 0.5) * costmap.resolution_m},
+                    cell_m);
+  };
+  if (costmap.width <= 0 || costmap.height <= 0) return {};
+  CellGrid lethal(key_of(0, 0), key_of(costmap.width - 1, costmap.height - 1));  // keys grow with ix, iy
   for (int iy = 0; iy < costmap.height; ++iy)
     for (int ix = 0; ix < costmap.width; ++ix)
-      if (costmap.at(ix, iy) == mapping::kCostLethal)
-        lethal.insert(cell_key({costmap.origin_m.x() + (ix + 0.5) * costmap.resolution_m,
-                                costmap.origin_m.y() + (iy + 0.5) * costmap.resolution_m},
-                               cell_m));
+      if (costmap.at(ix, iy) == mapping::kCostLethal) lethal.insert(key_of(ix, iy));
   return lethal;
 }
 
-ColumnCounts column_counts(const mapping::VoxelMap& map, double min_z_m, double max_z_m) {
+CellGrid column_counts(const mapping::VoxelMap& map, double min_z_m, double max_z_m) {
   const double s = map.voxel_size_m();
-  ColumnCounts counts;
+  std::vector<CellKey> columns;  // one entry per voxel in the band
   map.for_each_key([&](const VoxelKey& k) {
     const double z_m = (k.z + 0.5) * s;
-    if (z_m >= min_z_m && z_m <= max_z_m) ++counts[{k.x, k.y}];
+    if (z_m >= min_z_m && z_m <= max_z_m) columns.push_back({k.x, k.y});
   });
+  CellGrid counts = CellGrid::covering(columns);
+  for (const CellKey& c : columns) counts.add(c);
   return counts;
 }
 
-ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m,
+ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellGrid& lethal, double min_z_m, double max_z_m,
                                  const CellSet& freed) {
   return guard_projection(column_counts(map, min_z_m, max_z_m), std::max(map.config().mark_threshold, 1), lethal, freed);
 }
 
-ProjectionGuard guard_projection(const ColumnCounts& counts, int needed, const CellSet& lethal, const CellSet& freed) {
+ProjectionGuard guard_projection(const CellGrid& counts, int needed, const CellGrid& lethal, const CellSet& freed) {
   ProjectionGuard guard;
-  for (const auto& cell : lethal) {
-    const auto it = counts.find(cell);
-    if (it == counts.end() || it->second < needed) ++guard.lethal_without_voxels;
-  }
-  for (const auto& [cell, count] : counts)
-    if (count >= needed && !lethal.count(cell) && !freed.count(cell)) ++guard.columns_without_lethal;
+  lethal.for_each([&](const CellKey& cell, int) { guard.lethal_without_voxels += counts.count(cell) < needed; });
+  counts.for_each([&](const CellKey& cell, int count) {
+    guard.columns_without_lethal += count >= needed && !lethal.contains(cell) && !freed.count(cell);
+  });
   return guard;
 }
 
@@ -112,13 +107,13 @@ double distance_to_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, c
 
 }  // namespace
 
-SelfMarking count_self_marking(const CellSet& lethal, const std::vector<Eigen::Vector2d>& footprint_W, double cell_m,
-                               double ring_m, const CellSet& truth_footprint, int tol) {
+SelfMarking count_self_marking(const CellGrid& lethal, const std::vector<Eigen::Vector2d>& footprint_W, double cell_m,
+                               double ring_m, const CellGrid& truth_footprint, int tol) {
   SelfMarking self;
   if (footprint_W.size() < 3) return self;
   CellSet inside;
   for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m)) inside.insert({x, y});
-  const auto is_self = [&](const CellKey& c) { return lethal.count(c) && !near_cell(truth_footprint, c, tol); };
+  const auto is_self = [&](const CellKey& c) { return lethal.contains(c) && !truth_footprint.near(c, tol); };
   for (const auto& c : inside) self.inside += is_self(c);
   Eigen::AlignedBox2d box;
   for (const auto& p : footprint_W) box.extend(p);
@@ -140,33 +135,36 @@ SelfMarking count_self_marking(const CellSet& lethal, const std::vector<Eigen::V
   return self;
 }
 
-std::vector<Phantom> find_phantoms(const CellSet& lethal, const CellSet& footprint, double cell_m, double clearance_m,
+std::vector<Phantom> find_phantoms(const CellGrid& lethal, const CellGrid& footprint, double cell_m, double clearance_m,
                                    int min_cells) {
   const int clearance_cells = static_cast<int>(std::ceil(clearance_m / cell_m - 1e-9));
   std::vector<Phantom> phantoms;
-  CellSet visited;
-  for (const auto& start : lethal) {
-    if (visited.count(start)) continue;
-    std::vector<CellKey> stack{start};
+  CellGrid visited(lethal.lo(), lethal.hi());
+  std::vector<CellKey> stack;
+  lethal.for_each([&](const CellKey& start, int) {
+    if (visited.contains(start)) return;
+    stack.assign(1, start);
     visited.insert(start);
     std::size_t size = 0;
     bool near_truth = false;
-    Eigen::Vector2d sum_m = Eigen::Vector2d::Zero();
+    std::int64_t sum_x = 0, sum_y = 0;  // exact, whatever the visiting order
     while (!stack.empty()) {
       const CellKey c = stack.back();
       stack.pop_back();
       ++size;
-      sum_m += Eigen::Vector2d(c.x + 0.5, c.y + 0.5) * cell_m;
-      near_truth = near_truth || near_cell(footprint, c, clearance_cells);
+      sum_x += c.x, sum_y += c.y;
+      near_truth = near_truth || footprint.near(c, clearance_cells);
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy) {
           const CellKey n{c.x + dx, c.y + dy};
-          if (lethal.count(n) && visited.insert(n).second) stack.push_back(n);
+          if (lethal.contains(n) && !visited.contains(n)) visited.insert(n), stack.push_back(n);
         }
     }
+    const double n = static_cast<double>(size);
     if (!near_truth && size >= static_cast<std::size_t>(min_cells))
-      phantoms.push_back({sum_m.x() / double(size), sum_m.y() / double(size), size});
-  }
+      phantoms.push_back({(static_cast<double>(sum_x) + 0.5 * n) * cell_m / n,
+                          (static_cast<double>(sum_y) + 0.5 * n) * cell_m / n, size});
+  });
   std::sort(phantoms.begin(), phantoms.end(),
             [](const Phantom& a, const Phantom& b) { return std::tie(a.x_m, a.y_m) < std::tie(b.x_m, b.y_m); });
   return phantoms;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/voxel_key.hpp"
+#include "evaluation/cell_grid.hpp"
 #include "mapping/costmap.hpp"
 #include "mapping/voxel_map.hpp"
 
@@ -26,7 +27,6 @@ bool any_within(const VoxelKey& key, int tol, Contains&& contains) {
 }
 
 bool near_voxel(const VoxelSet& set, const VoxelKey& key, int tol);
-bool near_cell(const CellSet& set, const CellKey& cell, int tol);
 
 // 3D: precision = matched mapped / mapped, recall = matched observed truth / observed truth,
 // F1 = 2PR / (P + R), IoU = matched truth / (observed truth + unmatched mapped). Empty denominators give 0.
@@ -59,11 +59,11 @@ struct CostmapMatches {
   std::size_t lethal = 0, lethal_true = 0;
   std::size_t observed = 0, observed_hit = 0;
   double precision = 0, recall = 0;
-  std::vector<CellKey> true_positive, false_positive, false_negative;  // for pictures
+  std::vector<CellKey> true_positive, false_positive, false_negative;  // for pictures, row by row
 };
-CostmapMatches match_costmap(const CellSet& lethal, const CellSet& footprint, const CellSet& observed, int tol);
+CostmapMatches match_costmap(const CellGrid& lethal, const CellGrid& footprint, const CellGrid& observed, int tol);
 // Cell keys (at cell_m, the costmap's own resolution) of the lethal cells of a costmap.
-CellSet lethal_cells(const mapping::Costmap2D& costmap, double cell_m);
+CellGrid lethal_cells(const mapping::Costmap2D& costmap, double cell_m);
 
 // A guard on the projection (costmap ghosts, STVL #199/#94/#60), recomputed from the voxels themselves: a column
 // (cell of the voxel size) should be lethal exactly where it holds >= max(mark_threshold, 1) voxels whose centre
@@ -73,13 +73,12 @@ struct ProjectionGuard {
   std::size_t columns_without_lethal = 0; // columns with enough voxels in the band and no lethal cell
 };
 // freed: cells the costmap set free on purpose (STVL's footprint clearing); their columns are not counted.
-ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellSet& lethal, double min_z_m, double max_z_m,
+ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellGrid& lethal, double min_z_m, double max_z_m,
                                  const CellSet& freed = {});
-// The same from the voxels per column in the band (column_counts(), or MappedIndex::column_counts()) and
-// max(mark_threshold, 1).
-using ColumnCounts = std::unordered_map<CellKey, int, CellKeyHash>;
-ColumnCounts column_counts(const mapping::VoxelMap& map, double min_z_m, double max_z_m);
-ProjectionGuard guard_projection(const ColumnCounts& counts, int needed, const CellSet& lethal, const CellSet& freed);
+// The same from the voxels per column in the band (column_counts(), or MappedIndex::column_counts(): a count per
+// cell) and max(mark_threshold, 1).
+CellGrid column_counts(const mapping::VoxelMap& map, double min_z_m, double max_z_m);
+ProjectionGuard guard_projection(const CellGrid& counts, int needed, const CellGrid& lethal, const CellSet& freed);
 
 // The robot marking itself (STVL issue #214): lethal cells inside the footprint's convex fill (the cells STVL's
 // footprint clearing frees, mapping::footprint_cells) and in a ring of cells whose centres lie within ring_m
@@ -89,8 +88,8 @@ struct SelfMarking {
   std::size_t inside = 0, ring = 0;
   std::size_t total() const { return inside + ring; }
 };
-SelfMarking count_self_marking(const CellSet& lethal, const std::vector<Eigen::Vector2d>& footprint_W, double cell_m,
-                               double ring_m, const CellSet& truth_footprint, int tol);
+SelfMarking count_self_marking(const CellGrid& lethal, const std::vector<Eigen::Vector2d>& footprint_W, double cell_m,
+                               double ring_m, const CellGrid& truth_footprint, int tol);
 
 // A phantom obstacle: an 8-connected group of at least min_cells lethal cells with no true footprint cell
 // centre within clearance_m of any of its cell centres (Chebyshev, ceil(clearance_m / cell_m) cells).
@@ -99,7 +98,7 @@ struct Phantom {
   std::size_t cells = 0;
 };
 // Sorted by position (x, then y).
-std::vector<Phantom> find_phantoms(const CellSet& lethal, const CellSet& footprint, double cell_m, double clearance_m,
+std::vector<Phantom> find_phantoms(const CellGrid& lethal, const CellGrid& footprint, double cell_m, double clearance_m,
                                    int min_cells);
 
 // Distance of mapped voxel centres to the nearest true surface.

@@ -54,9 +54,11 @@ Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(
   for (const auto& k : static_truth_) static_mask_.insert(k);
   for (std::size_t b = 0; b < static_bodies_.size(); ++b)
     for (const auto& k : static_bodies_[b].voxels) static_body_of_.emplace(k, static_cast<int>(b));
+  std::vector<CellKey> cells;
   for (const auto& body : sim::footprints(statics, config_.voxel_size_m, config_.min_obstacle_height_m,
                                           config_.max_obstacle_height_m))
-    static_footprint_.insert(body.cells.begin(), body.cells.end());
+    cells.insert(cells.end(), body.cells.begin(), body.cells.end());
+  static_footprint_ = CellGrid::of(cells);
   update(world);
 }
 
@@ -139,14 +141,22 @@ int Truth::moving_body_of(const VoxelKey& k) const {
   return it == dynamic_body_of_.end() ? -1 : it->second;
 }
 
-const CellSet& Truth::footprint() const {
+const CellGrid& Truth::footprint() const {
   if (footprint_version_ == version_) return footprint_;
   footprint_version_ = version_;
-  CellSet footprint = static_footprint_;
+  std::vector<CellKey> moving;
   for (const auto& body : sim::footprints(dynamic_geoms_, config_.voxel_size_m, config_.min_obstacle_height_m,
                                           config_.max_obstacle_height_m))
-    footprint.insert(body.cells.begin(), body.cells.end());
-  footprint_ = std::move(footprint);
+    moving.insert(moving.end(), body.cells.begin(), body.cells.end());
+  if (std::all_of(moving.begin(), moving.end(), [&](const CellKey& c) { return static_footprint_.covers(c); })) {
+    footprint_ = static_footprint_;  // one copy of the static box
+  } else {
+    std::vector<CellKey> corners = moving;  // a box for the static cells and the moving ones
+    if (!static_footprint_.empty()) corners.push_back(static_footprint_.lo()), corners.push_back(static_footprint_.hi());
+    footprint_ = CellGrid::covering(corners);
+    static_footprint_.for_each([&](const CellKey& c, int) { footprint_.insert(c); });
+  }
+  for (const CellKey& c : moving) footprint_.insert(c);
   return footprint_;
 }
 

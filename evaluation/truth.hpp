@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "common/voxel_key.hpp"
+#include "evaluation/cell_grid.hpp"
 #include "evaluation/config.hpp"
 #include "evaluation/voxel_mask_set.hpp"
 #include "sim/ground_truth.hpp"
@@ -40,7 +41,7 @@ class Truth {
   // Every voxel a moving body has occupied since the start, grown by one voxel: where stale map voxels can be.
   const VoxelSet& vacated() const { return vacated_; }
   // Footprint cells (cell = voxel size) of every body's solid in the band, now (kept until the truth changes).
-  const CellSet& footprint() const;
+  const CellGrid& footprint() const;
   // Distance from p_W to the nearest obstacle surface now; nullopt when there is no obstacle at all.
   std::optional<double> distance_to_surface_m(const Eigen::Vector3d& p_W) const;
   // The same for a voxel's centre, remembered per voxel where no moving body can change it (no moving geom in
@@ -68,8 +69,8 @@ class Truth {
   VoxelMaskSet static_mask_;  // static_truth_ again, for near_static()'s neighbour tests (not thread-safe)
   VoxelSet dynamic_near_;  // dynamic_truth_ grown by tolerance_voxels
   std::unordered_map<VoxelKey, int, VoxelKeyHash> static_body_of_, dynamic_body_of_;
-  CellSet static_footprint_;
-  mutable CellSet footprint_;              // footprint() at footprint_version_
+  CellGrid static_footprint_;
+  mutable CellGrid footprint_;             // footprint() at footprint_version_
   mutable std::size_t footprint_version_ = 0;
   VoxelSet vacated_;
   // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so a distance tests a few geoms.

@@ -247,11 +247,31 @@ Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
       options.min_obstacle_height_m > options.max_obstacle_height_m)
     throw std::invalid_argument("costmap min_obstacle_height = " + std::to_string(options.min_obstacle_height_m) +
                                 " must be <= max_obstacle_height = " + std::to_string(options.max_obstacle_height_m));
-  std::vector<Eigen::Vector2d> columns_W;  // x, y of each voxel centre inside the band
-  for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
-    const Eigen::Vector3d centre_W = impl_->centre_W(it.getCoord());
-    if (centre_W.z() < options.min_obstacle_height_m || centre_W.z() > options.max_obstacle_height_m) continue;
-    columns_W.push_back(centre_W.head<2>());
+  // Each column's centre with its voxels inside the band, a leaf (8^3 voxels: 8 words of 8 columns of 8 z bits)
+  // at a time: the z bits whose centres lie in the band, then a popcount per column.
+  struct Column {
+    Eigen::Vector2d centre_W;
+    int voxels;
+  };
+  std::vector<Column> columns_W;
+  const double s = impl_->config.voxel_size_m;
+  for (auto leaf = impl_->grid->tree().cbeginLeaf(); leaf; ++leaf) {
+    const Coord o = leaf->origin();
+    std::uint64_t band = 0;
+    for (int z = 0; z < 8; ++z) {
+      const double z_m = (o.z() + z + 0.5) * s;
+      if (z_m >= options.min_obstacle_height_m && z_m <= options.max_obstacle_height_m) band |= std::uint64_t{1} << z;
+    }
+    if (band == 0) continue;
+    band *= 0x0101010101010101ull;  // the same z bits in every column of a word
+    const auto& mask = leaf->getValueMask();
+    for (int x = 0; x < 8; ++x) {
+      const std::uint64_t in_band = mask.template getWord<std::uint64_t>(static_cast<openvdb::Index>(x)) & band;
+      if (in_band == 0) continue;
+      for (int y = 0; y < 8; ++y)
+        if (const int n = __builtin_popcountll((in_band >> (8 * y)) & 0xffu))
+          columns_W.push_back({Eigen::Vector2d(o.x() + x + 0.5, o.y() + y + 0.5) * s, n});
+    }
   }
   Costmap2D map;
   map.resolution_m = resolution_m;
@@ -273,7 +293,7 @@ Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
     map.width = map.height = 1;
   } else {
     Eigen::AlignedBox2d extent_W;
-    for (const auto& column_W : columns_W) extent_W.extend(column_W);
+    for (const auto& column : columns_W) extent_W.extend(column.centre_W);
     const Eigen::Vector2d lo_cells = (extent_W.min() / resolution_m).array().floor();
     const Eigen::Vector2d hi_cells = (extent_W.max() / resolution_m).array().floor();
     const Eigen::Vector2d cells = (hi_cells - lo_cells).array() + 1.0;
@@ -284,11 +304,11 @@ Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
     map.height = static_cast<int>(cells.y());
   }
   std::vector<int> counts(static_cast<std::size_t>(map.width) * map.height, 0);
-  for (const auto& column_W : columns_W) {
+  for (const auto& [column_W, voxels] : columns_W) {
     const double ix = std::floor((column_W.x() - map.origin_m.x()) / resolution_m);
     const double iy = std::floor((column_W.y() - map.origin_m.y()) / resolution_m);
     if (ix < 0 || iy < 0 || ix >= map.width || iy >= map.height) continue;
-    ++counts[static_cast<std::size_t>(iy) * map.width + static_cast<std::size_t>(ix)];
+    counts[static_cast<std::size_t>(iy) * map.width + static_cast<std::size_t>(ix)] += voxels;
   }
   const int threshold = std::max(impl_->config.mark_threshold, 1);
   map.cells.resize(counts.size());

@@ -6,6 +6,8 @@
 namespace stvl::evaluation {
 namespace {
 
+CellGrid cells(const std::vector<CellKey>& keys) { return CellGrid::of(keys); }
+
 TEST(VoxelScores, OneFalseVoxelAmongNGivesPrecisionNMinusOneOverN) {
   for (std::size_t n : {1u, 2u, 7u, 1000u}) {
     VoxelMatches m;
@@ -37,9 +39,9 @@ TEST(NearVoxel, ChebyshevDistanceInVoxels) {
   EXPECT_TRUE(near_voxel(set, {1, -1, 1}, 1));  // a corner neighbour is one voxel away
   EXPECT_FALSE(near_voxel(set, {2, 0, 0}, 1));
   EXPECT_TRUE(near_voxel(set, {-2, 2, 2}, 2));
-  const CellSet cells{{5, 5}};
-  EXPECT_TRUE(near_cell(cells, {6, 4}, 1));
-  EXPECT_FALSE(near_cell(cells, {7, 5}, 1));
+  const CellGrid grid = cells({{5, 5}});
+  EXPECT_TRUE(grid.near({6, 4}, 1));
+  EXPECT_FALSE(grid.near({7, 5}, 1));
 }
 
 TEST(Obstacles, HalfOfTheObservedVoxelsMappedIsDetectedFewerIsNot) {
@@ -62,11 +64,11 @@ TEST(Obstacles, HalfOfTheObservedVoxelsMappedIsDetectedFewerIsNot) {
 }
 
 TEST(Costmap, PrecisionAndRecallAgainstFootprintsWithinTolerance) {
-  const CellSet footprint{{0, 0}, {1, 0}, {2, 0}};
-  const CellSet observed{{0, 0}, {1, 0}, {2, 0}};
+  const CellGrid footprint = cells({{0, 0}, {1, 0}, {2, 0}});
+  const CellGrid observed = cells({{0, 0}, {1, 0}, {2, 0}});
   // With tol 1: (3, 0) is one cell from the footprint (true), (5, 5) is false; every observed cell has a
   // lethal cell within one cell, so nothing is missed.
-  const CellSet lethal{{0, 0}, {3, 0}, {5, 5}};
+  const CellGrid lethal = cells({{0, 0}, {3, 0}, {5, 5}});
   const CostmapMatches tol1 = match_costmap(lethal, footprint, observed, 1);
   EXPECT_DOUBLE_EQ(tol1.precision, 2.0 / 3.0);
   EXPECT_DOUBLE_EQ(tol1.recall, 1.0);
@@ -84,15 +86,15 @@ TEST(Costmap, LethalCellsAreKeyedAtTheirCentres) {
   costmap.cells[1] = mapping::kCostLethal;      // ix 1, iy 0: centre (0.025, 1.025)
   costmap.cells[5] = mapping::kCostLethal;      // ix 2, iy 1: centre (0.075, 1.075)
   costmap.cells[3] = mapping::kCostUnknown;
-  EXPECT_EQ(lethal_cells(costmap, 0.05), (CellSet{{0, 20}, {1, 21}}));
+  EXPECT_EQ(lethal_cells(costmap, 0.05).cells(), (std::vector<CellKey>{{0, 20}, {1, 21}}));
 }
 
 TEST(Phantoms, ALethalGroupBeyondTheClearanceIsAPhantomAndOneWithinIsNot) {
   // 1 cm cells: the clearance of 0.10 m is 10 cells between cell centres.
   const double cell_m = 0.01, clearance_m = 0.10;
-  const CellSet footprint{{0, 0}};
-  const CellSet at_11cm{{11, 0}, {12, 0}};  // 0.11 m from the footprint: a phantom
-  const CellSet at_9cm{{0, 9}, {1, 10}};     // 0.09 m (Chebyshev) from it: an obstacle's edge
+  const CellGrid footprint = cells({{0, 0}});
+  const CellGrid at_11cm = cells({{11, 0}, {12, 0}});  // 0.11 m from the footprint: a phantom
+  const CellGrid at_9cm = cells({{0, 9}, {1, 10}});     // 0.09 m (Chebyshev) from it: an obstacle's edge
   const auto far = find_phantoms(at_11cm, footprint, cell_m, clearance_m, 2);
   ASSERT_EQ(far.size(), 1u);
   EXPECT_EQ(far[0].cells, 2u);
@@ -102,9 +104,9 @@ TEST(Phantoms, ALethalGroupBeyondTheClearanceIsAPhantomAndOneWithinIsNot) {
 }
 
 TEST(Phantoms, GroupsAreEightConnectedSortedAndAtLeastMinCells) {
-  const CellSet footprint{{-100, -100}};
+  const CellGrid footprint = cells({{-100, -100}});
   // One diagonal group of 3 cells, one single cell, one pair; min_cells 2 drops the single one.
-  const CellSet lethal{{10, 10}, {11, 11}, {12, 12}, {30, 0}, {20, 5}, {20, 6}};
+  const CellGrid lethal = cells({{10, 10}, {11, 11}, {12, 12}, {30, 0}, {20, 5}, {20, 6}});
   const auto phantoms = find_phantoms(lethal, footprint, 0.05, 0.10, 2);
   ASSERT_EQ(phantoms.size(), 2u);
   EXPECT_EQ(phantoms[0].cells, 3u);  // x 0.575 < 1.025
@@ -126,12 +128,12 @@ TEST(ProjectionGuard, CountsGhostsAndColumnsWithoutLethal) {
   mapping::CostmapOptions options;
   options.min_obstacle_height_m = 0.1;
   options.max_obstacle_height_m = 2.0;
-  const CellSet projected = lethal_cells(map.project_costmap(options), 0.1);
-  EXPECT_EQ(projected, (CellSet{{1, 1}}));
+  const CellGrid projected = lethal_cells(map.project_costmap(options), 0.1);
+  EXPECT_EQ(projected.cells(), (std::vector<CellKey>{{1, 1}}));
   ProjectionGuard g = guard_projection(map, projected, 0.1, 2.0);
   EXPECT_EQ(g.lethal_without_voxels, 0u);
   EXPECT_EQ(g.columns_without_lethal, 0u);
-  g = guard_projection(map, {{1, 1}, {2, 1}, {3, 1}, {9, 9}}, 0.1, 2.0);  // three ghosts
+  g = guard_projection(map, cells({{1, 1}, {2, 1}, {3, 1}, {9, 9}}), 0.1, 2.0);  // three ghosts
   EXPECT_EQ(g.lethal_without_voxels, 3u);
   EXPECT_EQ(g.columns_without_lethal, 0u);
   g = guard_projection(map, {}, 0.1, 2.0);  // the lethal column lost
@@ -155,17 +157,17 @@ TEST(ProjectionGuard, ColumnsFreedByTheFootprintAreNotLost) {
 // whose centres lie within 0.10 m outside it.
 TEST(SelfMarking, CountsLethalCellsInsideTheFootprintAndInItsRing) {
   const std::vector<Eigen::Vector2d> square{{0.05, 0.05}, {0.35, 0.05}, {0.35, 0.35}, {0.05, 0.35}};
-  const CellSet lethal{{1, 1}, {2, 3},   // inside
-                       {4, 1}, {-1, 1},  // centres 0.10 m outside the edges x = 0.35 and x = 0.05
-                       {5, 1},           // 0.20 m outside
-                       {4, 4},           // 0.14 m from the corner
-                       {20, 20}};
+  const CellGrid lethal = cells({{1, 1}, {2, 3},   // inside
+                                 {4, 1}, {-1, 1},  // centres 0.10 m outside the edges x = 0.35 and x = 0.05
+                                 {5, 1},           // 0.20 m outside
+                                 {4, 4},           // 0.14 m from the corner
+                                 {20, 20}});
   SelfMarking s = count_self_marking(lethal, square, 0.1, 0.10, {}, 1);
   EXPECT_EQ(s.inside, 2u);
   EXPECT_EQ(s.ring, 2u);
   EXPECT_EQ(s.total(), 4u);
   // A true obstacle beside the robot at (5, 2): (4, 1) within one cell of it is the obstacle, not the robot.
-  s = count_self_marking(lethal, square, 0.1, 0.10, {{5, 2}}, 1);
+  s = count_self_marking(lethal, square, 0.1, 0.10, cells({{5, 2}}), 1);
   EXPECT_EQ(s.inside, 2u);
   EXPECT_EQ(s.ring, 1u);
   s = count_self_marking(lethal, square, 0.1, 0.25, {}, 0);  // a wider ring reaches (5, 1) and (4, 4)

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -83,6 +85,47 @@ TEST(Costmap, ProjectsColumnsWithMarkThreshold) {
   EXPECT_FALSE(coarse.at_world(1.5, 0.0).has_value());
   bounded.resolution_m = -1.0;
   EXPECT_THROW(layout(0).project_costmap(bounded), std::invalid_argument);
+}
+
+// project_costmap() counts a leaf's columns at once; the plain definition, one voxel at a time, over random maps
+// that span several leaves and negative keys, with and without bounds, at the voxel size and a coarser one.
+TEST(Costmap, LeafWiseProjectionEqualsTheVoxelByVoxelDefinition) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> xy(-12, 12), z(-3, 25), threshold(0, 3);
+  for (int trial = 0; trial < 20; ++trial) {
+    StvlConfig config;
+    config.voxel_size_m = 0.05;
+    config.mark_threshold = threshold(rng);
+    VoxelMap map(config);
+    std::vector<Voxel> voxels;
+    for (int i = 0; i < 1500; ++i) voxels.push_back({{xy(rng), xy(rng), z(rng)}, 1.0});
+    map.set_voxels(voxels);
+    CostmapOptions options;
+    options.min_obstacle_height_m = 0.1;
+    options.max_obstacle_height_m = 0.8;
+    options.resolution_m = trial % 2 ? 0.05 : 0.15;
+    if (trial % 4 == 3) options.bounds_W = Eigen::AlignedBox2d(Eigen::Vector2d(-0.6, -0.4), Eigen::Vector2d(0.5, 0.7));
+    const Costmap2D projected = map.project_costmap(options);
+    // The definition: each voxel centre in the band adds one to the cell holding it; lethal at >= max(threshold, 1).
+    std::vector<int> counts(projected.cells.size(), 0);
+    map.for_each_key([&](const VoxelKey& k) {
+      const Eigen::Vector3d c = map.center_of(k);
+      if (c.z() < options.min_obstacle_height_m || c.z() > options.max_obstacle_height_m) return;
+      const double ix = std::floor((c.x() - projected.origin_m.x()) / projected.resolution_m);
+      const double iy = std::floor((c.y() - projected.origin_m.y()) / projected.resolution_m);
+      const bool inside = ix >= 0 && iy >= 0 && ix < projected.width && iy < projected.height;
+      if (!options.bounds_W) EXPECT_TRUE(inside) << "the map's extent holds every column";
+      if (!inside) return;
+      ++counts[static_cast<std::size_t>(iy) * projected.width + static_cast<std::size_t>(ix)];
+    });
+    std::size_t lethal = 0;
+    for (std::size_t i = 0; i < counts.size(); ++i) {
+      const bool expected = counts[i] >= std::max(config.mark_threshold, 1);
+      ASSERT_EQ(projected.cells[i] == kCostLethal, expected) << "trial " << trial << " cell " << i;
+      lethal += expected;
+    }
+    EXPECT_GT(lethal, 0u) << "trial " << trial;  // not vacuous
+  }
 }
 
 std::string read_all(const std::string& path) {
