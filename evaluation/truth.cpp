@@ -50,10 +50,8 @@ Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(
   std::vector<sim::ObstacleGeom> statics;
   for (const auto& g : geoms_) (is_mocap(world, g.body_id) ? dynamic_geoms_ : statics).push_back(g);
   static_bodies_ = voxelize_in_band(statics, config_);
-  for (const auto& body : static_bodies_) static_truth_.insert(body.voxels.begin(), body.voxels.end());
-  for (const auto& k : static_truth_) static_mask_.insert(k);
-  for (std::size_t b = 0; b < static_bodies_.size(); ++b)
-    for (const auto& k : static_bodies_[b].voxels) static_body_of_.emplace(k, static_cast<int>(b));
+  for (std::size_t b = 0; b < static_bodies_.size(); ++b)  // a key in several bodies keeps the first
+    for (const auto& k : static_bodies_[b].voxels) static_truth_.insert(k, static_cast<int>(b));
   std::vector<CellKey> cells;
   for (const auto& body : sim::footprints(statics, config_.voxel_size_m, config_.min_obstacle_height_m,
                                           config_.max_obstacle_height_m))
@@ -112,7 +110,7 @@ void Truth::index_geoms() {
   }
 }
 
-bool Truth::contains(const VoxelKey& k) const { return static_truth_.count(k) || dynamic_truth_.count(k); }
+bool Truth::contains(const VoxelKey& k) const { return static_truth_.contains(k) || dynamic_truth_.count(k); }
 
 bool Truth::near(const VoxelKey& k, int tol) const {
   return near_static_mask(k, tol) || near_voxel(dynamic_truth_, k, tol);
@@ -120,8 +118,8 @@ bool Truth::near(const VoxelKey& k, int tol) const {
 
 bool Truth::near_static(const VoxelKey& k) const { return near_static_mask(k, config_.tolerance_voxels); }
 
-bool Truth::near_static_mask(const VoxelKey& k, int tol) const {  // near_voxel(static_truth_, k, tol)
-  return any_within(k, tol, [&](const VoxelKey& n) { return static_mask_.contains(n); });
+bool Truth::near_static_mask(const VoxelKey& k, int tol) const {
+  return any_within(k, tol, [&](const VoxelKey& n) { return static_truth_.contains(n); });
 }
 
 int Truth::body_of(const VoxelKey& k) const {
@@ -129,11 +127,7 @@ int Truth::body_of(const VoxelKey& k) const {
   return body >= 0 ? body : moving_body_of(k);
 }
 
-int Truth::static_body_of(const VoxelKey& k) const {
-  if (!static_mask_.contains(k)) return -1;  // the same keys: a bit test spares the large map's lookup
-  const auto it = static_body_of_.find(k);
-  return it == static_body_of_.end() ? -1 : it->second;
-}
+int Truth::static_body_of(const VoxelKey& k) const { return static_truth_.label_of(k); }
 
 int Truth::moving_body_of(const VoxelKey& k) const {
   if (dynamic_body_of_.empty()) return -1;
@@ -222,8 +216,10 @@ Eigen::AlignedBox2d Truth::bounds_W() const {
 }
 
 Eigen::Matrix3Xf Truth::voxel_centers() const {
-  std::vector<VoxelKey> keys(static_truth_.begin(), static_truth_.end());
-  keys.insert(keys.end(), dynamic_truth_.begin(), dynamic_truth_.end());
+  std::vector<VoxelKey> keys(dynamic_truth_.begin(), dynamic_truth_.end());
+  static_truth_.for_each([&](const VoxelKey& k) {
+    if (!dynamic_truth_.count(k)) keys.push_back(k);  // once, as in a set of both
+  });
   std::sort(keys.begin(), keys.end());
   Eigen::Matrix3Xf centers(3, static_cast<Eigen::Index>(keys.size()));
   for (std::size_t i = 0; i < keys.size(); ++i)

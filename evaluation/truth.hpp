@@ -1,7 +1,8 @@
 #pragma once
 // Ground truth from the simulated geometry at the evaluation's voxel size: the surface voxels of every obstacle
 // body inside the marking height band (sim::voxelize_bodies), the bodies' footprints, and which body holds a
-// voxel. Static bodies are voxelized once; mocap (moving) bodies at their current poses on every update().
+// voxel. Static bodies are voxelized once; mocap (moving) bodies at their current poses on every update(). Lookups
+// cache a leaf: one thread at a time.
 #include <optional>
 #include <unordered_map>
 #include <vector>
@@ -65,10 +66,10 @@ class Truth {
   std::vector<sim::ObstacleGeom> dynamic_geoms_;  // those of mocap bodies
   std::vector<sim::BodyVoxels> static_bodies_, dynamic_bodies_;
   std::vector<const sim::BodyVoxels*> bodies_;
-  VoxelSet static_truth_, dynamic_truth_;
-  VoxelMaskSet static_mask_;  // static_truth_ again, for near_static()'s neighbour tests (not thread-safe)
+  VoxelMaskSet static_truth_;  // the static bodies' voxels labelled with their body (not thread-safe)
+  VoxelSet dynamic_truth_;
   VoxelSet dynamic_near_;  // dynamic_truth_ grown by tolerance_voxels
-  std::unordered_map<VoxelKey, int, VoxelKeyHash> static_body_of_, dynamic_body_of_;
+  std::unordered_map<VoxelKey, int, VoxelKeyHash> dynamic_body_of_;
   CellGrid static_footprint_;
   mutable CellGrid footprint_;             // footprint() at footprint_version_
   mutable std::size_t footprint_version_ = 0;

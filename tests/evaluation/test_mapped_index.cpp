@@ -147,5 +147,32 @@ TEST(VoxelMaskSet, AnswersAsTheVoxelSetItReplaces) {
   EXPECT_GT(hits, 4000u);
 }
 
+// Labels (Truth's body per static voxel) against the map they replace, filled with emplace() in body order: the
+// first label of a key stays. Bodies are boxes that overlap, so leaves with one label and with several both occur.
+TEST(VoxelMaskSet, LabelsAnswerAsAMapFilledWithEmplace) {
+  std::mt19937 rng(4);
+  std::uniform_int_distribution<int> corner(-10, 6), extent(0, 9);
+  std::unordered_map<VoxelKey, int, VoxelKeyHash> plain;
+  VoxelMaskSet masks;
+  for (int body = 0; body < 20; ++body) {
+    const int x0 = corner(rng), y0 = corner(rng), z0 = corner(rng), dx = extent(rng), dy = extent(rng), dz = extent(rng);
+    for (int x = x0; x <= x0 + dx; ++x)
+      for (int y = y0; y <= y0 + dy; ++y)
+        for (int z = z0; z <= z0 + dz; ++z) plain.emplace(VoxelKey{x, y, z}, body), masks.insert({x, y, z}, body);
+  }
+  std::size_t found = 0;
+  for (int x = -12; x <= 17; ++x)
+    for (int y = -12; y <= 17; ++y)
+      for (int z = -12; z <= 17; ++z) {
+        const auto it = plain.find({x, y, z});
+        ASSERT_EQ(masks.label_of({x, y, z}), it == plain.end() ? -1 : it->second) << x << " " << y << " " << z;
+        found += it != plain.end();
+      }
+  EXPECT_EQ(found, plain.size());
+  std::size_t visited = 0;
+  masks.for_each([&](const VoxelKey& k) { visited += plain.count(k); });
+  EXPECT_EQ(visited, plain.size());
+}
+
 }  // namespace
 }  // namespace stvl::evaluation
