@@ -3,6 +3,7 @@
 #include "mapping/footprint.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <chrono>
@@ -263,26 +264,29 @@ std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const VoxelMa
   return recalls;
 }
 
-void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellGrid& observed_cells, EvaluationSnapshot& snap) {
+CellGrid Evaluator::project_lethal(const mapping::VoxelMap& map, CellGrid& columns) {
+  const PhaseTimer timer(times_.costmap_ms);
+  if (map.empty()) return {};
+  columns = column_counts(map, config_.min_obstacle_height_m, config_.max_obstacle_height_m);
+  mapping::CostmapOptions options;
+  options.resolution_m = config_.voxel_size_m;
+  options.min_obstacle_height_m = config_.min_obstacle_height_m;
+  options.max_obstacle_height_m = config_.max_obstacle_height_m;
+  if (config_.footprint_clearing) options.free_polygon_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
+  return lethal_cells(map.project_costmap(options), config_.voxel_size_m);
+}
+
+void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellGrid& lethal, const CellGrid& columns,
+                              const CellGrid& observed_cells, EvaluationSnapshot& snap) {
   const double cell_m = config_.voxel_size_m;
   std::optional<PhaseTimer> timer(std::in_place, times_.costmap_ms);
   const CellGrid& footprint = truth_.footprint();
   const std::vector<Eigen::Vector2d> footprint_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
-  CellGrid lethal;
   if (!map.empty()) {
-    mapping::CostmapOptions options;
-    options.resolution_m = cell_m;
-    options.min_obstacle_height_m = config_.min_obstacle_height_m;
-    options.max_obstacle_height_m = config_.max_obstacle_height_m;
     CellSet freed;
-    if (config_.footprint_clearing && !footprint_W.empty()) {
-      options.free_polygon_W = footprint_W;
+    if (config_.footprint_clearing && !footprint_W.empty())
       for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m)) freed.insert({x, y});
-    }
-    lethal = lethal_cells(map.project_costmap(options), cell_m);
-    snap.projection = guard_projection(
-        mapped_.column_counts(map.voxel_size_m(), options.min_obstacle_height_m, options.max_obstacle_height_m),
-        std::max(map.config().mark_threshold, 1), lethal, freed);  // the map's columns, from match_mapped_voxels()
+    snap.projection = guard_projection(columns, std::max(map.config().mark_threshold, 1), lethal, freed);
   }
   snap.self_marking = count_self_marking(lethal, footprint_W, cell_m, config_.self_ring_m, footprint, config_.tolerance_voxels);
   CostmapMatches m = match_costmap(lethal, footprint, observed_cells, config_.tolerance_voxels);
@@ -308,9 +312,18 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   ++times_.evaluations;
   EvaluationSnapshot snap;
   snap.time_s = time_s;
-  const VoxelMatches mapped_matches = match_mapped_voxels(map);
+  // The map's own projection and its voxels per column (for the projection guard) are computed beside the voxel
+  // matching: both only read the map, and neither touches what the other writes (no truth, no mirror there).
+  CellGrid lethal, columns;
+  VoxelMatches mapped_matches, truth_matches;
   std::vector<CellKey> observed_cells;  // once per observed truth voxel
-  const VoxelMatches truth_matches = match_observed_truth(time_s, observed_cells);
+  tbb::parallel_invoke([&] { lethal = project_lethal(map, columns); },
+                       [&] {
+                         mapped_matches = match_mapped_voxels(map);
+                         truth_matches = match_observed_truth(time_s, observed_cells);
+                         const PhaseTimer timer(times_.observed_ms);
+                         snap.cameras = camera_recalls(time_s, truth_matches);
+                       });
   VoxelMatches matches = mapped_matches;
   matches.observed_truth = truth_matches.observed_truth;
   matches.matched_truth = truth_matches.matched_truth;
@@ -320,11 +333,7 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
   snap.observed_truth_voxels = matches.observed_truth;
   snap.matched_truth = matches.matched_truth;
   snap.precision = scores.precision, snap.recall = scores.recall, snap.f1 = scores.f1, snap.iou = scores.iou;
-  {
-    const PhaseTimer timer(times_.observed_ms);
-    snap.cameras = camera_recalls(time_s, truth_matches);
-  }
-  score_costmap(map, CellGrid::of(observed_cells), snap);
+  score_costmap(map, lethal, columns, CellGrid::of(observed_cells), snap);
   snapshots_.push_back(snap);
   return snapshots_.back();
 }

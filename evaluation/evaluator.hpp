@@ -105,7 +105,7 @@ struct PhaseTimes {
   double truth_ms = 0;             // moving bodies re-voxelized (inside the two above and evaluate())
   double mapped_ms = 0;            // evaluate(): mapped voxels against truth, and their surface distances
   double observed_ms = 0;          // evaluate(): observed truth against the map, per body
-  double costmap_ms = 0;           // evaluate(): projection, footprints, 2D matching
+  double costmap_ms = 0;           // evaluate(): projection (beside mapped and observed), footprints, 2D matching
   double phantoms_ms = 0;          // evaluate(): connected lethal groups
   std::size_t frames = 0, evaluations = 0;
 };
@@ -146,7 +146,10 @@ class Evaluator {
   // These two read the map as match_mapped_voxels() last saw it (mapped_, the same map in evaluate()).
   VoxelMatches match_observed_truth(double time_s, std::vector<CellKey>& observed_cells);
   std::vector<CameraRecall> camera_recalls(double time_s, const VoxelMatches& total);
-  void score_costmap(const mapping::VoxelMap& map, const CellGrid& observed_cells, EvaluationSnapshot& snap);
+  // The lethal cells of the map's own costmap, and its voxels per column in the band.
+  CellGrid project_lethal(const mapping::VoxelMap& map, CellGrid& columns);
+  void score_costmap(const mapping::VoxelMap& map, const CellGrid& lethal, const CellGrid& columns,
+                     const CellGrid& observed_cells, EvaluationSnapshot& snap);
 
   EvaluationConfig config_;
   Eigen::Isometry3d T_world_base_ = Eigen::Isometry3d::Identity();

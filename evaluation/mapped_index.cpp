@@ -127,29 +127,6 @@ std::map<double, std::size_t> MappedIndex::distance_counts() const {
   return counts;
 }
 
-CellGrid MappedIndex::column_counts(double voxel_size_m, double min_z_m, double max_z_m) const {
-  std::vector<CellKey> corners;  // of the live leaves' columns
-  for (const auto& [origin, leaf] : leaves_)
-    if (leaf.stamp == stamp_) corners.push_back({origin.x, origin.y}), corners.push_back({origin.x + kDim - 1, origin.y + kDim - 1});
-  CellGrid counts = CellGrid::covering(corners);
-  for (const auto& [origin, leaf] : leaves_) {
-    if (leaf.stamp != stamp_) continue;  // not in the map at the last match()
-    std::uint64_t band = 0;  // the z bits (of each 8-bit column) whose centres lie in the band, as the plain test
-    for (int z = 0; z < kDim; ++z) {
-      const double z_m = (origin.z + z + 0.5) * voxel_size_m;
-      if (z_m >= min_z_m && z_m <= max_z_m) band |= std::uint64_t{1} << z;
-    }
-    band *= 0x0101010101010101ull;  // every column of a word
-    for (int x = 0; x < kDim; ++x) {  // word x holds the columns (x, y = 0..7), 8 z bits each
-      const std::uint64_t in_band = leaf.on[x] & band;
-      if (!in_band) continue;
-      for (int y = 0; y < kDim; ++y)
-        if (const int n = __builtin_popcountll((in_band >> (8 * y)) & 0xffu)) counts.add({origin.x + x, origin.y + y}, n);
-    }
-  }
-  return counts;
-}
-
 const MappedIndex::Leaf* MappedIndex::leaf_of(const VoxelKey& key) const {
   const VoxelKey origin = origin_of(key);
   if (origin == last_origin_) return last_leaf_;

@@ -36,8 +36,6 @@ class MappedIndex {
   // The map as of the last match(): whether key is in it, and whether a voxel within tol (Chebyshev) is.
   bool contains(const VoxelKey& key) const;
   bool near(const VoxelKey& key, int tol) const;
-  // column_counts(map, min_z_m, max_z_m) of that map (voxel size voxel_size_m): a popcount per column of a leaf.
-  CellGrid column_counts(double voxel_size_m, double min_z_m, double max_z_m) const;
   std::size_t leaves() const { return leaves_.size(); }
 
  private:

@@ -352,7 +352,7 @@ std::string profile_table(const RunResult& r) {
   }
   const nlohmann::json phases = phases_json(r.evaluation_phases);
   out << "  evaluation phases, ms per frame (" << r.evaluation_phases.evaluations << " evaluations; truth_update is also\n"
-      << "  counted inside clearing and the evaluate phases):\n";
+      << "  counted inside clearing and the evaluate phases; costmap's projection runs beside mapped and observed):\n";
   for (const char* name : {"observe", "clearing", "truth_update", "mapped", "observed", "costmap", "phantoms"}) {
     char line[96];
     std::snprintf(line, sizeof line, "  %-12s %9.2f\n", name, phases[name]["per_frame"].get<double>());
