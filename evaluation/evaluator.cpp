@@ -96,15 +96,20 @@ void Evaluator::observe(double time_s, const CameraView& view) {
   ray_x_.resize(static_cast<std::size_t>(depth.width));
   for (int u = 0; u < depth.width; u += kStride) ray_x_[u] = static_cast<float>((u - k.cx) / k.fx);
   // Rows in parallel, each block of rows keeping its own keys. Neighbouring pixels mostly fall in one voxel:
-  // a key that repeats is skipped, then each voxel is recorded once (in sorted order; the order of recording
-  // does not matter: a voxel's last-seen time is this frame's either way).
+  // a key equal to its left or upper neighbour's (both already kept) is skipped, then each voxel is recorded once
+  // (in sorted order; the order of recording does not matter: a voxel's last-seen time is this frame's either
+  // way).
   const int rows = (depth.height + kStride - 1) / kStride;
+  const int columns = (depth.width + kStride - 1) / kStride;
   const int blocks = std::max(1, std::min(rows, 16));
   std::vector<std::vector<VoxelKey>> block_keys(static_cast<std::size_t>(blocks));
   tbb::parallel_for(0, blocks, [&](int b) {
     std::vector<VoxelKey>& keys = block_keys[static_cast<std::size_t>(b)];
     bool have_last = false;
     VoxelKey last{};
+    // The last key computed in each column (kept, or equal to a kept one); have_above: whether there is one.
+    std::vector<VoxelKey> above(static_cast<std::size_t>(columns));
+    std::vector<char> have_above(static_cast<std::size_t>(columns), 0);
     for (int row = b * rows / blocks; row < (b + 1) * rows / blocks; ++row) {
       const int v = row * kStride;
       const float ray_y = static_cast<float>((v - k.cy) / k.fy);
@@ -116,10 +121,11 @@ void Evaluator::observe(double time_s, const CameraView& view) {
         const Eigen::Vector3d p_W = (T * p_C).cast<double>();
         if (p_W.z() < config_.min_obstacle_height_m || p_W.z() > config_.max_obstacle_height_m) continue;
         const VoxelKey key = voxel_key(p_W, config_.voxel_size_m);
-        if (have_last && key == last) continue;
-        have_last = true;
-        last = key;
-        keys.push_back(key);
+        const std::size_t column = static_cast<std::size_t>(u / kStride);
+        const bool repeat = (have_last && key == last) || (have_above[column] && key == above[column]);
+        have_last = true, last = key;
+        have_above[column] = 1, above[column] = key;
+        if (!repeat) keys.push_back(key);
       }
     }
     std::sort(keys.begin(), keys.end());  // each block sorted in parallel, then merged: the same sorted set

@@ -1,5 +1,10 @@
 #include "evaluation/mapped_index.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <optional>
+
 namespace stvl::evaluation {
 namespace {
 
@@ -96,28 +101,48 @@ void MappedIndex::walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches*
       else
         leaf.moving_near[i >> 6] &= ~bit;
     });
-    for_each_bit(todo_distance, [&](int i) {
-      bool fixed = false;
-      const auto d = truth.voxel_distance_to_surface_m(key_at(origin, i), &fixed);
-      leaf.distance_id[i] = d ? intern(*d) : kNoDistance;
-      set_bit(leaf.distance_done, i);
-      const std::uint64_t bit = std::uint64_t{1} << (i & 63);
-      if (fixed)
-        leaf.distance_fixed[i >> 6] |= bit;
-      else
-        leaf.distance_fixed[i >> 6] &= ~bit;
-    });
-    if (!counts) return;
-    for (int w = 0; w < 8; ++w) {
-      counts->mapped += static_cast<std::size_t>(__builtin_popcountll(on[w]));
-      counts->matched_mapped += static_cast<std::size_t>(
-          __builtin_popcountll(on[w] & (leaf.static_near[w] | (leaf.moving_near[w] & leaf.moving_done[w]))));
-    }
-    for_each_bit(leaf.on, [&](int i) {
-      if (leaf.distance_id[i] != kNoDistance) ++counts_[leaf.distance_id[i]];
-    });
+    for_each_bit(todo_distance, [&](int i) { distance_todo_.push_back({&leaf, i}); });
   });
   (previous ? previous->next : first_) = nullptr;  // every pointer in the chain is to a leaf of this walk
+
+  // The surface distances, the costly part, in parallel (Truth::voxel_distance_afresh_m only reads), then
+  // recorded in the walk's order.
+  struct Distance {
+    std::optional<double> d_m;
+    bool fixed = false;
+  };
+  std::vector<Distance> found(distance_todo_.size());
+  const auto compute = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t)
+      found[t].d_m = truth.voxel_distance_afresh_m(key_at(distance_todo_[t].first->origin, distance_todo_[t].second),
+                                                   &found[t].fixed);
+  };
+  if (found.size() < 256) compute(0, found.size());
+  else tbb::parallel_for(tbb::blocked_range<std::size_t>(0, found.size(), 64),
+                         [&](const tbb::blocked_range<std::size_t>& r) { compute(r.begin(), r.end()); });
+  for (std::size_t t = 0; t < found.size(); ++t) {
+    Leaf& leaf = *distance_todo_[t].first;
+    const int i = distance_todo_[t].second;
+    leaf.distance_id[i] = found[t].d_m ? intern(*found[t].d_m) : kNoDistance;
+    set_bit(leaf.distance_done, i);
+    const std::uint64_t bit = std::uint64_t{1} << (i & 63);
+    if (found[t].fixed)
+      leaf.distance_fixed[i >> 6] |= bit;
+    else
+      leaf.distance_fixed[i >> 6] &= ~bit;
+  }
+  distance_todo_.clear();
+  if (!counts) return;
+  for (const Leaf* leaf = first_; leaf; leaf = leaf->next) {
+    for (int w = 0; w < 8; ++w) {
+      counts->mapped += static_cast<std::size_t>(__builtin_popcountll(leaf->on[w]));
+      counts->matched_mapped += static_cast<std::size_t>(__builtin_popcountll(
+          leaf->on[w] & (leaf->static_near[w] | (leaf->moving_near[w] & leaf->moving_done[w]))));
+    }
+    for_each_bit(leaf->on, [&](int i) {
+      if (leaf->distance_id[i] != kNoDistance) ++counts_[leaf->distance_id[i]];
+    });
+  }
 }
 
 std::map<double, std::size_t> MappedIndex::distance_counts() const {

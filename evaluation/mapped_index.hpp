@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <map>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "common/voxel_key.hpp"
@@ -62,6 +63,7 @@ class MappedIndex {
   std::vector<double> distances_;        // distinct distances, by id
   std::vector<std::size_t> counts_;      // pooled count per id
   std::unordered_map<double, std::uint32_t> distance_ids_;
+  std::vector<std::pair<Leaf*, int>> distance_todo_;  // walk(): the voxels whose distance is to compute
   mutable const Leaf* last_leaf_ = nullptr;  // near(): neighbours mostly share a leaf
   mutable VoxelKey last_origin_{1, 1, 1};
 };

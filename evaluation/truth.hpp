@@ -50,6 +50,9 @@ class Truth {
   // *fixed (when given) says whether the value is such a remembered one: it holds for every later version in
   // which moving_distance_in() is false around the voxel.
   std::optional<double> voxel_distance_to_surface_m(const VoxelKey& key, bool* fixed = nullptr);
+  // The same value and *fixed, computed afresh and remembered nowhere: safe to call from several threads while
+  // nothing updates the truth.
+  std::optional<double> voxel_distance_afresh_m(const VoxelKey& key, bool* fixed) const;
   // Whether a moving geom is in the distance search of a voxel centre in lo..hi (keys, each axis) now.
   bool moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const;
   // x/y extent of every obstacle now.
