@@ -43,7 +43,7 @@ bool CellGrid::near(const CellKey& c, int tol) const {
                      y0 = std::max<std::int64_t>(std::int64_t{c.y} - tol, lo_.y),
                      y1 = std::min<std::int64_t>(std::int64_t{c.y} + tol, std::int64_t{lo_.y} + height_ - 1);
   for (std::int64_t y = y0; y <= y1; ++y) {
-    const std::int32_t* row = counts_.data() + static_cast<std::size_t>(y - lo_.y) * width_;
+    const std::uint16_t* row = counts_.data() + static_cast<std::size_t>(y - lo_.y) * width_;
     for (std::int64_t x = x0; x <= x1; ++x)
       if (row[x - lo_.x] > 0) return true;
   }
@@ -53,11 +53,11 @@ bool CellGrid::near(const CellKey& c, int tol) const {
 void CellGrid::add(const CellKey& c, int n) {
   if (!covers(c))
     throw std::out_of_range("cell (" + std::to_string(c.x) + ", " + std::to_string(c.y) + ") outside the grid");
-  std::int32_t& count = counts_[index(c)];
+  std::uint16_t& count = counts_[index(c)];
   const bool was = count > 0;
-  count += n;
+  count = static_cast<std::uint16_t>(std::clamp<std::int64_t>(std::int64_t{count} + n, 0, 65535));
   if (count > 0 && !was) ++size_;
-  if (count <= 0 && was) --size_;
+  if (count == 0 && was) --size_;
 }
 
 std::vector<CellKey> CellGrid::cells() const {

@@ -1,7 +1,8 @@
 #pragma once
 // A set of 2D cells (CellKey) with a count each, stored densely over a box of keys: the costmap comparison's
 // lethal, footprint, observed and column sets. Membership is an index, not a hash; iteration runs row by row
-// (y, then x), so every result built from it is in one fixed order.
+// (y, then x), so every result built from it is in one fixed order. Two bytes a cell: counts stay within
+// [0, 65535] (a column's voxels in the band are far fewer).
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -13,7 +14,7 @@ namespace stvl::evaluation {
 class CellGrid {
  public:
   CellGrid() = default;  // no box: holds nothing, inserts throw
-  // Every cell of [lo, hi] (inclusive) absent. Throws std::invalid_argument beyond 4e8 cells.
+  // Every cell of [lo, hi] (inclusive) absent. Throws std::invalid_argument beyond 4e8 cells (800 MB).
   CellGrid(const CellKey& lo, const CellKey& hi);
   // The smallest box holding these cells: empty (covering), or with them (of).
   static CellGrid covering(const std::vector<CellKey>& cells);
@@ -27,8 +28,8 @@ class CellGrid {
   }
   // True when a cell within Chebyshev distance tol of c is present (c itself first: the usual hit).
   bool near(const CellKey& c, int tol) const;
-  // Adds n to c's count (c enters the set when its count becomes positive). Throws std::out_of_range outside
-  // the box.
+  // Adds n to c's count, kept within [0, 65535] (c is in the set while its count is positive). Throws
+  // std::out_of_range outside the box.
   void add(const CellKey& c, int n = 1);
   void insert(const CellKey& c) {
     if (!contains(c)) add(c, 1);
@@ -55,7 +56,7 @@ class CellGrid {
 
   CellKey lo_{0, 0};
   int width_ = 0, height_ = 0;
-  std::vector<std::int32_t> counts_;
+  std::vector<std::uint16_t> counts_;
   std::size_t size_ = 0;
 };
 

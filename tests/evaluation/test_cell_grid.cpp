@@ -41,6 +41,13 @@ TEST(CellGrid, MembershipCountsAndTheBox) {
   EXPECT_FALSE(grid.contains({100, 100}));  // outside the box: absent, not an error
   grid.add({4, 5}, -3);
   EXPECT_EQ(grid.size(), 1u);
+  grid.add({4, 5}, -1);  // never below 0
+  EXPECT_EQ(grid.count({4, 5}), 0);
+  grid.add({4, 5}, 1);
+  EXPECT_EQ(grid.count({4, 5}), 1);
+  grid.add({0, 3}, 70000);  // at most 65535
+  EXPECT_EQ(grid.count({0, 3}), 65535);
+  EXPECT_EQ(grid.size(), 3u);
   EXPECT_THROW(grid.insert({5, 5}), std::out_of_range);
   EXPECT_THROW(CellGrid({0, 0}, {30000, 30000}), std::invalid_argument);
   EXPECT_EQ(CellGrid().size(), 0u);
