@@ -1,8 +1,10 @@
 #pragma once
-// A set of 2D cells (CellKey) with a count each, stored densely over a box of keys: the costmap comparison's
-// lethal, footprint, observed and column sets. Membership is an index, not a hash; iteration runs row by row
-// (y, then x), so every result built from it is in one fixed order. Two bytes a cell: counts stay within
-// [0, 65535] (a column's voxels in the band are far fewer).
+// A set of 2D cells (CellKey) with a count each, over a box of keys: the costmap comparison's lethal, footprint,
+// observed and column sets. The box is cut into 64 x 64 tiles, each stored densely once a cell of it is added:
+// membership is an index, not a hash, and memory follows the tiles in use, not the box (a footprint over a
+// large world). Iteration runs tile by tile (rows of tiles, then the tile's rows), one fixed order. Two bytes a
+// cell: counts stay within [0, 65535] (a column's voxels in the band are far fewer).
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -14,7 +16,7 @@ namespace stvl::evaluation {
 class CellGrid {
  public:
   CellGrid() = default;  // no box: holds nothing, inserts throw
-  // Every cell of [lo, hi] (inclusive) absent. Throws std::invalid_argument beyond 4e8 cells (800 MB).
+  // Every cell of [lo, hi] (inclusive) absent. Throws std::invalid_argument beyond 2.5e7 tiles (1e11 cells).
   CellGrid(const CellKey& lo, const CellKey& hi);
   // The smallest box holding these cells: empty (covering), or with them (of).
   static CellGrid covering(const std::vector<CellKey>& cells);
@@ -22,7 +24,11 @@ class CellGrid {
   static CellGrid of(const CellSet& cells);
 
   bool contains(const CellKey& c) const { return count(c) > 0; }
-  int count(const CellKey& c) const { return covers(c) ? counts_[index(c)] : 0; }
+  int count(const CellKey& c) const {
+    if (!covers(c)) return 0;
+    const std::int32_t tile = tile_of_[tile_index(c)];
+    return tile < 0 ? 0 : tiles_[static_cast<std::size_t>(tile)][offset(c)];
+  }
   bool covers(const CellKey& c) const {  // inside the box
     return c.x >= lo_.x && c.y >= lo_.y && std::int64_t{c.x} - lo_.x < width_ && std::int64_t{c.y} - lo_.y < height_;
   }
@@ -35,28 +41,46 @@ class CellGrid {
     if (!contains(c)) add(c, 1);
   }
   std::size_t size() const { return size_; }  // cells with a positive count
-  CellKey lo() const { return lo_; }  // the box (hi < lo: no box)
-  CellKey hi() const { return {lo_.x + width_ - 1, lo_.y + height_ - 1}; }
   bool empty() const { return size_ == 0; }
+  CellKey lo() const { return lo_; }  // the box (hi < lo: no box)
+  CellKey hi() const {
+    return {static_cast<std::int32_t>(lo_.x + width_ - 1), static_cast<std::int32_t>(lo_.y + height_ - 1)};
+  }
 
-  // f(cell, count) for each present cell, row by row.
+  // f(cell, count) for each present cell, tile by tile.
   template <class F>
   void for_each(F&& f) const {
-    for (int y = 0; y < height_; ++y)
-      for (int x = 0; x < width_; ++x)
-        if (const int n = counts_[static_cast<std::size_t>(y) * width_ + x]; n > 0) f(CellKey{lo_.x + x, lo_.y + y}, n);
+    for (std::int64_t ty = 0; ty < tiles_y_; ++ty)
+      for (std::int64_t tx = 0; tx < tiles_x_; ++tx) {
+        const std::int32_t tile = tile_of_[static_cast<std::size_t>(ty * tiles_x_ + tx)];
+        if (tile < 0) continue;
+        const Tile& counts = tiles_[static_cast<std::size_t>(tile)];
+        for (int i = 0; i < kTile * kTile; ++i)
+          if (counts[static_cast<std::size_t>(i)] > 0)
+            f(CellKey{static_cast<std::int32_t>(lo_.x + tx * kTile + (i & (kTile - 1))),
+                      static_cast<std::int32_t>(lo_.y + ty * kTile + (i >> kTileBits))},
+              int{counts[static_cast<std::size_t>(i)]});
+      }
   }
-  std::vector<CellKey> cells() const;  // present cells, row by row
+  std::vector<CellKey> cells() const;  // present cells, tile by tile
   CellSet to_set() const;
 
  private:
-  std::size_t index(const CellKey& c) const {
-    return static_cast<std::size_t>(c.y - lo_.y) * width_ + static_cast<std::size_t>(c.x - lo_.x);
+  static constexpr int kTileBits = 6, kTile = 1 << kTileBits;
+  using Tile = std::array<std::uint16_t, kTile * kTile>;
+  std::size_t tile_index(const CellKey& c) const {
+    return static_cast<std::size_t>(((std::int64_t{c.y} - lo_.y) >> kTileBits) * tiles_x_ +
+                                    ((std::int64_t{c.x} - lo_.x) >> kTileBits));
   }
+  static std::size_t offset(std::int64_t dx, std::int64_t dy) {
+    return static_cast<std::size_t>(((dy & (kTile - 1)) << kTileBits) | (dx & (kTile - 1)));
+  }
+  std::size_t offset(const CellKey& c) const { return offset(std::int64_t{c.x} - lo_.x, std::int64_t{c.y} - lo_.y); }
 
   CellKey lo_{0, 0};
-  int width_ = 0, height_ = 0;
-  std::vector<std::uint16_t> counts_;
+  std::int64_t width_ = 0, height_ = 0, tiles_x_ = 0, tiles_y_ = 0;
+  std::vector<std::int32_t> tile_of_;  // per tile of the box, row by row: its index in tiles_, -1 while empty
+  std::vector<Tile> tiles_;
   std::size_t size_ = 0;
 };
 

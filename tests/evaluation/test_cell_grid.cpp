@@ -49,10 +49,17 @@ TEST(CellGrid, MembershipCountsAndTheBox) {
   EXPECT_EQ(grid.count({0, 3}), 65535);
   EXPECT_EQ(grid.size(), 3u);
   EXPECT_THROW(grid.insert({5, 5}), std::out_of_range);
-  EXPECT_THROW(CellGrid({0, 0}, {30000, 30000}), std::invalid_argument);
+  EXPECT_THROW(CellGrid({-2000000000, -2000000000}, {2000000000, 2000000000}), std::invalid_argument);
+  // A large box costs only the tiles in use: two cells 100000 cells (2 km at 0.02 m) apart.
+  CellGrid sparse({-50000, -50000}, {50000, 50000});
+  sparse.insert({-50000, 5});
+  sparse.insert({50000, -70});
+  EXPECT_EQ(sparse.size(), 2u);
+  EXPECT_TRUE(sparse.contains({50000, -70}) && sparse.near({49999, -69}, 1) && !sparse.near({0, 0}, 100));
+  EXPECT_EQ(sparse.cells(), (std::vector<CellKey>{{50000, -70}, {-50000, 5}}));  // rows of tiles in y order
   EXPECT_EQ(CellGrid().size(), 0u);
   EXPECT_FALSE(CellGrid().near({0, 0}, 5));
-  // Row by row: y first, then x.
+  // Within a tile row by row: y first, then x.
   const CellGrid rows = CellGrid::of(std::vector<CellKey>{{2, 1}, {0, 1}, {5, 0}});
   EXPECT_EQ(rows.cells(), (std::vector<CellKey>{{5, 0}, {0, 1}, {2, 1}}));
 }
@@ -60,12 +67,12 @@ TEST(CellGrid, MembershipCountsAndTheBox) {
 TEST(CellGrid, NearMatchesTheHashSetNeighbourTestAtTheBoxEdges) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 20; ++trial) {
-    const CellSet set = random_cells(rng, 30, -20, 20);
+    const CellSet set = random_cells(rng, 60, -70, 70);  // several 64 x 64 tiles, empty ones among them
     const CellGrid grid = CellGrid::of(set);
     EXPECT_EQ(grid.to_set(), set);
     for (int tol : {0, 1, 3})
-      for (int x = -26; x <= 26; ++x)
-        for (int y = -26; y <= 26; ++y) ASSERT_EQ(grid.near({x, y}, tol), near_in(set, {x, y}, tol)) << x << " " << y;
+      for (int x = -76; x <= 76; ++x)
+        for (int y = -76; y <= 76; ++y) ASSERT_EQ(grid.near({x, y}, tol), near_in(set, {x, y}, tol)) << x << " " << y;
   }
 }
 
@@ -73,8 +80,8 @@ TEST(CellGrid, NearMatchesTheHashSetNeighbourTestAtTheBoxEdges) {
 TEST(CellGrid, CostmapMatchesPhantomsAndGuardEqualThePlainHashSetLoops) {
   std::mt19937 rng(5);
   for (int trial = 0; trial < 30; ++trial) {
-    const CellSet lethal = random_cells(rng, 120, 0, 40), footprint = random_cells(rng, 150, -5, 45),
-                  observed = random_cells(rng, 80, -5, 45);
+    const CellSet lethal = random_cells(rng, 300, 0, 100), footprint = random_cells(rng, 400, -5, 105),
+                  observed = random_cells(rng, 200, -5, 105);
     const int tol = trial % 3;
     const CostmapMatches m =
         match_costmap(CellGrid::of(lethal), CellGrid::of(footprint), CellGrid::of(observed), tol);
