@@ -11,25 +11,11 @@
 namespace stvl::evaluation {
 namespace {
 
-// box: x 2.05..2.65, y -0.25..0.25, z 0.15..0.65. Its front face (x = 2.05) lies in voxel layer x = 20 at
-// 0.1 m: 6 x 6 surface voxels (y keys -3..2, z keys 1..6). cart: 0.2 m cube at (1.0, 0, 0.4).
-constexpr const char* kWorld = R"(
-<mujoco>
-  <worldbody>
-    <body name="box" pos="2.35 0 0.4"><geom type="box" size="0.3 0.25 0.25"/></body>
-    <body name="cart" mocap="true" pos="1.0 0 0.4"><geom type="box" size="0.1 0.1 0.1"/></body>
-  </worldbody>
-</mujoco>)";
+// The box's front face (x = 2.05) lies in voxel layer x = 20 at 0.1 m: 6 x 6 surface voxels (box_face.hpp).
+constexpr const char* kWorld = test::kBoxAndCartWorld;
 constexpr double kFaceX = 2.05;
 
-EvaluationConfig config() {
-  EvaluationConfig c;
-  c.voxel_size_m = 0.1;
-  c.min_obstacle_height_m = 0.0;
-  c.max_obstacle_height_m = 2.0;
-  c.tolerance_voxels = 0;  // a mapped voxel matches only itself
-  return c;
-}
+EvaluationConfig config() { return test::config_at_0p1(0); }  // a mapped voxel matches only itself
 
 // Camera at (0, 0, 0.4) looking along +x: optical z = world x, optical x = -y, optical y = -z.
 CameraView camera_view(const sensors::DepthImage& depth, const sensors::CameraIntrinsics& k) {

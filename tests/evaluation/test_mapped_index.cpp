@@ -3,6 +3,7 @@
 // random maps that change between calls (voxels added and removed, whole leaves emptied), with and without
 // update() between evaluations; and metrics.hpp's column_counts(), a leaf at a time, against a count per voxel.
 #include "evaluation/mapped_index.hpp"
+#include "tests/evaluation/box_face.hpp"
 
 #include <gtest/gtest.h>
 
@@ -22,23 +23,8 @@ std::vector<std::pair<CellKey, int>> counts_of(const CellGrid& grid) {
   return out;
 }
 
-// box: x 2.05..2.65, |y| <= 0.25, z 0.15..0.65; cart: 0.2 m cube, moved by the test.
-constexpr const char* kWorld = R"(
-<mujoco>
-  <worldbody>
-    <body name="box" pos="2.35 0 0.4"><geom type="box" size="0.3 0.25 0.25"/></body>
-    <body name="cart" mocap="true" pos="1.0 0 0.4"><geom type="box" size="0.1 0.1 0.1"/></body>
-  </worldbody>
-</mujoco>)";
-
-EvaluationConfig config(int tol) {
-  EvaluationConfig c;
-  c.voxel_size_m = 0.1;
-  c.min_obstacle_height_m = 0.0;
-  c.max_obstacle_height_m = 2.0;
-  c.tolerance_voxels = tol;
-  return c;
-}
+constexpr const char* kWorld = test::kBoxAndCartWorld;  // the box, and the cart the test moves
+EvaluationConfig config(int tol) { return test::config_at_0p1(tol); }
 
 void move_cart(sim::World& world, double x, double y) {
   world.data()->mocap_pos[0] = x, world.data()->mocap_pos[1] = y;
