@@ -105,7 +105,7 @@ void MappedIndex::walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches*
   });
   (previous ? previous->next : first_) = nullptr;  // every pointer in the chain is to a leaf of this walk
 
-  // The surface distances, the costly part, in parallel (Truth::voxel_distance_afresh_m only reads), then
+  // The surface distances, the costly part, in parallel (Truth::voxel_distance_to_surface_m only reads), then
   // recorded in the walk's order.
   struct Distance {
     std::optional<double> d_m;
@@ -114,8 +114,8 @@ void MappedIndex::walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches*
   std::vector<Distance> found(distance_todo_.size());
   const auto compute = [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t)
-      found[t].d_m = truth.voxel_distance_afresh_m(key_at(distance_todo_[t].first->origin, distance_todo_[t].second),
-                                                   &found[t].fixed);
+      found[t].d_m = truth.voxel_distance_to_surface_m(
+          key_at(distance_todo_[t].first->origin, distance_todo_[t].second), &found[t].fixed);
   };
   if (found.size() < 256) compute(0, found.size());
   else tbb::parallel_for(tbb::blocked_range<std::size_t>(0, found.size(), 64),

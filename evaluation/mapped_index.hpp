@@ -2,7 +2,8 @@
 // evaluate()'s mapped-voxel phase kept from one evaluation to the next. Per leaf of the map (8^3 voxels, the
 // map's own masks: VoxelMap::for_each_leaf) each voxel's results are remembered: its static-truth
 // neighbourhood test (never changes), its moving-truth test (per truth version) and its surface distance
-// (per truth version, or for good where only static geoms decide it: Truth::voxel_distance_to_surface_m).
+// (per truth version, or for good where only static geoms decide it: Truth::voxel_distance_to_surface_m's
+// *fixed).
 // An evaluation reads the leaf masks and computes only voxels it has no valid result for, so a map that
 // changed little costs a mask walk. The figures equal match_mapped_plain()'s (the definition, beside it).
 #include <array>

@@ -174,22 +174,7 @@ std::optional<double> Truth::distance_to_surface_m(const Eigen::Vector3d& c) con
   return distance_in(bucket == geoms_near_.end() ? nullptr : &bucket->second, c, &fell_back);
 }
 
-std::optional<double> Truth::voxel_distance_to_surface_m(const VoxelKey& key, bool* fixed) {
-  // A remembered value holds while the voxel's bucket has no moving geom (see voxel_distance_afresh_m()).
-  const auto bucket = geoms_near_.find(cell_key(voxel_center(key, config_.voxel_size_m).head<2>(), kBucketCell_m));
-  if (bucket != geoms_near_.end() && !bucket->second.has_moving)
-    if (const auto cached = static_distance_m_.find(key); cached != static_distance_m_.end()) {
-      if (fixed) *fixed = true;
-      return cached->second;
-    }
-  bool remembered = false;
-  const auto d = voxel_distance_afresh_m(key, &remembered);
-  if (remembered) static_distance_m_.emplace(key, *d);
-  if (fixed) *fixed = remembered;
-  return d;
-}
-
-std::optional<double> Truth::voxel_distance_afresh_m(const VoxelKey& key, bool* fixed) const {
+std::optional<double> Truth::voxel_distance_to_surface_m(const VoxelKey& key, bool* fixed) const {
   const Eigen::Vector3d c = voxel_center(key, config_.voxel_size_m);
   const auto bucket = geoms_near_.find(cell_key(c.head<2>(), kBucketCell_m));
   // Only static geoms decide the distance of a voxel whose bucket holds no moving geom, unless the search falls
@@ -197,7 +182,7 @@ std::optional<double> Truth::voxel_distance_afresh_m(const VoxelKey& key, bool* 
   const bool static_bucket = bucket != geoms_near_.end() && !bucket->second.has_moving;
   bool fell_back = false;
   const auto d = distance_in(bucket == geoms_near_.end() ? nullptr : &bucket->second, c, &fell_back);
-  *fixed = static_bucket && !fell_back && d;
+  if (fixed) *fixed = static_bucket && !fell_back && d;
   return d;
 }
 

@@ -45,14 +45,11 @@ class Truth {
   const CellGrid& footprint() const;
   // Distance from p_W to the nearest obstacle surface now; nullopt when there is no obstacle at all.
   std::optional<double> distance_to_surface_m(const Eigen::Vector3d& p_W) const;
-  // The same for a voxel's centre, remembered per voxel where no moving body can change it (no moving geom in
-  // its search bucket and a hit within reach): the same value, computed once.
-  // *fixed (when given) says whether the value is such a remembered one: it holds for every later version in
-  // which moving_distance_in() is false around the voxel.
-  std::optional<double> voxel_distance_to_surface_m(const VoxelKey& key, bool* fixed = nullptr);
-  // The same value and *fixed, computed afresh and remembered nowhere: safe to call from several threads while
-  // nothing updates the truth.
-  std::optional<double> voxel_distance_afresh_m(const VoxelKey& key, bool* fixed) const;
+  // The same for a voxel's centre. *fixed (when given) says whether no moving body can change it (no moving geom
+  // in its search bucket and a hit within reach): then it holds for every later version in which
+  // moving_distance_in() is false around the voxel (MappedIndex keeps such values). Reads only: safe to call from
+  // several threads while nothing updates the truth.
+  std::optional<double> voxel_distance_to_surface_m(const VoxelKey& key, bool* fixed = nullptr) const;
   // Whether a moving geom is in the distance search of a voxel centre in lo..hi (keys, each axis) now.
   bool moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const;
   // x/y extent of every obstacle now.
@@ -85,7 +82,6 @@ class Truth {
   std::optional<double> distance_in(const Bucket* bucket, const Eigen::Vector3d& p_W, bool* fell_back) const;
   std::unordered_map<CellKey, Bucket, CellKeyHash> geoms_near_;
   std::vector<Eigen::AlignedBox3d> boxes_;
-  std::unordered_map<VoxelKey, double, VoxelKeyHash> static_distance_m_;
   std::size_t version_ = 0;
 };
 
