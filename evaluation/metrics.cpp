@@ -5,7 +5,6 @@
 #include <unordered_map>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numeric>
 #include <limits>
@@ -72,33 +71,11 @@ CellGrid lethal_cells(const mapping::Costmap2D& costmap, double cell_m) {
 }
 
 CellGrid column_counts(const mapping::VoxelMap& map, double min_z_m, double max_z_m) {
-  struct Leaf {
-    VoxelKey origin;
-    std::array<std::uint64_t, 8> on;
-  };
-  std::vector<Leaf> leaves;
-  std::vector<CellKey> corners;  // of the leaves' columns
-  map.for_each_leaf([&](const VoxelKey& origin, const std::uint64_t* on) {
-    leaves.push_back({origin, {on[0], on[1], on[2], on[3], on[4], on[5], on[6], on[7]}});
-    corners.push_back({origin.x, origin.y}), corners.push_back({origin.x + 7, origin.y + 7});
-  });
-  CellGrid counts = CellGrid::covering(corners);
-  const double s = map.voxel_size_m();
-  for (const Leaf& leaf : leaves) {
-    std::uint64_t band = 0;  // the z bits (of each 8-bit column) whose centres lie in the band
-    for (int z = 0; z < 8; ++z) {
-      const double z_m = (leaf.origin.z + z + 0.5) * s;
-      if (z_m >= min_z_m && z_m <= max_z_m) band |= std::uint64_t{1} << z;
-    }
-    band *= 0x0101010101010101ull;  // every column of a word
-    for (int x = 0; x < 8; ++x) {  // word x holds the columns (x, y = 0..7), 8 z bits each
-      const std::uint64_t in_band = leaf.on[x] & band;
-      if (!in_band) continue;
-      for (int y = 0; y < 8; ++y)
-        if (const int n = __builtin_popcountll((in_band >> (8 * y)) & 0xffu))
-          counts.add({leaf.origin.x + x, leaf.origin.y + y}, n);
-    }
-  }
+  std::vector<CellKey> columns;  // once per leaf holding the column
+  std::vector<int> voxels;
+  map.for_each_column(min_z_m, max_z_m, [&](int x, int y, int n) { columns.push_back({x, y}), voxels.push_back(n); });
+  CellGrid counts = CellGrid::covering(columns);
+  for (std::size_t i = 0; i < columns.size(); ++i) counts.add(columns[i], voxels[i]);
   return counts;
 }
 

@@ -75,8 +75,9 @@ struct ProjectionGuard {
 // freed: cells the costmap set free on purpose (STVL's footprint clearing); their columns are not counted.
 ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellGrid& lethal, double min_z_m, double max_z_m,
                                  const CellSet& freed = {});
-// The same from the voxels per column in the band (column_counts(): a count per cell, a leaf's columns at a time)
-// and max(mark_threshold, 1).
+// The same from the voxels per column in the band (column_counts(): a count per cell from
+// VoxelMap::for_each_column, which the projection also counts with; both tested against a count per voxel, so the
+// guard checks what follows the count: threshold, resolution, the cells freed) and max(mark_threshold, 1).
 CellGrid column_counts(const mapping::VoxelMap& map, double min_z_m, double max_z_m);
 ProjectionGuard guard_projection(const CellGrid& counts, int needed, const CellGrid& lethal, const CellSet& freed);
 

@@ -193,6 +193,28 @@ void VoxelMap::for_each_leaf(const std::function<void(const VoxelKey&, const std
   }
 }
 
+void VoxelMap::for_each_column(double min_z_m, double max_z_m,
+                               const std::function<void(int x, int y, int voxels)>& visit) const {
+  const double s = impl_->config.voxel_size_m;
+  for (auto leaf = impl_->grid->tree().cbeginLeaf(); leaf; ++leaf) {
+    const Coord o = leaf->origin();
+    std::uint64_t band = 0;  // the z bits (8 words of 8 columns of 8 z bits) whose centres lie in the band
+    for (int z = 0; z < 8; ++z) {
+      const double z_m = (o.z() + z + 0.5) * s;
+      if (z_m >= min_z_m && z_m <= max_z_m) band |= std::uint64_t{1} << z;
+    }
+    if (band == 0) continue;
+    band *= 0x0101010101010101ull;  // the same z bits in every column of a word
+    const auto& mask = leaf->getValueMask();
+    for (int x = 0; x < 8; ++x) {  // word x holds the columns (x, y = 0..7)
+      const std::uint64_t in_band = mask.template getWord<std::uint64_t>(static_cast<openvdb::Index>(x)) & band;
+      if (in_band == 0) continue;
+      for (int y = 0; y < 8; ++y)
+        if (const int n = __builtin_popcountll((in_band >> (8 * y)) & 0xffu)) visit(o.x() + x, o.y() + y, n);
+    }
+  }
+}
+
 void VoxelMap::for_each_key_in(const VoxelKey& lo, const VoxelKey& hi,
                                const std::function<void(const VoxelKey&)>& visit) const {
   if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return;
@@ -247,32 +269,15 @@ Costmap2D VoxelMap::project_costmap(const CostmapOptions& options) const {
       options.min_obstacle_height_m > options.max_obstacle_height_m)
     throw std::invalid_argument("costmap min_obstacle_height = " + std::to_string(options.min_obstacle_height_m) +
                                 " must be <= max_obstacle_height = " + std::to_string(options.max_obstacle_height_m));
-  // Each column's centre with its voxels inside the band, a leaf (8^3 voxels: 8 words of 8 columns of 8 z bits)
-  // at a time: the z bits whose centres lie in the band, then a popcount per column.
   struct Column {
     Eigen::Vector2d centre_W;
     int voxels;
   };
-  std::vector<Column> columns_W;
+  std::vector<Column> columns_W;  // each column's centre with its voxels inside the band
   const double s = impl_->config.voxel_size_m;
-  for (auto leaf = impl_->grid->tree().cbeginLeaf(); leaf; ++leaf) {
-    const Coord o = leaf->origin();
-    std::uint64_t band = 0;
-    for (int z = 0; z < 8; ++z) {
-      const double z_m = (o.z() + z + 0.5) * s;
-      if (z_m >= options.min_obstacle_height_m && z_m <= options.max_obstacle_height_m) band |= std::uint64_t{1} << z;
-    }
-    if (band == 0) continue;
-    band *= 0x0101010101010101ull;  // the same z bits in every column of a word
-    const auto& mask = leaf->getValueMask();
-    for (int x = 0; x < 8; ++x) {
-      const std::uint64_t in_band = mask.template getWord<std::uint64_t>(static_cast<openvdb::Index>(x)) & band;
-      if (in_band == 0) continue;
-      for (int y = 0; y < 8; ++y)
-        if (const int n = __builtin_popcountll((in_band >> (8 * y)) & 0xffu))
-          columns_W.push_back({Eigen::Vector2d(o.x() + x + 0.5, o.y() + y + 0.5) * s, n});
-    }
-  }
+  for_each_column(options.min_obstacle_height_m, options.max_obstacle_height_m, [&](int x, int y, int voxels) {
+    columns_W.push_back({Eigen::Vector2d(x + 0.5, y + 0.5) * s, voxels});
+  });
   Costmap2D map;
   map.resolution_m = resolution_m;
   if (options.bounds_W) {

@@ -98,6 +98,10 @@ class VoxelMap {
   // lowest key (multiples of 8); bit b of on[w] is the voxel origin + (i >> 6, (i >> 3) & 7, i & 7), i = 64 w + b.
   // The same voxels as for_each_key(), a mask per leaf instead of a call per voxel (the evaluator's mirror).
   void for_each_leaf(const std::function<void(const VoxelKey& origin, const std::uint64_t* on)>& visit) const;
+  // Calls visit(x, y, voxels) with a column's x, y keys and how many of its voxels have their centre z in
+  // [min_z_m, max_z_m] (at least one), a leaf's 64 columns at a time (popcounts of its masks): a column spanning
+  // several leaves comes once per leaf.
+  void for_each_column(double min_z_m, double max_z_m, const std::function<void(int x, int y, int voxels)>& visit) const;
   std::vector<Voxel> voxels() const;                // sorted by key
   Eigen::Matrix3Xf voxel_centers() const;           // in voxel_keys() order
   std::size_t leaf_count() const;
