@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "evaluation/evaluator.hpp"
+#include "tests/evaluation/box_face.hpp"
 
 namespace stvl::evaluation {
 namespace {
@@ -130,9 +131,7 @@ constexpr const char* kWorld = R"(
 </mujoco>)";
 
 TEST(Evaluator, HiddenBoxVoxelsRemovedInEitherModeAreHiddenFalseClearsAndRaysFalseClearsStayRaysOnly) {
-  std::vector<VoxelKey> face;
-  for (int y = -3; y <= 2; ++y)
-    for (int z = 1; z <= 6; ++z) face.push_back({20, y, z});
+  const std::vector<VoxelKey> face = test::box_face_voxels();
   const auto k = intrinsics();
   sensors::DepthImage cart_depth(k.width, k.height);  // the cart's face at x = 0.7 fills the view
   for (float& z : cart_depth.depth_m) z = 0.7f;
