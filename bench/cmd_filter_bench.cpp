@@ -17,13 +17,13 @@
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
 #include "sim/simulator.hpp"
-#include "tools/command.hpp"
-#include "tools/scenario.hpp"
+#include "cli/command.hpp"
+#include "config/scenario.hpp"
 
 namespace stvl::bench {
 namespace {
 
-using tools::Scenario;
+using config::Scenario;
 
 struct FilterBenchCli {
   std::string scenario;
@@ -72,7 +72,7 @@ int filter_bench(const FilterBenchCli& o) {
   config.cpu_threads = o.threads;
   config.warmup = o.warmup;
   config.repetitions = o.repetitions;
-  Scenario scenario = tools::load_scenario(o.scenario.empty() ? tools::default_scenario_path() : o.scenario);
+  Scenario scenario = config::load_scenario(o.scenario.empty() ? config::default_scenario_path() : o.scenario);
   const auto clouds = render_clouds(scenario, o.clouds);
   if (!o.save_clouds.empty()) {
     ensure_writable_directory(o.save_clouds);
@@ -99,10 +99,10 @@ int filter_bench(const FilterBenchCli& o) {
     rows = run_filter_bench(clouds, config);
   }
   print_filter_bench_table(std::cout, rows, baseline);
-  return tools::kExitOk;
+  return cli::kExitOk;
 }
 
-const tools::CommandRegistration kFilterBench{"filter-bench", [](CLI::App& app) {
+const cli::CommandRegistration kFilterBench{"filter-bench", [](CLI::App& app) {
   auto o = std::make_shared<FilterBenchCli>();
   auto* cmd = app.add_subcommand("filter-bench", "Benchmark the filters on clouds rendered from the corridor");
   cmd->add_option("--scenario", o->scenario, "Scenario whose world, path and camera make the clouds (default: the default scenario)");

@@ -12,7 +12,9 @@
 #include <memory>
 #include <vector>
 
-#include "pipeline/pipeline.hpp"
+#include "mapping/costmap.hpp"
+#include "mapping/voxel_map.hpp"
+#include "pipeline/frame.hpp"
 
 namespace stvl::pipeline {
 

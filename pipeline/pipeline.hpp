@@ -22,130 +22,15 @@
 // they were taken from, cleared and marked again at this time, once per distinct update time (cameras sharing a
 // frame time make one STVL update). A camera that has not missed a frame is left to its own next frame (STVL at
 // an update rate equal to the cameras'). Frames inside a camera's outages are not taken at all.
-#include <cstdint>
 #include <functional>
 #include <memory>
-#include <string>
-#include <vector>
 
-#include <Eigen/Geometry>
-
-#include "filter/filter.hpp"
+#include "mapping/costmap.hpp"
 #include "mapping/voxel_map.hpp"
-#include "pipeline/source_buffer.hpp"
-#include "sensors/camera.hpp"
-#include "sensors/depth_edge_filter.hpp"
-#include "sensors/depth_image.hpp"
-#include "sensors/depth_noise.hpp"
-#include "sensors/gl_context.hpp"
+#include "pipeline/frame.hpp"
 #include "sim/simulator.hpp"
 
 namespace stvl::pipeline {
-
-// One STVL observation source (a sensor topic in STVL) fed by a camera's frames. A marking source marks the
-// frame's decimated cloud with its own range and height band; a clearing source clears with its own frustum
-// (or rays). A marking source and a clearing source on one camera, each with its own ranges, is STVL's
-// common setup; one source that does both is this bench's default.
-struct SourceConfig {
-  std::string name = "camera";  // the source's name in STVL's observation_sources
-  mapping::ObservationSource params;
-};
-
-// A time window in which a camera publishes no frame (a driver crash, a USB reset): [from_s, to_s).
-struct Outage {
-  double from_s = 0, to_s = 0;
-};
-
-// One depth camera on the robot, and the STVL observation sources it feeds.
-struct CameraConfig {
-  std::string name = "camera";  // its frames are <name>_link, <name>_depth_optical_frame; its topics /<name>/...
-  sim::CameraMount mount;       // camera_link on base_link
-  sensors::CameraIntrinsics intrinsics = sensors::CameraIntrinsics::d435_848x480();  // also its rate and range
-  sensors::GlBackend gl_backend = sensors::GlBackend::kAuto;
-  sensors::DepthNoiseConfig noise;
-  sensors::DepthEdgeFilterConfig edge_filter;  // ours, off by default: drops flying pixels before depth to cloud
-  std::vector<SourceConfig> sources{SourceConfig{}};  // at least one
-  std::vector<Outage> outages;  // sorted, disjoint, from_s >= 0: its frames in these windows are never taken
-};
-
-// Whether time_s lies in one of the camera's outages.
-bool in_outage(const CameraConfig& camera, double time_s);
-
-struct PipelineConfig {
-  std::string world_path;  // MJCF file holding the robot
-  // Depth noise (per camera and frame; camera 0 uses it as it is, camera c > 0 a seed derived from it and c);
-  // the filter's and odometry's seeds are their own.
-  std::uint64_t seed = 1;
-  sim::SimulatorConfig sim;  // the robot's controller and odometry (its camera_mount moves the model's camera site only)
-  sim::Pose2D start_pose;
-  sim::Path path;
-  std::vector<sim::MocapTrack> moving_bodies;
-  std::vector<CameraConfig> cameras{CameraConfig{}};  // names unique; mounts outside the robot and above the floor
-  filter::FilterConfig filter;
-  mapping::StvlConfig map;
-  // Robot geoms the cameras see (sim::World::show_robot_geoms_to_cameras): drawn by the depth renderer, so
-  // the map marks the robot's own body as STVL would; ground truth still skips them. Default: none.
-  std::vector<std::string> robot_geoms_seen;
-};
-
-// Wall-clock milliseconds of one frame's stages (the only part of a run that is not deterministic). cloud_ms
-// holds the camera's edge filter when it is enabled, then depth to cloud and the transform to the world.
-struct StageTimes {
-  double render_ms = 0, noise_ms = 0, cloud_ms = 0, filter_ms = 0, clear_ms = 0, mark_ms = 0;
-  double map_cpu_ms = 0;  // CPU time of the process (all threads) over clear + mark: blind to other processes
-};
-
-struct FrameResult {
-  std::size_t camera_index = 0;
-  std::string camera;
-  std::size_t frame_index = 0;  // of this camera
-  double time_s = 0;            // simulated
-  // False when the robot fell over or left the world at time_s: nothing below the poses was computed, the map
-  // was not updated, and the run should stop.
-  bool robot_upright = true;
-  Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();    // truth
-  Eigen::Isometry3d T_odom_base = Eigen::Isometry3d::Identity();     // wheel odometry
-  Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();      // odometry drift (map = world)
-  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
-  double odom_v_mps = 0, odom_omega_radps = 0;
-  sensors::DepthImage clean_depth;  // rendered, noise-free
-  sensors::DepthImage depth;        // with the camera's noise model (what the camera publishes)
-  // With the camera's edge filter enabled: `depth` without the pixels it dropped (the image the cloud comes
-  // from; pixels it dropped are not "no return" pixels); empty otherwise.
-  sensors::DepthImage edge_filtered_depth;
-  std::size_t edge_dropped_pixels = 0;
-  // Valid pixels in the optical frame, row-major pixel order: the first point_count columns of points_C.
-  Eigen::Matrix3Xf points_C;
-  Eigen::Index point_count = 0;
-  auto cloud_C() const { return points_C.leftCols(point_count); }
-  Eigen::Matrix3Xf cloud_W;      // the same points in the world frame
-  Eigen::Matrix3Xf decimated_W;  // after the voxel grid or CSNB: clears
-  Eigen::Matrix3Xf marking_W;    // decimated and inside the passthrough band: marks
-  // With a clear_on_no_return source: one point per map voxel reached, at the source's max_z, by the rays of
-  // the noisy image's pixels without a return (empty otherwise).
-  Eigen::Matrix3Xf no_return_W;
-  // Voxels this frame's clearing removed: the rays (ray-cast mode) or the frustum's acceleration (frustum mode);
-  // not those that expired by plain decay.
-  // With map.footprint_clearing_height_m (ours), the voxels removed inside the footprint are among them too.
-  std::vector<VoxelKey> cleared_keys;
-  std::size_t footprint_cleared = 0;  // voxels removed inside the robot's footprint this update (ours)
-  // Readings of earlier frames this update applied again from the sources' buffers (observation_persistence, or
-  // a stopped camera's buffer, as STVL applies every buffer at every update).
-  std::size_t reapplied_readings = 0;
-  StageTimes times;
-};
-
-// One observation source's record over the run: when it was not current (STVL's expected_update_rate) and
-// what its buffer applied again.
-struct SourceStatus {
-  std::string source;
-  std::size_t camera_index = 0;
-  double expected_update_rate_s = 0;
-  std::vector<StaleSpan> stale;     // in time order; the last one may end at the time asked for (still stale)
-  std::size_t reapplied_readings = 0;  // readings applied at a later update than their own frame's
-  double max_reapplied_age_s = 0;      // the oldest of those at the update that applied it
-  double reapplied_max_distance_m = 0;  // farthest a re-applied reading's optical centre lay from the camera's pose then
-};
 
 class MapStages;
 
@@ -195,21 +80,5 @@ class Pipeline {
 // pipeline steps; the render command and benchmarks use it alone).
 std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& config);
 
-// The decimation the pipeline runs on the whole cloud: the filter without its passthrough (which applies to
-// the marking cloud only).
-filter::FilterConfig decimation_config(filter::FilterConfig config);
-
-// The marking height band of the config's marking sources (lowest min, highest max), as the costmap and the
-// evaluation's truth use it; the first source's band when none marks.
-struct HeightBand {
-  double min_m = 0.0, max_m = 3.0;
-};
-HeightBand marking_band(const PipelineConfig& config);
-
-// Throws std::invalid_argument naming the camera (and source) for: no camera, an empty or repeated camera
-// name, a camera without sources, a source name used twice, bad intrinsics, noise, edge filter or source
-// parameters, a mount that is not finite, below the floor, or farther than 2 m from base_link. (A mount inside
-// the robot's body needs the world: the Pipeline checks that.)
-void validate_cameras(const PipelineConfig& config);
 
 }  // namespace stvl::pipeline

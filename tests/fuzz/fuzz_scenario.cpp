@@ -8,13 +8,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "tools/scenario.hpp"
+#include "config/scenario.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  stvl::tools::Scenario s;
+  stvl::config::Scenario s;
   try {
-    s = stvl::tools::parse_scenario(text, "fuzz.yaml", "/nonexistent/scenarios");
+    s = stvl::config::parse_scenario(text, "fuzz.yaml", "/nonexistent/scenarios");
   } catch (const std::invalid_argument& e) {
     if (std::string(e.what()).find("fuzz.yaml") == std::string::npos) {
       std::fprintf(stderr, "error message does not name the file: %s\n", e.what());

@@ -1,4 +1,4 @@
-// Bags written here (tools::BagWriter, as `stvl-bench run` exports them, and rosbag's own writer for the layouts
+// Bags written here (BagWriter, as `stvl-bench run` exports them, and rosbag's own writer for the layouts
 // and encodings BagWriter does not produce) read back through open_recording; every bad-input error.
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
@@ -21,7 +21,7 @@
 
 #include "recording/recording.hpp"
 #include "tests/support/command.hpp"
-#include "tools/bag_writer.hpp"
+#include "recording/bag_writer.hpp"
 
 namespace stvl::recording {
 namespace {
@@ -158,8 +158,8 @@ const Eigen::Isometry3d kBaseCameraLink = pose(0.2, 0.0, 0.3, 0.1);
 Eigen::Isometry3d map_odom(int k) { return pose(0.01 * k, -0.02, 0.0, 0.005 * k); }
 Eigen::Isometry3d odom_base(int k) { return pose(0.1 * k, 0.05 * k, 0.0, 0.2 * k); }
 
-void write_export(const fs::path& path, tools::BagCompression compression, int frames = 3) {
-  tools::BagWriter writer(path.string(), compression);
+void write_export(const fs::path& path, BagCompression compression, int frames = 3) {
+  BagWriter writer(path.string(), compression);
   writer.write_tf_static(kBaseCameraLink, optical_on_link());
   for (int k = 0; k < frames; ++k) {
     const double t_s = 0.1 * k;
@@ -171,10 +171,10 @@ void write_export(const fs::path& path, tools::BagCompression compression, int f
   writer.close();
 }
 
-class ExportTest : public ::testing::TestWithParam<tools::BagCompression> {};
+class ExportTest : public ::testing::TestWithParam<BagCompression> {};
 
 TEST_P(ExportTest, ReadsBackDepthAndTfPoses) {
-  const test::TempDir dir("rec_export_" + tools::to_string(GetParam()));
+  const test::TempDir dir("rec_export_" + to_string(GetParam()));
   const fs::path path = dir.path() / "run.bag";
   write_export(path, GetParam());
   const auto recording = open_recording(path.string());
@@ -187,8 +187,8 @@ TEST_P(ExportTest, ReadsBackDepthAndTfPoses) {
   EXPECT_EQ(info.pose_source, PoseSource::kTf);
   EXPECT_EQ(info.fixed_frame, "map");  // the root of the camera's tree
   EXPECT_EQ(info.frame_count, 3u);
-  EXPECT_NEAR(info.start_time_s, tools::kBagTimeOffset_s, 1e-9);
-  EXPECT_NEAR(info.end_time_s, tools::kBagTimeOffset_s + 0.2, 1e-9);
+  EXPECT_NEAR(info.start_time_s, kBagTimeOffset_s, 1e-9);
+  EXPECT_NEAR(info.end_time_s, kBagTimeOffset_s + 0.2, 1e-9);
   EXPECT_NEAR(info.intrinsics.rate_hz, 10.0, 1e-6);
   RecordedFrame frame;
   int k = 0;
@@ -207,14 +207,14 @@ TEST_P(ExportTest, ReadsBackDepthAndTfPoses) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCompressions, ExportTest,
-                         ::testing::Values(tools::BagCompression::kNone, tools::BagCompression::kBz2,
-                                           tools::BagCompression::kLz4),
-                         [](const auto& info) { return tools::to_string(info.param); });
+                         ::testing::Values(BagCompression::kNone, BagCompression::kBz2,
+                                           BagCompression::kLz4),
+                         [](const auto& info) { return to_string(info.param); });
 
 TEST(BagReader, ExportFixedFrameOdom) {
   const test::TempDir dir("rec_export_odom_frame");
   const fs::path path = dir.path() / "run.bag";
-  write_export(path, tools::BagCompression::kNone);
+  write_export(path, BagCompression::kNone);
   RecordingOptions options;
   options.fixed_frame = "odom";
   const auto recording = open_recording(path.string(), options);
@@ -227,7 +227,7 @@ TEST(BagReader, ExportFixedFrameOdom) {
 TEST(BagReader, ExportOdometryPoses) {
   const test::TempDir dir("rec_export_odom");
   const fs::path path = dir.path() / "run.bag";
-  write_export(path, tools::BagCompression::kLz4);
+  write_export(path, BagCompression::kLz4);
   RecordingOptions options;
   options.odom_topic = "/odom";
   options.T_base_camera = pose(9, 9, 9, 0);  // not used: /tf_static links base_link to the camera
@@ -249,7 +249,7 @@ TEST(BagReader, MultiCameraExport) {
   const fs::path path = dir.path() / "run.bag";
   const Eigen::Isometry3d T_base_rear = pose(-0.2, 0, 0.3, M_PI);
   {
-    tools::BagWriter writer(path.string(), tools::BagCompression::kNone);
+    BagWriter writer(path.string(), BagCompression::kNone);
     writer.write_tf_static({{"front", kBaseCameraLink, optical_on_link()}, {"rear", T_base_rear, optical_on_link()}});
     writer.write_tf(0.0, map_odom(0), odom_base(1));
     for (const char* camera : {"front", "rear"}) {
@@ -484,7 +484,7 @@ TEST(BagReaderErrors, TruncatedRealBag) {
   }
 }
 
-class CorruptChunkTest : public ::testing::TestWithParam<std::tuple<tools::BagCompression, double>> {};
+class CorruptChunkTest : public ::testing::TestWithParam<std::tuple<BagCompression, double>> {};
 
 std::uint32_t read_u32(std::fstream& file, std::streamoff at) {
   unsigned char b[4] = {};
@@ -495,7 +495,7 @@ std::uint32_t read_u32(std::fstream& file, std::streamoff at) {
 
 TEST_P(CorruptChunkTest, InABagThatOpens) {
   const auto [compression, fraction] = GetParam();
-  const test::TempDir dir("rec_err_chunk_" + tools::to_string(compression) + std::to_string(int(fraction * 10)));
+  const test::TempDir dir("rec_err_chunk_" + to_string(compression) + std::to_string(int(fraction * 10)));
   const fs::path path = dir.path() / "c.bag";
   write_export(path, compression, 20);
   // Zero bytes at `fraction` of the first chunk's data (the chunk record follows "#ROSBAG V2.0\n" and the
@@ -509,16 +509,16 @@ TEST_P(CorruptChunkTest, InABagThatOpens) {
   const std::uint32_t header = read_u32(file, chunk);
   const std::uint32_t data = read_u32(file, chunk + 4 + header);
   ASSERT_GT(data, 2048u);
-  file.seekp(chunk + 8 + header + std::streamoff(data * fraction) - (compression == tools::BagCompression::kNone ? 1024 : 32));
-  const std::string zeros(compression == tools::BagCompression::kNone ? 2048 : 64, '\0');
+  file.seekp(chunk + 8 + header + std::streamoff(data * fraction) - (compression == BagCompression::kNone ? 1024 : 32));
+  const std::string zeros(compression == BagCompression::kNone ? 2048 : 64, '\0');
   file.write(zeros.data(), std::streamsize(zeros.size()));
   file.close();
   EXPECT_ERROR(path.string(), {}, "c.bag", "corrupt bag");
 }
 
 INSTANTIATE_TEST_SUITE_P(Offsets, CorruptChunkTest,
-                         ::testing::Combine(::testing::Values(tools::BagCompression::kNone, tools::BagCompression::kBz2,
-                                                              tools::BagCompression::kLz4),
+                         ::testing::Combine(::testing::Values(BagCompression::kNone, BagCompression::kBz2,
+                                                              BagCompression::kLz4),
                                             ::testing::Values(0.5, 0.8)));
 
 TEST(BagReaderErrors, CorruptChunkFoundWhileReading) {
@@ -720,7 +720,7 @@ TEST(BagReaderErrors, NoPoseAtAFramesTime) {
 TEST(BagReaderErrors, UnknownFixedFrame) {
   const test::TempDir dir("rec_err_fixed");
   const fs::path path = dir.path() / "f.bag";
-  write_export(path, tools::BagCompression::kNone);
+  write_export(path, BagCompression::kNone);
   RecordingOptions options;
   options.fixed_frame = "world";
   EXPECT_ERROR(path.string(), options, "fixed frame 'world' is not above 'camera_depth_optical_frame'");

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A short run of the default scenario exported as a bag: topics, types, counts per frame, frame ids, latching,
-# increasing stamps, CameraInfo reprojection (tests/tools/check_bag.py), `rosbag info`, the depth images
+# increasing stamps, CameraInfo reprojection (tests/run/check_bag.py), `rosbag info`, the depth images
 # equal to the frames `stvl-bench render` gives for the same scenario and seed, and the bag's last costmap equal
 # to costmap.pgm (also for band_edge.yaml, whose band edge cuts a voxel).
 set -euo pipefail

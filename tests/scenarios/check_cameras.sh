@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A short run of scenarios/delivery_robot_3cams.yaml with a bag: every camera's topics (image, camera_info,
 # points, each in its own optical frame), its frames in /tf_static and its CameraInfo reprojection
-# (tests/tools/check_bag.py); recall and stage times per camera in metrics.json; every camera's depth frames in
+# (tests/run/check_bag.py); recall and stage times per camera in metrics.json; every camera's depth frames in
 # the report.
 set -euo pipefail
 bin=$1 out=$2 checker=$3

@@ -1,0 +1,408 @@
+#include "analysis/sweep.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/atomic_file.hpp"
+#include "common/enum_names.hpp"
+#include "common/markup.hpp"
+
+extern char** environ;
+
+namespace stvl::analysis {
+namespace fs = std::filesystem;
+namespace {
+
+std::string trim(const std::string& text) {
+  const std::size_t begin = text.find_first_not_of(" \t");
+  if (begin == std::string::npos) return "";
+  return text.substr(begin, text.find_last_not_of(" \t") - begin + 1);
+}
+
+// A folder-name-safe form of "KEY=VALUE": letters, digits and ._=- kept, the rest '-'.
+std::string safe(const std::string& text) {
+  std::string out;
+  for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '=' || c == '-' ? c : '-';
+  return out;
+}
+
+// Headline figures of a run, by their path in metrics.json (column names in the table).
+const std::vector<std::pair<std::string, std::vector<std::string>>>& headline() {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>> figures = {
+      {"f1", {"evaluation", "mean", "f1"}},
+      {"precision", {"evaluation", "mean", "precision"}},
+      {"recall", {"evaluation", "mean", "recall"}},
+      {"costmap_precision", {"evaluation", "mean", "costmap_precision"}},
+      {"final_phantoms", {"evaluation", "final", "phantom_obstacles"}},
+      {"filtered_points_mean", {"points", "filtered_mean"}},
+      {"filter_ms_mean", {"timing_ms", "filter", "mean"}},
+      {"clear_ms_mean", {"timing_ms", "clear", "mean"}},
+      {"mark_ms_mean", {"timing_ms", "mark", "mean"}},
+      {"frame_ms_mean", {"timing_ms", "frame", "mean"}},
+      {"real_time_factor", {"real_time_factor"}}};
+  return figures;
+}
+
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+// A Chart.js line chart of `figure` against the first axis's values, one line per combination of the other axes
+// (mean over seeds), as a JSON config.
+nlohmann::json chart_config(const nlohmann::json& table, const std::string& figure) {
+  const auto& axes = table["axes"];
+  const std::string x_key = axes.empty() ? "seed" : axes[0].get<std::string>();
+  std::vector<std::string> labels;
+  std::map<std::string, std::map<std::string, std::pair<double, int>>> series;  // line -> x -> (sum, n)
+  for (const auto& row : table["rows"]) {
+    const std::string x = x_key == "seed" ? row.value("seed", std::string("-")) : row["sets"][x_key].get<std::string>();
+    if (std::find(labels.begin(), labels.end(), x) == labels.end()) labels.push_back(x);
+    std::string line;
+    for (std::size_t a = 1; a < axes.size(); ++a)
+      line += (line.empty() ? "" : ", ") + axes[a].get<std::string>() + "=" + row["sets"][axes[a].get<std::string>()].get<std::string>();
+    if (!row.contains("figures") || !row["figures"].contains(figure) || !row["figures"][figure].is_number()) continue;
+    auto& cell = series[line.empty() ? figure : line][x];
+    cell.first += row["figures"][figure].get<double>();
+    cell.second += 1;
+  }
+  nlohmann::json datasets = nlohmann::json::array();
+  for (const auto& [line, cells] : series) {
+    nlohmann::json data = nlohmann::json::array();
+    for (const auto& x : labels) {
+      const auto it = cells.find(x);
+      data.push_back(it == cells.end() ? nlohmann::json() : nlohmann::json(it->second.first / it->second.second));
+    }
+    datasets.push_back({{"label", line}, {"data", data}});
+  }
+  return {{"type", "line"},
+          {"data", {{"labels", labels}, {"datasets", datasets}}},
+          {"options",
+           {{"animation", false},
+            {"plugins", {{"title", {{"display", true}, {"text", figure + " (mean over seeds)"}}}}},
+            {"scales", {{"x", {{"title", {{"display", true}, {"text", x_key}}}}}, {"y", {{"title", {{"display", true}, {"text", figure}}}}}}}}}};
+}
+
+}  // namespace
+
+const std::vector<std::string>& sweep_run_options() {
+  static const std::vector<std::string> options = {"voxel-size", "filter", "device", "memory", "duration", "noise", "gl"};
+  return options;
+}
+
+SweepAxis parse_sweep_axis(const std::string& text, bool option) {
+  const std::string flag = option ? "--option " : "--set ";
+  const std::size_t equals = text.find('=');
+  if (equals == std::string::npos) throw std::invalid_argument(flag + text + ": expected KEY=V1,V2,...");
+  SweepAxis axis;
+  axis.key = trim(text.substr(0, equals));
+  if (axis.key.empty()) throw std::invalid_argument(flag + text + ": empty key");
+  if (option) {
+    const auto& known = sweep_run_options();
+    if (std::find(known.begin(), known.end(), axis.key) == known.end()) {
+      const std::string hint = nearest_name(axis.key, known);
+      throw std::invalid_argument(flag + text + ": unknown run option '" + axis.key + "'" +
+                                  (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
+    }
+    axis.key = "--" + axis.key;
+  }
+  int depth = 0;
+  std::string value;
+  const std::string list = text.substr(equals + 1);
+  for (std::size_t i = 0; i <= list.size(); ++i) {
+    const char c = i < list.size() ? list[i] : ',';
+    if (c == '[' || c == '{') ++depth;
+    if (c == ']' || c == '}') --depth;
+    if (c == ',' && depth <= 0) {
+      if (trim(value).empty()) throw std::invalid_argument(flag + text + ": empty value in the list");
+      axis.values.push_back(trim(value));
+      value.clear();
+    } else {
+      value += c;
+    }
+  }
+  return axis;
+}
+
+std::vector<std::uint64_t> parse_seeds(const std::string& text) {
+  std::vector<std::uint64_t> seeds;
+  const auto number = [&](const std::string& digits) -> std::uint64_t {
+    if (digits.empty() || digits.size() > 19 || digits.find_first_not_of("0123456789") != std::string::npos)
+      throw std::invalid_argument("--seeds " + text + ": expected seeds like 1..5, 3 or 1,4,9");
+    return std::stoull(digits);
+  };
+  std::stringstream parts(text);
+  std::string part;
+  while (std::getline(parts, part, ',')) {
+    part = trim(part);
+    const std::size_t dots = part.find("..");
+    if (dots == std::string::npos) {
+      seeds.push_back(number(part));
+      continue;
+    }
+    const std::uint64_t first = number(part.substr(0, dots)), last = number(part.substr(dots + 2));
+    if (last < first || last - first >= 10000) throw std::invalid_argument("--seeds " + text + ": a range must run upwards, at most 10000 seeds");
+    for (std::uint64_t s = first; s <= last; ++s) seeds.push_back(s);
+  }
+  if (seeds.empty()) throw std::invalid_argument("--seeds " + text + ": no seed");
+  return seeds;
+}
+
+std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std::vector<std::uint64_t>& seeds,
+                                   std::size_t max_points) {
+  std::size_t count = seeds.empty() ? 1 : seeds.size();
+  for (const auto& axis : axes) {
+    if (axis.values.empty()) throw std::invalid_argument("sweep: the axis " + axis.key + " has no value: the grid is empty");
+    if (count > max_points / axis.values.size())
+      throw std::invalid_argument("sweep: more than " + std::to_string(max_points) + " points");
+    count *= axis.values.size();
+  }
+  if (axes.empty() && seeds.empty()) throw std::invalid_argument("sweep: an empty grid (give --set, --option or --seeds)");
+  std::vector<SweepPoint> points;
+  for (std::size_t i = 0; i < count; ++i) {
+    SweepPoint p;
+    p.index = i;
+    std::size_t rest = i;
+    if (!seeds.empty()) p.seed = seeds[rest % seeds.size()], rest /= seeds.size();
+    std::vector<std::string> sets(axes.size());
+    for (std::size_t a = axes.size(); a-- > 0;) {
+      sets[a] = axes[a].key + "=" + axes[a].values[rest % axes[a].values.size()];
+      rest /= axes[a].values.size();
+    }
+    p.sets = sets;
+    char prefix[24];
+    std::snprintf(prefix, sizeof prefix, "%03zu", i);
+    p.name = prefix;
+    for (std::size_t a = 0; a < sets.size(); ++a)  // an axis of one value tells the points apart from nothing
+      if (axes[a].values.size() > 1) p.name += "_" + safe(sets[a].rfind("--", 0) == 0 ? sets[a].substr(2) : sets[a]);
+    if (p.seed) p.name += "_seed=" + std::to_string(*p.seed);
+    points.push_back(std::move(p));
+  }
+  return points;
+}
+
+std::vector<std::string> point_command(const std::string& binary, const std::string& scenario, const std::string& out_dir,
+                                       const SweepPoint& point) {
+  std::vector<std::string> argv = {binary, "run", scenario, "--out", (fs::path(out_dir) / point.name).string(), "--no-progress"};
+  for (const auto& s : point.sets) {
+    const std::size_t equals = s.find('=');
+    if (s.rfind("--", 0) == 0) {
+      argv.push_back(s.substr(0, equals));
+      argv.push_back(s.substr(equals + 1));
+    } else {
+      argv.push_back("--set");
+      argv.push_back(s);
+    }
+  }
+  if (point.seed) argv.insert(argv.end(), {"--seed", std::to_string(*point.seed)});
+  return argv;
+}
+
+std::string shell_line(const std::vector<std::string>& argv) {
+  std::string line;
+  for (const auto& arg : argv) {
+    std::string quoted = "'";
+    for (char c : arg) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    line += (line.empty() ? "" : " ") + quoted + "'";
+  }
+  return line;
+}
+
+std::vector<std::string> emit_sweep(const std::string& engine, const std::string& binary, const std::string& scenario,
+                                    const std::string& out_dir, const std::vector<SweepPoint>& points) {
+  if (engine != "parallel" && engine != "ctest" && engine != "slurm")
+    throw std::invalid_argument("--emit " + engine + ": expected parallel, ctest or slurm");
+  fs::create_directories(out_dir);
+  const fs::path dir = fs::absolute(out_dir);
+  std::vector<std::string> written;
+  const auto write = [&](const std::string& name, const std::string& text) {
+    write_file_atomically(dir / name, text);
+    written.push_back((dir / name).string());
+  };
+  nlohmann::json grid = {{"scenario", scenario}, {"points", nlohmann::json::array()}};
+  for (const auto& p : points) {
+    nlohmann::json point = {{"name", p.name}, {"sets", p.sets}};
+    if (p.seed) point["seed"] = *p.seed;
+    grid["points"].push_back(point);
+  }
+  write("sweep.json", grid.dump(2) + "\n");
+  std::string jobs;
+  for (const auto& p : points) jobs += shell_line(point_command(binary, scenario, dir.string(), p)) + "\n";
+  if (engine == "parallel" || engine == "slurm") write("jobs.txt", jobs);
+  if (engine == "ctest") {
+    std::string tests = "# stvl-bench sweep: one test per point; run with ctest --test-dir " + dir.string() + " -j N\n";
+    for (const auto& p : points) {
+      std::string args;
+      for (const auto& arg : point_command(binary, scenario, dir.string(), p)) {
+        std::string escaped;
+        for (char c : arg) escaped += c == '"' || c == '\\' || c == '$' || c == ';' ? std::string("\\") + c : std::string(1, c);
+        args += " \"" + escaped + "\"";
+      }
+      tests += "add_test(sweep." + p.name + args + ")\nset_tests_properties(sweep." + p.name + " PROPERTIES LABELS sweep)\n";
+    }
+    write("CTestTestfile.cmake", tests);
+  }
+  if (engine == "slurm") {
+    std::ostringstream script;
+    script << "#!/bin/bash\n"
+           << "# stvl-bench sweep as a Slurm job array: task i runs line i + 1 of jobs.txt. Submit: sbatch " << (dir / "sweep.sbatch").string() << "\n"
+           << "#SBATCH --job-name=stvl-sweep\n"
+           << "#SBATCH --array=0-" << (points.empty() ? 0 : points.size() - 1) << "\n"
+           << "#SBATCH --cpus-per-task=2\n"
+           << "#SBATCH --output=" << (dir / "slurm-%A_%a.out").string() << "\n"
+           << "set -euo pipefail\n"
+           << "line=$(sed -n \"$((SLURM_ARRAY_TASK_ID + 1))p\" " << shell_line({(dir / "jobs.txt").string()}) << ")\n"
+           << "eval \"$line\"\n";
+    write("sweep.sbatch", script.str());
+  }
+  return written;
+}
+
+int run_sweep_locally(const std::string& binary, const std::string& scenario, const std::string& out_dir,
+                      const std::vector<SweepPoint>& points, int jobs) {
+  if (jobs < 1) throw std::invalid_argument("--jobs must be at least 1");
+  emit_sweep("parallel", binary, scenario, out_dir, points);  // sweep.json (and jobs.txt) for --collect and reruns
+  const fs::path dir = fs::absolute(out_dir);
+  int worst = 0;
+  std::size_t next = 0, running = 0;
+  std::map<pid_t, std::string> names;
+  const auto reap = [&] {
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid <= 0) return;
+    --running;
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 2;
+    std::printf("sweep: %s %s\n", names[pid].c_str(), code == 0 ? "passed" : code == 1 ? "FAILED a check" : "ERROR (see its .log)");
+    std::fflush(stdout);
+    worst = std::max(worst, std::min(code, 2));
+  };
+  while (next < points.size() || running > 0) {
+    if (next < points.size() && running < static_cast<std::size_t>(jobs)) {
+      const SweepPoint& p = points[next++];
+      const std::vector<std::string> args = point_command(binary, scenario, dir.string(), p);
+      std::vector<char*> argv;
+      for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      const std::string log = (dir / (p.name + ".log")).string();
+      posix_spawn_file_actions_t actions;
+      posix_spawn_file_actions_init(&actions);
+      posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+      pid_t pid = 0;
+      const int error = posix_spawn(&pid, binary.c_str(), &actions, nullptr, argv.data(), environ);
+      posix_spawn_file_actions_destroy(&actions);
+      if (error != 0) throw std::runtime_error("sweep: cannot start " + binary + ": " + std::strerror(error));
+      names[pid] = p.name;
+      ++running;
+    } else {
+      reap();
+    }
+  }
+  return worst;
+}
+
+nlohmann::json collect_sweep(const std::string& dir_text, const std::string& chart_js_path) {
+  const fs::path dir = dir_text;
+  const fs::path grid_path = dir / "sweep.json";
+  std::error_code error;
+  if (!fs::is_regular_file(grid_path, error)) throw std::invalid_argument(dir_text + ": no sweep.json (not a sweep folder)");
+  nlohmann::json grid;
+  try {
+    std::ifstream in(grid_path);
+    grid = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(grid_path.string() + ": malformed: " + e.what());
+  }
+  nlohmann::json table = {{"scenario", grid.value("scenario", "")}, {"axes", nlohmann::json::array()}, {"rows", nlohmann::json::array()}};
+  const auto key_of = [](const std::string& set) {
+    const std::string key = set.substr(0, set.find('='));
+    return key.rfind("--", 0) == 0 ? key.substr(2) : key;
+  };
+  if (!grid["points"].empty())
+    for (const auto& set : grid["points"][0]["sets"]) table["axes"].push_back(key_of(set.get<std::string>()));
+  std::string csv = "point";
+  for (const auto& axis : table["axes"]) csv += "," + csv_field(axis.get<std::string>());
+  csv += ",seed,state";
+  for (const auto& [name, path] : headline()) csv += "," + name;
+  csv += "\n";
+  for (const auto& point : grid["points"]) {
+    const std::string name = point["name"].get<std::string>();
+    nlohmann::json row = {{"point", name}, {"sets", nlohmann::json::object()}};
+    for (const auto& set : point["sets"]) {
+      const std::string s = set.get<std::string>();
+      row["sets"][key_of(s)] = s.substr(s.find('=') + 1);
+    }
+    if (point.contains("seed")) row["seed"] = std::to_string(point["seed"].get<std::uint64_t>());
+    nlohmann::json metrics;
+    try {
+      std::ifstream in(dir / name / "metrics.json");
+      if (in) metrics = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception&) {
+      metrics = nlohmann::json();
+    }
+    row["state"] = metrics.is_object() ? (metrics.value("passed", false) ? "passed" : "failed") : "missing";
+    if (metrics.is_object()) {
+      row["figures"] = nlohmann::json::object();
+      for (const auto& [figure, path] : headline()) {
+        const nlohmann::json* node = &metrics;
+        for (const auto& key : path) node = node && node->is_object() && node->contains(key) ? &(*node)[key] : nullptr;
+        if (node && node->is_number()) row["figures"][figure] = *node;
+      }
+    }
+    csv += csv_field(name);
+    for (const auto& axis : table["axes"]) csv += "," + csv_field(row["sets"].value(axis.get<std::string>(), ""));
+    csv += "," + row.value("seed", std::string()) + "," + row["state"].get<std::string>();
+    for (const auto& [figure, path] : headline())
+      csv += "," + (row.contains("figures") && row["figures"].contains(figure) ? row["figures"][figure].dump() : std::string());
+    csv += "\n";
+    table["rows"].push_back(row);
+  }
+  write_file_atomically(dir / "sweep.csv", csv);
+  write_file_atomically(dir / "sweep_table.json", table.dump(2) + "\n");
+
+  std::ostringstream h;
+  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench sweep</title><style>body{font-family:"
+       "sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px 8px}"
+       ".chart{width:800px;height:360px;display:inline-block}</style></head><body>\n<h1>stvl-bench sweep</h1><p>"
+    << xml_escape(table["scenario"].get<std::string>()) << ", " << table["rows"].size() << " points.</p>\n";
+  std::ifstream chart_js(chart_js_path);
+  if (chart_js) {
+    const std::string js((std::istreambuf_iterator<char>(chart_js)), {});
+    h << "<div class=\"chart\"><canvas id=\"f1\"></canvas></div><div class=\"chart\"><canvas id=\"filter_ms\"></canvas></div>\n"
+      << "<script>" << js << "</script>\n<script>\nnew Chart(document.getElementById('f1'), " << script_safe(chart_config(table, "f1").dump())
+      << ");\nnew Chart(document.getElementById('filter_ms'), " << script_safe(chart_config(table, "filter_ms_mean").dump()) << ");\n</script>\n";
+  } else {
+    h << "<p>(No charts: " << xml_escape(chart_js_path) << " is not installed; apt install libjs-chart.js.)</p>\n";
+  }
+  h << "<table><tr><th>point</th>";
+  for (const auto& axis : table["axes"]) h << "<th>" << xml_escape(axis.get<std::string>()) << "</th>";
+  h << "<th>seed</th><th>state</th>";
+  for (const auto& [figure, path] : headline()) h << "<th>" << figure << "</th>";
+  h << "</tr>\n";
+  for (const auto& row : table["rows"]) {
+    h << "<tr><td>" << xml_escape(row["point"].get<std::string>()) << "</td>";
+    for (const auto& axis : table["axes"]) h << "<td>" << xml_escape(row["sets"].value(axis.get<std::string>(), "")) << "</td>";
+    h << "<td>" << row.value("seed", std::string()) << "</td><td>" << row["state"].get<std::string>() << "</td>";
+    for (const auto& [figure, path] : headline())
+      h << "<td>" << (row.contains("figures") && row["figures"].contains(figure) ? row["figures"][figure].dump() : "") << "</td>";
+    h << "</tr>\n";
+  }
+  h << "</table></body></html>\n";
+  write_file_atomically(dir / "sweep.html", h.str());
+  return table;
+}
+
+}  // namespace stvl::analysis

@@ -1,0 +1,50 @@
+// stvl-bench lint PARAMS.yaml [--layer NAME] [--costmap NAME]: what STVL does with an STVL layer's ROS
+// parameters that users rarely mean. Exit 0 without findings, 1 with findings, 2 for a file that cannot be read.
+#include <cstdio>
+#include <memory>
+
+#include "cli/command.hpp"
+#include "config/ros_lint.hpp"
+#include "config/ros_params_detail.hpp"
+
+namespace stvl::cli {
+using namespace stvl::config;
+namespace {
+
+struct LintOptions {
+  std::string params;
+  std::string layer;
+  std::string costmap;
+};
+
+const char* flavour_name(RosFlavour flavour) {
+  switch (flavour) {
+    case RosFlavour::kRos2: return "ROS 2 (nav2)";
+    case RosFlavour::kRos1: return "ROS 1 (move_base)";
+    case RosFlavour::kBare: return "bare layer, read by ROS 2's rules";
+  }
+  return "?";
+}
+
+int lint(const LintOptions& o) {
+  const auto findings = lint_ros_stvl_layer(o.params, o.layer, o.costmap);
+  const RosStvlLayer layer = ros_detail::read_layer(o.params, o.layer, o.costmap, true).layer;
+  for (const auto& f : findings) std::printf("%s\n", format_finding(f).c_str());
+  const std::string name = layer.layer_name.empty() ? "the layer" : layer.layer_name;
+  std::printf("%s: %zu finding%s on %s%s%s (%s)\n", o.params.c_str(), findings.size(), findings.size() == 1 ? "" : "s",
+              name.c_str(), layer.costmap_name.empty() ? "" : " in ", layer.costmap_name.c_str(),
+              flavour_name(layer.flavour));
+  return findings.empty() ? kExitOk : kExitCheckFailed;
+}
+
+const CommandRegistration kLint{"lint", [](CLI::App& app) {
+  auto o = std::make_shared<LintOptions>();
+  auto* cmd = app.add_subcommand("lint", "Report what STVL does with an STVL layer's ROS parameters that users rarely mean");
+  cmd->add_option("params", o->params, "ROS parameter file (nav2 params, move_base costmap, or a bare layer)")->required();
+  cmd->add_option("--layer", o->layer, "Layer name (default: the only STVL layer)");
+  cmd->add_option("--costmap", o->costmap, "Costmap name, e.g. local_costmap (default: the only one with the layer)");
+  return [o] { return lint(*o); };
+}};
+
+}  // namespace
+}  // namespace stvl::cli

@@ -1,0 +1,108 @@
+// stvl-bench run [SCENARIO.yaml] [--out DIR] [--bag FILE] ...: one scenario end to end.
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "cli/command.hpp"
+#include "config/ros_binding.hpp"
+#include "report/report.hpp"
+#include "run/runner.hpp"
+
+namespace stvl::cli {
+using namespace stvl::config;
+using namespace stvl::run;
+using namespace stvl::report;
+namespace {
+
+// A seed is a decimal integer in [0, 2^64 - 1]; CLI11 alone would saturate larger values silently.
+std::string seed_error(std::string& text) {
+  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  if (!digits) return "expected a non-negative integer, got '" + text + "'";
+  try {
+    std::stoull(text);
+  } catch (const std::out_of_range&) {
+    return "'" + text + "' exceeds the largest seed, 18446744073709551615";
+  }
+  return {};
+}
+
+struct RunCommandOptions {
+  std::string scenario;
+  std::string out_dir;
+  std::string bag;
+  std::string bag_compression = "none";
+  bool no_progress = false;
+  bool profile = false;
+  ScenarioOverrides overrides;
+  std::vector<std::string> sets;
+  std::string noise;
+};
+
+int run(const RunCommandOptions& o) {
+  Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario, o.sets);
+  ScenarioOverrides overrides = o.overrides;
+  if (!o.noise.empty()) {
+    if (o.noise != "on" && o.noise != "off") throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
+    overrides.noise = o.noise == "on";
+  }
+  apply_overrides(scenario, overrides);
+  if (const auto& ros = scenario.ros_params) {
+    // The linter's findings on the parameter file, with the FOV of the camera each source is bound to.
+    const auto findings = lint_ros_stvl_layer(ros->path, ros->layer, ros->costmap, bound_cameras(scenario.pipeline));
+    for (const auto& f : findings) std::printf("lint: %s\n", format_finding(f).c_str());
+    if (!findings.empty())
+      std::printf("lint: %zu finding%s on %s (stvl-bench lint %s)\n", findings.size(), findings.size() == 1 ? "" : "s",
+                  ros->path.c_str(), ros->path.c_str());
+  }
+  RunOptions options;
+  options.out_dir = o.out_dir.empty() ? "out/" + scenario.name : o.out_dir;
+  options.bag_path = o.bag;
+  options.bag_compression = o.bag_compression;
+  options.progress = !o.no_progress;
+  options.stop_requested = catch_stop_signals();
+
+  const RunResult result = run_scenario(scenario, options);
+  if (result.interrupted) {
+    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written%s\n", caught_signal(),
+                 result.frames, options.bag_path.empty() ? "" : (", the bag stays as " + options.bag_path + ".active").c_str());
+    return 128 + caught_signal();
+  }
+  write_report(result, options.out_dir);
+  if (o.profile) std::printf("%s", profile_table(result).c_str());
+  for (const auto& c : result.checks) std::printf("%s %-24s %s\n", c.passed ? "PASS" : "FAIL", c.name.c_str(), c.message.c_str());
+  const auto& m = result.evaluation.mean;
+  std::printf("%s: %zu frames, %.1f s simulated, real-time factor %.2f, F1 %.3f (P %.3f R %.3f), outputs in %s\n",
+              scenario.name.c_str(), result.frames, result.sim_time_s, result.real_time_factor, m.f1, m.precision,
+              m.recall, options.out_dir.c_str());
+  return result.passed() ? kExitOk : kExitCheckFailed;
+}
+
+const CommandRegistration kRun{"run", [](CLI::App& app) {
+  auto o = std::make_shared<RunCommandOptions>();
+  auto* cmd = app.add_subcommand("run", "Run a scenario (the default office corridor when none is given)");
+  cmd->add_option("scenario", o->scenario, "Scenario YAML file (default: scenarios/office_corridor.yaml)");
+  cmd->add_option("--out", o->out_dir, "Output directory (default: out/<scenario name>)");
+  cmd->add_option("--bag", o->bag, "Also write a ROS 1 bag to this file");
+  cmd->add_option("--bag-compression", o->bag_compression, "none | bz2 | lz4")->check(CLI::IsMember({"none", "bz2", "lz4"}));
+  cmd->add_option("--set", o->sets,
+                  "Set a scenario key before it is read, KEY=VALUE (dotted keys, list items as [i]; repeatable), e.g. "
+                  "--set map.observation.clear_on_no_return=false")
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  cmd->add_option("--seed", o->overrides.seed, "Override the scenario's seed (a non-negative integer)")
+      ->check(CLI::Validator(seed_error, "UINT"));
+  cmd->add_option("--filter", o->overrides.filter_type, "Override the filter: none | passthrough | voxel | csnb");
+  cmd->add_option("--device", o->overrides.device, "Override the filter device: cpu | cuda | auto");
+  cmd->add_option("--memory", o->overrides.memory, "Override the CUDA memory mode: copy | pinned | mapped | managed");
+  cmd->add_option("--voxel-size", o->overrides.voxel_size_m, "Override the map and filter voxel size (m)");
+  cmd->add_option("--duration", o->overrides.duration_s, "Override the duration (s)");
+  cmd->add_option("--gl", o->overrides.gl_backend, "Override the GL backend: auto | egl | osmesa");
+  cmd->add_option("--noise", o->noise, "Override the depth noise: on | off");
+  cmd->add_flag("--no-progress", o->no_progress, "No progress output");
+  cmd->add_flag("--profile", o->profile, "Print where the time went: per stage and per evaluation phase");
+  return [o] { return run(*o); };
+}};
+
+}  // namespace
+}  // namespace stvl::cli

@@ -1,0 +1,122 @@
+// stvl-bench sweep SCENARIO --set KEY=V1,V2 [--option NAME=V1,V2] [--seeds 1..5] [--jobs N | --emit ENGINE]:
+// the grid of a scenario's variants, run here or written out for GNU parallel, CTest or Slurm;
+// stvl-bench sweep --collect DIR: every point's metrics.json in one table (CSV, JSON, HTML with charts).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli/command.hpp"
+#include "config/scenario.hpp"
+#include "analysis/sweep.hpp"
+
+namespace stvl::cli {
+using namespace stvl::config;
+using namespace stvl::analysis;
+namespace {
+
+struct SweepOptions {
+  std::string scenario;
+  std::vector<std::string> sets, options;
+  std::string seeds;
+  std::string out_dir;
+  int jobs = 1;
+  std::string emit;
+  std::string collect;
+};
+
+// Every point must load before any runs: a key that does not exist or a value of the wrong type names the
+// assignment (and the point).
+void validate_points(const std::string& scenario, const std::vector<SweepPoint>& points) {
+  for (const auto& p : points) {
+    std::vector<std::string> sets;
+    ScenarioOverrides overrides;
+    for (const auto& s : p.sets) {
+      const std::size_t equals = s.find('=');
+      const std::string key = s.substr(0, equals), value = s.substr(equals + 1);
+      if (key.rfind("--", 0) != 0) {
+        sets.push_back(s);
+        continue;
+      }
+      const auto number = [&] {
+        try {
+          std::size_t used = 0;
+          const double v = std::stod(value, &used);
+          if (used == value.size()) return v;
+        } catch (const std::exception&) {
+        }
+        throw std::invalid_argument("--option " + key.substr(2) + "=" + value + ": expected a number");
+      };
+      if (key == "--voxel-size") overrides.voxel_size_m = number();
+      if (key == "--duration") overrides.duration_s = number();
+      if (key == "--filter") overrides.filter_type = value;
+      if (key == "--device") overrides.device = value;
+      if (key == "--memory") overrides.memory = value;
+      if (key == "--gl") overrides.gl_backend = value;
+      if (key == "--noise") {
+        if (value != "on" && value != "off") throw std::invalid_argument("--option noise=" + value + ": expected on or off");
+        overrides.noise = value == "on";
+      }
+    }
+    try {
+      Scenario s = load_scenario(scenario, sets);
+      apply_overrides(s, overrides);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string(e.what()) + " (sweep point " + p.name + ")");
+    }
+  }
+}
+
+int sweep(const SweepOptions& o) {
+  if (!o.collect.empty()) {
+    const auto table = collect_sweep(o.collect);
+    std::printf("sweep: %zu points collected into %s/sweep.csv, sweep_table.json, sweep.html\n", table["rows"].size(),
+                o.collect.c_str());
+    return kExitOk;
+  }
+  if (o.scenario.empty()) throw std::invalid_argument("sweep: give a scenario file (or --collect DIR)");
+  const std::string scenario = std::filesystem::absolute(o.scenario).string();
+  std::vector<SweepAxis> axes;
+  for (const auto& s : o.sets) axes.push_back(parse_sweep_axis(s));
+  for (const auto& s : o.options) axes.push_back(parse_sweep_axis(s, true));
+  const auto points = sweep_grid(axes, o.seeds.empty() ? std::vector<std::uint64_t>{} : parse_seeds(o.seeds));
+  validate_points(scenario, points);
+  const std::string out = o.out_dir.empty() ? "out/sweep-" + std::filesystem::path(scenario).stem().string() : o.out_dir;
+  const std::string binary = std::filesystem::read_symlink("/proc/self/exe").string();
+  if (!o.emit.empty()) {
+    for (const auto& path : emit_sweep(o.emit, binary, scenario, out, points)) std::printf("sweep: wrote %s\n", path.c_str());
+    std::printf("sweep: %zu points; then stvl-bench sweep --collect %s\n", points.size(), out.c_str());
+    return kExitOk;
+  }
+  std::printf("sweep: %zu points, %d at a time, into %s\n", points.size(), o.jobs, out.c_str());
+  const int worst = run_sweep_locally(binary, scenario, out, points, o.jobs);
+  collect_sweep(out);
+  std::printf("sweep: table in %s/sweep.csv and %s/sweep.html\n", out.c_str(), out.c_str());
+  return worst;
+}
+
+const CommandRegistration kSweep{"sweep", [](CLI::App& app) {
+  auto o = std::make_shared<SweepOptions>();
+  auto* cmd = app.add_subcommand("sweep", "Run a scenario over a grid of settings and seeds, or write the grid for "
+                                          "GNU parallel, CTest or Slurm; --collect merges the results");
+  cmd->add_option("scenario", o->scenario, "Scenario YAML file");
+  cmd->add_option("--set", o->sets, "An axis: a scenario key and its values, KEY=V1,V2,... (repeatable)")
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  cmd->add_option("--option", o->options,
+                  "An axis over a run option, NAME=V1,V2,... with NAME one of voxel-size (map and filter together), "
+                  "filter, device, memory, duration, noise, gl (repeatable)")
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  cmd->add_option("--seeds", o->seeds, "Seeds, e.g. 1..5 or 1,4,9 (the fastest-varying axis)");
+  cmd->add_option("--out", o->out_dir, "Output folder: one subfolder per point (default: out/sweep-<scenario>)");
+  cmd->add_option("--jobs", o->jobs, "Points run at once here (default 1)")->check(CLI::Range(1, 256));
+  cmd->add_option("--emit", o->emit, "Write the grid for an engine instead of running it: parallel | ctest | slurm")
+      ->check(CLI::IsMember({"parallel", "ctest", "slurm"}));
+  cmd->add_option("--collect", o->collect, "Merge the points' metrics.json of a sweep folder into one table");
+  return [o] { return sweep(*o); };
+}};
+
+}  // namespace
+}  // namespace stvl::cli

@@ -1,0 +1,37 @@
+#pragma once
+// Subcommands of `stvl-bench` register themselves from their own cmd_*.cpp file:
+//
+//   const stvl::cli::CommandRegistration kRender{"render", [](CLI::App& app) {
+//     auto* cmd = app.add_subcommand("render", "...");
+//     auto options = std::make_shared<RenderOptions>();
+//     cmd->add_option("--world", options->world_path)->required();
+//     return [options] { return run_render(*options); };
+//   }};
+//
+// The returned function runs when the subcommand is chosen; its value is the process exit code
+// (kExitOk, kExitCheckFailed). Bad input is reported by throwing; main() prints it and exits with kExitBadInput.
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <functional>
+#include <string>
+
+namespace stvl::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitCheckFailed = 1;
+constexpr int kExitBadInput = 2;
+
+// SIGINT and SIGTERM from here on set the returned flag, which the long commands (run, replay) poll between
+// frames; caught_signal() is the last one caught (0: none), for the exit code 128 + signal.
+const std::atomic<bool>* catch_stop_signals();
+int caught_signal();
+
+using CommandRun = std::function<int()>;
+using CommandSetup = std::function<CommandRun(CLI::App& app)>;
+
+struct CommandRegistration {
+  CommandRegistration(std::string name, CommandSetup setup);
+};
+
+}  // namespace stvl::cli

@@ -1,0 +1,100 @@
+#include "config/ros_binding.hpp"
+
+#include "mapping/footprint.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace stvl::config {
+namespace {
+
+std::string where(const RosStvlLayer& layer, const RosObservationSource& source) {
+  return layer.file + ":" + std::to_string(source.line) + ": " +
+         (layer.layer_name.empty() ? source.name : layer.layer_name + "." + source.name) + ": ";
+}
+
+bool topic_names(const std::string& topic, const std::string& camera) {
+  const std::string t = !topic.empty() && topic.front() == '/' ? topic.substr(1) : topic;
+  return t == camera || t.rfind(camera + "/", 0) == 0;
+}
+
+bool frame_names(const std::string& frame, const std::string& camera) {
+  return frame == camera || frame.rfind(camera + "_", 0) == 0;
+}
+
+const char* filter_name(RosSourceFilter filter) {
+  switch (filter) {
+    case RosSourceFilter::kNone: return "none";
+    case RosSourceFilter::kPassthrough: return "passthrough";
+    case RosSourceFilter::kVoxel: return "voxel";
+  }
+  return "?";
+}
+
+}  // namespace
+
+int bound_camera_index(const RosObservationSource& source, const std::vector<pipeline::CameraConfig>& cameras) {
+  // The camera with the longest name that `names(value, name)` accepts; -1 when none does.
+  const auto longest = [&](const std::string& value, bool (*names)(const std::string&, const std::string&)) {
+    int best = -1;
+    for (std::size_t i = 0; i < cameras.size(); ++i)
+      if (names(value, cameras[i].name) && (best < 0 || cameras[i].name.size() > cameras[best].name.size()))
+        best = static_cast<int>(i);
+    return best;
+  };
+  const int by_topic = longest(source.topic, topic_names);
+  return by_topic >= 0 ? by_topic : longest(source.sensor_frame, frame_names);
+}
+
+void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config, bool derive_filter) {
+  config.map.voxel_size_m = layer.map.voxel_size_m;
+  config.map.voxel_decay_s = layer.map.voxel_decay_s;
+  config.map.decay_model = layer.map.decay_model;
+  config.map.mark_threshold = layer.map.mark_threshold;
+  // STVL's footprint clearing with the costmap's footprint (nav2: a non-empty footprint wins over robot_radius).
+  config.map.update_footprint_enabled = layer.update_footprint_enabled;
+  config.map.footprint_B.clear();
+  if (layer.footprint && !layer.footprint->empty()) config.map.footprint_B = *layer.footprint;
+  else if (layer.robot_radius_m) config.map.footprint_B = mapping::footprint_from_radius(*layer.robot_radius_m);
+  std::string names;
+  for (const auto& c : config.cameras) names += (names.empty() ? "" : ", ") + c.name;
+  for (auto& c : config.cameras) c.sources.clear();
+  const RosObservationSource* first = nullptr;
+  for (const auto& source : layer.sources) {
+    if (!source.enabled) continue;  // STVL leaves a disabled source's buffer out of marking and clearing
+    const int index = bound_camera_index(source, config.cameras);
+    if (index < 0)
+      throw std::invalid_argument(where(layer, source) + "bound to no camera: topic '" + source.topic +
+                                  "' and sensor_frame '" + source.sensor_frame + "' name none of the cameras (" +
+                                  names + "); write the topic as /<camera>/depth/points or the frame as " +
+                                  "<camera>_depth_optical_frame");
+    if (first && source.filter != first->filter)
+      throw std::invalid_argument(where(layer, source) + "filter " + filter_name(source.filter) + " differs from " +
+                                  first->name + "'s " + filter_name(first->filter) +
+                                  "; the bench decimates every frame with one filter");
+    if (!first) first = &source;
+    config.cameras[index].sources.push_back({source.name, source.stvl});
+  }
+  for (const auto& c : config.cameras)
+    if (c.sources.empty())
+      throw std::invalid_argument(layer.file + ": " + layer.layer_name + ": no enabled observation source is bound to camera '" +
+                                  c.name + "' (bind one through its topic /" + c.name + "/... or its sensor_frame)");
+  if (!derive_filter || !first) return;
+  filter::FilterConfig& f = config.filter;
+  const pipeline::HeightBand band = pipeline::marking_band(config);
+  f.passthrough = {band.min_m, band.max_m};
+  f.passthrough_enabled = first->filter != RosSourceFilter::kNone;
+  f.type = first->filter == RosSourceFilter::kVoxel ? filter::FilterType::kVoxel : filter::FilterType::kNone;
+  f.voxel.voxel_size_m = layer.map.voxel_size_m;
+  // STVL passes voxel_min_points to a PCL whose VoxelGrid ignores it (scenarios/README.md): every voxel counts.
+  f.voxel.min_points_per_voxel = 1;
+}
+
+std::vector<BoundCamera> bound_cameras(const pipeline::PipelineConfig& config) {
+  std::vector<BoundCamera> bound;
+  for (const auto& c : config.cameras)
+    for (const auto& source : c.sources) bound.push_back({source.name, c.intrinsics.hfov_rad(), c.intrinsics.vfov_rad()});
+  return bound;
+}
+
+}  // namespace stvl::config

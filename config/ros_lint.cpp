@@ -1,0 +1,211 @@
+#include "config/ros_lint.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <regex>
+#include <sstream>
+
+#include "common/enum_names.hpp"
+#include "config/ros_params_detail.hpp"
+#include "config/stvl_keys.hpp"
+
+namespace stvl::config {
+namespace {
+
+using ros_detail::dotted;
+using ros_detail::key_line;
+
+constexpr double kFovTolerance = 0.05;  // relative
+
+std::string number(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+bool contains(const std::vector<std::string>& keys, const std::string& key) {
+  return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
+class Linter {
+ public:
+  explicit Linter(const ros_detail::ReadLayer& read) : layer_(read.layer), nodes_(read.nodes) {}
+
+  void add(int line, const std::string& key, const std::string& what, const std::string& instead) {
+    findings_.push_back({layer_.file, line, key, what, instead});
+  }
+  // Line of `key` in `map` when written, else `fallback`.
+  static int line_or(const YAML::Node& map, const std::string& key, int fallback) {
+    const int line = key_line(map, key);
+    return line > 0 ? line : fallback;
+  }
+  std::string version() const {
+    return nodes_.flavour == RosFlavour::kRos1 ? "STVL (ROS 1)" : "STVL (ROS 2)";
+  }
+
+  void layer_keys() {
+    std::vector<std::string> sources;
+    for (const auto& s : layer_.sources) sources.push_back(s.name);
+    const auto& known = ros_detail::layer_keys(nodes_.flavour);
+    for (const auto& entry : nodes_.layer) {
+      const std::string k = entry.first.Scalar();
+      if (contains(known, k) || contains(sources, k)) continue;
+      const int line = key_line(nodes_.layer, k);
+      const std::string key = dotted(nodes_.layer_path, k);
+      if (k == "unknown_threshold" || k == "origin_z") {
+        add(line, key, version() + " does not read " + k + " (a voxel_layer key); it has no effect", "remove it");
+      } else if (k == "obstacle_range" || k == "max_obstacle_height" || k == "min_obstacle_height") {
+        const char* fallback = k == "obstacle_range" ? "2.5" : k == "max_obstacle_height" ? "3.0" : "0.0";
+        add(line, key,
+            version() + " reads " + k + " per source only; this layer-level value has no effect (a source without " +
+                "its own uses " + fallback + " m)",
+            k + ": " + entry.second.as<std::string>("") + " under each source");
+      } else if (entry.second.IsMap()) {
+        add(line, key, "a mapping not named in observation_sources: STVL does not read it",
+            "add " + k + " to observation_sources, or remove it");
+      } else {
+        unknown(line, key, k, known);
+      }
+    }
+  }
+
+  void source_keys(const RosObservationSource& s) {
+    const YAML::Node node = nodes_.layer[s.name];
+    const auto& known = ros_detail::source_keys(nodes_.flavour);
+    const std::string prefix = dotted(nodes_.layer_path, s.name);
+    for (const auto& entry : node) {
+      const std::string k = entry.first.Scalar();
+      const int line = key_line(node, k);
+      const bool voxel = entry.second.IsScalar() && entry.second.as<bool>(false);
+      const std::string filter = voxel ? "filter: \"voxel\"" : "filter: \"passthrough\"";
+      if (k == "voxel_filter" && nodes_.flavour != RosFlavour::kRos1) {
+        add(line, dotted(prefix, k),
+            "ROS 2 STVL ignores voxel_filter (ROS 1 melodic's key) and applies `filter` (default passthrough); "
+            "voxel_filter: true silently has no effect (STVL issue #188: CPU use exploded)", filter);
+      } else if (k == "voxel_filter" && !node["filter"]) {
+        add(line, dotted(prefix, k),
+            "melodic-devel reads voxel_filter, noetic-devel ignores it and applies `filter` (default passthrough)",
+            "also " + filter + " for noetic");
+      } else if (!contains(known, k)) {
+        unknown(line, dotted(prefix, k), k, known);
+      }
+    }
+  }
+
+  // rclcpp types a parameter by STVL's default; an integer where a double is declared fails to load.
+  void integer_doubles(const YAML::Node& map, const std::string& prefix, const std::vector<std::string>& keys) {
+    if (nodes_.flavour != RosFlavour::kRos2) return;
+    static const std::regex integer("[-+]?[0-9]+");
+    for (const auto& k : keys) {
+      const YAML::Node value = map[k];
+      if (!value || !value.IsScalar() || !std::regex_match(value.Scalar(), integer)) continue;
+      add(key_line(map, k), dotted(prefix, k),
+          "STVL declares " + k + " a double and rclcpp (Galactic and later) rejects the integer " + value.Scalar() +
+              ": the layer fails to load",
+          k + ": " + value.Scalar() + ".0");
+    }
+  }
+
+  void layer_values() {
+    const YAML::Node& n = nodes_.layer;
+    const int fallback = nodes_.layer_line;
+    integer_doubles(n, nodes_.layer_path, stvl_double_key_names(StvlScope::kLayer, kReadByRos2));
+    const int code = layer_.decay_model_code;
+    if (code != 0 && code != 1)
+      add(line_or(n, "decay_model", fallback), dotted(nodes_.layer_path, "decay_model"),
+          "STVL treats decay_model " + std::to_string(code) +
+              " as persistent (every code but 0 and 1): voxels never expire, only frustum acceleration removes them",
+          "decay_model: 0 (linear) or 1 (exponential) for voxels to expire; -1, as STVL's README documents, if "
+          "persistence is meant");
+    if (layer_.map.voxel_decay_s < 0.0)
+      add(line_or(n, "voxel_decay", fallback), dotted(nodes_.layer_path, "voxel_decay"),
+          "voxel_decay = " + number(layer_.map.voxel_decay_s) + (n["voxel_decay"] ? "" : " (STVL's default)") +
+              ": every voxel is removed at the next update, before the costmap is built, so the layer never marks a cell",
+          "voxel_decay: 15.0 (STVL's example)");
+    if (layer_.resolution_m && std::abs(*layer_.resolution_m - layer_.map.voxel_size_m) > 1e-9)
+      add(line_or(n, "voxel_size", fallback), dotted(nodes_.layer_path, "voxel_size"),
+          "voxel_size = " + number(layer_.map.voxel_size_m) + " m differs from the costmap's resolution = " +
+              number(*layer_.resolution_m) + " m: STVL projects voxel columns onto cells of another size",
+          "voxel_size: " + number(*layer_.resolution_m));
+    const bool any_clearing = std::any_of(layer_.sources.begin(), layer_.sources.end(),
+                                          [](const RosObservationSource& s) { return s.stvl.clearing; });
+    if (!any_clearing)
+      add(line_or(n, "observation_sources", fallback), dotted(nodes_.layer_path, "observation_sources"),
+          "no source has clearing: true (STVL's default is false): voxels leave only by voxel_decay",
+          "clearing: true on the depth camera's source");
+  }
+
+  void source_values(const RosObservationSource& s, const std::vector<BoundCamera>& cameras) {
+    const YAML::Node node = nodes_.layer[s.name];
+    const std::string prefix = dotted(nodes_.layer_path, s.name);
+    const auto& v = s.stvl;
+    integer_doubles(node, prefix, stvl_double_key_names(StvlScope::kSource, kReadByRos2));
+    if (v.marking && v.max_z_m < v.obstacle_range_m)
+      add(line_or(node, "max_z", s.line), dotted(prefix, "max_z"),
+          "max_z = " + number(v.max_z_m) + " m is below obstacle_range = " + number(v.obstacle_range_m) +
+              " m: voxels marked beyond the clearing frustum never clear by decay_acceleration",
+          "max_z: " + number(v.obstacle_range_m) + " (>= obstacle_range)");
+    if (v.marking && v.min_obstacle_height_m <= 0.0)
+      add(line_or(node, "min_obstacle_height", s.line), dotted(prefix, "min_obstacle_height"),
+          "min_obstacle_height = " + number(v.min_obstacle_height_m) +
+              " m: STVL marks points at floor level, so the depth camera's floor noise becomes obstacles",
+          "min_obstacle_height: 0.05 (above the floor noise)");
+    if (v.clearing && v.decay_acceleration_per_s3 == 0.0)
+      add(line_or(node, "decay_acceleration", s.line), dotted(prefix, "decay_acceleration"),
+          "decay_acceleration = 0 on a clearing source: the frustum does not speed up decay, only voxel_decay clears",
+          "decay_acceleration: 15.0 (STVL's example)");
+    for (const auto& camera : cameras) {
+      if (camera.source != s.name) continue;
+      fov(node, s, prefix, "horizontal_fov_angle", v.horizontal_fov_rad, camera.hfov_rad);
+      fov(node, s, prefix, "vertical_fov_angle", v.vertical_fov_rad, camera.vfov_rad);
+    }
+  }
+
+  std::vector<LintFinding> take() {
+    std::stable_sort(findings_.begin(), findings_.end(),
+                     [](const LintFinding& a, const LintFinding& b) { return a.line < b.line; });
+    return std::move(findings_);
+  }
+
+ private:
+  void unknown(int line, const std::string& key, const std::string& k, const std::vector<std::string>& known) {
+    const std::string nearest = nearest_name(k, known);
+    add(line, key, version() + " does not read " + k + "; it has no effect",
+        nearest.empty() ? "remove it" : nearest + " (the nearest key STVL reads)");
+  }
+  void fov(const YAML::Node& node, const RosObservationSource& s, const std::string& prefix, const std::string& k,
+           double written_rad, double real_rad) {
+    if (!(real_rad > 0.0) || std::abs(written_rad - real_rad) <= kFovTolerance * real_rad) return;
+    add(line_or(node, k, s.line), dotted(prefix, k),
+        k + " = " + number(written_rad) + " rad is more than 5 % off the bound camera's " + number(real_rad) +
+            " rad: STVL's clearing frustum " + (written_rad > real_rad ? "clears voxels the camera cannot see"
+                                                                       : "leaves the edges of the view uncleared"),
+        k + ": " + number(real_rad));
+  }
+
+  const RosStvlLayer& layer_;
+  const ros_detail::LayerNodes& nodes_;
+  std::vector<LintFinding> findings_;
+};
+
+}  // namespace
+
+std::vector<LintFinding> lint_ros_stvl_layer(const std::string& path, const std::string& layer,
+                                             const std::string& costmap, const std::vector<BoundCamera>& cameras) {
+  const ros_detail::ReadLayer read = ros_detail::read_layer(path, layer, costmap, true);
+  Linter linter(read);
+  linter.layer_keys();
+  linter.layer_values();
+  for (const auto& s : read.layer.sources) {
+    linter.source_keys(s);
+    linter.source_values(s, cameras);
+  }
+  return linter.take();
+}
+
+std::string format_finding(const LintFinding& f) {
+  return f.file + ":" + std::to_string(f.line) + ": " + f.key + ": " + f.what_stvl_does +
+         "; write instead: " + f.write_instead;
+}
+
+}  // namespace stvl::config

@@ -1,0 +1,54 @@
+#pragma once
+// Shared by ros_params.cpp and ros_lint.cpp (not a public header): where the layer sits in the file, and the
+// keys each ROS version of STVL reads (spatio_temporal_voxel_layer.cpp, onInitialize(), on the ros2 and
+// noetic-devel / melodic-devel branches).
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+#include <vector>
+
+#include "config/ros_params.hpp"
+
+namespace stvl::config::ros_detail {
+
+// pluginlib's lookup name (and the class name pluginlib also accepts).
+inline const char* const kStvlPlugin = "spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer";
+inline const char* const kStvlClass = "spatio_temporal_voxel_layer::SpatioTemporalVoxelLayer";
+
+struct LayerNodes {
+  RosFlavour flavour = RosFlavour::kBare;
+  std::string layer_name, costmap_name;
+  YAML::Node layer;          // the layer's mapping
+  std::string layer_path;    // dotted prefix of the layer's keys in messages ("stvl_layer"; "" for a bare file)
+  int layer_line = 1;        // line of the layer's own key (1 for a bare file)
+  YAML::Node costmap;        // the costmap's parameters (null node for a bare file)
+  std::string costmap_path;  // "local_costmap"
+  // ROS 1's searchParam() chain above the layer (obstacle_range): the costmap's mapping, then the root.
+  std::vector<YAML::Node> search_chain;
+};
+
+// Finds the layer (see load_ros_stvl_layer); throws std::invalid_argument.
+LayerNodes locate_layer(const YAML::Node& root, const std::string& file, const std::string& layer,
+                        const std::string& costmap);
+
+// 1-based line of `key` in mapping `map`; 0 when absent (or `map` is not a mapping).
+int key_line(const YAML::Node& map, const std::string& key);
+// "prefix.key", or "key" for an empty prefix.
+std::string dotted(const std::string& prefix, const std::string& key);
+
+// The layer-level and per-source keys STVL reads in that ROS version (ROS 2's layer list includes nav2's
+// `plugin`; ROS 1's includes obstacle_range, found by searchParam, and both filter (noetic) and voxel_filter
+// (melodic)).
+const std::vector<std::string>& layer_keys(RosFlavour flavour);
+const std::vector<std::string>& source_keys(RosFlavour flavour);
+
+struct ReadLayer {
+  RosStvlLayer layer;
+  LayerNodes nodes;
+};
+// load_ros_stvl_layer(), except that with allow_negative_decay a voxel_decay < 0 is returned as read (lint
+// reports it) instead of thrown.
+ReadLayer read_layer(const std::string& path, const std::string& layer, const std::string& costmap,
+                     bool allow_negative_decay);
+
+}  // namespace stvl::config::ros_detail

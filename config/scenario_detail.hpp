@@ -1,0 +1,90 @@
+#pragma once
+// Shared by scenario.cpp and scenario_sensors.cpp (not a public header): the reader's helpers that blame a file,
+// line and key, and the sections scenario_sensors.cpp reads.
+#include <cctype>
+#include <cmath>
+#include <initializer_list>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "config/scenario.hpp"
+#include "config/yaml_reader.hpp"
+
+namespace stvl::config::scenario_detail {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+// A field a module's validate() may name in its message, and the YAML key (in `map`) that sets it.
+struct Blame {
+  const char* word;
+  YamlMap* map;
+  const char* key;
+};
+
+inline std::size_t find_word(const std::string& text, const std::string& word) {
+  const auto is_name_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (auto pos = text.find(word); pos != std::string::npos; pos = text.find(word, pos + 1)) {
+    const bool starts = pos == 0 || !is_name_char(text[pos - 1]);
+    const bool ends = pos + word.size() == text.size() || !is_name_char(text[pos + word.size()]);
+    if (starts && ends) return pos;
+  }
+  return std::string::npos;
+}
+
+// Runs a module's validation; its std::invalid_argument is rethrown naming the file, line and key of the field
+// mentioned first in the message (the first entry of `blame` when none is).
+template <typename F>
+void validate_keys(const std::vector<Blame>& blame, F&& validate) {
+  try {
+    validate();
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    const Blame* culprit = &blame.front();
+    std::size_t first = std::string::npos;
+    for (const auto& b : blame) {
+      const std::size_t pos = find_word(message, b.word);
+      if (pos < first) first = pos, culprit = &b;
+    }
+    YamlMap& map = *culprit->map;
+    map.fail(map.has(culprit->key) ? map.raw(culprit->key) : YAML::Node(), culprit->key, message);
+  }
+}
+
+template <typename T>
+void require_range(YamlMap& map, const std::string& key, const T& value, bool ok, const std::string& rule) {
+  if (ok) return;
+  std::ostringstream text;
+  text << rule << ", got " << value;
+  map.fail(map.has(key) ? map.raw(key) : YAML::Node(), key, text.str());
+}
+
+template <typename T>
+void get_optional(YamlMap& map, const std::string& key, std::optional<T>& value) {
+  if (!map.has(key)) return;
+  T v{};
+  map.get(key, v);
+  value = v;
+}
+
+inline Eigen::Vector2d to_point2(const std::vector<double>& xy, YamlMap& map, const std::string& key) {
+  if (xy.size() != 2) map.fail(map.raw(key), key, "expected [x, y] points");
+  return {xy[0], xy[1]};
+}
+
+inline std::string fixed_text(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+// scenario_sensors.cpp: a camera's sensor keys (preset, intrinsics, range, rate, GL, noise, edge filter), its
+// outages, the top-level `camera`, robot.cameras (their observation overrides kept in `overrides`), `filter`.
+void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c);
+void read_outages(YamlMap& camera, pipeline::CameraConfig& c, double duration_s);
+void read_camera(YamlMap camera, Scenario& s);
+void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides);
+void read_filter(YamlMap filter, Scenario& s);
+
+}  // namespace stvl::config::scenario_detail

@@ -1,0 +1,198 @@
+#include "evaluation/checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace stvl::evaluation {
+
+std::string fixed(double value, int decimals) {
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(decimals) << value;
+  return text.str();
+}
+
+namespace {
+
+CheckResult at_least(const char* name, const char* what, double value, double min) {
+  return {name, value >= min, std::string(what) + " " + fixed(value, 4) + ", required >= " + fixed(min, 4)};
+}
+
+}  // namespace
+
+std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e,
+                                           const std::vector<std::string>& camera_names) {
+  std::vector<CheckResult> r;
+  const auto& mean = e.mean;
+  if (c.f1_3d_min) r.push_back(at_least("f1_3d", "mean 3D F1", mean.f1, *c.f1_3d_min));
+  if (c.iou_3d_min) r.push_back(at_least("iou_3d", "mean 3D IoU", mean.iou, *c.iou_3d_min));
+  if (c.costmap_precision_min)
+    r.push_back(at_least("costmap_precision", "mean costmap precision", mean.costmap_precision, *c.costmap_precision_min));
+  if (c.costmap_recall_min)
+    r.push_back(at_least("costmap_recall", "mean costmap recall", mean.costmap_recall, *c.costmap_recall_min));
+  if (c.camera_recall_min) {
+    const auto& recalls = mean.camera_recall;
+    std::size_t lowest = 0;
+    for (std::size_t i = 1; i < recalls.size(); ++i)
+      if (recalls[i] < recalls[lowest]) lowest = i;
+    const std::string name = lowest < camera_names.size() ? camera_names[lowest] : "camera " + std::to_string(lowest);
+    r.push_back(recalls.empty() ? CheckResult{"camera_recall", false, "no camera was evaluated"}
+                                : at_least("camera_recall", ("lowest mean recall of one camera (" + name + ")").c_str(),
+                                           recalls[lowest], *c.camera_recall_min));
+  }
+  if (c.all_obstacles_detected) {
+    std::string missed;
+    int observed = 0;
+    for (const auto& o : e.obstacles) {
+      observed += o.observed;
+      if (o.observed && !o.detected) missed += (missed.empty() ? "" : ", ") + o.name;
+    }
+    r.push_back({"all_obstacles_detected", missed.empty() && observed > 0,
+                 observed == 0      ? "no obstacle was observed"
+                 : missed.empty() ? std::to_string(observed) + " observed obstacles all detected"
+                                  : "missed: " + missed});
+  }
+  if (c.phantom_obstacles_max)
+    r.push_back({"phantom_obstacles", e.final.phantom_obstacles <= *c.phantom_obstacles_max,
+                 std::to_string(e.final.phantom_obstacles) + " phantom obstacles in the final costmap, allowed " +
+                     std::to_string(*c.phantom_obstacles_max)});
+  if (c.costmap_ghosts_max) {
+    const std::size_t ghosts = mean.max_lethal_without_voxels, missing = mean.max_columns_without_lethal;
+    const auto allowed = static_cast<std::size_t>(*c.costmap_ghosts_max);
+    r.push_back({"costmap_ghosts", ghosts <= allowed && missing <= allowed,
+                 "at worst " + std::to_string(ghosts) + " lethal cells without voxels and " + std::to_string(missing) +
+                     " columns of voxels without a lethal cell at one evaluation, allowed " + std::to_string(allowed)});
+  }
+  if (c.self_lethal_cells_max) {
+    const auto allowed = static_cast<std::size_t>(*c.self_lethal_cells_max);
+    r.push_back({"self_lethal_cells", mean.max_self_lethal <= allowed,
+                 "at worst " + std::to_string(mean.max_self_lethal) + " lethal cells on the robot (" +
+                     std::to_string(mean.max_self_inside) + " inside its footprint, " +
+                     std::to_string(mean.max_self_ring) + " in the ring) at one evaluation, allowed " +
+                     std::to_string(allowed)});
+  }
+  if (c.clearing_latency_max_s) {
+    const auto& cl = e.clearing;
+    const bool ok = cl.stale_voxels_seen_through > 0 && cl.not_cleared == 0 && cl.max_latency_s <= *c.clearing_latency_max_s;
+    r.push_back({"clearing_latency", ok,
+                 cl.stale_voxels_seen_through == 0
+                     ? "no stale voxel of a moved body was seen through"
+                     : "max latency " + fixed(cl.max_latency_s, 3) + " s, required <= " + fixed(*c.clearing_latency_max_s, 3) +
+                           " s (" + std::to_string(cl.not_cleared) + " never cleared)"});
+  }
+  if (c.accuracy_p90_max_m)
+    r.push_back({"accuracy_p90", e.accuracy.p90_m <= *c.accuracy_p90_max_m,
+                 "p90 distance to the true surface " + fixed(e.accuracy.p90_m, 4) + " m, required <= " +
+                     fixed(*c.accuracy_p90_max_m, 4) + " m"});
+  if (c.hidden_false_clears_max) {
+    const auto& o = e.occlusion;
+    r.push_back({"hidden_false_clears", o.hidden_false_clears <= static_cast<std::size_t>(*c.hidden_false_clears_max),
+                 std::to_string(o.hidden_false_clears) + " true voxels cleared while the camera did not see them" +
+                     (o.first_s ? " (first at t = " + fixed(*o.first_s, 2) + " s)" : "") + ", allowed " +
+                     std::to_string(*c.hidden_false_clears_max)});
+  }
+  return r;
+}
+
+std::vector<CheckResult> outage_checks(const ChecksConfig& c, const std::vector<evaluation::OutageResult>& outages,
+                                       const std::vector<std::string>& camera_names) {
+  std::vector<CheckResult> r;
+  const auto name_of = [&](std::size_t i) {
+    return i < camera_names.size() ? camera_names[i] : "camera " + std::to_string(i);
+  };
+  if (c.outage_cleared_max) {
+    std::size_t cleared = 0, watched = 0;
+    for (const auto& o : outages) cleared += o.cleared, watched += o.only_seen_voxels;
+    r.push_back({"outage_cleared", !outages.empty() && cleared <= static_cast<std::size_t>(*c.outage_cleared_max),
+                 outages.empty() ? "no camera has an outage"
+                                 : std::to_string(cleared) + " of " + std::to_string(watched) +
+                                       " true voxels only the stopped cameras had seen left the map during their "
+                                       "outages, allowed " + std::to_string(*c.outage_cleared_max)});
+  }
+  if (c.outage_resume_max_s) {
+    std::string late;
+    for (const auto& o : outages) {
+      const double after_s = o.recall_resumed_s - o.window.to_s;
+      if (o.recall_resumed_s < 0 || after_s > *c.outage_resume_max_s)
+        late += (late.empty() ? "" : "; ") + name_of(o.camera_index) + " after [" + fixed(o.window.from_s, 2) + ", " +
+                fixed(o.window.to_s, 2) + ") s: " +
+                (o.recall_resumed_s < 0 ? std::string("recall never back") : "back after " + fixed(after_s, 2) + " s");
+    }
+    r.push_back({"outage_resume", !outages.empty() && late.empty(),
+                 outages.empty() ? "no camera has an outage"
+                 : late.empty()  ? "every stopped camera's recall back to 90 % of its value before within " +
+                                      fixed(*c.outage_resume_max_s, 2) + " s of the outage's end"
+                                 : late + " (allowed " + fixed(*c.outage_resume_max_s, 2) + " s)"});
+  }
+  return r;
+}
+
+std::vector<CheckResult> soak_checks(const ChecksConfig& c, const SoakSeries& soak) {
+  std::vector<CheckResult> r;
+  if (!c.soak_rss_growth_max && !c.soak_map_ms_growth_max) return r;
+  const auto& samples = soak.samples;
+  // The sample that closes the first lap: the first one at or after its end.
+  std::size_t end_of_lap = samples.size();
+  if (soak.first_lap_end_s)
+    for (std::size_t i = 0; i < samples.size() && end_of_lap == samples.size(); ++i)
+      if (samples[i].t_s + 1e-9 >= *soak.first_lap_end_s) end_of_lap = i;
+  const std::string too_short =
+      !soak.first_lap_end_s ? "the first lap was not completed (" + std::to_string(samples.size()) + " samples)"
+                            : "no sample after the one closing the first lap (t = " + fixed(*soak.first_lap_end_s, 1) + " s)";
+  const bool comparable = end_of_lap + 1 < samples.size();
+  const auto percent = [](double fraction) { return fixed(100.0 * fraction, 1) + " %"; };
+  if (c.soak_rss_growth_max) {
+    if (!comparable) {
+      r.push_back({"soak_rss_growth", false, too_short});
+    } else {
+      const SoakSample& base = samples[end_of_lap];
+      const auto peak = std::max_element(samples.begin() + static_cast<std::ptrdiff_t>(end_of_lap) + 1, samples.end(),
+                                         [](const SoakSample& a, const SoakSample& b) { return a.rss_mb < b.rss_mb; });
+      const double growth = base.rss_mb > 0 ? peak->rss_mb / base.rss_mb - 1.0 : INFINITY;
+      r.push_back({"soak_rss_growth", growth <= *c.soak_rss_growth_max,
+                   "resident memory at most " + fixed(peak->rss_mb, 1) + " MiB (t = " + fixed(peak->t_s, 0) + " s) vs " +
+                       fixed(base.rss_mb, 1) + " MiB at the end of the first lap (t = " + fixed(base.t_s, 0) +
+                       " s): " + percent(growth) + ", allowed " + percent(*c.soak_rss_growth_max)});
+    }
+  }
+  if (c.soak_map_ms_growth_max) {
+    // As many of the last samples as one lap spans, all after the sample that closes the first lap.
+    const std::size_t window = soak.first_lap_end_s && soak.sample_every_s > 0
+                                   ? std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(*soak.first_lap_end_s / soak.sample_every_s - 1e-9)))
+                                   : 1;
+    if (!comparable) {
+      r.push_back({"soak_map_ms_growth", false, too_short});
+    } else if (samples.size() - end_of_lap - 1 < window) {
+      r.push_back({"soak_map_ms_growth", false,
+                   "fewer samples after the first lap (" + std::to_string(samples.size() - end_of_lap - 1) +
+                       ") than one lap spans (" + std::to_string(window) + ")"});
+    } else {
+      // CPU time: wall-clock ms of the same frames swing by a factor 2 with the load of a shared machine.
+      double cpu = 0.0, wall = 0.0;
+      for (std::size_t i = samples.size() - window; i < samples.size(); ++i) cpu += samples[i].map_cpu_ms, wall += samples[i].map_ms;
+      cpu /= static_cast<double>(window), wall /= static_cast<double>(window);
+      const double growth = soak.first_lap_map_cpu_ms > 0 ? cpu / soak.first_lap_map_cpu_ms - 1.0 : INFINITY;
+      r.push_back({"soak_map_ms_growth", growth <= *c.soak_map_ms_growth_max,
+                   "map cost " + fixed(cpu, 3) + " ms CPU per frame over the last " + std::to_string(window) +
+                       " samples vs " + fixed(soak.first_lap_map_cpu_ms, 3) + " ms over the first lap: " + percent(growth) +
+                       ", allowed " + percent(*c.soak_map_ms_growth_max) + " (wall clock " + fixed(wall, 3) + " vs " +
+                       fixed(soak.first_lap_map_ms, 3) + " ms)"});
+    }
+  }
+  return r;
+}
+
+CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad) {
+  if (upright) return {"robot_upright", true, "the robot stayed upright on the floor"};
+  return {"robot_upright", false,
+          "the robot fell over or left the world at t = " + fixed(time_s, 2) + " s (tilt " + fixed(tilt_rad, 2) + " rad)"};
+}
+
+CheckResult path_completed_check(bool completed, double time_s, double duration_s) {
+  return {"path_completed", completed,
+          completed ? "reached the end of the path at t = " + fixed(time_s, 2) + " s"
+                    : "did not reach the end of the path within " + fixed(duration_s, 1) + " s"};
+}
+
+}  // namespace stvl::evaluation

@@ -1,0 +1,71 @@
+#pragma once
+// The pass/fail checks of a scenario, from its thresholds and the evaluation's figures.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "evaluation/evaluator.hpp"
+#include "evaluation/outage.hpp"
+#include "evaluation/soak.hpp"
+
+namespace stvl::evaluation {
+
+// Thresholds of the pass/fail checks; a check whose threshold is absent is not run.
+struct ChecksConfig {
+  std::optional<double> f1_3d_min;
+  std::optional<double> iou_3d_min;
+  std::optional<double> costmap_precision_min;
+  std::optional<double> costmap_recall_min;
+  std::optional<double> camera_recall_min;  // every camera's mean recall (over the truth voxels it saw)
+  bool all_obstacles_detected = false;
+  std::optional<int> phantom_obstacles_max;
+  std::optional<int> costmap_ghosts_max;  // the projection guard's worst count (either kind) at any evaluation
+  std::optional<double> clearing_latency_max_s;
+  std::optional<double> accuracy_p90_max_m;
+  std::optional<int> hidden_false_clears_max;  // evaluation.failure_modes.occlusion.hidden_false_clears
+
+  std::optional<int> self_lethal_cells_max;  // lethal cells on the robot (footprint + ring) at any evaluation
+  // Camera outages (evaluation.failure_modes.outage): true voxels only the stopped camera had seen that left the
+  // map during its outages, summed over them; and the longest time from an outage's end until that camera's
+  // recall is back to 90 % of its value before the outage.
+  std::optional<int> outage_cleared_max;
+  std::optional<double> outage_resume_max_s;
+
+  // Soak (issue #270; need evaluation.soak_sample_every_s): growth allowed as a fraction of the first lap's.
+  std::optional<double> soak_rss_growth_max;     // resident memory after the first lap vs at its end
+  std::optional<double> soak_map_ms_growth_max;  // per-frame map cost of the last lap's samples vs the first lap
+};
+
+
+struct CheckResult {
+  std::string name;
+  bool passed = false;
+  std::string message;  // value and threshold, or why it failed
+};
+
+// One result per threshold the scenario sets (f1_3d, iou_3d, costmap_precision, costmap_recall, camera_recall,
+// all_obstacles_detected, phantom_obstacles, costmap_ghosts, clearing_latency, accuracy_p90, hidden_false_clears,
+// self_lethal_cells), in that order. camera_names name the cameras by index in messages.
+std::vector<CheckResult> evaluation_checks(const ChecksConfig& checks, const evaluation::EvaluationSummary& summary,
+                                           const std::vector<std::string>& camera_names = {});
+
+// outage_cleared (the only-seen voxels that left the map during outages, summed) and outage_resume (every
+// outage's camera recall back to 90 % of its value before, within the threshold after the outage's end), for
+// the thresholds the scenario sets; a threshold with no outage in the scenario fails.
+std::vector<CheckResult> outage_checks(const ChecksConfig& checks, const std::vector<evaluation::OutageResult>& outages,
+                                       const std::vector<std::string>& camera_names = {});
+
+// soak_rss_growth (max resident memory over the samples after the first lap vs the sample at its end) and
+// soak_map_ms_growth (mean per-frame map cost of the last samples spanning one lap vs the first lap's), one
+// result per threshold set; each fails, saying why, when the run was too short to compare.
+std::vector<CheckResult> soak_checks(const ChecksConfig& checks, const SoakSeries& soak);
+
+// robot_upright: the robot fell over or left the world at fell_at_s (when it did).
+CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad);
+// path_completed: the path's end reached at time_s, or not within duration_s.
+CheckResult path_completed_check(bool completed, double time_s, double duration_s);
+
+// `value` with `decimals` digits after the point ("0.9871").
+std::string fixed(double value, int decimals);
+
+}  // namespace stvl::evaluation

@@ -1,0 +1,96 @@
+#pragma once
+// ROS 1 bag (format 2.0) export of a run. No ROS headers here: rosbag lives behind the pimpl in bag_writer.cpp.
+//
+// Times are simulated seconds (t_s >= 0). rosbag refuses record times below ros::TIME_MIN (1 ns), and a zero
+// header stamp means "latest" to tf, so every header stamp, record time and /clock value is
+// t_s + kBagTimeOffset_s. Frames follow REP-105: map -> odom -> base_link -> camera_link ->
+// camera_depth_optical_frame.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mapping/costmap.hpp"
+#include "sensors/camera.hpp"
+
+namespace stvl::recording {
+
+inline constexpr double kBagTimeOffset_s = 1.0;
+
+inline constexpr const char* kMapFrame = "map";
+inline constexpr const char* kOdomFrame = "odom";
+inline constexpr const char* kBaseFrame = "base_link";
+inline constexpr const char* kCameraLinkFrame = "camera_link";
+inline constexpr const char* kCameraOpticalFrame = "camera_depth_optical_frame";
+// A camera's frames and topics by its name: <camera>_link, <camera>_depth_optical_frame, /<camera>/<what>
+// ("camera" gives the names above and /camera/depth/...).
+inline std::string camera_link_frame(const std::string& camera) { return camera + "_link"; }
+inline std::string camera_optical_frame(const std::string& camera) { return camera + "_depth_optical_frame"; }
+inline std::string camera_topic(const std::string& camera, const std::string& what) { return "/" + camera + "/" + what; }
+
+enum class BagCompression { kNone, kBz2, kLz4 };
+
+// nav2_costmap_2d's cost -> OccupancyGrid value table: free 0 -> 0, lethal 254 -> 100, inscribed 253 -> 99,
+// unknown 255 -> -1, and 1..252 -> 1 + 97 (c - 1) / 251.
+std::vector<std::int8_t> occupancy_values(const mapping::Costmap2D& costmap);
+
+// "none", "bz2" or "lz4"; throws std::invalid_argument otherwise.
+BagCompression parse_bag_compression(const std::string& name);
+std::string to_string(BagCompression compression);
+
+class BagWriter {
+ public:
+  // Writes to path + ".active"; throws std::runtime_error if it cannot be created.
+  BagWriter(std::string path, BagCompression compression);
+  // Without close() (an exception, an interruption) only path + ".active" is left, never path.
+  ~BagWriter();
+  BagWriter(const BagWriter&) = delete;
+  BagWriter& operator=(const BagWriter&) = delete;
+
+  // /clock rosgraph_msgs/Clock.
+  void write_clock(double t_s);
+  // /tf: map -> odom and odom -> base_link in one tf2_msgs/TFMessage.
+  void write_tf(double t_s, const Eigen::Isometry3d& T_map_odom, const Eigen::Isometry3d& T_odom_base);
+  // /tf_static (latched), stamped at t = 0, one message for every camera: base_link -> <camera>_link ->
+  // <camera>_depth_optical_frame.
+  struct CameraFrames {
+    std::string camera = "camera";
+    Eigen::Isometry3d T_base_camera_link = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_camera_link_optical = Eigen::Isometry3d::Identity();
+  };
+  void write_tf_static(const std::vector<CameraFrames>& cameras);
+  void write_tf_static(const Eigen::Isometry3d& T_base_camera_link, const Eigen::Isometry3d& T_camera_link_optical) {
+    write_tf_static({{"camera", T_base_camera_link, T_camera_link_optical}});
+  }
+  // /odom nav_msgs/Odometry, frame odom, child base_link; twist in base_link (v along x, omega about z).
+  void write_odometry(double t_s, const Eigen::Isometry3d& T_odom_base, double v_mps, double omega_radps);
+  // /ground_truth/pose geometry_msgs/PoseStamped, frame map.
+  void write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_map_base);
+  // /<camera>/depth/image_rect_raw 16UC1 (mm, 0 = invalid; sensors::depth_to_millimetres), row-major top row
+  // first, frame <camera>_depth_optical_frame. depth_mm.size() must be the intrinsics' width * height.
+  void write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
+                         const std::vector<std::uint16_t>& depth_mm, const std::string& camera = "camera");
+  // /<camera>/depth/camera_info: plumb_bob with zero distortion, K, R = I, P = [K | 0].
+  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics, const std::string& camera = "camera");
+  // sensor_msgs/PointCloud2 with fields x y z float32, unorganized (height 1); is_dense when all finite.
+  void write_points(const std::string& topic, double t_s, const std::string& frame_id,
+                    const Eigen::Matrix3Xf& points, bool latched = false);
+  // /stvl/costmap nav_msgs/OccupancyGrid, frame map, row-major from the origin cell; costs translated as
+  // nav2's costmap publisher does (occupancy_values()).
+  void write_costmap(double t_s, const mapping::Costmap2D& costmap);
+
+  // Writes the index, closes the file and renames path.active -> path. Further writes throw.
+  void close();
+  // Bytes in the file so far (the final size after close()).
+  std::uint64_t bytes_written() const;
+  const std::string& path() const { return path_; }
+
+ private:
+  struct Impl;
+  std::string path_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace stvl::recording

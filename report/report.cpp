@@ -1,0 +1,476 @@
+#include "report/report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/markup.hpp"
+#include "report/raster.hpp"
+#include "report/report_page.hpp"
+
+namespace stvl::report {
+
+using config::Scenario;
+using evaluation::fixed;
+
+nlohmann::json stage_stats(std::vector<double> ms) {
+  if (ms.empty()) return {{"mean", 0.0}, {"p50", 0.0}, {"p95", 0.0}};
+  const double mean = mean_of(ms);
+  std::sort(ms.begin(), ms.end());
+  const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * (ms.size() - 1) + 0.5))]; };
+  return {{"mean", mean}, {"p50", at(0.5)}, {"p95", at(0.95)}};
+}
+
+namespace {
+
+nlohmann::json snapshot_json(const evaluation::EvaluationSnapshot& s) {
+  return {{"time_s", s.time_s},
+          {"mapped_voxels", s.mapped_voxels},
+          {"observed_truth_voxels", s.observed_truth_voxels},
+          {"precision", s.precision},
+          {"recall", s.recall},
+          {"f1", s.f1},
+          {"iou", s.iou},
+          {"lethal_cells", s.lethal_cells},
+          {"costmap_precision", s.costmap_precision},
+          {"costmap_recall", s.costmap_recall},
+          {"phantom_obstacles", s.phantom_obstacles},
+          {"lethal_without_voxels", s.projection.lethal_without_voxels},
+          {"columns_without_lethal", s.projection.columns_without_lethal},
+          {"self_lethal_inside", s.self_marking.inside},
+          {"self_lethal_ring", s.self_marking.ring}};
+}
+
+// The means over the run; phantom_obstacles is the mean count, max_phantom_obstacles the most at one snapshot.
+nlohmann::json mean_json(const evaluation::EvaluationMean& m) {
+  return {{"time_s", m.time_s},
+          {"snapshots", m.snapshots},
+          {"mapped_voxels", m.mapped_voxels},
+          {"observed_truth_voxels", m.observed_truth_voxels},
+          {"precision", m.precision},
+          {"recall", m.recall},
+          {"f1", m.f1},
+          {"iou", m.iou},
+          {"lethal_cells", m.lethal_cells},
+          {"costmap_precision", m.costmap_precision},
+          {"costmap_recall", m.costmap_recall},
+          {"phantom_obstacles", m.phantom_obstacles},
+          {"max_phantom_obstacles", m.max_phantom_obstacles},
+          {"max_lethal_without_voxels", m.max_lethal_without_voxels},
+          {"max_columns_without_lethal", m.max_columns_without_lethal}};
+}
+
+// Totals over the run in ms, and per frame.
+nlohmann::json phases_json(const evaluation::PhaseTimes& p) {
+  const double frames = std::max<double>(1.0, static_cast<double>(p.frames));
+  nlohmann::json j = {{"frames", p.frames}, {"evaluations", p.evaluations}};
+  for (const auto& [name, ms] : {std::pair<const char*, double>{"observe", p.observe_ms}, {"clearing", p.clearing_ms},
+                                 {"truth_update", p.truth_ms}, {"mapped", p.mapped_ms}, {"observed", p.observed_ms},
+                                 {"costmap", p.costmap_ms}, {"phantoms", p.phantoms_ms}})
+    j[name] = {{"total", ms}, {"per_frame", ms / frames}};
+  return j;
+}
+
+// The final snapshot also says where its phantoms are.
+nlohmann::json final_json(const evaluation::EvaluationSnapshot& s) {
+  nlohmann::json j = snapshot_json(s);
+  j["phantoms"] = nlohmann::json::array();
+  for (const evaluation::Phantom& p : s.phantoms) j["phantoms"].push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
+  return j;
+}
+
+RgbImage top_down_image(const RunResult& r) {
+  const auto& td = r.top_down;
+  Eigen::AlignedBox2d bounds = td.bounds_W;
+  for (const auto& p : r.path_W) bounds.extend(p);
+  if (bounds.isEmpty()) bounds = Eigen::AlignedBox2d(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1));
+  const int cells_x = static_cast<int>(std::ceil(bounds.sizes().x() / td.cell_m)) + 2;
+  const int cells_y = static_cast<int>(std::ceil(bounds.sizes().y() / td.cell_m)) + 2;
+  const int scale = std::max(1, std::min(8, 1800 / std::max(cells_x, cells_y)));
+  RgbImage image(std::max(1, cells_x * scale), std::max(1, cells_y * scale));
+  const auto px = [&](double x) { return static_cast<int>((x - bounds.min().x()) / td.cell_m * scale) + scale; };
+  const auto py = [&](double y) { return image.height() - 1 - (static_cast<int>((y - bounds.min().y()) / td.cell_m * scale) + scale); };
+  const auto paint = [&](const std::vector<stvl::CellKey>& cells, Rgb color) {
+    for (const auto& c : cells) {
+      const int x = px(c.x * td.cell_m), y = py((c.y + 1) * td.cell_m);
+      image.fill_rect(x, y, x + scale - 1, y + scale - 1, color);
+    }
+  };
+  paint(td.truth, {190, 190, 190});
+  paint(td.false_negative, {40, 90, 230});
+  paint(td.true_positive, {30, 160, 60});
+  paint(td.false_positive, {220, 40, 40});
+  for (std::size_t i = 1; i < r.path_W.size(); ++i)
+    image.line(px(r.path_W[i - 1].x()), py(r.path_W[i - 1].y()), px(r.path_W[i].x()), py(r.path_W[i].y()), {0, 0, 0});
+  return image;
+}
+
+nlohmann::json camera_list_json(const Scenario& s) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& c : s.pipeline.cameras) {
+    nlohmann::json sources = nlohmann::json::array();
+    for (const auto& source : c.sources)
+      sources.push_back({{"name", source.name}, {"marking", source.params.marking}, {"clearing", source.params.clearing}});
+    list.push_back({{"name", c.name}, {"width", c.intrinsics.width}, {"height", c.intrinsics.height},
+                    {"rate_hz", c.intrinsics.rate_hz}, {"noise", c.noise.enabled}, {"sources", sources}});
+  }
+  return list;
+}
+
+// Every leaf under `j` as "a.b[2].c" -> value text, in the document's order.
+void flatten(const nlohmann::json& j, const std::string& path, std::vector<std::pair<std::string, std::string>>& out) {
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) flatten(value, path.empty() ? key : path + "." + key, out);
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) flatten(j[i], path + "[" + std::to_string(i) + "]", out);
+    if (j.empty()) out.emplace_back(path, "(none)");
+  } else {
+    out.emplace_back(path, j.is_string() ? j.get<std::string>() : j.dump());
+  }
+}
+
+// evaluation.failure_modes.occlusion: occluded obstacles erased (STVL #134); null times: never.
+nlohmann::json occlusion_json(const evaluation::OcclusionResult& o) {
+  const auto time = [](const std::optional<double>& t) { return t ? nlohmann::json(*t) : nlohmann::json(); };
+  nlohmann::json bodies = nlohmann::json::array();
+  for (const auto& b : o.bodies)
+    bodies.push_back({{"name", b.name}, {"hidden_false_clears", b.hidden_false_clears}, {"first_s", b.first_s},
+                      {"last_s", b.last_s}, {"vanished_s", time(b.vanished_s)}});
+  return {{"hidden_false_clears", o.hidden_false_clears}, {"behind_surface", o.behind_surface},
+          {"out_of_view", o.out_of_view}, {"first_s", time(o.first_s)}, {"bodies", bodies}};
+}
+
+// The robot marking itself (STVL issue #214): lethal cells inside its footprint and in the ring around it.
+nlohmann::json self_marking_json(const RunResult& r) {
+  const auto& map = r.scenario.pipeline.map;
+  const auto& e = r.evaluation;
+  return {{"footprint_points", map.footprint_B.size()},
+          {"update_footprint_enabled", map.update_footprint_enabled},
+          {"ring_m", evaluation_config(r.scenario).self_ring_m},
+          {"max_inside", e.mean.max_self_inside},
+          {"max_ring", e.mean.max_self_ring},
+          {"max_self_lethal_cells", e.mean.max_self_lethal},
+          {"final_inside", e.final.self_marking.inside},
+          {"final_ring", e.final.self_marking.ring},
+          {"clear_footprint_voxels_below_m", map.footprint_clearing_height_m},
+          {"footprint_voxels_cleared", r.footprint_voxels_cleared}};
+}
+
+// evaluation.failure_modes.outage: per camera its outages (frames taken inside, the only-seen true voxels that
+// left the map, when it marked and when its recall came back) and per source STVL's staleness and re-applied
+// readings. Times in seconds of simulated time; -1 for "never".
+nlohmann::json outage_json(const RunResult& r) {
+  nlohmann::json cameras = nlohmann::json::array();
+  for (std::size_t c = 0; c < r.scenario.pipeline.cameras.size(); ++c) {
+    nlohmann::json outages = nlohmann::json::array(), sources = nlohmann::json::array();
+    for (const auto& o : r.outages) {
+      if (o.camera_index != c) continue;
+      outages.push_back({{"from_s", o.window.from_s}, {"to_s", o.window.to_s},
+                         {"frames_in_window", o.frames_in_window}, {"only_seen_voxels", o.only_seen_voxels},
+                         {"cleared", o.cleared}, {"first_cleared_s", o.first_cleared_s},
+                         {"first_marking_frame_s", o.first_marking_frame_s}, {"recall_before", o.recall_before},
+                         {"recall_resumed_s", o.recall_resumed_s},
+                         {"resume_fraction", evaluation::OutageResult::kResumeFraction}});
+    }
+    for (const auto& st : r.sources) {
+      if (st.camera_index != c) continue;
+      nlohmann::json spans = nlohmann::json::array();
+      double stale_s = 0.0;
+      for (const auto& span : st.stale) {
+        spans.push_back({{"from_s", span.from_s}, {"to_s", span.to_s}});
+        stale_s += span.to_s - span.from_s;
+      }
+      sources.push_back({{"source", st.source}, {"expected_update_rate_s", st.expected_update_rate_s},
+                         {"first_stale_s", st.stale.empty() ? -1.0 : st.stale.front().from_s},
+                         {"stale_s", stale_s}, {"stale_spans", spans},
+                         {"reapplied_readings", st.reapplied_readings}, {"max_reapplied_age_s", st.max_reapplied_age_s},
+                         {"reapplied_max_distance_m", st.reapplied_max_distance_m}});
+    }
+    cameras.push_back({{"name", r.scenario.pipeline.cameras[c].name},
+                       {"skipped_frames", c < r.skipped_frames.size() ? r.skipped_frames[c] : 0},
+                       {"outages", outages}, {"sources", sources}});
+  }
+  return {{"cameras", cameras}};
+}
+
+}  // namespace
+
+// STVL's known failure modes as this run measured them: the figures every run has (phantoms, rays' false clears,
+// the projection guard) and every figure under evaluation.failure_modes.
+std::string failure_modes_html(const nlohmann::json& metrics) {
+  const nlohmann::json& e = metrics.at("evaluation");
+  std::ostringstream h;
+  h << "<h2>Failure modes</h2><p>STVL's known failure modes as this run measured them against truth (the table in "
+       "docs/fidelity.md says which scenario reproduces each and which option fixes it).</p>"
+       "<table><tr><th>failure mode</th><th>figure</th><th>value</th></tr>\n";
+  const auto row = [&](const std::string& mode, const std::string& figure, const std::string& value) {
+    h << "<tr><td>" << xml_escape(mode) << "</td><td>" << xml_escape(figure) << "</td><td>" << xml_escape(value) << "</td></tr>\n";
+  };
+  const auto text = [](const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); };
+  row("ghosts (phantom obstacles)", "final phantoms", text(e.at("final").at("phantom_obstacles")));
+  row("ghosts (phantom obstacles)", "most at one evaluation", text(e.at("mean").at("max_phantom_obstacles")));
+  row("rays clearing true voxels", "evaluation.clearing.false_clears", text(e.at("clearing").at("false_clears")));
+  row("costmap ghosts", "lethal cells without voxels (worst)", text(e.at("mean").at("max_lethal_without_voxels")));
+  row("costmap ghosts", "voxel columns without a lethal cell (worst)", text(e.at("mean").at("max_columns_without_lethal")));
+  if (e.contains("failure_modes"))
+    for (const auto& [mode, figures] : e.at("failure_modes").items()) {
+      std::vector<std::pair<std::string, std::string>> leaves;
+      flatten(figures, "", leaves);
+      for (const auto& [figure, value] : leaves) row(mode, figure, value);
+    }
+  h << "</table>\n";
+  return h.str();
+}
+
+nlohmann::json metrics_json(const RunResult& r) {
+  const auto& e = r.evaluation;
+  nlohmann::json obstacles = nlohmann::json::array();
+  for (const auto& o : e.obstacles)
+    obstacles.push_back({{"name", o.name},
+                         {"truth_voxels", o.truth_voxels},
+                         {"observed_voxels", o.observed_voxels},
+                         {"observed", o.observed},
+                         {"detected", o.detected},
+                         {"best_recall", o.best_recall}});
+  nlohmann::json snapshots = nlohmann::json::array();
+  for (const auto& s : e.snapshots) snapshots.push_back(snapshot_json(s));
+  // Recall per camera: the total's definition over the truth voxels each camera saw.
+  nlohmann::json cameras = nlohmann::json::array();
+  nlohmann::json camera_timing = nlohmann::json::object();
+  for (std::size_t c = 0; c < r.scenario.pipeline.cameras.size(); ++c) {
+    const std::string& name = r.scenario.pipeline.cameras[c].name;
+    const bool final_known = c < e.final.cameras.size();
+    cameras.push_back({{"name", name},
+                       {"mean_recall", c < e.mean.camera_recall.size() ? e.mean.camera_recall[c] : 0.0},
+                       {"final_recall", final_known ? e.final.cameras[c].recall : 0.0},
+                       {"final_observed_truth_voxels", final_known ? e.final.cameras[c].observed_truth_voxels : 0}});
+    if (c < r.camera_times.size()) {
+      const auto& ct = r.camera_times[c];
+      camera_timing[name] = {{"frames", ct.render.size()},   {"render", stage_stats(ct.render)},
+                             {"noise", stage_stats(ct.noise)}, {"cloud", stage_stats(ct.cloud)},
+                             {"filter", stage_stats(ct.filter)}, {"clear", stage_stats(ct.clear)},
+                             {"mark", stage_stats(ct.mark)}};
+    }
+  }
+  nlohmann::json checks = nlohmann::json::array();
+  for (const auto& c : r.checks) checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}});
+  const auto& t = r.times;
+  nlohmann::json metrics = {
+      {"scenario", r.scenario.name},
+      {"scenario_file", r.scenario.file},
+      {"seed", r.scenario.pipeline.seed},
+      {"passed", r.passed()},
+      {"interrupted", r.interrupted},
+      {"frames", r.frames},
+      {"sim_time_s", r.sim_time_s},
+      {"voxel_size_m", r.scenario.pipeline.map.voxel_size_m},
+      {"filter", {{"type", filter::to_string(r.scenario.pipeline.filter.type)}, {"device", r.filter_device}}},
+      {"gl_backend", r.gl_backend},
+      {"noise", r.scenario.camera().noise.enabled},
+      {"cameras", camera_list_json(r.scenario)},
+      {"evaluation",
+       {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
+        {"recall_window_s", r.scenario.evaluation.recall_window_s},
+        {"phantom_clearance_m", r.scenario.evaluation.phantom_clearance_m},
+        {"mean", mean_json(e.mean)},
+        {"final", final_json(e.final)},
+        {"snapshots", snapshots},
+        {"obstacles", obstacles},
+        {"accuracy_m",
+         {{"count", e.accuracy.count},
+          {"mean", e.accuracy.mean_m},
+          {"median", e.accuracy.median_m},
+          {"p90", e.accuracy.p90_m},
+          {"p99", e.accuracy.p99_m},
+          {"max", e.accuracy.max_m}}},
+        {"clearing",
+         {{"stale_voxels_seen_through", e.clearing.stale_voxels_seen_through},
+          {"not_cleared", e.clearing.not_cleared},
+          {"max_latency_s", e.clearing.max_latency_s},
+          {"mean_latency_s", e.clearing.mean_latency_s},
+          {"false_clears", e.false_clears}}},
+        {"observed_off_truth_voxels", e.observed_off_truth_voxels},
+        {"failure_modes", {{"outage", outage_json(r)}}},
+        {"cameras", cameras}}},
+      {"checks", checks},
+      {"points",
+       {{"raw_mean", mean_of(r.points_raw)},
+        {"filtered_mean", mean_of(r.points_filtered)},
+        {"map_voxels_final", r.map_voxels.empty() ? 0 : r.map_voxels.back()}}},
+      {"timing_ms",
+       {{"render", stage_stats(t.render)},
+        {"noise", stage_stats(t.noise)},
+        {"cloud", stage_stats(t.cloud)},
+        {"filter", stage_stats(t.filter)},
+        {"clear", stage_stats(t.clear)},
+        {"mark", stage_stats(t.mark)},
+        {"evaluation", stage_stats(t.evaluation)},
+        {"bag", stage_stats(t.bag)},
+        {"frame", stage_stats(t.frame)},
+        {"evaluation_phases", phases_json(r.evaluation_phases)},
+        {"per_camera", camera_timing}}},
+      {"wall_time_s", r.wall_time_s},
+      {"real_time_factor", r.real_time_factor},
+  };
+  metrics["evaluation"]["failure_modes"]["occlusion"] = occlusion_json(e.occlusion);
+  metrics["evaluation"]["failure_modes"]["self_marking"] = self_marking_json(r);
+
+  if (r.soak.sample_every_s > 0) {  // soak (issue #270): voxels here, resident memory and map cost with the timings
+    nlohmann::json voxels = nlohmann::json::array(), resources = nlohmann::json::array();
+    for (const auto& x : r.soak.samples) {
+      voxels.push_back({{"t_s", x.t_s}, {"voxels", x.voxels}, {"leaves", x.leaves}});
+      resources.push_back({{"t_s", x.t_s}, {"rss_mb", x.rss_mb}, {"map_ms", x.map_ms}, {"map_cpu_ms", x.map_cpu_ms}});
+    }
+    metrics["soak"] = {{"sample_every_s", r.soak.sample_every_s},
+                       {"laps", r.soak.laps},
+                       {"first_lap_end_s", r.soak.first_lap_end_s ? nlohmann::json(*r.soak.first_lap_end_s) : nlohmann::json()},
+                       {"samples", voxels}};
+    metrics["timing_ms"]["soak"] = {{"first_lap_map_ms", r.soak.first_lap_map_ms},
+                                    {"first_lap_map_cpu_ms", r.soak.first_lap_map_cpu_ms},
+                                    {"samples", resources}};
+  }
+  return metrics;
+}
+
+std::string profile_table(const RunResult& r) {
+  const auto& t = r.times;
+  const nlohmann::json frame = stage_stats(t.frame);
+  const double frame_mean = frame["mean"].get<double>();
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(2);
+  out << "profile: " << r.frames << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s
+      << " s (real-time factor " << r.real_time_factor << ")\n";
+  out << "  stage          mean ms   p95 ms   share of the frame\n";
+  for (const auto& [name, ms] : {std::pair<const char*, const std::vector<double>*>{"render", &t.render},
+                                 {"noise", &t.noise}, {"cloud", &t.cloud}, {"filter", &t.filter}, {"clear", &t.clear},
+                                 {"mark", &t.mark}, {"evaluation", &t.evaluation}, {"bag", &t.bag}, {"frame", &t.frame}}) {
+    const nlohmann::json s = stage_stats(*ms);
+    char line[128];
+    std::snprintf(line, sizeof line, "  %-12s %9.2f %8.2f   %5.1f %%\n", name, s["mean"].get<double>(), s["p95"].get<double>(),
+                  frame_mean > 0 ? 100.0 * s["mean"].get<double>() / frame_mean : 0.0);
+    out << line;
+  }
+  const nlohmann::json phases = phases_json(r.evaluation_phases);
+  out << "  evaluation phases, ms per frame (" << r.evaluation_phases.evaluations << " evaluations; truth_update is also\n"
+      << "  counted inside clearing and the evaluate phases; costmap's projection runs beside mapped and observed):\n";
+  for (const char* name : {"observe", "clearing", "truth_update", "mapped", "observed", "costmap", "phantoms"}) {
+    char line[96];
+    std::snprintf(line, sizeof line, "  %-12s %9.2f\n", name, phases[name]["per_frame"].get<double>());
+    out << line;
+  }
+  return out.str();
+}
+
+std::string junit_xml(const RunResult& r) {
+  int failures = 0;
+  for (const auto& c : r.checks) failures += !c.passed;
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    << "<testsuites tests=\"" << r.checks.size() << "\" failures=\"" << failures << "\">\n"
+    << "  <testsuite name=\"" << xml_escape(r.scenario.name) << "\" tests=\"" << r.checks.size() << "\" failures=\""
+    << failures << "\" time=\"" << r.wall_time_s << "\">\n";
+  for (const auto& c : r.checks) {
+    x << "    <testcase classname=\"stvl-bench." << xml_escape(r.scenario.name) << "\" name=\"" << xml_escape(c.name) << "\">";
+    if (c.passed)
+      x << "<system-out>" << xml_escape(c.message) << "</system-out>";
+    else
+      x << "<failure message=\"" << xml_escape(c.message) << "\"/>";
+    x << "</testcase>\n";
+  }
+  x << "  </testsuite>\n</testsuites>\n";
+  return x.str();
+}
+
+void write_report(const RunResult& r, const std::filesystem::path& out) {
+  const nlohmann::json metrics = metrics_json(r);
+  write_file_atomically(out / "metrics.json", metrics.dump(2) + "\n");
+  write_file_atomically(out / "junit.xml", junit_xml(r));
+  write_png(out / "top_down.png", top_down_image(r));
+  const ReportScripts scripts = load_report_scripts();
+
+  const auto& e = r.evaluation;
+  std::ostringstream h;
+  h.precision(4);
+  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench: " << xml_escape(r.scenario.name)
+    << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
+       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}"
+       "img{max-width:100%;border:1px solid #ddd}</style>\n"
+    << interactive_head_html(scripts) << "</head><body>\n";
+  h << "<h1>" << xml_escape(r.scenario.name) << " <span class=\"" << (r.passed() ? "pass\">PASSED" : "fail\">FAILED")
+    << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.pipeline.seed << ", " << r.frames
+    << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s << " s (real-time factor "
+    << r.real_time_factor << "), voxel " << r.scenario.pipeline.map.voxel_size_m << " m, filter "
+    << filter::to_string(r.scenario.pipeline.filter.type) << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
+    << (r.scenario.camera().noise.enabled ? "on" : "off") << ".</p>\n";
+  h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";
+  for (const auto& c : r.checks)
+    h << "<tr><td>" << xml_escape(c.name) << "</td><td class=\"" << (c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
+      << xml_escape(c.message) << "</td></tr>\n";
+  h << "</table>\n<h2>Map quality</h2><p>Tolerance " << r.scenario.evaluation.tolerance_voxels
+    << " voxel(s); recall against surfaces seen by the noise-free camera within the last "
+    << r.scenario.evaluation.recall_window_s << " s.</p><table><tr><th></th><th>precision</th><th>recall</th><th>F1</th>"
+       "<th>IoU</th><th>costmap precision</th><th>costmap recall</th><th>phantoms</th></tr>\n";
+  const auto row = [&](const char* label, const auto& s, const std::string& phantoms) {
+    h << "<tr><td>" << label << "</td><td>" << s.precision << "</td><td>" << s.recall << "</td><td>" << s.f1 << "</td><td>"
+      << s.iou << "</td><td>" << s.costmap_precision << "</td><td>" << s.costmap_recall << "</td><td>" << phantoms
+      << "</td></tr>\n";
+  };
+  row("mean", e.mean, fixed(e.mean.phantom_obstacles, 2) + " (at most " + std::to_string(e.mean.max_phantom_obstacles) + ")");
+  row("final", e.final, std::to_string(e.final.phantom_obstacles));
+  h << "</table><p>Distance of mapped voxel centres to the true surface: mean " << e.accuracy.mean_m << " m, median "
+    << e.accuracy.median_m << " m, p90 " << e.accuracy.p90_m << " m, p99 " << e.accuracy.p99_m << " m.</p>\n";
+  h << interactive_body_html(r, scripts);
+  h << "<h2>Top-down: truth vs map</h2>";
+  if (scripts.complete()) h << "<p>Zoom <input type=\"range\" id=\"topdown-zoom\" min=\"1\" max=\"8\" step=\"0.5\" value=\"1\"></p>";
+  h << "<div style=\"overflow:auto;max-height:75vh\"><img id=\"topdown\" src=\"top_down.png\" alt=\"top-down map\" "
+       "style=\"max-width:100%;image-rendering:pixelated\"></div><p>Grey: true footprints in the height band; green: lethal "
+       "and true; red: lethal and false; blue: observed footprint missed; black: the robot's path.</p>\n";
+  h << "<h2>Obstacles</h2><table><tr><th>body</th><th>observed</th><th>detected</th><th>best recall</th></tr>\n";
+  for (const auto& o : e.obstacles)
+    h << "<tr><td>" << xml_escape(o.name) << "</td><td>" << (o.observed ? "yes" : "no") << "</td><td class=\""
+      << (o.detected ? "pass\">yes" : (o.observed ? "fail\">MISSED" : "\">-")) << "</td><td>" << o.best_recall << "</td></tr>\n";
+  h << "</table>\n<h2>Clearing</h2><p>" << e.clearing.stale_voxels_seen_through
+    << " stale voxels of moved bodies were seen through; max latency " << e.clearing.max_latency_s << " s, mean "
+    << e.clearing.mean_latency_s << " s, " << e.clearing.not_cleared << " never cleared; ray-cast clearing removed "
+    << e.false_clears << " true obstacle voxels (false clears).</p>\n";
+  h << failure_modes_html(metrics);
+  h << "<h2>Sample depth frames</h2>\n";
+  std::vector<std::string> frames;
+  if (std::filesystem::is_directory(out / "frames"))
+    for (const auto& f : std::filesystem::directory_iterator(out / "frames"))
+      if (f.path().filename().string().find("_color.png") != std::string::npos) frames.push_back(f.path().filename().string());
+  std::sort(frames.begin(), frames.end());
+  // Several cameras: a row per camera, its files named <camera>_depth_NNNNN.
+  const auto& cams = r.scenario.pipeline.cameras;
+  for (const auto& c : cams) {
+    const std::string prefix = cams.size() > 1 ? c.name + "_depth_" : "depth_";
+    if (cams.size() > 1) h << "<h3>" << xml_escape(c.name) << "</h3>\n";
+    for (const auto& f : frames)
+      if (f.rfind(prefix, 0) == 0) h << "<img src=\"frames/" << f << "\" width=\"424\" alt=\"" << f << "\"> ";
+  }
+  h << "\n<h2>Timing</h2><table><tr><th>stage</th><th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
+  for (const auto& [stage, stats] : metrics["timing_ms"].items()) {
+    if (stage == "evaluation_phases" || stage == "per_camera" || stage == "soak") continue;
+    h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()
+      << "</td><td>" << stats["p95"].get<double>() << "</td></tr>\n";
+  }
+  h << "</table>\n";
+  if (!r.soak.samples.empty()) {  // soak (issue #270)
+    h << "<h2>Soak</h2><p>" << r.soak.laps << " laps; first lap ended at "
+      << (r.soak.first_lap_end_s ? fixed(*r.soak.first_lap_end_s, 1) + " s" : std::string("- (not completed)"))
+      << ", its map cost " << fixed(r.soak.first_lap_map_ms, 3) << " ms per frame (CPU " << fixed(r.soak.first_lap_map_cpu_ms, 3)
+      << " ms).</p><table><tr><th>t s</th><th>voxels</th><th>leaves</th><th>resident MiB</th><th>map ms per frame</th>"
+         "<th>map CPU ms per frame</th></tr>\n";
+    for (const auto& x : r.soak.samples)
+      h << "<tr><td>" << fixed(x.t_s, 0) << "</td><td>" << x.voxels << "</td><td>" << x.leaves << "</td><td>" << fixed(x.rss_mb, 1) << "</td><td>"
+        << fixed(x.map_ms, 3) << "</td><td>" << fixed(x.map_cpu_ms, 3) << "</td></tr>\n";
+    h << "</table>\n";
+  }
+  h << "</body></html>\n";
+  write_file_atomically(out / "report.html", h.str());
+}
+
+}  // namespace stvl::report

@@ -1,0 +1,203 @@
+#include "config/ros_lint.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <set>
+#include <utility>
+
+#include "tests/config/ros_texts.hpp"
+#include "tests/support/invalid_argument.hpp"
+
+namespace stvl::config {
+namespace {
+
+using ::testing::HasSubstr;
+using stvl::test::quoted;
+
+// A bare layer (ROS 2's rules) without findings; each test changes one thing.
+const std::string kClean =
+    "voxel_decay: 15.0\n"           // 1
+    "voxel_size: 0.05\n"            // 2
+    "observation_sources: cam\n"    // 3
+    "cam:\n"                        // 4
+    "  clearing: true\n"            // 5
+    "  min_obstacle_height: 0.05\n" // 6
+    "  decay_acceleration: 15.0\n"; // 7
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  return pos == std::string::npos ? text : text.replace(pos, from.size(), to);
+}
+
+class RosLint : public ::testing::Test {
+ protected:
+  std::vector<LintFinding> lint(const std::string& text, const std::vector<BoundCamera>& cameras = {}) {
+    path_ = test::write_file(dir_, "l" + std::to_string(n_++) + ".yaml", text);
+    return lint_ros_stvl_layer(path_, "", "", cameras);
+  }
+  // The only finding of `text`, as format_finding() writes it.
+  std::string only(const std::string& text, const std::vector<BoundCamera>& cameras = {}) {
+    const auto findings = lint(text, cameras);
+    EXPECT_EQ(findings.size(), 1u);
+    std::string all;
+    for (const auto& f : findings) all += format_finding(f) + "\n";
+    return test::file_as_FILE(findings.size() == 1 ? format_finding(findings[0]) : all, path_);
+  }
+  static std::string at(int line, const std::string& key) { return "FILE:" + std::to_string(line) + ": " + key + ": "; }
+  stvl::test::TempDir dir_{"ros_lint"};
+  std::string path_;
+  int n_ = 0;
+};
+
+TEST_F(RosLint, CleanLayerHasNoFindings) { EXPECT_TRUE(lint(kClean).empty()); }
+
+TEST_F(RosLint, Nav2TutorialYieldsTheKeysRos2DoesNotRead) {
+  std::set<std::pair<int, std::string>> found;
+  std::set<std::pair<int, std::string>> unread;
+  for (const auto& f : lint_ros_stvl_layer(test::kTutorialFile, "")) {
+    found.insert({f.line, f.key});
+    if (f.what_stvl_does.find("does not read") != std::string::npos ||
+        f.what_stvl_does.find("per source only") != std::string::npos ||
+        f.what_stvl_does.find("ignores") != std::string::npos)
+      unread.insert({f.line, f.key});
+  }
+  const std::set<std::pair<int, std::string>> expected_unread = {
+      {30, "stvl_layer.max_obstacle_height"}, {31, "stvl_layer.unknown_threshold"}, {35, "stvl_layer.obstacle_range"},
+      {36, "stvl_layer.origin_z"}, {52, "stvl_layer.pointcloud.voxel_filter"}};
+  EXPECT_EQ(unread, expected_unread);
+  auto expected = expected_unread;
+  expected.insert({47, "stvl_layer.pointcloud.min_obstacle_height"});  // the tutorial's 0.0: floor noise marks
+  EXPECT_EQ(found, expected);
+}
+
+TEST_F(RosLint, KeysStvlDoesNotRead) {
+  EXPECT_EQ(only(kClean + "unknown_threshold: 15\n"),
+            at(8, "unknown_threshold") + "STVL (ROS 2) does not read unknown_threshold (a voxel_layer key); it has "
+                                         "no effect; write instead: remove it");
+  EXPECT_EQ(only(kClean + "obstacle_range: 3.0\n"),
+            at(8, "obstacle_range") + "STVL (ROS 2) reads obstacle_range per source only; this layer-level value "
+                                      "has no effect (a source without its own uses 2.5 m); write instead: obstacle_range: 3.0 under "
+                                      "each source");
+  EXPECT_EQ(only(kClean + "  max_zz: 3.0\n"),
+            at(8, "cam.max_zz") + "STVL (ROS 2) does not read max_zz; it has no effect; write instead: max_z (the "
+                                  "nearest key STVL reads)");
+  EXPECT_EQ(only(replaced(kClean, "voxel_size", "voxel_sise")),
+            at(2, "voxel_sise") + "STVL (ROS 2) does not read voxel_sise; it has no effect; write instead: "
+                                  "voxel_size (the nearest key STVL reads)");
+}
+
+TEST_F(RosLint, Ros1ReadsLayerLevelObstacleRange) {
+  EXPECT_TRUE(lint(test::ros1_text(kClean + "obstacle_range: 2.0\n")).empty());
+}
+
+TEST_F(RosLint, VoxelFilterIsIgnoredByRos2) {
+  EXPECT_EQ(only(kClean + "  voxel_filter: true\n"),
+            at(8, "cam.voxel_filter") +
+                "ROS 2 STVL ignores voxel_filter (ROS 1 melodic's key) and applies `filter` (default passthrough); "
+                "voxel_filter: true silently has no effect (STVL issue #188: CPU use exploded); write instead: "
+                "filter: \"voxel\"");
+  EXPECT_EQ(only(test::ros1_text(kClean + "  voxel_filter: true\n")),
+            at(13, "stvl_layer.cam.voxel_filter") +
+                "melodic-devel reads voxel_filter, noetic-devel ignores it and applies `filter` (default "
+                "passthrough); write instead: also filter: \"voxel\" for noetic");
+  EXPECT_TRUE(lint(test::ros1_text(kClean + "  voxel_filter: true\n  filter: voxel\n")).empty());
+}
+
+TEST_F(RosLint, DecayModelsStvlTreatsAsPersistent) {
+  EXPECT_EQ(only(kClean + "decay_model: 5\n"),
+            at(8, "decay_model") + "STVL treats decay_model 5 as persistent (every code but 0 and 1): voxels never "
+                                   "expire, only frustum acceleration removes them; write instead: decay_model: 0 "
+                                   "(linear) or 1 (exponential) for voxels to expire; -1, as STVL's README "
+                                   "documents, if persistence is meant");
+  EXPECT_TRUE(lint(kClean + "decay_model: 1\n").empty());
+}
+
+TEST_F(RosLint, MaxZBelowObstacleRange) {
+  EXPECT_EQ(only(kClean + "  obstacle_range: 4.0\n  max_z: 3.0\n"),
+            at(9, "cam.max_z") + "max_z = 3 m is below obstacle_range = 4 m: voxels marked beyond the clearing "
+                                 "frustum never clear by decay_acceleration; write instead: max_z: 4 (>= obstacle_range)");
+}
+
+TEST_F(RosLint, FovOffTheBoundCamera) {
+  const std::string text = kClean + "  horizontal_fov_angle: 1.5\n";
+  EXPECT_TRUE(lint(text).empty());  // no camera bound: nothing to compare with
+  EXPECT_TRUE(lint(text, {{"cam", 1.46, 0.7}}).empty());  // within 5 %
+  EXPECT_EQ(only(text, {{"cam", 1.2, 0.7}}),
+            at(8, "cam.horizontal_fov_angle") + "horizontal_fov_angle = 1.5 rad is more than 5 % off the bound "
+                                                "camera's 1.2 rad: STVL's clearing frustum clears voxels the camera "
+                                                "cannot see; write instead: horizontal_fov_angle: 1.2");
+  EXPECT_EQ(only(text, {{"cam", 1.5, 0.9}}),
+            at(4, "cam.vertical_fov_angle") + "vertical_fov_angle = 0.7 rad is more than 5 % off the bound camera's "
+                                              "0.9 rad: STVL's clearing frustum leaves the edges of the view "
+                                              "uncleared; write instead: vertical_fov_angle: 0.9");
+}
+
+TEST_F(RosLint, MinObstacleHeightAtTheFloor) {
+  EXPECT_EQ(only(replaced(kClean, "min_obstacle_height: 0.05", "min_obstacle_height: 0.0")),
+            at(6, "cam.min_obstacle_height") + "min_obstacle_height = 0 m: STVL marks points at floor level, so the "
+                                               "depth camera's floor noise becomes obstacles; write instead: "
+                                               "min_obstacle_height: 0.05 (above the floor noise)");
+}
+
+TEST_F(RosLint, NoClearingSource) {
+  EXPECT_EQ(only(replaced(replaced(kClean, "  clearing: true\n", ""), "  decay_acceleration: 15.0\n", "")),
+            at(3, "observation_sources") + "no source has clearing: true (STVL's default is false): voxels leave "
+                                           "only by voxel_decay; write instead: clearing: true on the depth "
+                                           "camera's source");
+}
+
+TEST_F(RosLint, VoxelSizeDiffersFromResolution) {
+  EXPECT_EQ(only(test::nav2_text(replaced(kClean, "voxel_size: 0.05", "voxel_size: 0.1"))),
+            at(9, "stvl_layer.voxel_size") + "voxel_size = 0.1 m differs from the costmap's resolution = 0.05 m: "
+                                             "STVL projects voxel columns onto cells of another size; write "
+                                             "instead: voxel_size: 0.05");
+}
+
+TEST_F(RosLint, DecayAccelerationZeroOnAClearingSource) {
+  EXPECT_EQ(only(replaced(kClean, "decay_acceleration: 15.0", "decay_acceleration: 0.0")),
+            at(7, "cam.decay_acceleration") + "decay_acceleration = 0 on a clearing source: the frustum does not "
+                                              "speed up decay, only voxel_decay clears; write instead: "
+                                              "decay_acceleration: 15.0 (STVL's example)");
+}
+
+TEST_F(RosLint, IntegerForADoubleInRos2) {
+  EXPECT_EQ(only(test::nav2_text(replaced(kClean, "voxel_decay: 15.0", "voxel_decay: 15"))),
+            at(8, "stvl_layer.voxel_decay") + "STVL declares voxel_decay a double and rclcpp (Galactic and later) "
+                                              "rejects the integer 15: the layer fails to load; write instead: "
+                                              "voxel_decay: 15.0");
+  EXPECT_TRUE(lint(test::ros1_text(replaced(kClean, "voxel_decay: 15.0", "voxel_decay: 15"))).empty());
+}
+
+TEST_F(RosLint, NegativeVoxelDecayIsAFinding) {
+  EXPECT_EQ(only(replaced(kClean, "voxel_decay: 15.0\n", "")),
+            at(1, "voxel_decay") + "voxel_decay = -1 (STVL's default): every voxel is removed at the next update, "
+                                   "before the costmap is built, so the layer never marks a cell; write instead: "
+                                   "voxel_decay: 15.0 (STVL's example)");
+}
+
+TEST_F(RosLint, ErrorsStayErrors) {
+  EXPECT_THAT(test::invalid_argument_of([&] { lint(kClean + "  model_type: 1\n"); }),
+              HasSubstr(":8: cam.model_type: 1 (3D lidar): only depth cameras are simulated"));
+}
+
+TEST_F(RosLint, CommandExitCodes) {
+  const auto binary = stvl::test::stvl_bench_binary();
+  if (binary.empty()) GTEST_SKIP() << "stvl-bench not built";
+  const auto run = [&](const std::string& args) { return stvl::test::run_shell(quoted(binary.string()) + " lint " + args); };
+  const auto tutorial = run(quoted(test::kTutorialFile) + " --costmap local_costmap");
+  EXPECT_EQ(tutorial.exit_code, 1) << tutorial.output;
+  EXPECT_THAT(tutorial.output, HasSubstr("nav2_stvl_tutorial.yaml:31: stvl_layer.unknown_threshold: "));
+  EXPECT_THAT(tutorial.output, HasSubstr("6 findings on stvl_layer in local_costmap (ROS 2 (nav2))"));
+  const auto clean = run(quoted(test::write_file(dir_, "clean.yaml", kClean)));
+  EXPECT_EQ(clean.exit_code, 0) << clean.output;
+  EXPECT_THAT(clean.output, HasSubstr("0 findings"));
+  const auto missing = run(quoted(test::kTutorialFile) + " --layer nope");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_THAT(missing.output, HasSubstr("local_costmap.plugins: no layer 'nope'"));
+  EXPECT_EQ(run(quoted(test::write_file(dir_, "bad.yaml", "a: [1\n"))).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace stvl::config
