@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# tools/stvl.rviz for real: a short run's bag played into RViz (Debian's rviz, roscore, rosbag) under Xvfb, and a
+# report/stvl.rviz for real: a short run's bag played into RViz (Debian's rviz, roscore, rosbag) under Xvfb, and a
 # screenshot of the window. The config is used as shipped except that only the STVL voxel display stays on,
 # drawn in one flat colour, so the test can count its pixels: the 3D view (the main panel, nearly the whole
 # window) must show many of them; with the voxel display off too it must show none (the colour comes from the

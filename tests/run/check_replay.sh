@@ -60,7 +60,7 @@ with rosbag.Bag(sys.argv[1]) as b:
     within "$(metric "$out/replay" "['recording']['cx']")" "$cx" "$cx" "cx"
     within "$(metric "$out/replay" "['recording']['cy']")" "$cy" "$cy" "cy"
     within "$(metric "$out/replay" "['valid_fraction_mean']")" "$(calc "$valid - 1e-9")" "$(calc "$valid + 1e-9")" "valid fraction"
-    read -r lower upper < <($py "$src/tests/tools/expected_replay_voxels.py" --bag "$bag" "$topic" 0.001 --pose 0,0,0.5 \
+    read -r lower upper < <($py "$src/tests/run/expected_replay_voxels.py" --bag "$bag" "$topic" 0.001 --pose 0,0,0.5 \
       --voxel 0.05 --range 3.0 --band 0.1 2.0 --fx "$fx" --fy "$fy" --cx "$cx" --cy "$cy")
     # 0.5 %: the bench projects in float32, the script in double; points within ~1e-6 m of a voxel face may differ.
     within "$(metric "$out/replay" "['map']['voxels']")" "$(calc "$lower * 0.995")" "$(calc "$upper * 1.005")" "map voxels"
@@ -75,7 +75,7 @@ with rosbag.Bag(sys.argv[1]) as b:
     [[ $(metric "$out/replay" "['frames']") == 2 ]] || fail "frames"
     [[ $(metric "$out/replay" "['recording']['pose_source']") == file ]] || fail "poses not from the calibration"
     within "$(metric "$out/replay" "['recording']['fx']")" 525 525 "fx"
-    read -r lower upper < <($py "$src/tests/tools/expected_replay_voxels.py" --png "$dir" --voxel 0.05 --range 5.0 --band 0.1 2.0)
+    read -r lower upper < <($py "$src/tests/run/expected_replay_voxels.py" --png "$dir" --voxel 0.05 --range 5.0 --band 0.1 2.0)
     within "$(metric "$out/replay" "['map']['voxels']")" "$(calc "$lower * 0.995")" "$(calc "$upper * 1.005")" "map voxels"
     ;;
 
