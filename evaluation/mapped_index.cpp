@@ -25,17 +25,6 @@ void set_bit(std::array<std::uint64_t, 8>& m, int i) { m[i >> 6] |= std::uint64_
 
 }  // namespace
 
-VoxelMatches match_mapped_plain(const mapping::VoxelMap& map, Truth& truth, int tol,
-                                std::map<double, std::size_t>& distance_counts_m) {
-  VoxelMatches m;
-  map.for_each_key([&](const VoxelKey& k) {
-    ++m.mapped;
-    if (truth.near(k, tol)) ++m.matched_mapped;
-    if (const auto d = truth.voxel_distance_to_surface_m(k)) ++distance_counts_m[*d];
-  });
-  return m;
-}
-
 std::uint32_t MappedIndex::intern(double d) {
   const auto [it, fresh] = distance_ids_.try_emplace(d, static_cast<std::uint32_t>(distances_.size()));
   if (fresh) distances_.push_back(d), counts_.push_back(0);

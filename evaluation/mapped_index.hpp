@@ -5,7 +5,8 @@
 // (per truth version, or for good where only static geoms decide it: Truth::voxel_distance_to_surface_m's
 // *fixed).
 // An evaluation reads the leaf masks and computes only voxels it has no valid result for, so a map that
-// changed little costs a mask walk. The figures equal match_mapped_plain()'s (the definition, beside it).
+// changed little costs a mask walk. The figures equal reference::match_mapped()'s (the definition, in
+// evaluation/reference/mapped_index.hpp; tests only).
 #include <array>
 #include <cstdint>
 #include <map>
@@ -20,20 +21,15 @@
 
 namespace stvl::evaluation {
 
-// The definition: every mapped voxel counted, matched when truth.near(k, tol); its surface distance, when
-// there is one, counted once in distance_counts_m (distance -> count).
-VoxelMatches match_mapped_plain(const mapping::VoxelMap& map, Truth& truth, int tol,
-                                std::map<double, std::size_t>& distance_counts_m);
-
 class MappedIndex {
  public:
-  // The same counts as match_mapped_plain(map, truth, tol, ...) at the truth's tolerance_voxels (its
+  // The same counts as reference::match_mapped(map, truth, tol, ...) at the truth's tolerance_voxels (its
   // near_static() and near_moving()); the distances pooled inside (distance_counts()).
   VoxelMatches match(const mapping::VoxelMap& map, Truth& truth);
   // Computes the results match() will need for the map as it is now (between evaluations, so that an
   // evaluation finds little left to compute); counts nothing. Optional: match() alone gives the same figures.
   void update(const mapping::VoxelMap& map, Truth& truth);
-  // Every distance counted so far: distance -> count (as match_mapped_plain's map after the same calls).
+  // Every distance counted so far: distance -> count (as reference::match_mapped's map after the same calls).
   std::map<double, std::size_t> distance_counts() const;
   // The map as of the last match(): whether key is in it, and whether a voxel within tol (Chebyshev) is.
   bool contains(const VoxelKey& key) const;

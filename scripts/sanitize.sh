@@ -19,7 +19,7 @@ if [[ "${1:-}" == "--tsan" ]]; then
   cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTVL_CUDA=OFF -DSTVL_MODULES=filter \
     -DCMAKE_CXX_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" \
     -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" >/dev/null
-  cmake --build "$build" -j"$jobs" --target filter_tests regression_filter
+  cmake --build "$build" -j"$jobs" --target test_filter regression_filter
   export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$supp/tsan.supp ${TSAN_OPTIONS:-}"
   ctest --test-dir "$build" -L unit --output-on-failure -j1 --timeout 600
   exit 0

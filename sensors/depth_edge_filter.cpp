@@ -12,7 +12,7 @@
 namespace stvl::sensors {
 namespace {
 
-// The same float arithmetic in both versions, so that their images are equal bit for bit.
+// The float arithmetic of the plain twin (sensors/reference/), so that their images are equal bit for bit.
 inline float threshold_m(float max_jump_at_1m_m, float z_m) { return max_jump_at_1m_m * z_m * z_m; }
 
 // Valid: a finite depth > 0 (0, negative, NaN and infinity are invalid), as depth_to_cloud reads it.
@@ -40,33 +40,6 @@ void DepthEdgeFilterConfig::validate() const {
   if (!(std::isfinite(max_jump_at_1m_m) && max_jump_at_1m_m > 0.0))
     throw std::invalid_argument("DepthEdgeFilterConfig: max_jump_at_1m_m " + std::to_string(max_jump_at_1m_m) +
                                 " must be finite and > 0 m");
-}
-
-std::size_t filter_depth_edges_reference(const DepthEdgeFilterConfig& config, const DepthImage& in, DepthImage& out) {
-  check_input(in, out);
-  config.validate();
-  out = in;
-  if (!config.enabled) return 0;
-  std::size_t dropped = 0;
-  for (int v = 0; v < in.height; ++v) {
-    for (int u = 0; u < in.width; ++u) {
-      const float z = in.at(u, v);
-      if (!valid(z)) continue;
-      const float threshold = threshold_m(float(config.max_jump_at_1m_m), z);
-      bool drop = false;
-      for (int dv = -1; dv <= 1; ++dv)
-        for (int du = -1; du <= 1; ++du) {
-          const int uu = u + du, vv = v + dv;
-          if ((du == 0 && dv == 0) || uu < 0 || vv < 0 || uu >= in.width || vv >= in.height) continue;
-          if (jumps(z, in.at(uu, vv), threshold)) drop = true;
-        }
-      if (drop) {
-        out.at(u, v) = 0.0f;
-        ++dropped;
-      }
-    }
-  }
-  return dropped;
 }
 
 std::size_t filter_depth_edges(const DepthEdgeFilterConfig& config, const DepthImage& in, DepthImage& out) {

@@ -36,10 +36,7 @@ struct DepthEdgeFilterConfig {
 
 // Writes the filtered image to `out` (resized to the input's size; no allocation once it has that size) and
 // returns the number of pixels dropped. `in` and `out` must be distinct. Rows run in parallel (TBB);
-// identity copy when config.enabled is false.
+// identity copy when config.enabled is false. Its plain twin is sensors/reference/depth_edge_filter.hpp (tests only).
 std::size_t filter_depth_edges(const DepthEdgeFilterConfig& config, const DepthImage& in, DepthImage& out);
-
-// The plain one-pass reference the tests compare filter_depth_edges with (equal images).
-std::size_t filter_depth_edges_reference(const DepthEdgeFilterConfig& config, const DepthImage& in, DepthImage& out);
 
 }  // namespace stvl::sensors

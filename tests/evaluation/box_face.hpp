@@ -1,7 +1,8 @@
 #pragma once
-// The tiny world of tests/evaluation: a box at x 2.05..2.65 m, |y| <= 0.25 m, z 0.15..0.65 m, whose front face at
-// 0.1 m voxels is the layer x = 20 (y keys -3..2, z keys 1..6), and a mocap cart (0.2 m cube at (1.0, 0, 0.4)) the
-// tests move; the evaluation config at 0.1 m; maps holding chosen voxels.
+// What tests/evaluation builds on the fixture's box worlds (stvl::test::kBoxWorld, kBoxAndCartWorld in
+// tests/support/fixture.hpp: a box at x 2.05..2.65 m, |y| <= 0.25 m, z 0.15..0.65 m, and a mocap cart the tests
+// move): the box's front face at 0.1 m voxels (the layer x = 20, y keys -3..2, z keys 1..6), the evaluation
+// config at 0.1 m, maps holding chosen voxels.
 #include <vector>
 
 #include "common/voxel_key.hpp"
@@ -9,14 +10,6 @@
 #include "mapping/voxel_map.hpp"
 
 namespace stvl::evaluation::test {
-
-constexpr const char* kBoxAndCartWorld = R"(
-<mujoco>
-  <worldbody>
-    <body name="box" pos="2.35 0 0.4"><geom type="box" size="0.3 0.25 0.25"/></body>
-    <body name="cart" mocap="true" pos="1.0 0 0.4"><geom type="box" size="0.1 0.1 0.1"/></body>
-  </worldbody>
-</mujoco>)";
 
 // 0.1 m voxels, the band 0..2 m, matches within tol voxels.
 inline EvaluationConfig config_at_0p1(int tol) {

@@ -1,5 +1,5 @@
-// The Evaluator on a tiny world of its own: a box whose front face the camera sees head-on, and a mocap cart
-// that moves away. Depth images are drawn analytically, so the expected figures follow from the geometry.
+// The Evaluator on the fixture's tiny box-and-cart world: a box whose front face the camera sees head-on, and a
+// mocap cart that moves away. Depth images are drawn analytically, so the expected figures follow from the geometry.
 #include "evaluation/evaluator.hpp"
 
 #include <gtest/gtest.h>
@@ -7,12 +7,13 @@
 #include <vector>
 
 #include "tests/evaluation/box_face.hpp"
+#include "tests/support/fixture.hpp"
 
 namespace stvl::evaluation {
 namespace {
 
 // The box's front face (x = 2.05) lies in voxel layer x = 20 at 0.1 m: 6 x 6 surface voxels (box_face.hpp).
-constexpr const char* kWorld = test::kBoxAndCartWorld;
+constexpr const char* kWorld = stvl::test::kBoxAndCartWorld;
 constexpr double kFaceX = 2.05;
 
 EvaluationConfig config() { return test::config_at_0p1(0); }  // a mapped voxel matches only itself
@@ -22,8 +23,7 @@ CameraView camera_view(const sensors::DepthImage& depth, const sensors::CameraIn
   CameraView view;
   view.clean_depth = &depth;
   view.intrinsics = k;
-  view.T_world_camera.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  view.T_world_camera.translation() = Eigen::Vector3d(0, 0, 0.4);
+  view.T_world_camera = stvl::test::looking_along_x({0, 0, 0.4});
   view.obstacle_range_m = 10.0;
   return view;
 }

@@ -1,9 +1,12 @@
-// MappedIndex (evaluation/mapped_index.hpp) against its definition, match_mapped_plain(), on a tiny world of its
-// own: a static box and a mocap cart that moves between evaluations (next to the box, away from it, back), with
-// random maps that change between calls (voxels added and removed, whole leaves emptied), with and without
-// update() between evaluations; and metrics.hpp's column_counts(), a leaf at a time, against a count per voxel.
+// MappedIndex (evaluation/mapped_index.hpp) against its definition, reference::match_mapped()
+// (evaluation/reference/), on the fixture's box-and-cart world: a static box and a mocap cart that moves between
+// evaluations (next to the box, away from it, back), with random maps that change between calls (voxels added and
+// removed, whole leaves emptied), with and without update() between evaluations; and metrics.hpp's
+// column_counts(), a leaf at a time, against a count per voxel.
 #include "evaluation/mapped_index.hpp"
+#include "evaluation/reference/mapped_index.hpp"
 #include "tests/evaluation/box_face.hpp"
+#include "tests/support/fixture.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,7 +26,7 @@ std::vector<std::pair<CellKey, int>> counts_of(const CellGrid& grid) {
   return out;
 }
 
-constexpr const char* kWorld = test::kBoxAndCartWorld;  // the box, and the cart the test moves
+constexpr const char* kWorld = stvl::test::kBoxAndCartWorld;  // the box, and the cart the test moves
 EvaluationConfig config(int tol) { return test::config_at_0p1(tol); }
 
 void move_cart(sim::World& world, double x, double y) {
@@ -69,7 +72,7 @@ TEST_P(MappedIndexTest, EqualsThePlainDefinitionAsTheMapAndTheCartChange) {
         if (k.x < 0) removed.push_back(k);
     }
     map.erase(removed);
-    const VoxelMatches plain = match_mapped_plain(map, plain_truth, tol, plain_counts);
+    const VoxelMatches plain = reference::match_mapped(map, plain_truth, tol, plain_counts);
     const VoxelMatches indexed = index.match(map, index_truth);
     ASSERT_EQ(indexed.mapped, plain.mapped) << "step " << step;
     ASSERT_EQ(indexed.matched_mapped, plain.matched_mapped) << "step " << step;

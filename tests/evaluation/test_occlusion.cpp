@@ -10,6 +10,7 @@
 
 #include "evaluation/evaluator.hpp"
 #include "tests/evaluation/box_face.hpp"
+#include "tests/support/fixture.hpp"
 
 namespace stvl::evaluation {
 namespace {
@@ -22,13 +23,7 @@ sensors::CameraIntrinsics intrinsics() {
   return k;
 }
 
-// Optical frame at position_W looking along +x: optical z = world x, optical x = -y, optical y = -z.
-Eigen::Isometry3d looking_along_x(const Eigen::Vector3d& position_W) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  T.translation() = position_W;
-  return T;
-}
+using stvl::test::looking_along_x;
 
 // Camera at the origin: a near surface at depth 1 m over the columns u < 90 (world y > ~0.2 m at x = 2 m), a
 // wall at 3 m elsewhere, no return in the rows v < 20 (world z > ~1.2 m at x = 2 m).

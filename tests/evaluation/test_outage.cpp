@@ -6,17 +6,13 @@
 #include <vector>
 
 #include "tests/evaluation/box_face.hpp"
+#include "tests/support/fixture.hpp"
 
 namespace stvl::evaluation {
 namespace {
 
-// box: its front face (x = 2.05) is the voxel layer x = 20 at 0.1 m (y keys -3..2, z keys 1..6).
-constexpr const char* kWorld = R"(
-<mujoco>
-  <worldbody>
-    <body name="box" pos="2.35 0 0.4"><geom type="box" size="0.3 0.25 0.25"/></body>
-  </worldbody>
-</mujoco>)";
+// The fixture's box: its front face (x = 2.05) is the voxel layer x = 20 at 0.1 m (y keys -3..2, z keys 1..6).
+constexpr const char* kWorld = stvl::test::kBoxWorld;
 
 EvaluationConfig config() {
   EvaluationConfig c;

@@ -9,6 +9,7 @@
 
 #include "mapping/costmap.hpp"
 #include "mapping/frustum.hpp"
+#include "mapping/reference/costmap_reference.hpp"
 #include "mapping/voxel_map.hpp"
 #include "test_helpers.hpp"
 
@@ -87,7 +88,7 @@ TEST(Costmap, ProjectsColumnsWithMarkThreshold) {
   EXPECT_THROW(layout(0).project_costmap(bounded), std::invalid_argument);
 }
 
-// project_costmap() counts a leaf's columns at once; the plain definition, one voxel at a time, over random maps
+// project_costmap() counts a leaf's columns at once; its plain twin, one voxel at a time, over random maps
 // that span several leaves and negative keys, with and without bounds, at the voxel size and a coarser one.
 TEST(Costmap, LeafWiseProjectionEqualsTheVoxelByVoxelDefinition) {
   std::mt19937 rng(7);
@@ -106,18 +107,13 @@ TEST(Costmap, LeafWiseProjectionEqualsTheVoxelByVoxelDefinition) {
     options.resolution_m = trial % 2 ? 0.05 : 0.15;
     if (trial % 4 == 3) options.bounds_W = Eigen::AlignedBox2d(Eigen::Vector2d(-0.6, -0.4), Eigen::Vector2d(0.5, 0.7));
     const Costmap2D projected = map.project_costmap(options);
-    // The definition: each voxel centre in the band adds one to the cell holding it; lethal at >= max(threshold, 1).
-    std::vector<int> counts(projected.cells.size(), 0);
-    map.for_each_key([&](const VoxelKey& k) {
-      const Eigen::Vector3d c = map.center_of(k);
-      if (c.z() < options.min_obstacle_height_m || c.z() > options.max_obstacle_height_m) return;
-      const double ix = std::floor((c.x() - projected.origin_m.x()) / projected.resolution_m);
-      const double iy = std::floor((c.y() - projected.origin_m.y()) / projected.resolution_m);
-      const bool inside = ix >= 0 && iy >= 0 && ix < projected.width && iy < projected.height;
-      if (!options.bounds_W) EXPECT_TRUE(inside) << "the map's extent holds every column";
-      if (!inside) return;
-      ++counts[static_cast<std::size_t>(iy) * projected.width + static_cast<std::size_t>(ix)];
-    });
+    // The definition (mapping/reference/): each voxel centre in the band adds one to the cell holding it; lethal
+    // at >= max(threshold, 1).
+    std::size_t outside = 0;
+    const std::vector<int> counts = reference::costmap_column_counts(map, options, projected, &outside);
+    if (!options.bounds_W) {
+      EXPECT_EQ(outside, 0u) << "the map's extent holds every column";
+    }
     std::size_t lethal = 0;
     for (std::size_t i = 0; i < counts.size(); ++i) {
       const bool expected = counts[i] >= std::max(config.mark_threshold, 1);

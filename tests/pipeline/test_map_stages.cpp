@@ -5,16 +5,13 @@
 
 #include <limits>
 
+#include "tests/support/fixture.hpp"
+
 namespace stvl::pipeline {
 namespace {
 
 // A camera at (0, 0, 1) m looking along +x (optical z = world x, optical x = world -y, optical y = world -z).
-Eigen::Isometry3d camera_along_x() {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  T.translation() = Eigen::Vector3d(0, 0, 1);
-  return T;
-}
+Eigen::Isometry3d camera_along_x() { return test::looking_along_x({0, 0, 1}); }
 
 PipelineConfig small_config(mapping::ClearingMode mode) {
   PipelineConfig config;

@@ -1,47 +1,25 @@
-// The pipeline on a tiny world of its own: the shipped robot on a floor, facing a wall 2 m ahead.
+// The pipeline on the fixture's tiny world: the shipped robot on a floor, facing a wall 2.5 m ahead.
 #include "pipeline/pipeline.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <unistd.h>
+
+#include "tests/support/fixture.hpp"
 
 namespace stvl::pipeline {
 namespace {
 
 using ::testing::HasSubstr;
 
-// wall: x 2.5..2.7, y -2..2, z 0..1.5; back_wall: x -2.7..-2.5 (behind the robot).
-constexpr const char* kWorld = R"(
-<mujoco>
-  <compiler autolimits="true"/>
-  <option timestep="0.002"/>
-  <include file="robot.xml"/>
-  <worldbody>
-    <geom name="floor" type="plane" size="6 6 0.1"/>
-    <body name="wall" pos="2.6 0 0.75"><geom type="box" size="0.1 2 0.75"/></body>
-    <body name="back_wall" pos="-2.6 0 0.75"><geom type="box" size="0.1 2 0.75"/></body>
-  </worldbody>
-</mujoco>)";
-
-class PipelineTest : public ::testing::Test {
+// The shared world of the shipped robot between two walls (tests/support/fixture.hpp): wall x 2.5..2.7,
+// y -2..2, z 0..1.5; back_wall x -2.7..-2.5 (behind the robot).
+class PipelineTest : public test::MujocoTest {
  protected:
-  void SetUp() override {
-    // The robot's include resolves against the world file's folder: write the world next to robot.xml's copy.
-    dir_ = std::filesystem::temp_directory_path() / ("stvl_pipeline_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir_);
-    std::filesystem::copy_file(std::string(STVL_SOURCE_DIR) + "/worlds/robot.xml", dir_ / "robot.xml",
-                               std::filesystem::copy_options::overwrite_existing);
-    std::ofstream(dir_ / "wall.xml") << kWorld;
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
   PipelineConfig config() const {
     PipelineConfig c;
-    c.world_path = (dir_ / "wall.xml").string();
+    c.world_path = world_.path();
     c.path.waypoints_W = {{0.0, 0.0}, {1.0, 0.0}};
     c.path.cruise_speed_mps = 0.3;
     CameraConfig& camera = c.cameras.front();
@@ -63,7 +41,8 @@ class PipelineTest : public ::testing::Test {
     return c;
   }
 
-  std::filesystem::path dir_;
+  // The robot's include resolves against the world file's folder: the fixture writes it beside robot.xml's copy.
+  test::WorldFile world_{"wall.xml", test::kRobotBetweenWallsWorld};
 };
 
 TEST_F(PipelineTest, FramesAtTheCameraRateThroughEveryStage) {

@@ -1,6 +1,7 @@
 #include "sensors/camera.hpp"
 #include "sensors/depth_image.hpp"
 #include "sensors/gl_context.hpp"
+#include "sensors/reference/camera.hpp"
 
 #include <gtest/gtest.h>
 
@@ -122,7 +123,7 @@ TEST(DepthToCloud, RoundTripDropsInvalidPixels) {
   EXPECT_THROW(depth_to_cloud(wrong, k), std::invalid_argument);
 }
 
-// The parallel depth_to_cloud against a plain loop: the same points in row-major pixel order.
+// The parallel depth_to_cloud against its plain twin (sensors/reference/): the same points in row-major pixel order.
 TEST(DepthToCloud, SameAsAPlainLoopInPixelOrder) {
   const CameraIntrinsics k = CameraIntrinsics::from_hfov(97, 61, 1.1, 0.1, 10.0, 30.0);
   DepthImage image(k.width, k.height);
@@ -131,15 +132,9 @@ TEST(DepthToCloud, SameAsAPlainLoopInPixelOrder) {
       image.at(u, v) = (u * 7 + v * 3) % 5 == 0 ? 0.0f : (u % 11 == 0 ? NAN : 0.5f + 0.01f * float(u + v));
   Eigen::Matrix3Xf points;
   const Eigen::Index n = depth_to_cloud(image, k, points);
-  std::vector<Eigen::Vector3f> expected;
-  for (int v = 0; v < k.height; ++v)
-    for (int u = 0; u < k.width; ++u) {
-      const float z = image.at(u, v);
-      if (!(z > 0.0f) || !std::isfinite(z)) continue;
-      expected.emplace_back((float(u) - float(k.cx)) * float(1.0 / k.fx) * z, (float(v) - float(k.cy)) * float(1.0 / k.fy) * z, z);
-    }
-  ASSERT_EQ(n, Eigen::Index(expected.size()));
-  for (Eigen::Index i = 0; i < n; ++i) ASSERT_EQ(Eigen::Vector3f(points.col(i)), expected[size_t(i)]) << i;
+  const Eigen::Matrix3Xf expected = reference::depth_to_cloud(image, k);
+  ASSERT_EQ(n, expected.cols());
+  for (Eigen::Index i = 0; i < n; ++i) ASSERT_EQ(Eigen::Vector3f(points.col(i)), Eigen::Vector3f(expected.col(i))) << i;
 }
 
 TEST(DepthPng, MillimetreRoundTripAndColorized) {

@@ -1,6 +1,6 @@
 // The depth-edge filter on tiny synthetic depth images: flying pixels between two surfaces go, slanted planes
 // stay, the threshold grows with depth^2, invalid pixels stay invalid, and the parallel version equals the
-// plain reference.
+// plain reference (sensors/reference/).
 #include "sensors/depth_edge_filter.hpp"
 
 #include <gtest/gtest.h>
@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "sensors/depth_noise.hpp"
+#include "sensors/reference/depth_edge_filter.hpp"
 
 namespace stvl::sensors {
 namespace {
@@ -25,7 +26,7 @@ DepthEdgeFilterConfig enabled(double max_jump_at_1m_m = 0.03) {
 DepthImage filtered(const DepthEdgeFilterConfig& config, const DepthImage& in, std::size_t* dropped = nullptr) {
   DepthImage out, reference;
   const std::size_t n = filter_depth_edges(config, in, out);
-  const std::size_t n_reference = filter_depth_edges_reference(config, in, reference);
+  const std::size_t n_reference = reference::filter_depth_edges(config, in, reference);
   EXPECT_EQ(n, n_reference);
   EXPECT_EQ(out.width, in.width);
   EXPECT_EQ(out.height, in.height);

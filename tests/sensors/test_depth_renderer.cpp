@@ -1,6 +1,7 @@
 #include "sensors/depth_renderer.hpp"
 
-#include "fixture.hpp"
+#include "sensors/reference/depth_renderer.hpp"
+#include "tests/support/fixture.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,9 +16,8 @@
 namespace stvl::sensors {
 namespace {
 
-using testing::looking_along_x;
-using testing::ray_cast_depth;
-using testing::World;
+using test::looking_along_x;
+using World = test::MjWorld;
 
 constexpr double kMedianErrorM = 1e-3;     // rendered vs mj_ray, over pixels valid in both
 constexpr double kMismatchFraction = 0.01;  // pixels valid in one image only, or off by more than kOutlierM
@@ -70,14 +70,14 @@ std::unique_ptr<DepthRenderer> try_renderer(const World& world, const CameraIntr
                                             std::string& why,
                                             std::array<bool, 6> groups = {true, true, false, true, true, true}) {
   try {
-    return std::make_unique<DepthRenderer>(world.model, k, backend, groups);
+    return std::make_unique<DepthRenderer>(world.model(), k, backend, groups);
   } catch (const std::runtime_error& e) {
     why = std::string(to_string(backend)) + " unavailable: " + e.what();
     return nullptr;
   }
 }
 
-class Renderer : public ::testing::TestWithParam<GlBackend> {
+class Renderer : public test::MujocoTestWithParam<GlBackend> {
  protected:
   void expect_matches_ray_cast(const CameraIntrinsics& k, const Eigen::Isometry3d& T_world_camera) {
     World world(kShapes);
@@ -85,8 +85,8 @@ class Renderer : public ::testing::TestWithParam<GlBackend> {
     auto renderer = try_renderer(world, k, GetParam(), why);
     if (!renderer) GTEST_SKIP() << why;
     EXPECT_STREQ(renderer->backend_name(), to_string(GetParam()));
-    const DepthImage& rendered = renderer->render(world.model, world.data, T_world_camera);
-    const DepthImage truth = ray_cast_depth(world, k, T_world_camera);
+    const DepthImage& rendered = renderer->render(world.model(), world.data(), T_world_camera);
+    const DepthImage truth = reference::ray_cast_depth(world.model(), world.data(), k, T_world_camera);
     const Comparison c = compare(rendered, truth);
     std::printf("[ %s ] median |rendered - mj_ray| %.2e m over %d pixels, mismatched %.4f%%\n",
                 renderer->backend_name(), c.median_abs_error_m, c.both_valid, 100.0 * c.mismatch_fraction);
@@ -121,7 +121,7 @@ TEST_P(Renderer, RealD435At640x480ProjectsAKnownPoint) {
   auto renderer = try_renderer(world, k, GetParam(), why);
   if (!renderer) GTEST_SKIP() << why;
   const Eigen::Isometry3d T = looking_along_x({0.0, 0.0, 1.0});
-  const DepthImage& image = renderer->render(world.model, world.data, T);
+  const DepthImage& image = renderer->render(world.model(), world.data(), T);
   // The small cube's front face at x = 1.48: optical (0.3, 0.2, 1.48) -> u = 331.39 + 390.43 * 0.3 / 1.48.
   const auto uv = project_to_pixel(k, T.inverse() * Eigen::Vector3d(1.48, -0.3, 0.8));
   ASSERT_TRUE(uv.has_value());
@@ -156,15 +156,15 @@ TEST_P(Renderer, RangeLimitsInvalidate) {
   auto renderer = try_renderer(world, k, GetParam(), why);
   if (!renderer) GTEST_SKIP() << why;
   // 0.15 m in front of the back wall (closer than min range 0.28 m): nothing valid, nothing drawn through it.
-  EXPECT_EQ(renderer->render(world.model, world.data, looking_along_x({5.75, 0.0, 1.0})).valid_count(), 0);
+  EXPECT_EQ(renderer->render(world.model(), world.data(), looking_along_x({5.75, 0.0, 1.0})).valid_count(), 0);
   // Looking at the sky from above the scene: nothing within 10 m.
   Eigen::Isometry3d up = looking_along_x({3.0, 0.0, 5.0});
   up.linear() = up.linear() * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  EXPECT_EQ(renderer->render(world.model, world.data, up).valid_count(), 0);
+  EXPECT_EQ(renderer->render(world.model(), world.data(), up).valid_count(), 0);
   // The back wall at 5.9 m is beyond a 5 m max range.
   k.max_range_m = 5.0;
-  DepthRenderer short_range(world.model, k, renderer->backend());
-  const DepthImage& image = short_range.render(world.model, world.data, looking_along_x({0.0, 0.0, 1.0}));
+  DepthRenderer short_range(world.model(), k, renderer->backend());
+  const DepthImage& image = short_range.render(world.model(), world.data(), looking_along_x({0.0, 0.0, 1.0}));
   for (float z : image.depth_m) ASSERT_TRUE(z == 0.0f || (z >= 0.28f && z <= 5.0f)) << z;
   EXPECT_EQ(image.at(k.width / 2, 10), 0.0f);  // wall above the shapes
   EXPECT_GT(image.valid_count(), 1000);
@@ -176,11 +176,11 @@ TEST_P(Renderer, HiddenGeomGroupsAreNotRendered) {
   std::string why;
   auto hidden = try_renderer(world, k, GetParam(), why);
   if (!hidden) GTEST_SKIP() << why;
-  DepthRenderer shown(world.model, k, hidden->backend(), {true, true, true, true, true, true});
+  DepthRenderer shown(world.model(), k, hidden->backend(), {true, true, true, true, true, true});
   const Eigen::Isometry3d T = looking_along_x({0.0, 0.0, 1.0});
   const int u = int(k.cx), v = int(k.cy);  // straight ahead: the group-2 box face at 0.9 m
-  EXPECT_NEAR(shown.render(world.model, world.data, T).at(u, v), 0.9f, 1e-3);
-  EXPECT_NEAR(hidden->render(world.model, world.data, T).at(u, v), 5.9f, 1e-3);
+  EXPECT_NEAR(shown.render(world.model(), world.data(), T).at(u, v), 0.9f, 1e-3);
+  EXPECT_NEAR(hidden->render(world.model(), world.data(), T).at(u, v), 5.9f, 1e-3);
 }
 
 // A robot with two geoms in group 2 (hidden); the scenario lets the cameras see one of them by moving it to group
@@ -200,10 +200,10 @@ TEST_P(Renderer, RobotGeomMovedToGroupThreeIsDrawnOthersAreNot) {
   if (!renderer) GTEST_SKIP() << why;
   const Eigen::Isometry3d T_bumper = looking_along_x({0.0, 0.0, 0.5}), T_mast = looking_along_x({0.0, 0.0, 1.5});
   const int u = int(k.cx), v = int(k.cy);
-  EXPECT_NEAR(renderer->render(world.model, world.data, T_bumper).at(u, v), 5.9f, 1e-3);  // both hidden
-  world.model->geom_group[mj_name2id(world.model, mjOBJ_GEOM, "bumper")] = 3;
-  EXPECT_NEAR(renderer->render(world.model, world.data, T_bumper).at(u, v), 0.95f, 1e-3);  // the bumper's face
-  EXPECT_NEAR(renderer->render(world.model, world.data, T_mast).at(u, v), 5.9f, 1e-3);     // the mast still hidden
+  EXPECT_NEAR(renderer->render(world.model(), world.data(), T_bumper).at(u, v), 5.9f, 1e-3);  // both hidden
+  world.model()->geom_group[mj_name2id(world.model(), mjOBJ_GEOM, "bumper")] = 3;
+  EXPECT_NEAR(renderer->render(world.model(), world.data(), T_bumper).at(u, v), 0.95f, 1e-3);  // the bumper's face
+  EXPECT_NEAR(renderer->render(world.model(), world.data(), T_mast).at(u, v), 5.9f, 1e-3);     // the mast still hidden
 }
 
 TEST_P(Renderer, TwoRenderersInOneProcess) {
@@ -214,10 +214,10 @@ TEST_P(Renderer, TwoRenderersInOneProcess) {
   crop.cx = 319.5;
   auto first = try_renderer(world, crop, GetParam(), why);
   if (!first) GTEST_SKIP() << why;
-  DepthRenderer second(world.model, CameraIntrinsics::d435_848x480(), GetParam());
+  DepthRenderer second(world.model(), CameraIntrinsics::d435_848x480(), GetParam());
   const Eigen::Isometry3d T = looking_along_x({0.0, 0.0, 1.0});
-  const DepthImage a = first->render(world.model, world.data, T);
-  const DepthImage& b = second.render(world.model, world.data, T);
+  const DepthImage a = first->render(world.model(), world.data(), T);
+  const DepthImage& b = second.render(world.model(), world.data(), T);
   // Same scene, same focal length: the 640 image is the centre crop of the 848 one.
   int compared = 0;
   for (int v = 0; v < 480; v += 7) {
@@ -229,7 +229,7 @@ TEST_P(Renderer, TwoRenderersInOneProcess) {
     }
   }
   EXPECT_GT(compared, 4000);
-  EXPECT_EQ(first->render(world.model, world.data, T).depth_m, a.depth_m);  // context switch back and forth
+  EXPECT_EQ(first->render(world.model(), world.data(), T).depth_m, a.depth_m);  // context switch back and forth
 }
 
 TEST_P(Renderer, BadInputThrows) {
@@ -240,17 +240,17 @@ TEST_P(Renderer, BadInputThrows) {
   if (!renderer) GTEST_SKIP() << why;
   CameraIntrinsics non_square = k;
   non_square.fx = 447.0;
-  EXPECT_THROW(DepthRenderer(world.model, non_square, GetParam()), std::invalid_argument);
+  EXPECT_THROW(DepthRenderer(world.model(), non_square, GetParam()), std::invalid_argument);
   CameraIntrinsics bad = k;
   bad.min_range_m = -1.0;
-  EXPECT_THROW(DepthRenderer(world.model, bad, GetParam()), std::invalid_argument);
+  EXPECT_THROW(DepthRenderer(world.model(), bad, GetParam()), std::invalid_argument);
   EXPECT_THROW(DepthRenderer(nullptr, k, GetParam()), std::invalid_argument);
   Eigen::Isometry3d scaled = looking_along_x({0.0, 0.0, 1.0});
   scaled.linear() *= 2.0;
-  EXPECT_THROW(renderer->render(world.model, world.data, scaled), std::invalid_argument);
+  EXPECT_THROW(renderer->render(world.model(), world.data(), scaled), std::invalid_argument);
   World other("<mujoco><worldbody><geom type='sphere' size='1'/></worldbody></mujoco>");
-  EXPECT_THROW(renderer->render(other.model, other.data, looking_along_x({0, 0, 1})), std::invalid_argument);
-  EXPECT_THROW(renderer->render(world.model, nullptr, looking_along_x({0, 0, 1})), std::invalid_argument);
+  EXPECT_THROW(renderer->render(other.model(), other.data(), looking_along_x({0, 0, 1})), std::invalid_argument);
+  EXPECT_THROW(renderer->render(world.model(), nullptr, looking_along_x({0, 0, 1})), std::invalid_argument);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Renderer, ::testing::Values(GlBackend::kOsmesa, GlBackend::kEgl),
@@ -265,14 +265,14 @@ TEST(RendererBackends, EglAndOsmesaGiveTheSameImage) {
   auto egl = try_renderer(world, k, GlBackend::kEgl, why);
   if (!egl) GTEST_SKIP() << why;
   const Eigen::Isometry3d T = looking_along_x({0.2, -0.1, 1.1});
-  const DepthImage a = osmesa->render(world.model, world.data, T);
-  const DepthImage b = egl->render(world.model, world.data, T);
+  const DepthImage a = osmesa->render(world.model(), world.data(), T);
+  const DepthImage b = egl->render(world.model(), world.data(), T);
   const Comparison c = compare(a, b);
   std::printf("osmesa vs egl: median %.2e m, mismatched %.4f%%\n", c.median_abs_error_m,
               100.0 * c.mismatch_fraction);
   EXPECT_LT(c.median_abs_error_m, 1e-6);
   EXPECT_LT(c.mismatch_fraction, 1e-3);
-  EXPECT_EQ(osmesa->render(world.model, world.data, T).depth_m, a.depth_m);  // interleaved contexts still work
+  EXPECT_EQ(osmesa->render(world.model(), world.data(), T).depth_m, a.depth_m);  // interleaved contexts still work
 }
 
 TEST(RendererBackends, AutoHonoursEnvironmentOverride) {
@@ -284,7 +284,7 @@ TEST(RendererBackends, AutoHonoursEnvironmentOverride) {
     EXPECT_STREQ(renderer->backend_name(), "osmesa");
   }
   ::setenv("STVL_GL", "vulkan", 1);
-  EXPECT_THROW(DepthRenderer(world.model, CameraIntrinsics::d435_640x480(), GlBackend::kAuto), std::invalid_argument);
+  EXPECT_THROW(DepthRenderer(world.model(), CameraIntrinsics::d435_640x480(), GlBackend::kAuto), std::invalid_argument);
   ::unsetenv("STVL_GL");
   if (!renderer) GTEST_SKIP() << why;
 }

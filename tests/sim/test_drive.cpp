@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "fixture.hpp"
+#include "tests/support/fixture.hpp"
 #include "sim/simulator.hpp"
 
 namespace stvl::sim {
@@ -34,14 +34,14 @@ DriveResult drive(Simulator& sim, const Path& path, double timeout_s) {
 }
 
 TEST(DiffDrive, ReadsWheelGeometryFromModel) {
-  World world = test::flat_world();
+  World world = World::from_string(test::kFlatWorld, test::worlds_dir());
   DiffDriveRobot robot(world);
   EXPECT_NEAR(robot.wheel_radius_m(), 0.08, 1e-9);
   EXPECT_NEAR(robot.track_width_m(), 0.36, 1e-9);
 }
 
 TEST(PathFollowing, FollowsLPath) {
-  Simulator sim(test::flat_world());
+  Simulator sim(World::from_string(test::kFlatWorld, test::worlds_dir()));
   const Path path{{{0, 0}, {3, 0}, {3, 2.5}}, 0.6};
   const DriveResult r = drive(sim, path, 40.0);
   ASSERT_TRUE(r.finished);
@@ -51,7 +51,7 @@ TEST(PathFollowing, FollowsLPath) {
 }
 
 TEST(PathFollowing, FollowsSmoothSPath) {
-  Simulator sim(test::flat_world());
+  Simulator sim(World::from_string(test::kFlatWorld, test::worlds_dir()));
   Path path{{}, 0.5};
   for (int i = 0; i <= 60; ++i) {  // two opposite arcs of radius 1.5 m
     const double t = i / 60.0 * M_PI;
@@ -68,7 +68,7 @@ TEST(PathFollowing, FollowsSmoothSPath) {
 }
 
 TEST(PathFollowing, LoopingPathPassesTheFirstWaypointAgainEachLap) {
-  Simulator sim(test::flat_world());
+  Simulator sim(World::from_string(test::kFlatWorld, test::worlds_dir()));
   const Eigen::Vector2d first(0, 0), second(2.5, 0), third(2.5, 1.5);
   sim.set_path({{first, second, third}, 0.6, /*loop=*/true});
   EXPECT_EQ(sim.follower().path().waypoints_W.size(), 4u);  // the closing leg back to the first waypoint
@@ -116,7 +116,7 @@ double odometry_error_m(const Simulator& sim, const Eigen::Isometry3d& T_world_s
 }
 
 TEST(Odometry, MatchesGroundTruthWithoutDrift) {
-  Simulator sim(test::flat_world());
+  Simulator sim(World::from_string(test::kFlatWorld, test::worlds_dir()));
   sim.set_start_pose({1.0, -0.5, 0.3});
   const Eigen::Isometry3d T_world_start = sim.T_world_base();
   const Path path{{{1.0, -0.5}, {3.0, 0.1}, {3.5, 2.0}}, 0.6};
@@ -142,7 +142,7 @@ TEST(Odometry, DriftDivergesAndIsReproducible) {
     SimulatorConfig config;
     config.odometry.drift = drift;
     config.odometry.seed = seed;
-    Simulator sim(test::flat_world(), config);
+    Simulator sim(World::from_string(test::kFlatWorld, test::worlds_dir()), config);
     const Eigen::Isometry3d T_world_start = sim.T_world_base();
     drive(sim, {{{0, 0}, {4, 0}, {4, 2}}, 0.6}, 40.0);
     return std::make_pair(odometry_error_m(sim, T_world_start), sim.T_odom_base());
@@ -158,7 +158,7 @@ TEST(Odometry, DriftDivergesAndIsReproducible) {
 }
 
 TEST(CameraMount, MovesOpticalSite) {
-  Simulator sim(test::flat_world());
+  Simulator sim(World::from_string(test::kFlatWorld, test::worlds_dir()));
   sim.set_start_pose({2.0, 1.0, M_PI / 2});
   sim.robot().set_camera_mount({0.9, 0.2, 0.15});
   const Eigen::Isometry3d T = sim.T_world_camera();

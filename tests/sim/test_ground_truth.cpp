@@ -5,7 +5,7 @@
 #include <ostream>
 #include <stdexcept>
 
-#include "fixture.hpp"
+#include "tests/support/fixture.hpp"
 #include "sim/ground_truth.hpp"
 
 namespace stvl::sim {
@@ -235,7 +235,7 @@ const char* kTwoObstacles = R"(
 </mujoco>)";
 
 TEST(GroundTruth, EnumeratesObstaclesOnly) {
-  World world = World::from_string(kTwoObstacles, test::kWorldsDir);
+  World world = World::from_string(kTwoObstacles, test::worlds_dir());
   const auto geoms = obstacle_geoms(world);
   ASSERT_EQ(geoms.size(), 2u);
   EXPECT_EQ(geoms[0].body_name, "crate");
@@ -245,7 +245,7 @@ TEST(GroundTruth, EnumeratesObstaclesOnly) {
 }
 
 TEST(GroundTruth, VoxelsAreAttributedToBodies) {
-  World world = World::from_string(kTwoObstacles, test::kWorldsDir);
+  World world = World::from_string(kTwoObstacles, test::worlds_dir());
   VoxelizeOptions options;
   options.voxel_size_m = 0.1;
   const auto bodies = voxelize_bodies(obstacle_geoms(world), options);
@@ -257,7 +257,7 @@ TEST(GroundTruth, VoxelsAreAttributedToBodies) {
 }
 
 TEST(GroundTruth, FootprintsInHeightBand) {
-  World world = World::from_string(kTwoObstacles, test::kWorldsDir);
+  World world = World::from_string(kTwoObstacles, test::worlds_dir());
   const auto geoms = obstacle_geoms(world);
   const auto low = footprints(geoms, 0.1, 0.05, 0.5);
   ASSERT_EQ(low.size(), 2u);
@@ -288,7 +288,7 @@ TEST(GroundTruth, MeshIsApproximatedByItsBoundingBox) {
 }
 
 TEST(GroundTruth, RayHitsKnownBox) {
-  World world = World::from_string(kTwoObstacles, test::kWorldsDir);
+  World world = World::from_string(kTwoObstacles, test::worlds_dir());
   const RayHit hit = cast_ray(world, {0.5, 0.1, 0.2}, {2.0, 0.0, 0.0});
   ASSERT_TRUE(hit.hit);
   EXPECT_NEAR(hit.distance_m, 2.31, 1e-9);

@@ -3,7 +3,7 @@
 #include <set>
 #include <string>
 
-#include "fixture.hpp"
+#include "tests/support/fixture.hpp"
 #include "sim/ground_truth.hpp"
 #include "sim/simulator.hpp"
 
@@ -54,7 +54,7 @@ std::set<std::string> obstacle_bodies(const World& world) {
 }
 
 TEST(ShippedWorlds, OfficeCorridorHasNamedObstacles) {
-  World world = World::from_file(test::kWorldsDir + "/office_corridor.xml");
+  World world = World::from_file(test::worlds_dir() + "/office_corridor.xml");
   const auto names = obstacle_bodies(world);
   for (const char* name : {"desk_1", "cabinet_1", "shelf_1", "box_1", "fire_extinguisher", "person"}) {
     EXPECT_TRUE(names.count(name)) << name;
@@ -65,7 +65,7 @@ TEST(ShippedWorlds, OfficeCorridorHasNamedObstacles) {
 }
 
 TEST(ShippedWorlds, DriveFiveMetersDownOfficeCorridor) {
-  Simulator sim(World::from_file(test::kWorldsDir + "/office_corridor.xml"));
+  Simulator sim(World::from_file(test::worlds_dir() + "/office_corridor.xml"));
   const Drive r = drive(sim, {{{0, 0}, {5, 0}}, 0.8}, 30.0);
   EXPECT_TRUE(r.finished);
   EXPECT_LT(r.max_cross_track_m, 0.05);
@@ -75,7 +75,7 @@ TEST(ShippedWorlds, DriveFiveMetersDownOfficeCorridor) {
 }
 
 TEST(ShippedWorlds, DriveWholeOfficeCorridorWhilePersonWalksAway) {
-  Simulator sim(World::from_file(test::kWorldsDir + "/office_corridor.xml"));
+  Simulator sim(World::from_file(test::worlds_dir() + "/office_corridor.xml"));
   const Eigen::Vector3d start(sim.world().data()->xpos + 3 * sim.world().body_id("person"));
   sim.set_mocap_tracks({{"person", {{2.0, start, 0.0}, {8.0, start + Eigen::Vector3d(6, 0, 0), 0.0}}}});
   const Drive r = drive(sim, {{{0, 0}, {22, 0}}, 1.0}, 60.0);
@@ -85,7 +85,7 @@ TEST(ShippedWorlds, DriveWholeOfficeCorridorWhilePersonWalksAway) {
 }
 
 TEST(ShippedWorlds, PersonWalksAway) {
-  Simulator sim(World::from_file(test::kWorldsDir + "/office_corridor.xml"));
+  Simulator sim(World::from_file(test::worlds_dir() + "/office_corridor.xml"));
   const int person = sim.world().body_id("person");
   const Eigen::Vector3d start(sim.world().data()->xpos + 3 * person);
   sim.set_mocap_tracks({{"person", {{0.5, start, {}}, {4.5, start + Eigen::Vector3d(6, 0, 0), {}}}}});
@@ -95,7 +95,7 @@ TEST(ShippedWorlds, PersonWalksAway) {
 }
 
 TEST(ShippedWorlds, LCorridorThroughTheTurn) {
-  World world = World::from_file(test::kWorldsDir + "/l_corridor.xml");
+  World world = World::from_file(test::worlds_dir() + "/l_corridor.xml");
   const auto names = obstacle_bodies(world);
   for (const char* name : {"chair", "trash_bin", "plant_pot", "sliding_door", "doorway_frame"}) {
     EXPECT_TRUE(names.count(name)) << name;
@@ -111,7 +111,7 @@ TEST(ShippedWorlds, LCorridorThroughTheTurn) {
 }
 
 TEST(ShippedWorlds, CorridorVoxelizationInHeightBand) {
-  World world = World::from_file(test::kWorldsDir + "/office_corridor.xml");
+  World world = World::from_file(test::worlds_dir() + "/office_corridor.xml");
   VoxelizeOptions options;
   options.voxel_size_m = 0.1;
   options.bounds_W = Eigen::AlignedBox3d(Eigen::Vector3d(-2, -3, 0.11), Eigen::Vector3d(30, 3, 1.99));

@@ -1,9 +1,10 @@
 #include <gmock/gmock.h>
+#include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
 #include <stdexcept>
 
-#include "fixture.hpp"
+#include "tests/support/fixture.hpp"
 #include "sim/ground_truth.hpp"
 #include "sim/mocap_script.hpp"
 #include "sim/simulator.hpp"
@@ -59,7 +60,7 @@ TEST(World, EmptyStringAndBadBaseDirThrow) {
 }
 
 TEST(World, LoadsStringWithIncludeAndIsMovable) {
-  World world = test::flat_world();
+  World world = World::from_string(test::kFlatWorld, test::worlds_dir());
   EXPECT_GT(world.model()->nbody, 3);
   EXPECT_DOUBLE_EQ(world.timestep_s(), 0.002);
   World moved = std::move(world);
@@ -70,7 +71,7 @@ TEST(World, LoadsStringWithIncludeAndIsMovable) {
 }
 
 TEST(World, RobotGeomsAreAllInGroupTwo) {
-  World world = test::flat_world();
+  World world = World::from_string(test::kFlatWorld, test::worlds_dir());
   const mjModel* m = world.model();
   const int base = world.body_id("base_link");
   for (int g = 0; g < m->ngeom; ++g) {
@@ -85,7 +86,7 @@ TEST(World, RobotGeomsAreAllInGroupTwo) {
 // robot.geoms_seen_by_cameras: the named robot geoms move to group 3 (drawn by the renderer), ground truth still
 // skips them (and the rest of the robot); other geoms and unknown names are errors.
 TEST(World, ShowsChosenRobotGeomsToCamerasOnly) {
-  World world = test::flat_world();
+  World world = World::from_string(test::kFlatWorld, test::worlds_dir());
   const mjModel* m = world.model();
   const int bumper = world.geom_id("front_bumper"), mast = world.geom_id("mast");
   EXPECT_EQ(m->geom_group[bumper], kRobotGeomGroup);
@@ -191,6 +192,15 @@ TEST(World, ExtentCoversFinitePlanesAndGeomsButNotTheRobotOrInfinitePlanes) {
   EXPECT_TRUE(World::from_string("<mujoco><worldbody><geom type=\"plane\" size=\"0 0 1\"/></worldbody></mujoco>")
                   .extent_xy()
                   .isEmpty());
+}
+
+// The fixture's warning handler is installed (tests/support/fixture.hpp): a MuJoCo warning fails the test, or
+// inside an ExpectMujocoWarning is counted there.
+TEST(MujocoFixture, WarningsFailTheTestUnlessExpected) {
+  EXPECT_NONFATAL_FAILURE(mju_warning("stvl test warning"), "MuJoCo warning: stvl test warning");
+  test::ExpectMujocoWarning expected;
+  mju_warning("stvl test warning");
+  EXPECT_EQ(expected.count(), 1);
 }
 
 }  // namespace
