@@ -228,7 +228,7 @@ void Evaluator::observe_hidden_clears(double time_s, const CameraView& view, con
 
 VoxelMatches Evaluator::match_mapped_voxels(const mapping::VoxelMap& map) {
   const PhaseTimer timer(times_.mapped_ms);
-  return mapped_.match(map, truth_);  // match_mapped_plain()'s figures, kept from one evaluation to the next
+  return mapped_.match(map, truth_);  // reference::match_mapped()'s figures, kept from one evaluation to the next
 }
 
 VoxelMatches Evaluator::match_observed_truth(double time_s, std::vector<CellKey>& observed_cells) {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -51,6 +52,21 @@ TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
     }
   }
   EXPECT_GE(count, 12);
+}
+
+// tests/scenarios/CMakeLists.txt lists the scenarios CI runs by name (no GLOB): a new one must be added there.
+TEST(ScenarioShipped, EveryScenarioInTheFolderRunsInCi) {
+  std::ifstream in(std::string(STVL_SOURCE_DIR) + "/tests/scenarios/CMakeLists.txt");
+  ASSERT_TRUE(in.good());
+  const std::string list((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(kScenarioDir)) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++count;
+    EXPECT_THAT(list, HasSubstr(" " + entry.path().stem().string() + "\n"))
+        << entry.path().filename() << " is not in tests/scenarios/CMakeLists.txt's scenario list";
+  }
+  EXPECT_GE(count, 11);
 }
 
 TEST(ScenarioShipped, DefaultScenarioIsTheOfficeCorridor) {

@@ -8,6 +8,14 @@
 
 namespace stvl::mapping::test {
 
+// A voxel size representable in float, so that boundaries are exact, and a config with it.
+constexpr double kExactVoxel = 0.125;
+inline StvlConfig exact_config() {
+  StvlConfig config;
+  config.voxel_size_m = kExactVoxel;
+  return config;
+}
+
 // Optical frame at position_W looking along +x of the world (z forward, x right = -y_W, y down = -z_W).
 inline Eigen::Isometry3d camera_looking_along_x(const Eigen::Vector3d& position_W, double yaw = 0.0) {
   Eigen::Matrix3d R_base_optical;
