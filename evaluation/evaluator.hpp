@@ -115,7 +115,10 @@ class Evaluator {
   // Throws std::invalid_argument for a bad config.
   Evaluator(const sim::World& world, const EvaluationConfig& config);
 
+  // What the camera's noise-free view sees this frame (recall's denominator, the truth voxels in range and band,
+  // per camera too); frame_keys() holds them afterwards.
   void observe(double time_s, const CameraView& view);
+  // Before the map's update: moved bodies' stale voxels the view now sees through (clearing latency starts).
   void observe_clearing(double time_s, const sim::World& world, const CameraView& view, const mapping::VoxelMap& map);
   // cleared_keys: the voxels the update's clearing removed (pipeline::FrameResult::cleared_keys); false_clears
   // counts them in ray-cast mode only.
@@ -127,11 +130,16 @@ class Evaluator {
 
   // The robot's pose at the map's last update (the footprint's place for clearing and self-marking).
   void set_robot_pose(const Eigen::Isometry3d& T_world_base) { T_world_base_ = T_world_base; }
+  // A snapshot of every figure against the truth of the world's current state (kept for the means).
   const EvaluationSnapshot& evaluate(double time_s, const sim::World& world, const mapping::VoxelMap& map);
+  // The final snapshot, the means, obstacles, surface distances, clearing and occlusion results.
   EvaluationSummary finish(double time_s, const sim::World& world, const mapping::VoxelMap& map);
 
+  // The top-down picture of the last evaluate() or finish().
   const TopDown& top_down() const { return top_down_; }
+  // Wall-clock totals per phase so far (profiling only).
   const PhaseTimes& phase_times() const { return times_; }
+  // The ground truth at the world's state of the last update.
   const Truth& truth() const { return truth_; }
   // The voxels the last observe() saw (noise-free, in range and band), sorted.
   const std::vector<VoxelKey>& frame_keys() const { return frame_keys_; }
