@@ -23,6 +23,7 @@ class CellGrid {
   static CellGrid of(const std::vector<CellKey>& cells);
   static CellGrid of(const CellSet& cells);
 
+  // Whether c is present, and its count (0 when absent or outside the box).
   bool contains(const CellKey& c) const { return count(c) > 0; }
   int count(const CellKey& c) const {
     if (!covers(c)) return 0;
@@ -37,12 +38,14 @@ class CellGrid {
   // Adds n to c's count, kept within [0, 65535] (c is in the set while its count is positive). Throws
   // std::out_of_range outside the box.
   void add(const CellKey& c, int n = 1);
+  // Adds c with count 1 when absent (a present cell keeps its count). Throws std::out_of_range outside the box.
   void insert(const CellKey& c) {
     if (!contains(c)) add(c, 1);
   }
   std::size_t size() const { return size_; }  // cells with a positive count
-  bool empty() const { return size_ == 0; }
-  CellKey lo() const { return lo_; }  // the box (hi < lo: no box)
+  bool empty() const { return size_ == 0; }  // no cell present
+  // The box's corners, inclusive (hi < lo: no box).
+  CellKey lo() const { return lo_; }
   CellKey hi() const {
     return {static_cast<std::int32_t>(lo_.x + width_ - 1), static_cast<std::int32_t>(lo_.y + height_ - 1)};
   }
@@ -63,7 +66,7 @@ class CellGrid {
       }
   }
   std::vector<CellKey> cells() const;  // present cells, tile by tile
-  CellSet to_set() const;
+  CellSet to_set() const;  // the present cells as a CellSet
 
  private:
   static constexpr int kTileBits = 6, kTile = 1 << kTileBits;

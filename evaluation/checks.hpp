@@ -60,7 +60,7 @@ std::vector<CheckResult> outage_checks(const ChecksConfig& checks, const std::ve
 // result per threshold set; each fails, saying why, when the run was too short to compare.
 std::vector<CheckResult> soak_checks(const ChecksConfig& checks, const SoakSeries& soak);
 
-// robot_upright: the robot fell over or left the world at fell_at_s (when it did).
+// robot_upright: passes when upright, else says the robot fell over or left the world at time_s, tilted tilt_rad.
 CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad);
 // path_completed: the path's end reached at time_s, or not within duration_s.
 CheckResult path_completed_check(bool completed, double time_s, double duration_s);

@@ -23,6 +23,7 @@ class ClearingLatency {
  public:
   // Before the map's update with the frame at time_s: a stale voxel seen through now (the first time counts).
   void seen_through(const VoxelKey& key, double time_s);
+  // Whether key was seen through and is still awaited: not yet found gone from the map by after_update().
   bool tracked(const VoxelKey& key) const { return first_seen_s_.count(key) > 0; }
   // After the map's update at time_s: every tracked voxel the map no longer holds is cleared now.
   void after_update(double time_s, const std::function<bool(const VoxelKey&)>& in_map);

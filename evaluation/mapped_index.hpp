@@ -34,6 +34,7 @@ class MappedIndex {
   // The map as of the last match(): whether key is in it, and whether a voxel within tol (Chebyshev) is.
   bool contains(const VoxelKey& key) const;
   bool near(const VoxelKey& key, int tol) const;
+  // Leaves remembered (8^3 voxels each): the map's at the last match(), plus any that update() added since.
   std::size_t leaves() const { return leaves_.size(); }
 
  private:

@@ -26,6 +26,7 @@ bool any_within(const VoxelKey& key, int tol, Contains&& contains) {
   return false;
 }
 
+// True when set holds a key within tol of key (any_within() over the set).
 bool near_voxel(const VoxelSet& set, const VoxelKey& key, int tol);
 
 // 3D: precision = matched mapped / mapped, recall = matched observed truth / observed truth,
@@ -37,6 +38,7 @@ struct VoxelMatches {
 struct VoxelScores {
   double precision = 0, recall = 0, f1 = 0, iou = 0;
 };
+// Precision, recall, F1 and IoU of matches, as defined above.
 VoxelScores voxel_scores(const VoxelMatches& matches);
 
 // An obstacle (one body) over the run: observed once at least min_observed_voxels of its voxels were seen
@@ -50,6 +52,7 @@ struct ObstacleResult {
   bool observed = false;
   bool detected = false;
 };
+// One evaluation of the obstacle: observed_voxels of it seen in the window, matched_voxels of those in the map.
 void update_obstacle(ObstacleResult& obstacle, std::size_t observed_voxels, std::size_t matched_voxels,
                      int min_observed_voxels);
 
@@ -61,6 +64,7 @@ struct CostmapMatches {
   double precision = 0, recall = 0;
   std::vector<CellKey> true_positive, false_positive, false_negative;  // for pictures, row by row
 };
+// The 2D figures above, and the cells for pictures; footprint: the true footprint cells, observed: those seen.
 CostmapMatches match_costmap(const CellGrid& lethal, const CellGrid& footprint, const CellGrid& observed, int tol);
 // Cell keys (at cell_m, the costmap's own resolution) of the lethal cells of a costmap.
 CellGrid lethal_cells(const mapping::Costmap2D& costmap, double cell_m);
@@ -87,8 +91,9 @@ ProjectionGuard guard_projection(const CellGrid& counts, int needed, const CellG
 // not the robot, and is not counted. footprint_W: the robot's polygon in the world; fewer than 3 points: 0, 0.
 struct SelfMarking {
   std::size_t inside = 0, ring = 0;
-  std::size_t total() const { return inside + ring; }
+  std::size_t total() const { return inside + ring; }  // inside and ring together
 };
+// Counts it as above: cell_m the cell size, ring_m the ring's width (metres); truth_footprint: the true cells.
 SelfMarking count_self_marking(const CellGrid& lethal, const std::vector<Eigen::Vector2d>& footprint_W, double cell_m,
                                double ring_m, const CellGrid& truth_footprint, int tol);
 

@@ -55,6 +55,7 @@ class HiddenClears {
                     const std::vector<const sim::BodyVoxels*>& bodies, const std::function<int(const VoxelKey&)>& body_of,
                     const std::function<bool(const VoxelKey&)>& in_map,
                     const std::function<VoxelSight(const VoxelKey&)>& sight);
+  // The totals over every update so far, with the bodies sorted by name.
   OcclusionResult result() const;
 
  private:

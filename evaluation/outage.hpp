@@ -36,14 +36,17 @@ class OutageMonitor {
  public:
   // outages[c]: camera c's windows; tolerance_voxels as the evaluation's.
   OutageMonitor(std::vector<std::vector<OutageWindow>> outages, int tolerance_voxels);
-  bool empty() const { return outages_.empty(); }
+  bool empty() const { return outages_.empty(); }  // no camera has a window: every call does nothing
 
   // keys: the voxels camera `camera` saw in this frame; those truth contains are recorded. marking_points: the
   // frame's points to mark.
   void observe(std::size_t camera, double time_s, const std::vector<VoxelKey>& keys, const Truth& truth,
                std::size_t marking_points);
+  // Before the update at time_s: an outage whose window has begun watches the voxels in map only its camera saw.
   void before_update(double time_s, const mapping::VoxelMap& map);
+  // After the update at time_s: counts the watched voxels that left map unseen by the other cameras, until to_s.
   void after_update(double time_s, const mapping::VoxelMap& map);
+  // One result per window (cameras in order), with the recall figures from the evaluation's snapshots.
   std::vector<OutageResult> results(const std::vector<EvaluationSnapshot>& snapshots) const;
 
  private:

@@ -57,6 +57,7 @@ class RunEvaluation {
   // The final snapshot, summary, map view and every check; `map` is the final map.
   RunVerdict finish(const RunEnd& end, const sim::World& world, const mapping::VoxelMap& map);
 
+  // The Evaluator's ground truth, at the world's state of the last update.
   const Truth& truth() const { return evaluator_.truth(); }
 
  private:

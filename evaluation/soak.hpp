@@ -34,11 +34,12 @@ double resident_memory_mb();
 
 class SoakSampler {
  public:
+  // sample_every_s: simulated seconds between samples; 0 or less: off (frame() records nothing).
   explicit SoakSampler(double sample_every_s);
   // After each frame: its time, clear + mark ms (wall, CPU), the laps completed so far and the map (counted when
   // a sample is due).
   void frame(double time_s, double map_ms, double map_cpu_ms, int laps, const mapping::VoxelMap& map);
-  const SoakSeries& series() const { return series_; }
+  const SoakSeries& series() const { return series_; }  // the samples and first-lap figures so far
 
  private:
   SoakSeries series_;

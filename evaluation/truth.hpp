@@ -19,12 +19,15 @@ namespace stvl::evaluation {
 
 class Truth {
  public:
+  // Static bodies voxelized once, moving ones at their poses in world now. Throws std::invalid_argument for a
+  // bad config.
   Truth(const sim::World& world, const EvaluationConfig& config);
   // Moving bodies at their poses in `world` now (nothing is recomputed when none of them moved).
   void update(const sim::World& world);
   // Increases whenever the truth changes (a moving body moved); the same version, the same truth.
   std::size_t version() const { return version_; }
 
+  // Whether key is a truth voxel (of a static body, or of a moving one where it is now).
   bool contains(const VoxelKey& key) const;
   bool near(const VoxelKey& key, int tol) const;  // within tol voxels (Chebyshev) of a truth voxel
   // The two halves of near() at the config's tolerance_voxels: static bodies, and moving ones now (one lookup
@@ -38,6 +41,7 @@ class Truth {
   int moving_body_of(const VoxelKey& key) const;
   // Static bodies, then moving ones; each with its voxels in the band.
   const std::vector<const sim::BodyVoxels*>& bodies() const { return bodies_; }
+  // Whether the world has a mocap (moving) obstacle body.
   bool has_moving_bodies() const { return !dynamic_geoms_.empty(); }
   // Every voxel a moving body has occupied since the start, grown by one voxel: where stale map voxels can be.
   const VoxelSet& vacated() const { return vacated_; }

@@ -15,6 +15,7 @@ namespace stvl::evaluation {
 
 class VoxelMaskSet {
  public:
+  // Adds key with label (-1: none); a key already present keeps its first label.
   void insert(const VoxelKey& key, int label = -1) {
     const auto [it, fresh] = leaves_.try_emplace(origin_of(key));
     Leaf& leaf = it->second;
@@ -29,6 +30,7 @@ class VoxelMaskSet {
       leaf.label = kMixed;
     }
   }
+  // Whether key is in the set.
   bool contains(const VoxelKey& key) const {
     const Leaf* leaf = leaf_of(key);
     const int i = offset_of(key);
@@ -46,6 +48,7 @@ class VoxelMaskSet {
   void for_each(F&& f) const {
     for (const auto& [origin, leaf] : leaves_) for_each_in(origin, leaf, f);
   }
+  // Removes every key and label.
   void clear() { leaves_.clear(), mixed_.clear(), last_origin_ = {1, 1, 1}, last_ = nullptr; }
 
  private:

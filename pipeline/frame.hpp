@@ -97,7 +97,7 @@ struct FrameResult {
   // Valid pixels in the optical frame, row-major pixel order: the first point_count columns of points_C.
   Eigen::Matrix3Xf points_C;
   Eigen::Index point_count = 0;
-  auto cloud_C() const { return points_C.leftCols(point_count); }
+  auto cloud_C() const { return points_C.leftCols(point_count); }  // the valid points (a view of points_C)
   Eigen::Matrix3Xf cloud_W;      // the same points in the world frame
   Eigen::Matrix3Xf decimated_W;  // after the voxel grid or CSNB: clears
   Eigen::Matrix3Xf marking_W;    // decimated and inside the passthrough band: marks
@@ -132,6 +132,7 @@ struct SourceStatus {
 struct HeightBand {
   double min_m = 0.0, max_m = 3.0;
 };
+// The config's band as HeightBand says (metres).
 HeightBand marking_band(const PipelineConfig& config);
 
 // Throws std::invalid_argument naming the camera (and source) for: no camera, an empty or repeated camera

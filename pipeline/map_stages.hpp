@@ -23,6 +23,7 @@ class MapStages {
   // Keeps a copy of the config: its cameras (sources, edge filter, intrinsics), filter and map; validates nothing
   // itself (validate_cameras() does).
   explicit MapStages(const PipelineConfig& config);
+  // Frees the filter, the sources' buffers and the map; not copyable.
   ~MapStages();
   MapStages(const MapStages&) = delete;
   MapStages& operator=(const MapStages&) = delete;
@@ -43,9 +44,10 @@ class MapStages {
   // footprint_cleared, reapplied_readings, times.clear_ms, mark_ms and map_cpu_ms.
   void update(FrameResult& f, const CamerasNow& now);
 
-  const mapping::VoxelMap& map() const { return map_; }
+  const mapping::VoxelMap& map() const { return map_; }  // as the last update() left it
+  // Every source's status (cameras in order, their sources in order), spans of staleness closed at until_s.
   std::vector<SourceStatus> source_status(double until_s) const;
-  const char* filter_device() const { return filter_.device_used(); }
+  const char* filter_device() const { return filter_.device_used(); }  // "cpu" or "cuda"
 
  private:
   struct Sources;

@@ -39,6 +39,7 @@ class Pipeline {
   // Throws std::invalid_argument for a bad config or world, std::runtime_error when no GL context can be made
   // or a CUDA filter was required without a GPU.
   explicit Pipeline(PipelineConfig config);
+  // Frees the simulator, the cameras' renderers, the filter and the map; not copyable.
   ~Pipeline();
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
@@ -51,14 +52,15 @@ class Pipeline {
   // Runs the next frame. The result is owned by the pipeline and overwritten by the next step().
   const FrameResult& step(const BeforeMapUpdate& before_map_update = {});
 
-  const PipelineConfig& config() const { return config_; }
-  const sim::Simulator& simulator() const { return *sim_; }
-  const mapping::VoxelMap& map() const;
+  const PipelineConfig& config() const { return config_; }  // as given to the constructor
+  const sim::Simulator& simulator() const { return *sim_; }  // the world and robot it steps
+  const mapping::VoxelMap& map() const;  // as the last step() left it
   // The map's costmap at its voxel size over the occupied extent (1 x 1 when empty), counting voxels inside
   // the marking height band: from the lowest min_obstacle_height_m to the highest max_obstacle_height_m of
   // the marking sources; with map.update_footprint_enabled, the footprint's cells at the robot's current pose
   // are free (STVL's footprint clearing).
   mapping::Costmap2D costmap() const;
+  // The options costmap() uses: costmap_options() of map_stages.hpp at the robot's current true pose.
   mapping::CostmapOptions costmap_options() const;
   // Every source's status (cameras in order, their sources in order), spans of staleness closed at until_s.
   std::vector<SourceStatus> source_status(double until_s) const;

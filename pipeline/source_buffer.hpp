@@ -28,15 +28,17 @@ struct SourceReading {
 
 class SourceBuffer {
  public:
+  // Empty, last updated at created_s; observation_persistence_s and expected_update_rate_s as above (seconds).
   SourceBuffer(double observation_persistence_s, double expected_update_rate_s, double created_s = 0.0)
       : persistence_s_(observation_persistence_s), expected_update_rate_s_(expected_update_rate_s),
         last_updated_s_(created_s) {}
 
-  // A reading arrives at time_s (its own time: the bench has no transport delay).
+  // A reading (not null) arrives at its time_s (its own time: the bench has no transport delay).
   void receive(std::shared_ptr<const SourceReading> reading);
   // What an update applies: newest first.
   const std::deque<std::shared_ptr<const SourceReading>>& readings() const { return readings_; }
-  bool current(double now_s) const;
+  bool current(double now_s) const;  // source_current() at now_s with this buffer's times
+  // The newest reading's time (created_s before any), and the expected update period (seconds; 0: always current).
   double last_updated_s() const { return last_updated_s_; }
   double expected_update_rate_s() const { return expected_update_rate_s_; }
 
@@ -53,6 +55,7 @@ bool source_current(double now_s, double last_updated_s, double expected_update_
 struct StaleSpan {
   double from_s = 0, to_s = 0;
 };
+// That span, or nullopt when it is empty or the rate is 0.
 std::optional<StaleSpan> stale_span(double last_s, double next_s, double expected_update_rate_s);
 
 }  // namespace stvl::pipeline
