@@ -117,7 +117,8 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
   std::vector<Frustum> frustums;
   if (impl_->config.clearing_mode == ClearingMode::kFrustum) {
     for (const ClearingObservation& obs : clearing)
-      frustums.push_back({DepthCameraFrustum(obs.T_world_camera, obs.source), obs.source.decay_acceleration_per_s3});
+      frustums.push_back({DepthCameraFrustum(obs.T_world_camera, obs.source, impl_->config.frustum_geometry),
+                          obs.source.decay_acceleration_per_s3});
   } else {
     impl_->raycast_pass(clearing, stats, cleared_keys);
   }

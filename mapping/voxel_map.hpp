@@ -4,7 +4,8 @@
 //
 // Voxel index: key = floor(p / voxel_size) per axis, so voxel key k spans [k*s, (k+1)*s) and its centre is
 // (k + 0.5)*s; negative coordinates work (p = -0.01 -> key -1). mark() uses config.mark_rounding instead (floor,
-// or STVL's shifted truncation: mark_key_of()); lookup() and key_of() always floor.
+// or STVL's shifted truncation: mark_key_of()); lookup() and key_of() always floor. With
+// config.frustum_geometry = kStvl the frustum test takes STVL's centre k*vs + vs/2, vs = double(float(s)).
 //
 // Clearing (one call to clear() per update, before mark(), as STVL's layer does), with age = time_s - value:
 //   time_left = voxel_decay - age            (linear)

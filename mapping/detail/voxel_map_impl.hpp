@@ -85,6 +85,14 @@ struct VoxelMap::Impl {
   Eigen::Vector3d centre_W(const Coord& key) const {
     return Eigen::Vector3d(key.x() + 0.5, key.y() + 0.5, key.z() + 0.5) * config.voxel_size_m;
   }
+  // The point the frustum test takes for a voxel: centre_W, or with FrustumGeometry::kStvl STVL's IndexToWorld,
+  // i*vs + vs/2 with vs = stvl_voxel_size_m(). Both are monotonic in the key, so the centres of a key box lie in
+  // the box of its corner keys' centres (the bounded walk's culling relies on it).
+  Eigen::Vector3d frustum_centre_W(const Coord& key) const {
+    if (config.frustum_geometry != FrustumGeometry::kStvl) return centre_W(key);
+    const double vs = stvl_voxel_size_m(), half = vs / 2.0;
+    return Eigen::Vector3d(key.x() * vs + half, key.y() * vs + half, key.z() * vs + half);
+  }
 
   // ---- decay and expiry (voxel_map_decay.cpp)
   // Defined here, not in the .cpp: it runs once per voxel in every walk and must inline.
