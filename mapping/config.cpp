@@ -38,12 +38,22 @@ constexpr EnumName<ClearingMode> kClearingModeNames[] = {{ClearingMode::kFrustum
                                                          {ClearingMode::kRaycast, "raycast"}};
 constexpr EnumName<ClearingWalk> kClearingWalkNames[] = {{ClearingWalk::kBounded, "bounded"},
                                                          {ClearingWalk::kFullWalk, "full_walk"}};
+constexpr EnumName<MarkRounding> kMarkRoundingNames[] = {{MarkRounding::kFloor, "floor"},
+                                                         {MarkRounding::kStvl, "stvl"}};
+constexpr EnumName<FrustumGeometry> kFrustumGeometryNames[] = {{FrustumGeometry::kIdeal, "ideal"},
+                                                               {FrustumGeometry::kStvl, "stvl"}};
 }  // namespace
 
 ClearingMode parse_clearing_mode(const std::string& text) { return parse_enum(text, kClearingModeNames, "clearing_mode"); }
 std::string to_string(ClearingMode mode) { return enum_name(mode, kClearingModeNames); }
 ClearingWalk parse_clearing_walk(const std::string& text) { return parse_enum(text, kClearingWalkNames, "clearing_walk"); }
 std::string to_string(ClearingWalk walk) { return enum_name(walk, kClearingWalkNames); }
+MarkRounding parse_mark_rounding(const std::string& text) { return parse_enum(text, kMarkRoundingNames, "mark_rounding"); }
+std::string to_string(MarkRounding rounding) { return enum_name(rounding, kMarkRoundingNames); }
+FrustumGeometry parse_frustum_geometry(const std::string& text) {
+  return parse_enum(text, kFrustumGeometryNames, "frustum_geometry");
+}
+std::string to_string(FrustumGeometry geometry) { return enum_name(geometry, kFrustumGeometryNames); }
 
 void StvlConfig::validate() const {
   require_finite("voxel_size", voxel_size_m);
@@ -57,6 +67,10 @@ void StvlConfig::validate() const {
     reject("clearing_mode", static_cast<int>(clearing_mode), "must be frustum or raycast");
   if (clearing_walk != ClearingWalk::kBounded && clearing_walk != ClearingWalk::kFullWalk)
     reject("clearing_walk", static_cast<int>(clearing_walk), "must be bounded or full_walk");
+  if (mark_rounding != MarkRounding::kFloor && mark_rounding != MarkRounding::kStvl)
+    reject("mark_rounding", static_cast<int>(mark_rounding), "must be floor or stvl");
+  if (frustum_geometry != FrustumGeometry::kIdeal && frustum_geometry != FrustumGeometry::kStvl)
+    reject("frustum_geometry", static_cast<int>(frustum_geometry), "must be ideal or stvl");
   if (expiry_leaves_per_update < 1)
     reject("expiry_leaves_per_update", static_cast<double>(expiry_leaves_per_update), "must be >= 1");
   if (!footprint_B.empty() && footprint_B.size() < 3)

@@ -32,6 +32,28 @@ enum class ClearingWalk { kBounded, kFullWalk };
 ClearingWalk parse_clearing_walk(const std::string& text);
 std::string to_string(ClearingWalk walk);
 
+// How mark() turns a point into a voxel key (only marking; lookup() and key_of() always floor).
+// floor (ours): key = floor(p / voxel_size) on every axis, so key k spans [k*s, (k+1)*s).
+// stvl: STVL's arithmetic (grid.cpp operator(), ros2 403d9ed and noetic-devel 5e06daf), in double with
+//   vs = double(float(voxel_size)): x' = px < 0 ? px - vs : px, y' = py < 0 ? py - vs : py,
+//   z' = py < 0 ? pz - vs : pz (the sign of *y*: STVL's bug), key = trunc(x' * (1.0 / vs)) per axis (the
+//   conversion to openvdb::Coord). For py >= 0, key z = 0 covers (-vs, vs); for py < 0, positive z lands one
+//   voxel lower than with floor; an exact negative multiple of vs lands one voxel further out.
+enum class MarkRounding { kFloor, kStvl };
+MarkRounding parse_mark_rounding(const std::string& text);
+std::string to_string(MarkRounding rounding);
+
+// The depth camera's clearing frustum (mapping/frustum.hpp), in both walks.
+// ideal (ours): near/far planes at z = min_z / max_z, sides |x| <= z tan(h/2), |y| <= z tan(v/2).
+// stvl: STVL's DepthCameraFrustum::ComputePlaneNormals (ros2 403d9ed, noetic-devel 5e06daf): corners at radial
+//   distance min_z / max_z along the unit rays Rx(+-v/2) Ry(+-h/2) z, so near/far planes at
+//   d cos(h/2) cos(v/2) and sides |x| <= z tan(h/2) / cos(v/2), |y| <= z tan(v/2); a voxel centre
+//   c = i*vs + vs/2 (vs = double(float(voxel_size))) is outside iff dot(n, normalize(c - anchor)) > 0 for some
+//   outward plane normal n (on a plane counts as inside).
+enum class FrustumGeometry { kIdeal, kStvl };
+FrustumGeometry parse_frustum_geometry(const std::string& text);
+std::string to_string(FrustumGeometry geometry);
+
 struct StvlConfig {
   // Accepted range [0.01, 1.0] m (STVL's usable range is 0.02..0.2): below 1 cm one 10 m frustum holds
   // over 10^9 voxels; above 1 m the map is useless for a ground robot.
@@ -45,6 +67,8 @@ struct StvlConfig {
   int mark_threshold = 0;
   ClearingMode clearing_mode = ClearingMode::kFrustum;
   ClearingWalk clearing_walk = ClearingWalk::kBounded;
+  MarkRounding mark_rounding = MarkRounding::kFloor;            // YAML map.mark_rounding
+  FrustumGeometry frustum_geometry = FrustumGeometry::kIdeal;   // YAML map.frustum_geometry
   // Bound on expiry work per update in bounded mode; a backlog larger than this is worked off over the next
   // updates (lag = ceil(backlog / expiry_leaves_per_update) updates).
   std::size_t expiry_leaves_per_update = 256;

@@ -15,12 +15,24 @@ void validate_pose(const Eigen::Isometry3d& T_world_camera) {
                                 std::to_string(error) + ")");
 }
 
-DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, const ObservationSource& source)
+namespace {
+
+constexpr double kStvlCullMargin_m = 1e-6;
+
+// STVL's dot product (DepthCameraFrustum::Dot): x, y, z summed left to right.
+inline double stvl_dot(const Eigen::Vector3d& n, const Eigen::Vector3d& p) { return n[0] * p[0] + n[1] * p[1] + n[2] * p[2]; }
+
+}  // namespace
+
+DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, const ObservationSource& source,
+                                       FrustumGeometry geometry)
     : DepthCameraFrustum(T_world_camera, source.horizontal_fov_rad, source.vertical_fov_rad, source.min_z_m,
-                         source.max_z_m) {}
+                         source.max_z_m, geometry) {}
 
 DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, double horizontal_fov_rad,
-                                       double vertical_fov_rad, double min_z_m, double max_z_m) {
+                                       double vertical_fov_rad, double min_z_m, double max_z_m,
+                                       FrustumGeometry geometry)
+    : geometry_(geometry) {
   ObservationSource check;
   check.horizontal_fov_rad = horizontal_fov_rad;
   check.vertical_fov_rad = vertical_fov_rad;
@@ -28,6 +40,46 @@ DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, 
   check.max_z_m = max_z_m;
   check.validate();
   validate_pose(T_world_camera);
+  if (geometry != FrustumGeometry::kIdeal && geometry != FrustumGeometry::kStvl)
+    throw std::invalid_argument("frustum geometry " + std::to_string(static_cast<int>(geometry)) + " is unknown");
+  const Eigen::Matrix3d R = T_world_camera.linear();
+  const Eigen::Vector3d origin_W = T_world_camera.translation();
+
+  if (geometry == FrustumGeometry::kStvl) {
+    // Corner rays, Y rotation first then X, as Affine3d products on doubles (ComputePlaneNormals).
+    const Eigen::Vector3d Z = Eigen::Vector3d::UnitZ();
+    auto ray = [&](double sign_v, double sign_h) -> Eigen::Vector3d {
+      const Eigen::Affine3d rx(Eigen::AngleAxisd(sign_v * vertical_fov_rad / 2., Eigen::Vector3d::UnitX()));
+      const Eigen::Affine3d ry(Eigen::AngleAxisd(sign_h * horizontal_fov_rad / 2., Eigen::Vector3d::UnitY()));
+      return rx * ry * Z;
+    };
+    const std::array<Eigen::Vector3d, 4> rays = {ray(+1, +1), ray(-1, +1), ray(-1, -1), ray(+1, -1)};
+    std::array<Eigen::Vector3d, 8> pt;
+    for (std::size_t k = 0; k < 4; ++k) {
+      pt[2 * k] = rays[k] * min_z_m;
+      pt[2 * k + 1] = rays[k] * max_z_m;
+    }
+    auto unit = [](Eigen::Vector3d v) {
+      v.normalize();
+      return v;
+    };
+    const Eigen::Vector3d far_C = unit((pt[7] - pt[5]).cross(pt[1] - pt[7]));
+    const std::array<Eigen::Vector3d, 6> normals_C = {
+        unit((pt[3] - pt[1]).cross(pt[1] - pt[0])), unit((pt[5] - pt[3]).cross(pt[3] - pt[2])),
+        unit((pt[7] - pt[5]).cross(pt[5] - pt[4])), unit((pt[1] - pt[7]).cross(pt[7] - pt[6])),
+        far_C,                                      -far_C};
+    const std::array<Eigen::Vector3d, 6> anchors_C = {pt[0], pt[2], pt[4], pt[6], pt[7], pt[2]};
+    for (std::size_t i = 0; i < 6; ++i) {
+      stvl_normals_W_[i] = unit(R * normals_C[i]);  // VectorWithPt3D::TransformFrames
+      stvl_anchors_W_[i] = T_world_camera * anchors_C[i];
+      planes_W_[i] << -stvl_normals_W_[i], stvl_normals_W_[i].dot(stvl_anchors_W_[i]);
+    }
+    cull_margin_m_ = kStvlCullMargin_m;
+    for (const Eigen::Vector3d& corner_C : pt) bounds_W_.extend(T_world_camera * corner_C);
+    bounds_W_.min().array() -= kStvlCullMargin_m;
+    bounds_W_.max().array() += kStvlCullMargin_m;
+    return;
+  }
 
   const double ch = std::cos(horizontal_fov_rad / 2), sh = std::sin(horizontal_fov_rad / 2);
   const double cv = std::cos(vertical_fov_rad / 2), sv = std::sin(vertical_fov_rad / 2);
@@ -39,8 +91,6 @@ DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, 
       Eigen::Vector4d(0, -cv, sv, 0),     // bottom (y down)
       Eigen::Vector4d(0, cv, sv, 0),      // top
   };
-  const Eigen::Matrix3d R = T_world_camera.linear();
-  const Eigen::Vector3d origin_W = T_world_camera.translation();
   for (std::size_t i = 0; i < planes_C.size(); ++i) {
     const Eigen::Vector3d n_W = R * planes_C[i].head<3>();
     planes_W_[i] << n_W, planes_C[i][3] - n_W.dot(origin_W);
@@ -53,6 +103,15 @@ DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, 
 }
 
 bool DepthCameraFrustum::contains(const Eigen::Vector3d& p_W) const {
+  if (geometry_ == FrustumGeometry::kStvl) {
+    for (std::size_t i = 0; i < 6; ++i) {  // DepthCameraFrustum::IsInside
+      Eigen::Vector3d delta(p_W[0] - stvl_anchors_W_[i][0], p_W[1] - stvl_anchors_W_[i][1],
+                            p_W[2] - stvl_anchors_W_[i][2]);
+      delta.normalize();  // a zero vector stays zero: on the anchor counts as inside
+      if (stvl_dot(stvl_normals_W_[i], delta) > 0.) return false;
+    }
+    return true;
+  }
   for (const auto& plane : planes_W_)
     if (plane.head<3>().dot(p_W) + plane[3] < 0.0) return false;
   return true;
@@ -63,7 +122,7 @@ bool DepthCameraFrustum::may_intersect(const Eigen::AlignedBox3d& box_W) const {
   for (const auto& plane : planes_W_) {
     Eigen::Vector3d farthest;
     for (int a = 0; a < 3; ++a) farthest[a] = plane[a] >= 0.0 ? box_W.max()[a] : box_W.min()[a];
-    if (plane.head<3>().dot(farthest) + plane[3] < 0.0) return false;
+    if (plane.head<3>().dot(farthest) + plane[3] < -cull_margin_m_) return false;
   }
   return true;
 }

@@ -85,7 +85,7 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
     if (distance_sq_m2 > range_sq_m2 || distance_sq_m2 < kMinMarkDistanceSq_m2) continue;
     if (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m) continue;
     Coord key;
-    if (!impl_->to_key(p_W, key)) continue;
+    if (!impl_->mark_key(p_W, key)) continue;
     accessor.setValueOn(key, time_s);
     ++marked;
     if (indexed) {
@@ -117,7 +117,8 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
   std::vector<Frustum> frustums;
   if (impl_->config.clearing_mode == ClearingMode::kFrustum) {
     for (const ClearingObservation& obs : clearing)
-      frustums.push_back({DepthCameraFrustum(obs.T_world_camera, obs.source), obs.source.decay_acceleration_per_s3});
+      frustums.push_back({DepthCameraFrustum(obs.T_world_camera, obs.source, impl_->config.frustum_geometry),
+                          obs.source.decay_acceleration_per_s3});
   } else {
     impl_->raycast_pass(clearing, stats, cleared_keys);
   }
@@ -136,6 +137,14 @@ std::size_t VoxelMap::leaf_count() const { return impl_->grid->tree().leafCount(
 VoxelKey VoxelMap::key_of(const Eigen::Vector3d& p_W) const {
   Coord key;
   if (!p_W.allFinite() || !impl_->to_key(p_W, key))
+    throw std::invalid_argument("point (" + std::to_string(p_W.x()) + ", " + std::to_string(p_W.y()) + ", " +
+                                std::to_string(p_W.z()) + ") has no voxel key");
+  return {key.x(), key.y(), key.z()};
+}
+
+VoxelKey VoxelMap::mark_key_of(const Eigen::Vector3d& p_W) const {
+  Coord key;
+  if (!p_W.allFinite() || !impl_->mark_key(p_W, key))
     throw std::invalid_argument("point (" + std::to_string(p_W.x()) + ", " + std::to_string(p_W.y()) + ", " +
                                 std::to_string(p_W.z()) + ") has no voxel key");
   return {key.x(), key.y(), key.z()};

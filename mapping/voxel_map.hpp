@@ -3,7 +3,9 @@
 // (possibly pulled back by frustum acceleration, as STVL does); empty voxels are absent.
 //
 // Voxel index: key = floor(p / voxel_size) per axis, so voxel key k spans [k*s, (k+1)*s) and its centre is
-// (k + 0.5)*s; negative coordinates work (p = -0.01 -> key -1).
+// (k + 0.5)*s; negative coordinates work (p = -0.01 -> key -1). mark() uses config.mark_rounding instead (floor,
+// or STVL's shifted truncation: mark_key_of()); lookup() and key_of() always floor. With
+// config.frustum_geometry = kStvl the frustum test takes STVL's centre k*vs + vs/2, vs = double(float(s)).
 //
 // Clearing (one call to clear() per update, before mark(), as STVL's layer does), with age = time_s - value:
 //   time_left = voxel_decay - age            (linear)
@@ -86,7 +88,8 @@ class VoxelMap {
   bool empty() const { return size() == 0; }
   std::optional<double> lookup(const Eigen::Vector3d& p_W) const;  // time of the voxel holding p_W
   bool contains(const VoxelKey& key) const;                         // the voxel is in the map
-  VoxelKey key_of(const Eigen::Vector3d& p_W) const;
+  VoxelKey key_of(const Eigen::Vector3d& p_W) const;       // floor, whatever mark_rounding says
+  VoxelKey mark_key_of(const Eigen::Vector3d& p_W) const;  // the key mark() gives p_W (config.mark_rounding)
   Eigen::Vector3d center_of(const VoxelKey& key) const;
   std::vector<VoxelKey> voxel_keys() const;  // sorted lexicographically (x, y, z)
   // Calls visit(key) for every voxel, in the tree's order (not sorted; cheaper than voxel_keys()).

@@ -20,16 +20,6 @@ using detail::TreeT;
 
 namespace {
 
-// World box spanned by the centres of an index box's voxels.
-struct CentreBox {
-  double voxel_size_m;
-  Eigen::AlignedBox3d operator()(const openvdb::CoordBBox& box) const {
-    const Eigen::Vector3d lo_vox(box.min().x() + 0.5, box.min().y() + 0.5, box.min().z() + 0.5);
-    const Eigen::Vector3d hi_vox(box.max().x() + 0.5, box.max().y() + 0.5, box.max().z() + 0.5);
-    return Eigen::AlignedBox3d(lo_vox * voxel_size_m, hi_vox * voxel_size_m);
-  }
-};
-
 // A voxel the frustums' acceleration removed, for clear()'s cleared_keys.
 void report(std::vector<VoxelKey>* cleared_keys, const Coord& c) {
   if (cleared_keys) cleared_keys->push_back({c.x(), c.y(), c.z()});
@@ -97,7 +87,7 @@ inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& fr
   *new_value_s = value_s;
   *by_frustum = false;
   if (!frustums.empty()) {
-    const Eigen::Vector3d centre = centre_W(it.getCoord());
+    const Eigen::Vector3d centre = frustum_centre_W(it.getCoord());
     for (const Frustum& f : frustums) {
       if (!f.shape.contains(centre)) continue;
       const double acceleration_s = f.decay_acceleration_per_s3 * age_s * age_s * age_s / 6.0;
@@ -137,7 +127,10 @@ void VoxelMap::Impl::full_walk(const std::vector<Frustum>& frustums, double time
 void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats,
                                   std::vector<VoxelKey>* cleared_keys) {
   if (frustums.empty()) return;
-  const CentreBox box_of{config.voxel_size_m};
+  // World box spanned by the centres (as the frustum test takes them) of an index box's voxels.
+  auto box_of = [this](const openvdb::CoordBBox& box) {
+    return Eigen::AlignedBox3d(frustum_centre_W(box.min()), frustum_centre_W(box.max()));
+  };
   auto meets_any = [&](const openvdb::CoordBBox& box) {
     const Eigen::AlignedBox3d box_W = box_of(box);
     for (const Frustum& f : frustums)

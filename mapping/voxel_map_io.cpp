@@ -28,6 +28,8 @@ void VoxelMap::save_vdb(const std::string& path) const {
   out->insertMeta("mark_threshold", openvdb::Int32Metadata(c.mark_threshold));
   out->insertMeta("clearing_mode", openvdb::StringMetadata(to_string(c.clearing_mode)));
   out->insertMeta("clearing_walk", openvdb::StringMetadata(to_string(c.clearing_walk)));
+  out->insertMeta("mark_rounding", openvdb::StringMetadata(to_string(c.mark_rounding)));
+  out->insertMeta("frustum_geometry", openvdb::StringMetadata(to_string(c.frustum_geometry)));
   out->insertMeta("expiry_leaves_per_update", openvdb::Int64Metadata(static_cast<openvdb::Int64>(c.expiry_leaves_per_update)));
   out->insertMeta("latest_time_s", openvdb::DoubleMetadata(impl_->latest_time_s));
   write_via_temporary(path, [&](const std::filesystem::path& temp) {
@@ -71,6 +73,9 @@ VoxelMap VoxelMap::load_vdb(const std::string& path) {
     if (auto m = grid->getMetadata<openvdb::Int32Metadata>("mark_threshold")) config.mark_threshold = m->value();
     config.clearing_mode = parse_clearing_mode(meta_string("clearing_mode", to_string(config.clearing_mode)));
     config.clearing_walk = parse_clearing_walk(meta_string("clearing_walk", to_string(config.clearing_walk)));
+    config.mark_rounding = parse_mark_rounding(meta_string("mark_rounding", to_string(config.mark_rounding)));
+    config.frustum_geometry =
+        parse_frustum_geometry(meta_string("frustum_geometry", to_string(config.frustum_geometry)));
     if (auto m = grid->getMetadata<openvdb::Int64Metadata>("expiry_leaves_per_update"))
       config.expiry_leaves_per_update = static_cast<std::size_t>(std::max<openvdb::Int64>(m->value(), 0));
     config.validate();

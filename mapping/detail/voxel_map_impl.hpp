@@ -67,8 +67,31 @@ struct VoxelMap::Impl {
     key = Coord(static_cast<int>(scaled.x()), static_cast<int>(scaled.y()), static_cast<int>(scaled.z()));
     return true;
   }
+  // mark()'s key: to_key() (floor) or STVL's arithmetic (config.mark_rounding; see config.hpp).
+  bool mark_key(const Eigen::Vector3d& p_W, Coord& key) const {
+    if (config.mark_rounding == MarkRounding::kFloor) return to_key(p_W, key);
+    const double vs = stvl_voxel_size_m(), inverse = 1.0 / vs;  // OpenVDB's ScaleMap multiplies by 1/vs
+    const double x = p_W.x() < 0 ? p_W.x() - vs : p_W.x();
+    const double y = p_W.y() < 0 ? p_W.y() - vs : p_W.y();
+    const double z = p_W.y() < 0 ? p_W.z() - vs : p_W.z();  // STVL tests y's sign for z (ros2 403d9ed, noetic)
+    const Eigen::Vector3d scaled(x * inverse, y * inverse, z * inverse);
+    if (!(scaled.cwiseAbs().maxCoeff() < detail::kMaxIndex)) return false;
+    // openvdb::Coord(Int32, Int32, Int32): the implicit conversion truncates toward zero.
+    key = Coord(static_cast<int>(scaled.x()), static_cast<int>(scaled.y()), static_cast<int>(scaled.z()));
+    return true;
+  }
+  // STVL's grid keeps voxel_size narrowed to float (the grid's constructor takes a float) in a double.
+  double stvl_voxel_size_m() const { return static_cast<double>(static_cast<float>(config.voxel_size_m)); }
   Eigen::Vector3d centre_W(const Coord& key) const {
     return Eigen::Vector3d(key.x() + 0.5, key.y() + 0.5, key.z() + 0.5) * config.voxel_size_m;
+  }
+  // The point the frustum test takes for a voxel: centre_W, or with FrustumGeometry::kStvl STVL's IndexToWorld,
+  // i*vs + vs/2 with vs = stvl_voxel_size_m(). Both are monotonic in the key, so the centres of a key box lie in
+  // the box of its corner keys' centres (the bounded walk's culling relies on it).
+  Eigen::Vector3d frustum_centre_W(const Coord& key) const {
+    if (config.frustum_geometry != FrustumGeometry::kStvl) return centre_W(key);
+    const double vs = stvl_voxel_size_m(), half = vs / 2.0;
+    return Eigen::Vector3d(key.x() * vs + half, key.y() * vs + half, key.z() * vs + half);
   }
 
   // ---- decay and expiry (voxel_map_decay.cpp)
