@@ -217,18 +217,21 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   map.get("voxel_decay", m.voxel_decay_s);
   std::string decay = mapping::to_string(m.decay_model), mode = mapping::to_string(m.clearing_mode),
               walk = mapping::to_string(m.clearing_walk), rounding = mapping::to_string(m.mark_rounding),
-              geometry = mapping::to_string(m.frustum_geometry);
+              geometry = mapping::to_string(m.frustum_geometry), grouping = mapping::to_string(m.update_grouping);
   map.get("decay_model", decay);
   map.get("clearing_mode", mode);
   map.get("clearing_walk", walk);
   map.get("mark_rounding", rounding);
   map.get("frustum_geometry", geometry);
+  map.get("update_grouping", grouping);
   validate_keys({{"decay_model", &map, "decay_model"}}, [&] { m.decay_model = mapping::parse_decay_model(decay); });
   validate_keys({{"clearing_mode", &map, "clearing_mode"}}, [&] { m.clearing_mode = mapping::parse_clearing_mode(mode); });
   validate_keys({{"clearing_walk", &map, "clearing_walk"}}, [&] { m.clearing_walk = mapping::parse_clearing_walk(walk); });
   validate_keys({{"mark_rounding", &map, "mark_rounding"}}, [&] { m.mark_rounding = mapping::parse_mark_rounding(rounding); });
   validate_keys({{"frustum_geometry", &map, "frustum_geometry"}},
                 [&] { m.frustum_geometry = mapping::parse_frustum_geometry(geometry); });
+  validate_keys({{"update_grouping", &map, "update_grouping"}},
+                [&] { m.update_grouping = mapping::parse_update_grouping(grouping); });
   map.get("mark_threshold", m.mark_threshold);
   int expiry_leaves = static_cast<int>(m.expiry_leaves_per_update);
   map.get("expiry_leaves_per_update", expiry_leaves);

@@ -46,6 +46,12 @@ constexpr EnumName<FrustumGeometry> kFrustumGeometryNames[] = {{FrustumGeometry:
 
 ClearingMode parse_clearing_mode(const std::string& text) { return parse_enum(text, kClearingModeNames, "clearing_mode"); }
 std::string to_string(ClearingMode mode) { return enum_name(mode, kClearingModeNames); }
+constexpr EnumName<UpdateGrouping> kUpdateGroupingNames[] = {{UpdateGrouping::kInstant, "instant"},
+                                                             {UpdateGrouping::kCameraFrame, "camera_frame"}};
+UpdateGrouping parse_update_grouping(const std::string& text) {
+  return parse_enum(text, kUpdateGroupingNames, "update_grouping");
+}
+std::string to_string(UpdateGrouping grouping) { return enum_name(grouping, kUpdateGroupingNames); }
 ClearingWalk parse_clearing_walk(const std::string& text) { return parse_enum(text, kClearingWalkNames, "clearing_walk"); }
 std::string to_string(ClearingWalk walk) { return enum_name(walk, kClearingWalkNames); }
 MarkRounding parse_mark_rounding(const std::string& text) { return parse_enum(text, kMarkRoundingNames, "mark_rounding"); }

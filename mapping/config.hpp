@@ -54,6 +54,16 @@ enum class FrustumGeometry { kIdeal, kStvl };
 FrustumGeometry parse_frustum_geometry(const std::string& text);
 std::string to_string(FrustumGeometry geometry);
 
+// Which camera frames make one STVL update (pipeline/map_stages.hpp).
+// instant: STVL's layer takes every source's readings in one update (one ClearFrustums with every clearing
+//   reading, a voxel accelerated once, by the first frustum that holds it; then one Mark): the frames of cameras
+//   that share a time make one update, at the last of them.
+// camera_frame (ours, the bench before 2026-12): one clear-and-mark update per camera frame, so a voxel in two
+//   cameras' frustums at one instant is accelerated twice.
+enum class UpdateGrouping { kInstant, kCameraFrame };
+UpdateGrouping parse_update_grouping(const std::string& text);
+std::string to_string(UpdateGrouping grouping);
+
 struct StvlConfig {
   // Accepted range [0.01, 1.0] m (STVL's usable range is 0.02..0.2): below 1 cm one 10 m frustum holds
   // over 10^9 voxels; above 1 m the map is useless for a ground robot.
@@ -67,8 +77,9 @@ struct StvlConfig {
   int mark_threshold = 0;
   ClearingMode clearing_mode = ClearingMode::kFrustum;
   ClearingWalk clearing_walk = ClearingWalk::kBounded;
-  MarkRounding mark_rounding = MarkRounding::kFloor;            // YAML map.mark_rounding
-  FrustumGeometry frustum_geometry = FrustumGeometry::kIdeal;   // YAML map.frustum_geometry
+  MarkRounding mark_rounding = MarkRounding::kStvl;             // YAML map.mark_rounding; floor is ours
+  FrustumGeometry frustum_geometry = FrustumGeometry::kStvl;    // YAML map.frustum_geometry; ideal is ours
+  UpdateGrouping update_grouping = UpdateGrouping::kInstant;    // YAML map.update_grouping; camera_frame is ours
   // Bound on expiry work per update in bounded mode; a backlog larger than this is worked off over the next
   // updates (lag = ceil(backlog / expiry_leaves_per_update) updates).
   std::size_t expiry_leaves_per_update = 256;

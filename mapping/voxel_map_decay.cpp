@@ -90,7 +90,7 @@ inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& fr
     const Eigen::Vector3d centre = frustum_centre_W(it.getCoord());
     for (const Frustum& f : frustums) {
       if (!f.shape.contains(centre)) continue;
-      const double acceleration_s = f.decay_acceleration_per_s3 * age_s * age_s * age_s / 6.0;
+      const double acceleration_s = 1. / 6. * f.decay_acceleration_per_s3 * (age_s * age_s * age_s);  // STVL's order
       if (time_left_s - acceleration_s < 0.0) {
         it.setValueOff();
         *by_frustum = time_left_s >= 0.0;  // plain decay would have kept it

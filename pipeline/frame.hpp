@@ -112,6 +112,9 @@ struct FrameResult {
   // Readings of earlier frames this update applied again from the sources' buffers (observation_persistence, or
   // a stopped camera's buffer, as STVL applies every buffer at every update).
   std::size_t reapplied_readings = 0;
+  // False when this frame's reading only went into its sources' buffers: another camera takes a frame at the
+  // same time, and STVL's update of that instant (map.update_grouping: instant) runs at the last of them.
+  bool map_updated = true;
   StageTimes times;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <unordered_set>
 
@@ -142,24 +143,39 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
     buffer.receive(reading);
   }
   camera.last_frame_s = f.time_s;
+  f.reapplied_readings = 0;
+  f.cleared_keys.clear();
+  f.footprint_cleared = 0;
+  const bool instant = config_.map.update_grouping == mapping::UpdateGrouping::kInstant;
+  const auto at_this_instant = [&](double time_s) { return std::abs(time_s - f.time_s) <= 1e-9; };
+  f.map_updated = true;
+  if (instant)  // another camera still takes a frame at this time: STVL's update of the instant runs at the last
+    for (std::size_t index = 0; index < cameras_.size(); ++index)
+      if (index != f.camera_index && at_this_instant(now.next_frame_time_s(index))) f.map_updated = false;
+  if (!f.map_updated) {
+    f.times.clear_ms = ms_since(start);
+    f.times.map_cpu_ms = process_cpu_ms() - cpu_start_ms;
+    return;
+  }
   // STVL's update: the readings of every buffer it applies, clearing first, then marking, all at this time.
   std::vector<mapping::ClearingObservation> clearing;
   std::vector<std::pair<const SourceReading*, const mapping::ObservationSource*>> marking;
-  f.reapplied_readings = 0;
   for (std::size_t index = 0; index < cameras_.size(); ++index) {
     Sources& c = *cameras_[index];
-    // Another camera's buffer once per update time: cameras that share a frame time make one STVL update.
-    if (&c != &camera && (!c.overdue(f.time_s, now.next_frame_time_s(index)) || c.last_reapplied_s >= f.time_s - 1e-9))
+    // The cameras that took a frame at this instant (this one alone per camera frame), and once per update
+    // time the buffers of cameras that have missed a frame.
+    const bool took_frame = &c == &camera || (instant && at_this_instant(c.last_frame_s));
+    if (!took_frame && (!c.overdue(f.time_s, now.next_frame_time_s(index)) || c.last_reapplied_s >= f.time_s - 1e-9))
       continue;
-    if (&c != &camera) c.last_reapplied_s = f.time_s;
+    if (!took_frame) c.last_reapplied_s = f.time_s;
     const Eigen::Vector3d centre_now = now.T_world_camera(index).translation();
     for (std::size_t s = 0; s < c.buffers.size(); ++s) {
       const auto& params = c.config.sources[s].params;
-      if (&c != &camera && params.drop_when_not_current && !c.buffers[s].current(f.time_s)) continue;
+      if (!took_frame && params.drop_when_not_current && !c.buffers[s].current(f.time_s)) continue;
       for (const auto& r : c.buffers[s].readings()) {
         if (params.clearing) clearing.push_back({r->T_world_camera, params, &r->decimated_W, &r->no_return_W});
         if (params.marking) marking.emplace_back(r.get(), &params);
-        if (r.get() == reading.get()) continue;
+        if (took_frame && at_this_instant(r->time_s)) continue;  // this instant's own reading
         ++f.reapplied_readings;
         SourceStatus& status = c.status[s];
         ++status.reapplied_readings;
@@ -169,12 +185,10 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
       }
     }
   }
-  f.cleared_keys.clear();
   map_.clear(clearing, f.time_s, &f.cleared_keys);
   f.times.clear_ms = ms_since(start);
   start = SteadyClock::now();
   for (const auto& [r, params] : marking) map_.mark(r->marking_W, r->T_world_camera, *params, f.time_s);
-  f.footprint_cleared = 0;
   if (config_.map.footprint_clearing_height_m > 0.0) {
     // Ours: the robot's own voxels inside its footprint, from the floor up to the height given, after marking.
     const double s = config_.map.voxel_size_m;

@@ -39,9 +39,11 @@ class MapStages {
     std::function<Eigen::Isometry3d(std::size_t camera)> T_world_camera;
     std::function<double(std::size_t camera)> next_frame_time_s;
   };
-  // STVL's update at f.time_s with the frame's reading (f.decimated_W, marking_W, T_world_camera; the no-return
-  // rays from f.depth) and f.T_world_base for the footprint: fills f.no_return_W, cleared_keys,
-  // footprint_cleared, reapplied_readings, times.clear_ms, mark_ms and map_cpu_ms.
+  // Buffers the frame's reading (f.decimated_W, marking_W, T_world_camera; the no-return rays from f.depth) and
+  // runs STVL's update at f.time_s, with f.T_world_base for the footprint: fills f.no_return_W, map_updated,
+  // cleared_keys, footprint_cleared, reapplied_readings, times.clear_ms, mark_ms and map_cpu_ms. With
+  // map.update_grouping instant, a frame that another camera's frame at the same time follows only buffers
+  // (map_updated false); the last frame of the instant updates with every camera's reading of it.
   void update(FrameResult& f, const CamerasNow& now);
 
   const mapping::VoxelMap& map() const { return map_; }  // as the last update() left it

@@ -79,7 +79,8 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     evaluation.after_update(f, world, pipeline.map());
     samplers[f.camera_index].offer(f, s.pipeline.cameras[f.camera_index].intrinsics.min_range_m);
     const auto bag_start = SteadyClock::now();
-    if (bag) bag->record(f, pipeline, publish.due(f.time_s));
+    // The map goes into the bag after an update (with several cameras at one instant: after the last of them).
+    if (bag) bag->record(f, pipeline, f.map_updated && publish.due(f.time_s));
 
     r.path_W.emplace_back(f.T_world_base.translation().head<2>());
     r.times.append(f.times);
@@ -97,7 +98,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     r.footprint_voxels_cleared += f.footprint_cleared;
     r.sim_time_s = f.time_s;
     progress.update(f.time_s, r.frames);
-    if (s.stop_at_path_end && pipeline.simulator().path_finished()) {
+    if (s.stop_at_path_end && f.map_updated && pipeline.simulator().path_finished()) {
       end.path_done = true;
       break;
     }

@@ -8,11 +8,14 @@
 
 namespace stvl::mapping::test {
 
-// A voxel size representable in float, so that boundaries are exact, and a config with it.
+// A voxel size representable in float, so that boundaries are exact, and a config with it in our arithmetic
+// (floor keys, the ideal frustum), whose boundaries are the textbook ones; test_stvl_geometry.cpp pins STVL's.
 constexpr double kExactVoxel = 0.125;
 inline StvlConfig exact_config() {
   StvlConfig config;
   config.voxel_size_m = kExactVoxel;
+  config.mark_rounding = MarkRounding::kFloor;
+  config.frustum_geometry = FrustumGeometry::kIdeal;
   return config;
 }
 

@@ -46,8 +46,8 @@ TEST(StvlGeometryConfig, NamesParseAndRoundTrip) {
   EXPECT_THROW(parse_frustum_geometry("pyramid"), std::invalid_argument);
   // Today's behaviour stays the default.
   const StvlConfig defaults;
-  EXPECT_EQ(defaults.mark_rounding, MarkRounding::kFloor);
-  EXPECT_EQ(defaults.frustum_geometry, FrustumGeometry::kIdeal);
+  EXPECT_EQ(defaults.mark_rounding, MarkRounding::kStvl);  // STVL's behaviour unless a scenario asks for ours
+  EXPECT_EQ(defaults.frustum_geometry, FrustumGeometry::kStvl);
   StvlConfig bad;
   bad.mark_rounding = static_cast<MarkRounding>(7);
   EXPECT_THROW(bad.validate(), std::invalid_argument);

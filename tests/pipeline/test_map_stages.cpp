@@ -26,6 +26,10 @@ PipelineConfig small_config(mapping::ClearingMode mode) {
   config.filter.type = filter::FilterType::kNone;
   config.map.voxel_size_m = 0.1;
   config.map.clearing_mode = mode;
+  // Our arithmetic: with STVL's mark rounding the bottom rows' voxels sit one voxel lower (its z shift), below
+  // every ray of the next frame, and stay (test_stvl_geometry.cpp pins that arithmetic).
+  config.map.mark_rounding = mapping::MarkRounding::kFloor;
+  config.map.frustum_geometry = mapping::FrustumGeometry::kIdeal;
   return config;
 }
 
