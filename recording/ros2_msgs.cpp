@@ -112,8 +112,8 @@ std::string ros2_definition(const std::string& type) {
   visit(root);
   std::string text = definitions().at(root);
   for (const auto& dep : order) {
-    const auto slash = dep.find('/');
-    text += std::string(80, '=') + "\nMSG: " + dep.substr(0, slash) + "/msg" + dep.substr(slash) + "\n" + definitions().at(dep);
+    // "MSG: pkg/Type", as the fields name it: @foxglove/rosmsg (Foxglove, Lichtblick) resolves those names only.
+    text += std::string(80, '=') + "\nMSG: " + dep + "\n" + definitions().at(dep);
   }
   return text;
 }

@@ -1,6 +1,6 @@
 #pragma once
 // The ROS 2 messages the bench writes and reads (not part of the interface): their .msg definitions as rosbag2
-// stores them (the type, then each type it uses after a line of 80 '=' and "MSG: pkg/msg/Type"), a check that a
+// stores them (the type, then each type it uses after a line of 80 '=' and "MSG: pkg/Type"), a check that a
 // recorded definition parses and has the fields we decode, and the decoders of what a replay reads.
 #include <cstdint>
 #include <string>
