@@ -6,6 +6,7 @@
 
 #include "cli/command.hpp"
 #include "config/ros_binding.hpp"
+#include "recording/bag_writer.hpp"
 #include "report/report.hpp"
 #include "run/runner.hpp"
 
@@ -66,8 +67,10 @@ int run(const RunCommandOptions& o) {
 
   const RunResult result = run_scenario(scenario, options);
   if (result.interrupted) {
+    const bool ros2 = !o.bag.empty() && recording::parse_bag_format(o.bag_format, o.bag) == recording::BagFormat::kRos2;
+    const std::string active = (ros2 ? recording::ros2_bag_folder(o.bag) : o.bag) + ".active";
     std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written%s\n", caught_signal(),
-                 result.frames, options.bag_path.empty() ? "" : (", the bag stays as " + options.bag_path + ".active").c_str());
+                 result.frames, options.bag_path.empty() ? "" : (", the bag stays as " + active).c_str());
     return 128 + caught_signal();
   }
   write_report(result, options.out_dir);
