@@ -23,7 +23,7 @@ using namespace stvl::report;
 namespace {
 
 struct ReplayCommandOptions {
-  std::string recording, out_dir, scenario, params, layer, costmap, bag, bag_compression = "none";
+  std::string recording, out_dir, scenario, params, layer, costmap, bag, bag_compression, bag_format, bag_topics;
   std::vector<std::string> sets;
   ScenarioOverrides overrides;
   std::string depth_topic, info_topic, odom_topic, fixed_frame, camera_pose, camera_name;
@@ -114,6 +114,8 @@ int replay(const ReplayCommandOptions& o) {
   options.out_dir = o.out_dir.empty() ? "out/replay-" + std::filesystem::path(o.recording).stem().string() : o.out_dir;
   options.bag_path = o.bag;
   options.bag_compression = o.bag_compression;
+  options.bag_format = o.bag_format;
+  options.bag_topics = o.bag_topics;
   options.progress = !o.no_progress;
   options.stop_requested = catch_stop_signals();
   const ReplayResult result = replay_recording(*recording, settings, options);
@@ -134,8 +136,8 @@ int replay(const ReplayCommandOptions& o) {
 
 const CommandRegistration kReplay{"replay", [](CLI::App& app) {
   auto o = std::make_shared<ReplayCommandOptions>();
-  auto* cmd = app.add_subcommand("replay", "Replay recorded depth (a ROS 1 bag or a folder of 16-bit PNGs) through the filter and map");
-  cmd->add_option("recording", o->recording, "A ROS 1 bag or a folder of 16-bit depth PNGs")->required();
+  auto* cmd = app.add_subcommand("replay", "Replay recorded depth (a ROS 1 bag, a rosbag2 folder / .mcap / .db3, or a folder of 16-bit PNGs) through the filter and map");
+  cmd->add_option("recording", o->recording, "A ROS 1 bag, a rosbag2 folder, .mcap or .db3, or a folder of 16-bit depth PNGs")->required();
   cmd->add_option("--out", o->out_dir, "Output directory (default: out/replay-<recording name>)");
   cmd->add_option("--scenario", o->scenario, "Scenario whose first camera's sources, filter and map settings to use (default: the default corridor's)");
   cmd->add_option("--set", o->sets, "Set a scenario key before it is read, KEY=VALUE (repeatable)")
@@ -157,8 +159,14 @@ const CommandRegistration kReplay{"replay", [](CLI::App& app) {
   cmd->add_option("--camera-name", o->camera_name, "The camera's name for --params' topics and the bag (default: from the depth topic)");
   cmd->add_option("--rate", o->rate_hz, "PNG folder without timestamps: frames per second")->check(CLI::PositiveNumber);
   cmd->add_option("--max-frames", o->max_frames, "Replay at most this many frames (0: all)");
-  cmd->add_option("--bag", o->bag, "Also write the replay as a ROS 1 bag (depth, clouds, map, costmap)");
-  cmd->add_option("--bag-compression", o->bag_compression, "none | bz2 | lz4")->check(CLI::IsMember({"none", "bz2", "lz4"}));
+  cmd->add_option("--bag", o->bag, "Also write the replay as a ROS 1 bag or (FILE.mcap) a rosbag2 folder: depth, clouds, map, costmap");
+  cmd->add_option("--bag-format", o->bag_format, "ros1 | ros2 (default: ros2 for a name ending in .mcap, ros1 otherwise)")
+      ->check(CLI::IsMember({"ros1", "ros2"}));
+  cmd->add_option("--bag-compression", o->bag_compression, "ROS 1: none (default) | bz2 | lz4; ROS 2: zstd (default) | lz4 | none")
+      ->check(CLI::IsMember({"none", "bz2", "lz4", "zstd"}));
+  cmd->add_option("--bag-topics", o->bag_topics,
+                  "Topics in the bag: all | default | a comma-separated list of topics and globs ('*'); default: all "
+                  "for ROS 1, default for ROS 2 (everything but the full clouds */depth/points)");
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
   return [o] { return replay(*o); };
 }};

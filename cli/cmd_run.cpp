@@ -6,6 +6,7 @@
 
 #include "cli/command.hpp"
 #include "config/ros_binding.hpp"
+#include "recording/bag_writer.hpp"
 #include "report/report.hpp"
 #include "run/runner.hpp"
 
@@ -31,7 +32,7 @@ struct RunCommandOptions {
   std::string scenario;
   std::string out_dir;
   std::string bag;
-  std::string bag_compression = "none";
+  std::string bag_compression, bag_format, bag_topics;
   bool no_progress = false;
   bool profile = false;
   ScenarioOverrides overrides;
@@ -59,13 +60,17 @@ int run(const RunCommandOptions& o) {
   options.out_dir = o.out_dir.empty() ? "out/" + scenario.name : o.out_dir;
   options.bag_path = o.bag;
   options.bag_compression = o.bag_compression;
+  options.bag_format = o.bag_format;
+  options.bag_topics = o.bag_topics;
   options.progress = !o.no_progress;
   options.stop_requested = catch_stop_signals();
 
   const RunResult result = run_scenario(scenario, options);
   if (result.interrupted) {
+    const bool ros2 = !o.bag.empty() && recording::parse_bag_format(o.bag_format, o.bag) == recording::BagFormat::kRos2;
+    const std::string active = (ros2 ? recording::ros2_bag_folder(o.bag) : o.bag) + ".active";
     std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written%s\n", caught_signal(),
-                 result.frames, options.bag_path.empty() ? "" : (", the bag stays as " + options.bag_path + ".active").c_str());
+                 result.frames, options.bag_path.empty() ? "" : (", the bag stays as " + active).c_str());
     return 128 + caught_signal();
   }
   write_report(result, options.out_dir);
@@ -83,8 +88,14 @@ const CommandRegistration kRun{"run", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Run a scenario (the default office corridor when none is given)");
   cmd->add_option("scenario", o->scenario, "Scenario YAML file (default: scenarios/office_corridor.yaml)");
   cmd->add_option("--out", o->out_dir, "Output directory (default: out/<scenario name>)");
-  cmd->add_option("--bag", o->bag, "Also write a ROS 1 bag to this file");
-  cmd->add_option("--bag-compression", o->bag_compression, "none | bz2 | lz4")->check(CLI::IsMember({"none", "bz2", "lz4"}));
+  cmd->add_option("--bag", o->bag, "Also write the run as a ROS 1 bag (FILE.bag) or a rosbag2 folder with one MCAP file (FILE.mcap -> folder FILE)");
+  cmd->add_option("--bag-format", o->bag_format, "ros1 | ros2 (default: ros2 for a name ending in .mcap, ros1 otherwise)")
+      ->check(CLI::IsMember({"ros1", "ros2"}));
+  cmd->add_option("--bag-compression", o->bag_compression, "ROS 1: none (default) | bz2 | lz4; ROS 2: zstd (default) | lz4 | none")
+      ->check(CLI::IsMember({"none", "bz2", "lz4", "zstd"}));
+  cmd->add_option("--bag-topics", o->bag_topics,
+                  "Topics in the bag: all | default | a comma-separated list of topics and globs ('*'); default: all "
+                  "for ROS 1, default for ROS 2 (everything but the full clouds */depth/points)");
   cmd->add_option("--set", o->sets,
                   "Set a scenario key before it is read, KEY=VALUE (dotted keys, list items as [i]; repeatable), e.g. "
                   "--set map.observation.clear_on_no_return=false")

@@ -18,26 +18,15 @@
 #include <stdexcept>
 
 #include "recording/detail.hpp"
-#include "recording/tf_buffer.hpp"
+#include "recording/bag_common.hpp"
 
 namespace stvl::recording::detail {
 namespace {
 
 constexpr double kTimeTolerance_s = 1e-6;
 
-std::string join(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
 bool ends_with(const std::string& text, const std::string& tail) {
   return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
-}
-
-std::string strip_slash(std::string frame) {
-  if (!frame.empty() && frame.front() == '/') frame.erase(0, 1);
-  return frame;
 }
 
 
@@ -231,30 +220,14 @@ class BagRecording final : public Recording {
         const auto msg = m.instantiate<tf2_msgs::TFMessage>();
         if (!msg) continue;
         for (const auto& tf : msg->transforms) {
-          const std::string parent = strip_slash(tf.header.frame_id), child = strip_slash(tf.child_frame_id);
           const auto& t = tf.transform.translation;
           const auto& q = tf.transform.rotation;
-          const Eigen::Isometry3d T = rigid_from_quaternion(
-              t.x, t.y, t.z, q.x, q.y, q.z, q.w,
-              info_.path + ": " + topic + " " + parent + " -> " + child + " at t = " +
-                  std::to_string(to_seconds(tf.header.stamp)) + " s");
-          auto& edge = tf_.edges[child];
-          if (!edge.parent.empty() && edge.parent != parent) {
-            throw std::invalid_argument(info_.path + ": " + topic + ": frame '" + child + "' has two parents ('" +
-                                        edge.parent + "' and '" + parent + "')");
-          }
-          edge.parent = parent;
-          if (is_static) {
-            edge.is_static = true, edge.T_static = T;
-          } else if (!edge.is_static) {
-            edge.series.samples.emplace_back(to_seconds(tf.header.stamp), T);
-          }
+          const double tv[3] = {t.x, t.y, t.z}, qv[4] = {q.x, q.y, q.z, q.w};
+          poses_.add_transform(info_.path, topic, is_static, tf.header.frame_id, tf.child_frame_id,
+                               to_seconds(tf.header.stamp), tv, qv);
         }
       }
     }
-    for (auto& [child, edge] : tf_.edges) edge.series.sort();
-    const std::string& camera = info_.camera_frame;
-
     if (!options_.odom_topic.empty()) {
       require_topic(options_.odom_topic, "nav_msgs/Odometry", "--odom-topic");
       rosbag::View view(bag_, rosbag::TopicQuery(options_.odom_topic));
@@ -263,103 +236,16 @@ class BagRecording final : public Recording {
         if (!msg) continue;
         const auto& p = msg->pose.pose.position;
         const auto& q = msg->pose.pose.orientation;
-        if (odom_.samples.empty()) {
-          info_.fixed_frame = strip_slash(msg->header.frame_id);
-          base_frame_ = strip_slash(msg->child_frame_id);
-        }
-        odom_.samples.emplace_back(
-            to_seconds(msg->header.stamp),
-            rigid_from_quaternion(p.x, p.y, p.z, q.x, q.y, q.z, q.w,
-                                  info_.path + ": " + options_.odom_topic + " pose at t = " +
-                                      std::to_string(to_seconds(msg->header.stamp)) + " s"));
+        const double pv[3] = {p.x, p.y, p.z}, qv[4] = {q.x, q.y, q.z, q.w};
+        poses_.add_odometry(info_.path, options_.odom_topic, to_seconds(msg->header.stamp), msg->header.frame_id,
+                            msg->child_frame_id, pv, qv);
       }
-      if (odom_.samples.empty()) throw std::invalid_argument(info_.path + ": " + options_.odom_topic + " has no messages");
-      odom_.sort();
-      if (!options_.fixed_frame.empty() && options_.fixed_frame != info_.fixed_frame) {
-        throw std::invalid_argument(info_.path + ": fixed frame '" + options_.fixed_frame + "' but " +
-                                    options_.odom_topic + " gives poses in '" + info_.fixed_frame + "'");
-      }
-      T_base_camera_ = options_.T_base_camera;
-      bool all_static = true;
-      for (const auto& f : tf_.chain(camera)) {
-        if (f == base_frame_) break;
-        const auto e = tf_.edges.find(f);
-        all_static = all_static && e != tf_.edges.end() && e->second.is_static;
-      }
-      if (!base_frame_.empty() && tf_.links(base_frame_, camera) && all_static) {
-        T_base_camera_ = tf_.lookup(base_frame_, camera, 0.0);
-      }
-      info_.pose_source = PoseSource::kOdometry;
-      return;
     }
-    if (tf_.has(camera)) {
-      info_.fixed_frame = options_.fixed_frame.empty() ? tf_.root_of(camera) : options_.fixed_frame;
-      if (!tf_.links(info_.fixed_frame, camera)) {
-        throw std::invalid_argument(info_.path + ": fixed frame '" + info_.fixed_frame + "' is not above '" + camera +
-                                    "' in /tf (its chain: " + join(tf_.chain(camera)) + ")");
-      }
-      const auto chain = tf_.chain(camera);
-      for (const char* base : {"base_link", "base_footprint"}) {
-        if (std::find(chain.begin(), chain.end(), base) != chain.end() && tf_.links(info_.fixed_frame, base)) {
-          base_frame_ = base;
-          break;
-        }
-      }
-      info_.pose_source = PoseSource::kTf;
-      return;
-    }
-    // The camera is not in /tf but the robot is: base_link from /tf, the camera on it from the options.
-    for (const char* base : {"base_link", "base_footprint"}) {
-      if (!tf_.edges.count(base)) continue;
-      info_.fixed_frame = options_.fixed_frame.empty() ? tf_.root_of(base) : options_.fixed_frame;
-      if (!tf_.links(info_.fixed_frame, base)) {
-        throw std::invalid_argument(info_.path + ": fixed frame '" + info_.fixed_frame + "' is not above '" + base +
-                                    "' in /tf (its chain: " + join(tf_.chain(base)) + ")");
-      }
-      base_frame_ = base;
-      camera_from_options_ = true;
-      info_.pose_source = PoseSource::kTf;
-      return;
-    }
-    if (!options_.fixed_frame.empty()) {
-      throw std::invalid_argument(info_.path + ": fixed frame '" + options_.fixed_frame + "' asked for, but the bag's " +
-                                  "/tf has no frame '" + camera + "' (the images' frame_id)");
-    }
-    info_.fixed_frame = "world";
-    info_.pose_source = PoseSource::kStatic;
+    poses_.resolve(info_, options_);
   }
 
   void pose_at(double t, std::size_t index, Eigen::Isometry3d& T_fixed_camera, Eigen::Isometry3d& T_fixed_base) const {
-    try {
-      switch (info_.pose_source) {
-        case PoseSource::kTf:
-          if (camera_from_options_) {
-            T_fixed_base = tf_.lookup(info_.fixed_frame, base_frame_, t);
-            T_fixed_camera = T_fixed_base * options_.T_base_camera;
-            return;
-          }
-          T_fixed_camera = tf_.lookup(info_.fixed_frame, info_.camera_frame, t);
-          T_fixed_base = base_frame_.empty() ? T_fixed_camera * options_.T_base_camera.inverse()
-                                             : tf_.lookup(info_.fixed_frame, base_frame_, t);
-          return;
-        case PoseSource::kOdometry: {
-          const auto T = odom_.at(t);
-          if (!T) {
-            throw std::invalid_argument("no pose at t = " + std::to_string(t) + " s: " + options_.odom_topic +
-                                        " covers only " + odom_.span() + " (no extrapolation)");
-          }
-          T_fixed_base = *T;
-          T_fixed_camera = T_fixed_base * T_base_camera_;
-          return;
-        }
-        default:
-          T_fixed_base = options_.T_fixed_base;
-          T_fixed_camera = options_.T_fixed_base * options_.T_base_camera;
-      }
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(where() + ": frame " + std::to_string(index) + " (frame_id '" + info_.camera_frame +
-                                  "'): " + e.what());
-    }
+    poses_.pose_at(info_, options_, where(), t, index, T_fixed_camera, T_fixed_base);
   }
 
   const sensors::CameraIntrinsics& intrinsics_at(double t) const {
@@ -368,56 +254,13 @@ class BagRecording final : public Recording {
     return it == infos_.begin() ? infos_.front().second : (it - 1)->second;
   }
 
-  int bytes_per_pixel(const std::string& encoding) const {
-    if (encoding == "16UC1" || encoding == "mono16") return 2;
-    if (encoding == "32FC1") return 4;
-    throw std::invalid_argument(where() + ": encoding '" + encoding +
-                                "' is not depth (expected 16UC1, mono16 or 32FC1)");
-  }
+  int bytes_per_pixel(const std::string& encoding) const { return depth_bytes_per_pixel(encoding, where()); }
 
   void decode(const sensor_msgs::Image& image, const sensors::CameraIntrinsics& k, sensors::DepthImage& out) const {
-    const std::string at = where() + ": frame " + std::to_string(index_);
-    const int bpp = bytes_per_pixel(image.encoding);
-    if (image.width == 0 || image.height == 0) {
-      throw std::invalid_argument(at + ": empty image (" + std::to_string(image.width) + "x" +
-                                  std::to_string(image.height) + ")");
-    }
-    if (int(image.width) != k.width || int(image.height) != k.height) {
-      throw std::invalid_argument(at + ": image is " + std::to_string(image.width) + "x" +
-                                  std::to_string(image.height) + " but " + info_.info_topic + " says " +
-                                  std::to_string(k.width) + "x" + std::to_string(k.height));
-    }
-    const std::size_t row_bytes = std::size_t(image.width) * bpp;
-    if (image.step < row_bytes) {
-      throw std::invalid_argument(at + ": step " + std::to_string(image.step) + " < width x " + std::to_string(bpp) +
-                                  " bytes = " + std::to_string(row_bytes));
-    }
-    if (image.data.size() < std::size_t(image.step) * image.height) {
-      throw std::invalid_argument(at + ": data has " + std::to_string(image.data.size()) + " bytes < step x height = " +
-                                  std::to_string(std::size_t(image.step) * image.height));
-    }
-    const bool swap = (image.is_bigendian != 0) != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__);
-    out.width = k.width, out.height = k.height;
-    out.depth_m.resize(std::size_t(k.width) * k.height);
-    const float unit = static_cast<float>(info_.depth_unit_m);
-    for (int v = 0; v < k.height; ++v) {
-      const std::uint8_t* row = image.data.data() + std::size_t(v) * image.step;
-      float* dst = out.depth_m.data() + std::size_t(v) * k.width;
-      for (int u = 0; u < k.width; ++u) {
-        std::uint8_t b[4];
-        std::memcpy(b, row + std::size_t(u) * bpp, bpp);
-        if (swap) std::reverse(b, b + bpp);
-        if (bpp == 2) {
-          std::uint16_t d;
-          std::memcpy(&d, b, 2);
-          dst[u] = d * unit;
-        } else {
-          float d;
-          std::memcpy(&d, b, 4);
-          dst[u] = std::isfinite(d) && d > 0 ? d : 0.0f;
-        }
-      }
-    }
+    ImageView view;
+    view.encoding = image.encoding, view.width = image.width, view.height = image.height, view.step = image.step;
+    view.is_bigendian = image.is_bigendian != 0, view.data = image.data.data(), view.size = image.data.size();
+    decode_depth(view, k, info_.depth_unit_m, where() + ": frame " + std::to_string(index_), info_.info_topic, out);
   }
 
   RecordingOptions options_;
@@ -428,11 +271,7 @@ class BagRecording final : public Recording {
   bool started_ = false, done_ = false;
   std::size_t index_ = 0;
   std::vector<std::pair<double, sensors::CameraIntrinsics>> infos_;
-  TfBuffer tf_;
-  PoseSeries odom_;
-  std::string base_frame_;
-  bool camera_from_options_ = false;  // /tf reaches base_frame_ but not the images' frame_id
-  Eigen::Isometry3d T_base_camera_ = Eigen::Isometry3d::Identity();
+  PoseResolver poses_;
 };
 
 }  // namespace

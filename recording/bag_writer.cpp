@@ -130,7 +130,8 @@ void require_image_size(int width, int height, std::size_t size, const char* wha
 
 namespace {
 constexpr EnumName<BagCompression> kCompressionNames[] = {
-    {BagCompression::kNone, "none"}, {BagCompression::kBz2, "bz2"}, {BagCompression::kLz4, "lz4"}};
+    {BagCompression::kNone, "none"}, {BagCompression::kBz2, "bz2"}, {BagCompression::kLz4, "lz4"},
+    {BagCompression::kZstd, "zstd"}};
 }  // namespace
 
 BagCompression parse_bag_compression(const std::string& name) {
@@ -198,6 +199,8 @@ struct BagWriter::Impl {
 BagWriter::BagWriter(std::string path, BagCompression compression)
     : path_(std::move(path)), impl_(std::make_unique<Impl>()) {
   if (path_.empty()) throw std::invalid_argument("BagWriter: empty output path");
+  if (compression == BagCompression::kZstd)
+    throw std::invalid_argument("ROS 1 bags have no zstd compression (none, bz2 or lz4; zstd is for --bag-format ros2)");
   impl_->active_path = path_ + ".active";
   try {
     impl_->bag->open(impl_->active_path, rosbag::bagmode::Write);
@@ -214,6 +217,8 @@ BagWriter::BagWriter(std::string path, BagCompression compression)
     case BagCompression::kLz4:
       impl_->bag->setCompression(rosbag::compression::LZ4);
       break;
+    case BagCompression::kZstd:
+      break;  // refused above
   }
   impl_->open = true;
 }

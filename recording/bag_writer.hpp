@@ -1,5 +1,7 @@
 #pragma once
-// ROS 1 bag (format 2.0) export of a run. No ROS headers here: rosbag lives behind the pimpl in bag_writer.cpp.
+// A run's export: `BagSink`, what every format writes, with two implementations: `BagWriter`, a ROS 1 bag
+// (format 2.0; rosbag behind the pimpl in bag_writer.cpp), and a rosbag2 folder with one MCAP file
+// (make_bag_writer(path, BagFormat::kRos2, ...): ros2_bag_writer.cpp). No ROS, MCAP or compression headers here.
 //
 // Times are simulated seconds (t_s >= 0). rosbag refuses record times below ros::TIME_MIN (1 ns), and a zero
 // header stamp means "latest" to tf, so every header stamp, record time and /clock value is
@@ -30,17 +32,68 @@ inline std::string camera_link_frame(const std::string& camera) { return camera 
 inline std::string camera_optical_frame(const std::string& camera) { return camera + "_depth_optical_frame"; }
 inline std::string camera_topic(const std::string& camera, const std::string& what) { return "/" + camera + "/" + what; }
 
-enum class BagCompression { kNone, kBz2, kLz4 };
+enum class BagCompression { kNone, kBz2, kLz4, kZstd };  // ROS 1: none, bz2, lz4; ROS 2 (MCAP chunks): none, lz4, zstd
+enum class BagFormat { kRos1, kRos2 };
 
 // nav2_costmap_2d's cost -> OccupancyGrid value table: free 0 -> 0, lethal 254 -> 100, inscribed 253 -> 99,
 // unknown 255 -> -1, and 1..252 -> 1 + 97 (c - 1) / 251.
 std::vector<std::int8_t> occupancy_values(const mapping::Costmap2D& costmap);
 
-// "none", "bz2" or "lz4"; throws std::invalid_argument otherwise.
+// "none", "bz2", "lz4" or "zstd"; throws std::invalid_argument otherwise.
 BagCompression parse_bag_compression(const std::string& name);
 std::string to_string(BagCompression compression);
+// "ros1" or "ros2"; empty: by the path (ros2 for a name ending in .mcap, ros1 otherwise).
+BagFormat parse_bag_format(const std::string& name, const std::string& path);
+// Where a ROS 2 export of `path` goes: the rosbag2 folder ("out/run.mcap" and "out/run" -> "out/run").
+std::string ros2_bag_folder(const std::string& path);
 
-class BagWriter {
+// The topics a bag gets: "all", "default" (what a person opens to look at a run: depth image and camera_info,
+// filtered clouds, voxels, costmap, tf, odometry, clock, ground truth; not the full clouds */depth/points), or a
+// comma-separated list of topics, globs ('*' matches anything, '/' too) and those two words.
+class BagTopics {
+ public:
+  explicit BagTopics(const std::string& spec = "all");  // throws std::invalid_argument for a bad entry
+  bool wants(const std::string& topic) const;
+  const std::string& spec() const { return spec_; }
+
+ private:
+  std::string spec_;
+  std::vector<std::string> patterns_;
+};
+
+// What both formats write; times and frames as above.
+class BagSink {
+ public:
+  virtual ~BagSink() = default;
+  struct CameraFrames {
+    std::string camera = "camera";
+    Eigen::Isometry3d T_base_camera_link = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_camera_link_optical = Eigen::Isometry3d::Identity();
+  };
+  virtual void write_clock(double t_s) = 0;
+  virtual void write_tf(double t_s, const Eigen::Isometry3d& T_map_odom, const Eigen::Isometry3d& T_odom_base) = 0;
+  virtual void write_tf_static(const std::vector<CameraFrames>& cameras) = 0;
+  virtual void write_odometry(double t_s, const Eigen::Isometry3d& T_odom_base, double v_mps, double omega_radps) = 0;
+  virtual void write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_map_base) = 0;
+  virtual void write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
+                                 const std::vector<std::uint16_t>& depth_mm, const std::string& camera = "camera") = 0;
+  virtual void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics,
+                                 const std::string& camera = "camera") = 0;
+  virtual void write_points(const std::string& topic, double t_s, const std::string& frame_id,
+                            const Eigen::Matrix3Xf& points, bool latched = false) = 0;
+  virtual void write_costmap(double t_s, const mapping::Costmap2D& costmap) = 0;
+  // Finishes the export and gives it its final name; further writes throw.
+  virtual void close() = 0;
+  virtual std::uint64_t bytes_written() const = 0;
+  // The final path: the bag file (ROS 1) or the rosbag2 folder (ROS 2).
+  virtual const std::string& path() const = 0;
+};
+
+// A ROS 1 bag at path, or a rosbag2 folder (ros2_bag_folder(path)) written as <folder>.active until close().
+// kNone..kLz4 for ROS 1, kNone, kLz4, kZstd for ROS 2; throws std::invalid_argument for another.
+std::unique_ptr<BagSink> make_bag_writer(const std::string& path, BagFormat format, BagCompression compression);
+
+class BagWriter : public BagSink {
  public:
   // Writes to path + ".active"; throws std::runtime_error if it cannot be created.
   BagWriter(std::string path, BagCompression compression);
@@ -50,42 +103,37 @@ class BagWriter {
   BagWriter& operator=(const BagWriter&) = delete;
 
   // /clock rosgraph_msgs/Clock.
-  void write_clock(double t_s);
+  void write_clock(double t_s) override;
   // /tf: map -> odom and odom -> base_link in one tf2_msgs/TFMessage.
-  void write_tf(double t_s, const Eigen::Isometry3d& T_map_odom, const Eigen::Isometry3d& T_odom_base);
+  void write_tf(double t_s, const Eigen::Isometry3d& T_map_odom, const Eigen::Isometry3d& T_odom_base) override;
   // /tf_static (latched), stamped at t = 0, one message for every camera: base_link -> <camera>_link ->
   // <camera>_depth_optical_frame.
-  struct CameraFrames {
-    std::string camera = "camera";
-    Eigen::Isometry3d T_base_camera_link = Eigen::Isometry3d::Identity();
-    Eigen::Isometry3d T_camera_link_optical = Eigen::Isometry3d::Identity();
-  };
-  void write_tf_static(const std::vector<CameraFrames>& cameras);
+  void write_tf_static(const std::vector<CameraFrames>& cameras) override;
   void write_tf_static(const Eigen::Isometry3d& T_base_camera_link, const Eigen::Isometry3d& T_camera_link_optical) {
     write_tf_static({{"camera", T_base_camera_link, T_camera_link_optical}});
   }
   // /odom nav_msgs/Odometry, frame odom, child base_link; twist in base_link (v along x, omega about z).
-  void write_odometry(double t_s, const Eigen::Isometry3d& T_odom_base, double v_mps, double omega_radps);
+  void write_odometry(double t_s, const Eigen::Isometry3d& T_odom_base, double v_mps, double omega_radps) override;
   // /ground_truth/pose geometry_msgs/PoseStamped, frame map.
-  void write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_map_base);
+  void write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_map_base) override;
   // /<camera>/depth/image_rect_raw 16UC1 (mm, 0 = invalid; sensors::depth_to_millimetres), row-major top row
   // first, frame <camera>_depth_optical_frame. depth_mm.size() must be the intrinsics' width * height.
   void write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
-                         const std::vector<std::uint16_t>& depth_mm, const std::string& camera = "camera");
+                         const std::vector<std::uint16_t>& depth_mm, const std::string& camera = "camera") override;
   // /<camera>/depth/camera_info: plumb_bob with zero distortion, K, R = I, P = [K | 0].
-  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics, const std::string& camera = "camera");
+  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics, const std::string& camera = "camera") override;
   // sensor_msgs/PointCloud2 with fields x y z float32, unorganized (height 1); is_dense when all finite.
   void write_points(const std::string& topic, double t_s, const std::string& frame_id,
-                    const Eigen::Matrix3Xf& points, bool latched = false);
+                    const Eigen::Matrix3Xf& points, bool latched = false) override;
   // /stvl/costmap nav_msgs/OccupancyGrid, frame map, row-major from the origin cell; costs translated as
   // nav2's costmap publisher does (occupancy_values()).
-  void write_costmap(double t_s, const mapping::Costmap2D& costmap);
+  void write_costmap(double t_s, const mapping::Costmap2D& costmap) override;
 
   // Writes the index, closes the file and renames path.active -> path. Further writes throw.
-  void close();
+  void close() override;
   // Bytes in the file so far (the final size after close()).
-  std::uint64_t bytes_written() const;
-  const std::string& path() const { return path_; }
+  std::uint64_t bytes_written() const override;
+  const std::string& path() const override { return path_; }
 
  private:
   struct Impl;

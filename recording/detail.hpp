@@ -6,12 +6,17 @@
 #include <string>
 #include <vector>
 
+#include "recording/bag_writer.hpp"
 #include "recording/recording.hpp"
 
 namespace stvl::recording::detail {
 
 std::unique_ptr<Recording> open_bag(const std::string& path, const RecordingOptions& options);
 std::unique_ptr<Recording> open_png_folder(const std::string& path, const RecordingOptions& options);
+// rosbag2: a folder with metadata.yaml, a bare .mcap or a .db3 (ros2_reader.cpp).
+std::unique_ptr<Recording> open_ros2(const std::string& path, const RecordingOptions& options);
+// A rosbag2 folder with one MCAP file, written as folder.active until close() (ros2_bag_writer.cpp).
+std::unique_ptr<BagSink> make_ros2_bag_writer(const std::string& folder, BagCompression compression);
 
 // The candidate closest to `name` (edit distance); empty when there are none.
 std::string nearest_name(const std::string& name, const std::vector<std::string>& candidates);

@@ -23,15 +23,21 @@ const char* to_string(PoseSource source) {
 std::unique_ptr<Recording> open_recording(const std::string& path, const RecordingOptions& options) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  if (fs::is_directory(path, ec)) return detail::open_png_folder(path, options);
+  if (fs::is_directory(path, ec)) {
+    bool rosbag2 = fs::exists(fs::path(path) / "metadata.yaml", ec);
+    for (const auto& e : fs::directory_iterator(path, ec))
+      rosbag2 = rosbag2 || e.path().extension() == ".mcap" || e.path().extension() == ".db3";
+    return rosbag2 ? detail::open_ros2(path, options) : detail::open_png_folder(path, options);
+  }
   if (!fs::exists(path, ec)) throw std::invalid_argument(path + ": no such file or folder");
   std::ifstream in(path, std::ios::binary);
-  char magic[13] = {};
-  in.read(magic, 13);
-  if (!in || std::string(magic, 13) != "#ROSBAG V2.0\n") {
-    throw std::invalid_argument(path + ": not a ROS 1 bag (no '#ROSBAG V2.0' header) nor a folder of depth PNGs");
-  }
-  return detail::open_bag(path, options);
+  char magic[16] = {};
+  in.read(magic, 16);
+  const std::string head(magic, static_cast<std::size_t>(in.gcount()));
+  if (head.compare(0, 13, "#ROSBAG V2.0\n") == 0) return detail::open_bag(path, options);
+  if (head.compare(0, 5, "\x89MCAP") == 0 || head.compare(0, 15, "SQLite format 3") == 0) return detail::open_ros2(path, options);
+  throw std::invalid_argument(path + ": not a recording: neither a ROS 1 bag ('#ROSBAG V2.0'), an MCAP file (bad magic: "
+                              "no \\x89MCAP0\\r\\n), a rosbag2 sqlite3 file, nor a folder of depth PNGs or rosbag2 files");
 }
 
 namespace detail {

@@ -11,8 +11,8 @@ using recording::camera_optical_frame;
 using recording::camera_topic;
 using recording::kMapFrame;
 
-std::vector<BagWriter::CameraFrames> camera_frames(const pipeline::Pipeline& pipeline) {
-  std::vector<BagWriter::CameraFrames> frames;
+std::vector<BagSink::CameraFrames> camera_frames(const pipeline::Pipeline& pipeline) {
+  std::vector<BagSink::CameraFrames> frames;
   for (const auto& c : pipeline.config().cameras)
     frames.push_back({c.name, sim::T_base_camera_link(c.mount), sim::DiffDriveRobot::T_camera_link_optical()});
   return frames;
@@ -24,17 +24,29 @@ BagRecorder::MapState map_state(const pipeline::Pipeline& pipeline) {
 
 }  // namespace
 
-BagRecorder::BagRecorder(const std::string& path, BagCompression compression,
-                         const std::vector<BagWriter::CameraFrames>& cameras, const Eigen::Matrix3Xf* truth_voxel_centers_W)
-    : bag_(std::make_unique<BagWriter>(path, compression)), worker_(std::make_unique<SerialWorker>()),
-      ground_truth_(truth_voxel_centers_W != nullptr) {
-  bag_->write_tf_static(cameras);
-  if (truth_voxel_centers_W) bag_->write_points("/ground_truth/occupancy", 0.0, kMapFrame, *truth_voxel_centers_W, true);
+BagSettings bag_settings(const std::string& path, const std::string& format, const std::string& compression,
+                         const std::string& topics) {
+  BagSettings s;
+  s.format = recording::parse_bag_format(format, path);
+  const bool ros2 = s.format == recording::BagFormat::kRos2;
+  s.compression = parse_bag_compression(compression.empty() ? (ros2 ? "zstd" : "none") : compression);
+  s.topics = topics.empty() ? (ros2 ? "default" : "all") : topics;
+  recording::BagTopics check(s.topics);  // a bad entry fails before the run starts
+  return s;
 }
 
-BagRecorder::BagRecorder(const std::string& path, BagCompression compression, const pipeline::Pipeline& pipeline,
+BagRecorder::BagRecorder(const std::string& path, const BagSettings& settings,
+                         const std::vector<BagSink::CameraFrames>& cameras, const Eigen::Matrix3Xf* truth_voxel_centers_W)
+    : bag_(recording::make_bag_writer(path, settings.format, settings.compression)), topics_(settings.topics),
+      worker_(std::make_unique<SerialWorker>()), ground_truth_(truth_voxel_centers_W != nullptr) {
+  if (topics_.wants("/tf_static")) bag_->write_tf_static(cameras);
+  if (truth_voxel_centers_W && topics_.wants("/ground_truth/occupancy"))
+    bag_->write_points("/ground_truth/occupancy", 0.0, kMapFrame, *truth_voxel_centers_W, true);
+}
+
+BagRecorder::BagRecorder(const std::string& path, const BagSettings& settings, const pipeline::Pipeline& pipeline,
                          const Eigen::Matrix3Xf& truth_voxel_centers_W)
-    : BagRecorder(path, compression, camera_frames(pipeline), &truth_voxel_centers_W) {}
+    : BagRecorder(path, settings, camera_frames(pipeline), &truth_voxel_centers_W) {}
 
 BagRecorder::~BagRecorder() = default;
 
@@ -47,10 +59,9 @@ void BagRecorder::record(const pipeline::FrameResult& f, const sensors::CameraIn
                          bool several_cameras, const MapState& map, bool publish_map) {
   std::optional<mapping::Costmap2D> costmap;
   Eigen::Matrix3Xf voxels;
-  if (publish_map) {
-    voxels = map.map->voxel_centers();
-    if (!map.map->empty()) costmap = map.costmap();
-  }
+  const bool want_voxels = publish_map && topics_.wants("/stvl/voxel_grid");
+  if (want_voxels) voxels = map.map->voxel_centers();
+  if (publish_map && !map.map->empty() && topics_.wants("/stvl/costmap")) costmap = map.costmap();
   const std::string& camera = f.camera;
   // One camera: /stvl/filtered_points; several: /stvl/<camera>/filtered_points (frames of one time would
   // otherwise share a topic and a stamp).
@@ -59,22 +70,26 @@ void BagRecorder::record(const pipeline::FrameResult& f, const sensors::CameraIn
   const bool robot_messages = !last_robot_time_s_ || f.time_s > *last_robot_time_s_;
   last_robot_time_s_ = f.time_s;
   // The lambda copies what each message needs; the frame is overwritten by the next step().
-  worker_->submit([bag = bag_.get(), t = f.time_s, T_world_base = f.T_world_base, T_map_odom = f.T_map_odom,
+  const recording::BagTopics& w = topics_;
+  const bool want[] = {w.wants("/clock"), w.wants("/tf"), w.wants("/odom"), w.wants("/ground_truth/pose"),
+                       w.wants(camera_topic(camera, "depth/image_rect_raw")), w.wants(camera_topic(camera, "depth/camera_info")),
+                       w.wants(camera_topic(camera, "depth/points")), w.wants(filtered_topic)};
+  worker_->submit([bag = bag_.get(), want = std::vector<bool>(std::begin(want), std::end(want)), t = f.time_s, T_world_base = f.T_world_base, T_map_odom = f.T_map_odom,
                    T_odom_base = f.T_odom_base, v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics, camera, filtered_topic,
-                   depth = f.depth, cloud_C = Eigen::Matrix3Xf(f.cloud_C()), marking_W = f.marking_W,
-                   voxels = std::move(voxels), publish_map, costmap = std::move(costmap), robot_messages,
+                   depth = f.depth, cloud_C = want[6] ? Eigen::Matrix3Xf(f.cloud_C()) : Eigen::Matrix3Xf(),
+                   marking_W = want[7] ? f.marking_W : Eigen::Matrix3Xf(), voxels = std::move(voxels), want_voxels, costmap = std::move(costmap), robot_messages,
                    ground_truth = ground_truth_] {
     if (robot_messages) {
-      bag->write_clock(t);
-      bag->write_tf(t, T_map_odom, T_odom_base);
-      bag->write_odometry(t, T_odom_base, v, omega);
-      if (ground_truth) bag->write_ground_truth_pose(t, T_world_base);
+      if (want[0]) bag->write_clock(t);
+      if (want[1]) bag->write_tf(t, T_map_odom, T_odom_base);
+      if (want[2]) bag->write_odometry(t, T_odom_base, v, omega);
+      if (ground_truth && want[3]) bag->write_ground_truth_pose(t, T_world_base);
     }
-    bag->write_depth_image(t, intrinsics, sensors::depth_to_millimetres(depth), camera);
-    bag->write_camera_info(t, intrinsics, camera);
-    bag->write_points(camera_topic(camera, "depth/points"), t, camera_optical_frame(camera), cloud_C);
-    bag->write_points(filtered_topic, t, kMapFrame, marking_W);
-    if (publish_map) bag->write_points("/stvl/voxel_grid", t, kMapFrame, voxels);
+    if (want[4]) bag->write_depth_image(t, intrinsics, sensors::depth_to_millimetres(depth), camera);
+    if (want[5]) bag->write_camera_info(t, intrinsics, camera);
+    if (want[6]) bag->write_points(camera_topic(camera, "depth/points"), t, camera_optical_frame(camera), cloud_C);
+    if (want[7]) bag->write_points(filtered_topic, t, kMapFrame, marking_W);
+    if (want_voxels) bag->write_points("/stvl/voxel_grid", t, kMapFrame, voxels);
     if (costmap) bag->write_costmap(t, *costmap);
   });
 }
@@ -83,9 +98,11 @@ void BagRecorder::record_map(double time_s, const pipeline::Pipeline& pipeline) 
 
 void BagRecorder::record_map(double time_s, const MapState& map) {
   std::optional<mapping::Costmap2D> costmap;
-  if (!map.map->empty()) costmap = map.costmap();
-  worker_->submit([bag = bag_.get(), time_s, voxels = map.map->voxel_centers(), costmap = std::move(costmap)] {
-    bag->write_points("/stvl/voxel_grid", time_s, kMapFrame, voxels);
+  if (!map.map->empty() && topics_.wants("/stvl/costmap")) costmap = map.costmap();
+  const bool want_voxels = topics_.wants("/stvl/voxel_grid");
+  worker_->submit([bag = bag_.get(), time_s, want_voxels,
+                   voxels = want_voxels ? map.map->voxel_centers() : Eigen::Matrix3Xf(), costmap = std::move(costmap)] {
+    if (want_voxels) bag->write_points("/stvl/voxel_grid", time_s, kMapFrame, voxels);
     if (costmap) bag->write_costmap(time_s, *costmap);
   });
 }

@@ -1,5 +1,5 @@
 #pragma once
-// A run's ROS 1 bag: per frame the robot's topics (once per distinct time) and the frame's camera's topics, every publish period (and at the end) the
+// A run's bag, ROS 1 or rosbag2 (recording::BagSink), with the topics BagTopics chooses: per frame the robot's topics (once per distinct time) and the frame's camera's topics, every publish period (and at the end) the
 // STVL map and costmap. Messages are packed on the frame loop's thread and written on a thread of their own.
 // A replayed recording writes the same topics but the ground truth's (it has none).
 #include <functional>
@@ -17,17 +17,28 @@ class SerialWorker;
 namespace stvl::run {
 
 using recording::BagCompression;
+using recording::BagSink;
 using recording::BagWriter;
 using recording::parse_bag_compression;
+
+// Format, compression and topics of a bag from the options' strings (their defaults per format); throws
+// std::invalid_argument for a bad name.
+struct BagSettings {
+  recording::BagFormat format = recording::BagFormat::kRos1;
+  BagCompression compression = BagCompression::kNone;
+  std::string topics = "all";
+};
+BagSettings bag_settings(const std::string& path, const std::string& format, const std::string& compression,
+                         const std::string& topics);
 
 class BagRecorder {
  public:
   // Opens path (as path.active until close()) and writes /tf_static for the cameras and, with ground truth, its
   // latched occupancy; without (truth == nullptr) no /ground_truth topic is written.
-  BagRecorder(const std::string& path, BagCompression compression, const std::vector<BagWriter::CameraFrames>& cameras,
+  BagRecorder(const std::string& path, const BagSettings& settings, const std::vector<BagSink::CameraFrames>& cameras,
               const Eigen::Matrix3Xf* truth_voxel_centers_W);
   // A simulated run: the pipeline's cameras and the truth.
-  BagRecorder(const std::string& path, BagCompression compression, const pipeline::Pipeline& pipeline,
+  BagRecorder(const std::string& path, const BagSettings& settings, const pipeline::Pipeline& pipeline,
               const Eigen::Matrix3Xf& truth_voxel_centers_W);
   ~BagRecorder();  // without close(): the bag stays as path.active
   BagRecorder(const BagRecorder&) = delete;
@@ -48,9 +59,13 @@ class BagRecorder {
   void record_map(double time_s, const pipeline::Pipeline& pipeline);
   // Waits for the writer thread, writes the index and renames path.active to path.
   void close();
+  // The export's final path (a rosbag2 folder for ROS 2) and its size so far in bytes.
+  const std::string& path() const { return bag_->path(); }
+  std::uint64_t bytes_written() const { return bag_->bytes_written(); }
 
  private:
-  std::unique_ptr<BagWriter> bag_;
+  std::unique_ptr<BagSink> bag_;
+  recording::BagTopics topics_;
   std::unique_ptr<SerialWorker> worker_;  // declared after the bag: stops first
   std::optional<double> last_robot_time_s_;
   bool ground_truth_ = true;

@@ -15,7 +15,9 @@ namespace stvl::run {
 struct RunOptions {
   std::string out_dir;           // empty: no files
   std::string bag_path;          // empty: no bag
-  std::string bag_compression = "none";
+  std::string bag_format;        // "ros1", "ros2", or empty: by bag_path (.mcap -> ros2)
+  std::string bag_compression;   // empty: none for ROS 1, zstd for ROS 2
+  std::string bag_topics;        // empty: all for ROS 1, default for ROS 2 (recording::BagTopics)
   bool progress = true;          // progress bar on a TTY, plain lines otherwise
   const std::atomic<bool>* stop_requested = nullptr;  // set from a signal handler
 };

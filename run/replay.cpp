@@ -67,7 +67,7 @@ ReplayResult replay_recording(recording::Recording& recording, const ReplaySetti
                                                     : r.recording.frame_count;
   const std::set<std::size_t> samples = options.out_dir.empty() ? std::set<std::size_t>{}
                                                                 : sample_indices(total, settings.sample_depth_frames);
-  const BagCompression bag_compression = parse_bag_compression(options.bag_compression);
+  const BagSettings bag_settings = run::bag_settings(options.bag_path, options.bag_format, options.bag_compression, options.bag_topics);
   std::unique_ptr<BagRecorder> bag;  // opened at the first frame, whose poses give base_link -> camera
 
   pipeline::FrameResult f;
@@ -124,8 +124,8 @@ ReplayResult replay_recording(recording::Recording& recording, const ReplaySetti
       const Eigen::Isometry3d T_link_optical = sim::DiffDriveRobot::T_camera_link_optical();
       const Eigen::Isometry3d T_base_optical = f.T_world_base.inverse() * f.T_world_camera;
       bag = std::make_unique<BagRecorder>(
-          options.bag_path, bag_compression,
-          std::vector<BagWriter::CameraFrames>{{camera.name, T_base_optical * T_link_optical.inverse(), T_link_optical}},
+          options.bag_path, bag_settings,
+          std::vector<BagSink::CameraFrames>{{camera.name, T_base_optical * T_link_optical.inverse(), T_link_optical}},
           nullptr);
     }
     if (bag) bag->record(f, camera.intrinsics, false, map_state, publish.due(f.time_s));

@@ -46,8 +46,9 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   r.filter_device = pipeline.filter_device();
   std::unique_ptr<BagRecorder> bag;
   if (!options.bag_path.empty())
-    bag = std::make_unique<BagRecorder>(options.bag_path, parse_bag_compression(options.bag_compression), pipeline,
-                                        evaluation.truth().voxel_centers());
+    bag = std::make_unique<BagRecorder>(
+        options.bag_path, bag_settings(options.bag_path, options.bag_format, options.bag_compression, options.bag_topics),
+        pipeline, evaluation.truth().voxel_centers());
   std::vector<FrameSampler> samplers;
   const bool several = s.pipeline.cameras.size() > 1;
   for (const auto& c : s.pipeline.cameras)

@@ -9,6 +9,7 @@ packages=(
   libopenvdb-dev libboost-iostreams-dev libopenvdb-tools
   librosbag-storage-dev libroscpp-core-dev libsensor-msgs-dev libtf2-msgs-dev libnav-msgs-dev
   libgeometry-msgs-dev libstd-msgs-dev python3-rosbag
+  libzstd-dev liblz4-dev libsqlite3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev liboctomap-dev
   clang libclang-rt-14-dev

@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 TEST(BagReaderErrors, NotABag) {
   const test::TempDir dir("rec_err_notbag");
   std::ofstream(dir.path() / "x.bag") << "hello\n";
-  EXPECT_ERROR((dir.path() / "x.bag").string(), {}, "x.bag", "not a ROS 1 bag");
+  EXPECT_ERROR((dir.path() / "x.bag").string(), {}, "x.bag", "neither a ROS 1 bag");
   EXPECT_ERROR((dir.path() / "missing.bag").string(), {}, "missing.bag", "no such file");
 }
 

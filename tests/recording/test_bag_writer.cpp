@@ -290,7 +290,11 @@ TEST(BagWriterTest, ParsesCompressionNames) {
     EXPECT_EQ(parse_bag_compression(to_string(c)), c);
   }
   EXPECT_THROW(parse_bag_compression("LZ4"), std::invalid_argument);
-  EXPECT_THROW(parse_bag_compression("zstd"), std::invalid_argument);
+  EXPECT_EQ(parse_bag_compression("zstd"), BagCompression::kZstd);  // rosbag2 (MCAP) only
+  EXPECT_THROW(parse_bag_compression("zip"), std::invalid_argument);
+  const test::TempDir dir("bag_zstd");
+  EXPECT_THROW(BagWriter((dir.path() / "x.bag").string(), BagCompression::kZstd), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "x.bag.active"));
 }
 
 }  // namespace

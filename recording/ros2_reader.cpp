@@ -1,0 +1,167 @@
+// rosbag2 recordings (MCAP or sqlite3) as frames: realsense-ros 4.x's layout (/camera/camera/depth/...), our
+// export's, or any depth topic named; /tf, /tf_static or odometry for the poses (bag_common.hpp, as ROS 1).
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+
+#include "recording/bag_common.hpp"
+#include "recording/detail.hpp"
+#include "recording/ros2_msgs.hpp"
+#include "recording/ros2_source.hpp"
+
+namespace stvl::recording::detail {
+namespace {
+
+bool ends_with(const std::string& text, const std::string& tail) {
+  return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+class Ros2Recording final : public Recording {
+ public:
+  Ros2Recording(const std::string& path, const RecordingOptions& options) : options_(options), source_(path) {
+    info_.path = path;
+    info_.format = source_.format();
+    open();
+    for (const auto& w : source_.warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    cursor_ = source_.cursor(info_.depth_topic);
+  }
+
+  const RecordingInfo& info() const override { return info_; }
+
+  bool next(RecordedFrame& frame) override {
+    std::int64_t time_ns = 0;
+    if (!cursor_->next(time_ns, bytes_)) return false;
+    const std::string at = where() + ": frame " + std::to_string(index_);
+    const ImageMsg image = decode_image(bytes_.data(), bytes_.size(), at);
+    frame.index = index_;
+    frame.stamp_s = image.stamp.seconds();
+    frame.time_s = frame.stamp_s - info_.start_time_s;
+    frame.intrinsics = intrinsics_at(frame.stamp_s);
+    ImageView view;
+    view.encoding = image.encoding, view.width = image.width, view.height = image.height, view.step = image.step;
+    view.is_bigendian = image.is_bigendian, view.data = image.data, view.size = image.data_size;
+    decode_depth(view, frame.intrinsics, info_.depth_unit_m, at, info_.info_topic, frame.depth);
+    poses_.pose_at(info_, options_, where(), frame.stamp_s, index_, frame.T_fixed_camera, frame.T_fixed_base);
+    ++index_;
+    return true;
+  }
+
+ private:
+  std::string where() const { return info_.path + ": " + info_.depth_topic; }
+
+  void require_topic(const std::string& topic, const std::string& type, const char* option) const {
+    const auto& topics = source_.topics();
+    const auto it = topics.find(topic);
+    if (it == topics.end()) {
+      std::vector<std::string> same, all;
+      for (const auto& [t, info] : topics) {
+        all.push_back(t);
+        if (short_type(info.type) == type) same.push_back(t);
+      }
+      const std::string near = nearest_name(topic, same.empty() ? all : same);
+      throw std::invalid_argument(info_.path + ": no topic " + topic + " (" + option + ")" +
+                                  (near.empty() ? std::string(", the recording has no topics") : ", nearest existing topic: " + near));
+    }
+    if (short_type(it->second.type) != type)
+      throw std::invalid_argument(info_.path + ": topic " + topic + " is " + it->second.type + ", expected " + type);
+  }
+
+  void open() {
+    const auto& topics = source_.topics();
+    std::vector<std::string> names;
+    for (const auto& [t, info] : topics) names.push_back(t);
+    if (!options_.depth_topic.empty()) {
+      require_topic(options_.depth_topic, "sensor_msgs/Image", "--depth-topic");
+      info_.depth_topic = options_.depth_topic;
+    } else {
+      std::vector<std::string> candidates;
+      for (const auto& [t, info] : topics)
+        if (short_type(info.type) == "sensor_msgs/Image" &&
+            (ends_with(t, "/depth/image_rect_raw") || ends_with(t, "/aligned_depth_to_color/image_raw")))
+          candidates.push_back(t);
+      if (candidates.empty())
+        throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
+                                    "*/aligned_depth_to_color/image_raw; the recording has: " + join(names) +
+                                    "); name one with --depth-topic");
+      if (candidates.size() > 1)
+        throw std::invalid_argument(info_.path + ": several depth topics: " + join(candidates) + "; choose one with --depth-topic");
+      info_.depth_topic = candidates.front();
+    }
+    const std::string& depth = info_.depth_topic;
+    if (!options_.info_topic.empty()) {
+      require_topic(options_.info_topic, "sensor_msgs/CameraInfo", "--info-topic");
+      info_.info_topic = options_.info_topic;
+    } else {
+      info_.info_topic = depth.substr(0, depth.rfind('/')) + "/camera_info";
+      if (!topics.count(info_.info_topic))
+        throw std::invalid_argument(info_.path + ": no camera info for " + depth + " (expected " + info_.info_topic +
+                                    "); name one with --info-topic");
+      require_topic(info_.info_topic, "sensor_msgs/CameraInfo", "camera info");
+    }
+    if (!options_.odom_topic.empty()) require_topic(options_.odom_topic, "nav_msgs/Odometry", "--odom-topic");
+
+    // One pass: camera info, tf, odometry, and the depth frames' stamps.
+    bool first = true;
+    double last_stamp = 0;
+    source_.scan(nullptr, [&](const Ros2Topic& t, std::int64_t, const std::uint8_t* data, std::size_t size) {
+      const std::string what = info_.path + ": " + t.name;
+      if (t.name == depth) {
+        const ImageMsg image = decode_image(data, size, what + " (frame " + std::to_string(info_.frame_count) + ")", true);
+        if (first) {
+          info_.encoding = image.encoding;
+          depth_bytes_per_pixel(image.encoding, where());
+          info_.camera_frame = strip_slash(image.frame_id);
+          info_.start_time_s = image.stamp.seconds();
+          first = false;
+        }
+        last_stamp = image.stamp.seconds();
+        ++info_.frame_count;
+      } else if (t.name == info_.info_topic) {
+        const CameraInfoMsg m = decode_camera_info(data, size, what);
+        infos_.emplace_back(m.stamp.seconds(), make_intrinsics(m.width, m.height, m.k[0], m.k[4], m.k[2], m.k[5],
+                                                               options_.rate_hz, options_, what + " k"));
+      } else if ((t.name == "/tf" || t.name == "/tf_static") && short_type(t.type) == "tf2_msgs/TFMessage") {
+        for (const auto& tf : decode_tf(data, size, what))
+          poses_.add_transform(info_.path, t.name, t.name == "/tf_static", tf.parent, tf.child, tf.stamp.seconds(), tf.t, tf.q);
+      } else if (t.name == options_.odom_topic) {
+        const OdometryMsg m = decode_odometry(data, size, what);
+        poses_.add_odometry(info_.path, t.name, m.stamp.seconds(), m.frame_id, m.child_frame_id, m.p, m.q);
+      }
+      return true;
+    });
+    if (info_.frame_count == 0) throw std::invalid_argument(where() + ": no depth images on the topic");
+    if (infos_.empty()) throw std::invalid_argument(info_.path + ": " + info_.info_topic + " has no messages");
+    std::stable_sort(infos_.begin(), infos_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    info_.end_time_s = last_stamp;
+    if (info_.frame_count > 1 && info_.end_time_s > info_.start_time_s) {
+      const double rate_hz = (info_.frame_count - 1) / (info_.end_time_s - info_.start_time_s);
+      for (auto& [t, k] : infos_) k.rate_hz = rate_hz;
+    }
+    info_.intrinsics = intrinsics_at(info_.start_time_s);
+    poses_.resolve(info_, options_);
+    Eigen::Isometry3d T_fixed_camera, T_fixed_base;  // the first frame's pose now: a recording without one fails at open
+    poses_.pose_at(info_, options_, where(), info_.start_time_s, 0, T_fixed_camera, T_fixed_base);
+  }
+
+  const sensors::CameraIntrinsics& intrinsics_at(double t) const {
+    auto it = std::upper_bound(infos_.begin(), infos_.end(), t, [](double time, const auto& s) { return time < s.first; });
+    return it == infos_.begin() ? infos_.front().second : (it - 1)->second;
+  }
+
+  RecordingOptions options_;
+  RecordingInfo info_;
+  Ros2Source source_;
+  std::unique_ptr<Ros2Source::Cursor> cursor_;
+  std::vector<std::uint8_t> bytes_;
+  std::size_t index_ = 0;
+  std::vector<std::pair<double, sensors::CameraIntrinsics>> infos_;
+  PoseResolver poses_;
+};
+
+}  // namespace
+
+std::unique_ptr<Recording> open_ros2(const std::string& path, const RecordingOptions& options) {
+  return std::make_unique<Ros2Recording>(path, options);
+}
+
+}  // namespace stvl::recording::detail
