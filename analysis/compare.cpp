@@ -175,14 +175,18 @@ Comparison compare_metrics(const nlohmann::json& a, const nlohmann::json& b, con
     c.regressions.push_back({rule.text, rule.path + ": " + number(va) + " -> " + number(vb) + " (" +
                                             (rule.left == CompareRule::Left::kRatio ? "x" + number(left) : signed_number(vb - va)) + ")"});
   }
-  // Checks that passed in A and fail in B.
+  // Checks that passed in A and fail in B; a check not evaluated (status "not_evaluated") is not judged.
+  const auto judged = [](const nlohmann::json& check) {
+    return check.contains("name") && check.contains("passed") && check["passed"].is_boolean() &&
+           check.value("status", std::string()) != "not_evaluated";
+  };
   std::map<std::string, bool> passed_in_a;
   if (a.contains("checks") && a["checks"].is_array())
     for (const auto& check : a["checks"])
-      if (check.contains("name") && check.contains("passed")) passed_in_a[check["name"].get<std::string>()] = check["passed"].get<bool>();
+      if (judged(check)) passed_in_a[check["name"].get<std::string>()] = check["passed"].get<bool>();
   if (b.contains("checks") && b["checks"].is_array())
     for (const auto& check : b["checks"]) {
-      if (!check.contains("name") || !check.contains("passed") || check["passed"].get<bool>()) continue;
+      if (!judged(check) || check["passed"].get<bool>()) continue;
       const auto it = passed_in_a.find(check["name"].get<std::string>());
       if (it != passed_in_a.end() && it->second)
         c.regressions.push_back({"check " + it->first, check.value("message", std::string())});

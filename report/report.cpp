@@ -25,6 +25,8 @@ nlohmann::json stage_stats(std::vector<double> ms) {
 
 namespace {
 
+nlohmann::json mean_figures_json(const evaluation::EvaluationMean& m);
+
 nlohmann::json snapshot_json(const evaluation::EvaluationSnapshot& s) {
   return {{"time_s", s.time_s},
           {"mapped_voxels", s.mapped_voxels},
@@ -40,11 +42,27 @@ nlohmann::json snapshot_json(const evaluation::EvaluationSnapshot& s) {
           {"lethal_without_voxels", s.projection.lethal_without_voxels},
           {"columns_without_lethal", s.projection.columns_without_lethal},
           {"self_lethal_inside", s.self_marking.inside},
-          {"self_lethal_ring", s.self_marking.ring}};
+          {"self_lethal_ring", s.self_marking.ring},
+          {"path_free_lethal", s.path_block.cells}};
 }
 
 // The means over the run; phantom_obstacles is the mean count, max_phantom_obstacles the most at one snapshot.
+// Without a snapshot to average ("evaluated": false) the averaged figures are null: not evaluated, not zero.
 nlohmann::json mean_json(const evaluation::EvaluationMean& m) {
+  nlohmann::json j = mean_figures_json(m);
+  j["evaluated"] = m.snapshots > 0;
+  if (m.snapshots == 0)
+    for (const char* key : {"precision", "recall", "f1", "iou", "costmap_precision", "costmap_recall", "phantom_obstacles",
+                            "mapped_voxels", "observed_truth_voxels", "lethal_cells"})
+      j[key] = nullptr;
+  const auto& block = m.max_path_block;
+  j["max_path_free_lethal"] = block.cells;
+  j["max_path_free_lethal_at"] = {{"time_s", m.max_path_block_time_s}, {"first_x_m", block.first_x_m},
+                                  {"first_y_m", block.first_y_m}, {"first_along_m", block.first_along_m}};
+  return j;
+}
+
+nlohmann::json mean_figures_json(const evaluation::EvaluationMean& m) {
   return {{"time_s", m.time_s},
           {"snapshots", m.snapshots},
           {"mapped_voxels", m.mapped_voxels},
@@ -255,7 +273,8 @@ nlohmann::json metrics_json(const RunResult& r) {
     }
   }
   nlohmann::json checks = nlohmann::json::array();
-  for (const auto& c : r.checks) checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}});
+  for (const auto& c : r.checks)
+    checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}, {"status", evaluation::check_status(c)}});
   const auto& t = r.times;
   nlohmann::json metrics = {
       {"scenario", r.scenario.name},
@@ -365,16 +384,18 @@ std::string profile_table(const RunResult& r) {
 }
 
 std::string junit_xml(const RunResult& r) {
-  int failures = 0;
-  for (const auto& c : r.checks) failures += !c.passed;
+  int failures = 0, skipped = 0;
+  for (const auto& c : r.checks) failures += c.evaluated && !c.passed, skipped += !c.evaluated;
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-    << "<testsuites tests=\"" << r.checks.size() << "\" failures=\"" << failures << "\">\n"
+    << "<testsuites tests=\"" << r.checks.size() << "\" failures=\"" << failures << "\" skipped=\"" << skipped << "\">\n"
     << "  <testsuite name=\"" << xml_escape(r.scenario.name) << "\" tests=\"" << r.checks.size() << "\" failures=\""
-    << failures << "\" time=\"" << r.wall_time_s << "\">\n";
+    << failures << "\" skipped=\"" << skipped << "\" time=\"" << r.wall_time_s << "\">\n";
   for (const auto& c : r.checks) {
     x << "    <testcase classname=\"stvl-bench." << xml_escape(r.scenario.name) << "\" name=\"" << xml_escape(c.name) << "\">";
-    if (c.passed)
+    if (!c.evaluated)
+      x << "<skipped message=\"" << xml_escape(c.message) << "\"/>";
+    else if (c.passed)
       x << "<system-out>" << xml_escape(c.message) << "</system-out>";
     else
       x << "<failure message=\"" << xml_escape(c.message) << "\"/>";
@@ -396,7 +417,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   h.precision(4);
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench: " << xml_escape(r.scenario.name)
     << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
-       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}"
+       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}.skip{color:#8a6d00}"
        "img{max-width:100%;border:1px solid #ddd}</style>\n"
     << interactive_head_html(scripts) << "</head><body>\n";
   h << "<h1>" << xml_escape(r.scenario.name) << " <span class=\"" << (r.passed() ? "pass\">PASSED" : "fail\">FAILED")
@@ -407,7 +428,8 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     << (r.scenario.camera().noise.enabled ? "on" : "off") << ".</p>\n";
   h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";
   for (const auto& c : r.checks)
-    h << "<tr><td>" << xml_escape(c.name) << "</td><td class=\"" << (c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
+    h << "<tr><td>" << xml_escape(c.name) << "</td><td class=\""
+      << (!c.evaluated ? "skip\">not evaluated" : c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
       << xml_escape(c.message) << "</td></tr>\n";
   h << "</table>\n<h2>Map quality</h2><p>Tolerance " << r.scenario.evaluation.tolerance_voxels
     << " voxel(s); recall against surfaces seen by the noise-free camera within the last "

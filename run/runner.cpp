@@ -29,7 +29,7 @@ std::unique_ptr<pipeline::Pipeline> build_pipeline(const config::Scenario& s) {
 
 bool RunResult::passed() const {
   for (const auto& c : checks)
-    if (!c.passed) return false;
+    if (c.evaluated && !c.passed) return false;
   return !interrupted;
 }
 
@@ -61,6 +61,8 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   evaluation::RunEnd end;
   end.path_required = s.stop_at_path_end;
   end.duration_s = s.duration_s;
+  end.cut_short_from_s = options.cut_short_from_s;
+  end.path_required_when_cut_short = options.require_path;
   const auto wall_start = SteadyClock::now();
   const auto before_map_update = [&](const pipeline::FrameResult& f, const mapping::VoxelMap& map) {
     evaluation.before_update(f, world, map);
