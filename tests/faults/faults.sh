@@ -117,7 +117,8 @@ case $case_name in
     # About 3 s in, and at least until the frame loop has started (the bag exists).
     sleep 3
     for _ in $(seq 1 200); do
-      [[ -e "$tmp/out/run.bag.active" ]] && break
+      # The run writes into a staging folder beside --out (common/staged_directory.hpp), the bag with it.
+      compgen -G "$tmp/out.partial-*/run.bag.active" >/dev/null && break
       kill -0 "$pid" 2>/dev/null || break
       sleep 0.1
     done
@@ -144,6 +145,37 @@ case $case_name in
     expect_rc "$expected"
     grep -q "interrupted by signal" "$tmp/stderr" || fail "no 'interrupted by signal' message"
     expect_no_results "$tmp"
+    [[ -e "$tmp/out" ]] && fail "an interrupted run created $tmp/out"
+    grep -q "interrupted by signal" "$tmp/out.incomplete/INCOMPLETE" || fail "the partial output is not marked INCOMPLETE"
+    [[ -e "$tmp/out.incomplete/run.bag.active" ]] || fail "the bag did not stay as run.bag.active in out.incomplete"
+    ;;
+
+  rerun_same_out)
+    # Issue 31: a second run into the same --out kept the first one's frames/*.png, and an interrupted run into
+    # an old folder left the old complete results mixed with its own. Now a completed run replaces the folder
+    # whole; an interrupted one leaves it untouched and its own output in out.incomplete, marked.
+    run_bench run "$scenario" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 0
+    touch "$tmp/out/frames/depth_99999_color.png"
+    run_bench run "$scenario" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 0
+    [[ -e "$tmp/out/frames/depth_99999_color.png" ]] && fail "the second run kept the first run's frame"
+    [[ -n "$(compgen -G "$tmp/out.*")" ]] && fail "left beside the folder: $(compgen -G "$tmp/out.*")"
+    before=$(md5sum "$tmp/out/metrics.json")
+    "$bench" run "$scenario" --out "$tmp/out" --no-progress >"$tmp/stdout" 2>"$tmp/stderr" &
+    pid=$!
+    for _ in $(seq 1 300); do
+      compgen -G "$tmp/out.partial-*/frames/*.png" >/dev/null && break
+      sleep 0.1
+    done
+    kill -s INT "$pid"
+    wait "$pid"
+    rc=$?
+    expect_rc 130
+    [[ "$(md5sum "$tmp/out/metrics.json")" == "$before" ]] || fail "the interrupted run changed the old results"
+    grep -q "interrupted by signal 2" "$tmp/out.incomplete/INCOMPLETE" || fail "the partial output is not marked"
+    [[ -e "$tmp/out.incomplete/metrics.json" ]] && fail "the partial output holds a metrics.json"
+    echo "a completed run replaced the folder whole; the interrupted one left it as it was"
     ;;
 
   gl_bogus)
