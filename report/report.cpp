@@ -99,6 +99,19 @@ nlohmann::json final_json(const evaluation::EvaluationSnapshot& s) {
   return j;
 }
 
+// filter.type is what runs on the cloud: "passthrough" where there is no decimation but the marking band's
+// passthrough (STVL's default `filter`, issue 31: it said "none"); "decimation" the voxel grid or CSNB alone.
+nlohmann::json filter_json(const filter::FilterConfig& f, const std::string& device) {
+  const bool pass = f.passthrough_enabled || f.type == filter::FilterType::kPassthrough;
+  const bool decimates = f.type == filter::FilterType::kVoxel || f.type == filter::FilterType::kCsnb;
+  nlohmann::json j = {{"type", decimates ? filter::to_string(f.type) : pass ? "passthrough" : "none"},
+                      {"device", device},
+                      {"decimation", decimates ? filter::to_string(f.type) : "none"},
+                      {"passthrough", pass}};
+  if (pass) j["passthrough_band_m"] = {f.passthrough.min_z_m, f.passthrough.max_z_m};
+  return j;
+}
+
 RgbImage top_down_image(const RunResult& r) {
   const auto& td = r.top_down;
   Eigen::AlignedBox2d bounds = td.bounds_W;
@@ -285,7 +298,7 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"frames", r.frames},
       {"sim_time_s", r.sim_time_s},
       {"voxel_size_m", r.scenario.pipeline.map.voxel_size_m},
-      {"filter", {{"type", filter::to_string(r.scenario.pipeline.filter.type)}, {"device", r.filter_device}}},
+      {"filter", filter_json(r.scenario.pipeline.filter, r.filter_device)},
       {"gl_backend", r.gl_backend},
       {"noise", r.scenario.camera().noise.enabled},
       {"cameras", camera_list_json(r.scenario)},
@@ -424,7 +437,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.pipeline.seed << ", " << r.frames
     << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s << " s (real-time factor "
     << r.real_time_factor << "), voxel " << r.scenario.pipeline.map.voxel_size_m << " m, filter "
-    << filter::to_string(r.scenario.pipeline.filter.type) << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
+    << metrics["filter"]["type"].get<std::string>() << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
     << (r.scenario.camera().noise.enabled ? "on" : "off") << ".</p>\n";
   h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";
   for (const auto& c : r.checks)

@@ -51,6 +51,7 @@ RunResult synthetic_result() {
   for (int i = 100; i >= 0; --i) r.times.frame.push_back(i);  // 0..100, descending
   std::rotate(r.times.frame.begin(), r.times.frame.begin() + 37, r.times.frame.end());
   r.evaluation.mean.f1 = 0.75;
+  r.evaluation.mean.snapshots = 2;
   r.evaluation.final.phantom_obstacles = 3;
   r.evaluation.final.phantoms = {{1.5, -2.25, 4}, {3.0, 0.5, 2}, {7.25, 1.0, 9}};
   evaluation::EvaluationSnapshot snapshot;
@@ -88,10 +89,57 @@ TEST(ReportJunit, OneTestcasePerCheckAndAFailureForEachFailedOne) {
   EXPECT_EQ(count_of(xml, "<testcase "), 3u);
   EXPECT_EQ(count_of(xml, "</testcase>"), 3u);
   EXPECT_EQ(count_of(xml, "<failure "), 2u);
-  EXPECT_THAT(xml, HasSubstr("<testsuites tests=\"3\" failures=\"2\">"));
+  EXPECT_THAT(xml, HasSubstr("<testsuites tests=\"3\" failures=\"2\" skipped=\"0\">"));
   EXPECT_THAT(xml, HasSubstr("name=\"f1_3d\"><system-out>"));
   EXPECT_THAT(xml, HasSubstr("name=\"iou_3d\"><failure message=\"mean 3D IoU 0.2, required &gt;= 0.5\"/>"));
   EXPECT_EQ(xml.rfind("<?xml version=\"1.0\" encoding=\"UTF-8\"?>", 0), 0u);
+}
+
+// Issue 31: a check with nothing to judge is a skipped testcase, not a failure, and does not fail the run.
+TEST(ReportJunit, ChecksNotEvaluatedAreSkipped) {
+  RunResult r = synthetic_result();
+  r.checks = {{"f1_3d", true, "mean 3D F1 0.9, required >= 0.85"},
+              evaluation::not_evaluated("path_completed", "not evaluated: cut short")};
+  const std::string xml = junit_xml(r);
+  EXPECT_THAT(xml, HasSubstr("<testsuites tests=\"2\" failures=\"0\" skipped=\"1\">"));
+  EXPECT_THAT(xml, HasSubstr("name=\"path_completed\"><skipped message=\"not evaluated: cut short\"/>"));
+  EXPECT_TRUE(r.passed());
+  const nlohmann::json m = metrics_json(r);
+  EXPECT_EQ(m["checks"][1]["status"], "not_evaluated");
+  EXPECT_EQ(m["checks"][0]["status"], "pass");
+  EXPECT_EQ(m["passed"], true);
+}
+
+// Issue 31: metrics.json said filter.type "none" for STVL's default passthrough.
+TEST(ReportMetrics, FilterTypeNamesThePassthroughWithoutDecimation) {
+  RunResult r = synthetic_result();
+  auto& f = r.scenario.pipeline.filter;
+  f.type = filter::FilterType::kNone;
+  f.passthrough_enabled = true;
+  f.passthrough = {0.0, 2.0};
+  nlohmann::json j = metrics_json(r)["filter"];
+  EXPECT_EQ(j["type"], "passthrough");
+  EXPECT_EQ(j["decimation"], "none");
+  EXPECT_EQ(j["passthrough_band_m"], nlohmann::json({0.0, 2.0}));
+  f.passthrough_enabled = false;
+  EXPECT_EQ(metrics_json(r)["filter"]["type"], "none");
+  f.type = filter::FilterType::kVoxel;
+  f.passthrough_enabled = true;
+  j = metrics_json(r)["filter"];
+  EXPECT_EQ(j["type"], "voxel");
+  EXPECT_EQ(j["passthrough"], true);
+}
+
+// Issue 31: without a snapshot to average the mean figures are null, not 0.
+TEST(ReportMetrics, MeanFiguresWithoutASnapshotAreNull) {
+  RunResult r = synthetic_result();
+  r.evaluation.mean.snapshots = 0;
+  const auto mean = metrics_json(r)["evaluation"]["mean"];
+  EXPECT_EQ(mean["evaluated"], false);
+  EXPECT_TRUE(mean["f1"].is_null());
+  EXPECT_TRUE(mean["costmap_precision"].is_null());
+  r.evaluation.mean.snapshots = 3;
+  EXPECT_DOUBLE_EQ(metrics_json(r)["evaluation"]["mean"]["f1"].get<double>(), 0.75);
 }
 
 TEST(ReportJunit, TextIsEscaped) {
