@@ -8,6 +8,7 @@
 #include "common/atomic_file.hpp"
 #include "common/markup.hpp"
 #include "report/raster.hpp"
+#include "report/report_sections.hpp"
 #include "report/report_page.hpp"
 
 namespace stvl::report {
@@ -112,32 +113,6 @@ nlohmann::json filter_json(const filter::FilterConfig& f, const std::string& dev
   return j;
 }
 
-RgbImage top_down_image(const RunResult& r) {
-  const auto& td = r.top_down;
-  Eigen::AlignedBox2d bounds = td.bounds_W;
-  for (const auto& p : r.path_W) bounds.extend(p);
-  if (bounds.isEmpty()) bounds = Eigen::AlignedBox2d(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1));
-  const int cells_x = static_cast<int>(std::ceil(bounds.sizes().x() / td.cell_m)) + 2;
-  const int cells_y = static_cast<int>(std::ceil(bounds.sizes().y() / td.cell_m)) + 2;
-  const int scale = std::max(1, std::min(8, 1800 / std::max(cells_x, cells_y)));
-  RgbImage image(std::max(1, cells_x * scale), std::max(1, cells_y * scale));
-  const auto px = [&](double x) { return static_cast<int>((x - bounds.min().x()) / td.cell_m * scale) + scale; };
-  const auto py = [&](double y) { return image.height() - 1 - (static_cast<int>((y - bounds.min().y()) / td.cell_m * scale) + scale); };
-  const auto paint = [&](const std::vector<stvl::CellKey>& cells, Rgb color) {
-    for (const auto& c : cells) {
-      const int x = px(c.x * td.cell_m), y = py((c.y + 1) * td.cell_m);
-      image.fill_rect(x, y, x + scale - 1, y + scale - 1, color);
-    }
-  };
-  paint(td.truth, {190, 190, 190});
-  paint(td.false_negative, {40, 90, 230});
-  paint(td.true_positive, {30, 160, 60});
-  paint(td.false_positive, {220, 40, 40});
-  for (std::size_t i = 1; i < r.path_W.size(); ++i)
-    image.line(px(r.path_W[i - 1].x()), py(r.path_W[i - 1].y()), px(r.path_W[i].x()), py(r.path_W[i].y()), {0, 0, 0});
-  return image;
-}
-
 nlohmann::json camera_list_json(const Scenario& s) {
   nlohmann::json list = nlohmann::json::array();
   for (const auto& c : s.pipeline.cameras) {
@@ -148,18 +123,6 @@ nlohmann::json camera_list_json(const Scenario& s) {
                     {"rate_hz", c.intrinsics.rate_hz}, {"noise", c.noise.enabled}, {"sources", sources}});
   }
   return list;
-}
-
-// Every leaf under `j` as "a.b[2].c" -> value text, in the document's order.
-void flatten(const nlohmann::json& j, const std::string& path, std::vector<std::pair<std::string, std::string>>& out) {
-  if (j.is_object()) {
-    for (const auto& [key, value] : j.items()) flatten(value, path.empty() ? key : path + "." + key, out);
-  } else if (j.is_array()) {
-    for (std::size_t i = 0; i < j.size(); ++i) flatten(j[i], path + "[" + std::to_string(i) + "]", out);
-    if (j.empty()) out.emplace_back(path, "(none)");
-  } else {
-    out.emplace_back(path, j.is_string() ? j.get<std::string>() : j.dump());
-  }
 }
 
 // evaluation.failure_modes.occlusion: occluded obstacles erased (STVL #134); null times: never.
@@ -227,33 +190,6 @@ nlohmann::json outage_json(const RunResult& r) {
 }
 
 }  // namespace
-
-// STVL's known failure modes as this run measured them: the figures every run has (phantoms, rays' false clears,
-// the projection guard) and every figure under evaluation.failure_modes.
-std::string failure_modes_html(const nlohmann::json& metrics) {
-  const nlohmann::json& e = metrics.at("evaluation");
-  std::ostringstream h;
-  h << "<h2>Failure modes</h2><p>STVL's known failure modes as this run measured them against truth (the table in "
-       "docs/fidelity.md says which scenario reproduces each and which option fixes it).</p>"
-       "<table><tr><th>failure mode</th><th>figure</th><th>value</th></tr>\n";
-  const auto row = [&](const std::string& mode, const std::string& figure, const std::string& value) {
-    h << "<tr><td>" << xml_escape(mode) << "</td><td>" << xml_escape(figure) << "</td><td>" << xml_escape(value) << "</td></tr>\n";
-  };
-  const auto text = [](const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); };
-  row("ghosts (phantom obstacles)", "final phantoms", text(e.at("final").at("phantom_obstacles")));
-  row("ghosts (phantom obstacles)", "most at one evaluation", text(e.at("mean").at("max_phantom_obstacles")));
-  row("rays clearing true voxels", "evaluation.clearing.false_clears", text(e.at("clearing").at("false_clears")));
-  row("costmap ghosts", "lethal cells without voxels (worst)", text(e.at("mean").at("max_lethal_without_voxels")));
-  row("costmap ghosts", "voxel columns without a lethal cell (worst)", text(e.at("mean").at("max_columns_without_lethal")));
-  if (e.contains("failure_modes"))
-    for (const auto& [mode, figures] : e.at("failure_modes").items()) {
-      std::vector<std::pair<std::string, std::string>> leaves;
-      flatten(figures, "", leaves);
-      for (const auto& [figure, value] : leaves) row(mode, figure, value);
-    }
-  h << "</table>\n";
-  return h.str();
-}
 
 nlohmann::json metrics_json(const RunResult& r) {
   const auto& e = r.evaluation;
@@ -422,7 +358,8 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   const nlohmann::json metrics = metrics_json(r);
   write_file_atomically(out / "metrics.json", metrics.dump(2) + "\n");
   write_file_atomically(out / "junit.xml", junit_xml(r));
-  write_png(out / "top_down.png", top_down_image(r));
+  const std::string top_down_png = encode_png(top_down_image(r));
+  write_file_atomically(out / "top_down.png", top_down_png);
   const ReportScripts scripts = load_report_scripts();
 
   const auto& e = r.evaluation;
@@ -431,7 +368,8 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench: " << xml_escape(r.scenario.name)
     << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
        "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}.skip{color:#8a6d00}"
-       "img{max-width:100%;border:1px solid #ddd}</style>\n"
+       "img{max-width:100%;border:1px solid #ddd}"
+    << legend_css() << "</style>\n"
     << interactive_head_html(scripts) << "</head><body>\n";
   h << "<h1>" << xml_escape(r.scenario.name) << " <span class=\"" << (r.passed() ? "pass\">PASSED" : "fail\">FAILED")
     << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.pipeline.seed << ", " << r.frames
@@ -453,16 +391,16 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
       << s.iou << "</td><td>" << s.costmap_precision << "</td><td>" << s.costmap_recall << "</td><td>" << phantoms
       << "</td></tr>\n";
   };
-  row("mean", e.mean, fixed(e.mean.phantom_obstacles, 2) + " (at most " + std::to_string(e.mean.max_phantom_obstacles) + ")");
+  if (e.mean.snapshots > 0)
+    row("mean", e.mean, fixed(e.mean.phantom_obstacles, 2) + " (at most " + std::to_string(e.mean.max_phantom_obstacles) + ")");
+  else
+    h << "<tr><td>mean</td><td colspan=\"7\" class=\"skip\">not evaluated: no evaluation after the recall window</td></tr>\n";
   row("final", e.final, std::to_string(e.final.phantom_obstacles));
   h << "</table><p>Distance of mapped voxel centres to the true surface: mean " << e.accuracy.mean_m << " m, median "
     << e.accuracy.median_m << " m, p90 " << e.accuracy.p90_m << " m, p99 " << e.accuracy.p99_m << " m.</p>\n";
+  h << map_contents_html(r);
   h << interactive_body_html(r, scripts);
-  h << "<h2>Top-down: truth vs map</h2>";
-  if (scripts.complete()) h << "<p>Zoom <input type=\"range\" id=\"topdown-zoom\" min=\"1\" max=\"8\" step=\"0.5\" value=\"1\"></p>";
-  h << "<div style=\"overflow:auto;max-height:75vh\"><img id=\"topdown\" src=\"top_down.png\" alt=\"top-down map\" "
-       "style=\"max-width:100%;image-rendering:pixelated\"></div><p>Grey: true footprints in the height band; green: lethal "
-       "and true; red: lethal and false; blue: observed footprint missed; black: the robot's path.</p>\n";
+  h << top_down_html(r, top_down_png, scripts.complete());
   h << "<h2>Obstacles</h2><table><tr><th>body</th><th>observed</th><th>detected</th><th>best recall</th></tr>\n";
   for (const auto& o : e.obstacles)
     h << "<tr><td>" << xml_escape(o.name) << "</td><td>" << (o.observed ? "yes" : "no") << "</td><td class=\""
@@ -472,20 +410,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     << e.clearing.mean_latency_s << " s, " << e.clearing.not_cleared << " never cleared; ray-cast clearing removed "
     << e.false_clears << " true obstacle voxels (false clears).</p>\n";
   h << failure_modes_html(metrics);
-  h << "<h2>Sample depth frames</h2>\n";
-  std::vector<std::string> frames;
-  if (std::filesystem::is_directory(out / "frames"))
-    for (const auto& f : std::filesystem::directory_iterator(out / "frames"))
-      if (f.path().filename().string().find("_color.png") != std::string::npos) frames.push_back(f.path().filename().string());
-  std::sort(frames.begin(), frames.end());
-  // Several cameras: a row per camera, its files named <camera>_depth_NNNNN.
-  const auto& cams = r.scenario.pipeline.cameras;
-  for (const auto& c : cams) {
-    const std::string prefix = cams.size() > 1 ? c.name + "_depth_" : "depth_";
-    if (cams.size() > 1) h << "<h3>" << xml_escape(c.name) << "</h3>\n";
-    for (const auto& f : frames)
-      if (f.rfind(prefix, 0) == 0) h << "<img src=\"frames/" << f << "\" width=\"424\" alt=\"" << f << "\"> ";
-  }
+  h << depth_frames_html(r, out);
   h << "\n<h2>Timing</h2><table><tr><th>stage</th><th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
   for (const auto& [stage, stats] : metrics["timing_ms"].items()) {
     if (stage == "evaluation_phases" || stage == "per_camera" || stage == "soak") continue;
