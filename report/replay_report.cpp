@@ -7,6 +7,7 @@
 #include "report/raster.hpp"
 #include "run/replay.hpp"
 #include "report/report.hpp"
+#include "report/machine.hpp"
 #include "report/report_sections.hpp"
 #include "report/report_page.hpp"
 
@@ -79,6 +80,7 @@ nlohmann::json replay_metrics_json(const ReplayResult& r) {
           {"recorded_s", r.recorded_s},
           {"wall_time_s", r.wall_time_s},
           {"real_time_factor", r.real_time_factor},
+          {"machine", machine_json()},
           {"voxel_size_m", r.pipeline.map.voxel_size_m},
           {"filter", filter::to_string(r.pipeline.filter.type)},
           {"filter_device", r.filter_device},

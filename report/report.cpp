@@ -7,6 +7,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/markup.hpp"
+#include "report/machine.hpp"
 #include "report/raster.hpp"
 #include "report/report_sections.hpp"
 #include "report/report_page.hpp"
@@ -281,6 +282,7 @@ nlohmann::json metrics_json(const RunResult& r) {
         {"per_camera", camera_timing}}},
       {"wall_time_s", r.wall_time_s},
       {"real_time_factor", r.real_time_factor},
+      {"machine", machine_json()},
   };
   metrics["evaluation"]["failure_modes"]["occlusion"] = occlusion_json(e.occlusion);
   metrics["evaluation"]["failure_modes"]["self_marking"] = self_marking_json(r);
