@@ -213,14 +213,24 @@ CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad) {
 }
 
 CheckResult path_completed_check(bool completed, double time_s, double duration_s, double cut_short_from_s,
-                                 bool required_when_cut_short) {
+                                 bool required_when_cut_short, const std::string& blocked) {
   if (!completed && cut_short_from_s > 0 && !required_when_cut_short)
     return not_evaluated("path_completed", "not evaluated: the path's end was not reached within " + fixed(duration_s, 1) +
                                                " s, the run cut short by --duration (the scenario runs " +
                                                fixed(cut_short_from_s, 1) + " s; --require-path fails on it)");
   return {"path_completed", completed,
           completed ? "reached the end of the path at t = " + fixed(time_s, 2) + " s"
-                    : "did not reach the end of the path within " + fixed(duration_s, 1) + " s"};
+                    : "did not reach the end of the path within " + fixed(duration_s, 1) + " s" +
+                          (blocked.empty() ? std::string() : ": " + blocked)};
+}
+
+std::string blocked_diagnosis(const Eigen::Vector2d& at_W, double since_s, const Eigen::Vector2d& path_end_W,
+                              const std::vector<std::string>& touching) {
+  std::string text = "blocked at (" + fixed(at_W.x(), 2) + ", " + fixed(at_W.y(), 2) + ") m since t = " + fixed(since_s, 1) +
+                     " s, " + fixed((path_end_W - at_W).norm(), 2) + " m short of the path's end, touching ";
+  if (touching.empty()) return text + "nothing";
+  for (std::size_t i = 0; i < touching.size(); ++i) text += (i ? ", " : "") + touching[i];
+  return text;
 }
 
 }  // namespace stvl::evaluation

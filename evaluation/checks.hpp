@@ -90,8 +90,13 @@ CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad);
 // path_completed: the path's end reached at time_s, or not within duration_s. cut_short_from_s > 0: the run was
 // cut short (--duration) from the scenario's own duration; a path not reached is then reported, not evaluated,
 // unless required_when_cut_short.
+// blocked: blocked_diagnosis() when the robot stopped short, appended to a failure's message.
 CheckResult path_completed_check(bool completed, double time_s, double duration_s, double cut_short_from_s = 0,
-                                 bool required_when_cut_short = false);
+                                 bool required_when_cut_short = false, const std::string& blocked = "");
+// "blocked at (x, y) m since t = T s, D m short of the path's end, touching A, B" (or "touching nothing"): the
+// robot's position, when it last moved, the path's end and what it is in contact with (sim::robot_contacts).
+std::string blocked_diagnosis(const Eigen::Vector2d& at_W, double since_s, const Eigen::Vector2d& path_end_W,
+                              const std::vector<std::string>& touching);
 
 // `value` with `decimals` digits after the point ("0.9871").
 std::string fixed(double value, int decimals);

@@ -27,6 +27,7 @@ struct RunEnd {
   double duration_s = 0;        // the scenario's duration
   double cut_short_from_s = 0;  // > 0: --duration shortened the run from this many seconds
   bool path_required_when_cut_short = false;
+  std::string blocked;          // blocked_diagnosis() when the robot stopped short of the path's end
   SoakSeries soak;
 };
 

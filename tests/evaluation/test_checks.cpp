@@ -120,6 +120,15 @@ TEST(Checks, PathFreeLethalFailsOnTheWorstEvaluationAndSaysWhere) {
                           "at (3.08, -0.33) m, 3.08 m along the path), allowed 0");
 }
 
+// Issue 31: a robot that stops short says where, since when and what it touches.
+TEST(Checks, ABlockedRobotIsDiagnosedOnThePathCheck) {
+  const std::string blocked = blocked_diagnosis({0.0, 0.884}, 3.93, {0.0, 4.0}, {"desk_2", "walls"});
+  EXPECT_EQ(blocked, "blocked at (0.00, 0.88) m since t = 3.9 s, 3.12 m short of the path's end, touching desk_2, walls");
+  EXPECT_EQ(path_completed_check(false, 10, 10, 0, false, blocked).message,
+            "did not reach the end of the path within 10.0 s: " + blocked);
+  EXPECT_THAT(blocked_diagnosis({1, 1}, 2, {1, 1}, {}), HasSubstr("touching nothing"));
+}
+
 TEST(Checks, APathCutShortByDurationIsReportedNotFailedUnlessRequired) {
   const CheckResult cut = path_completed_check(false, 10, 10, 45);
   EXPECT_FALSE(cut.evaluated);

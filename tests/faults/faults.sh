@@ -178,6 +178,15 @@ case $case_name in
     echo "a completed run replaced the folder whole; the interrupted one left it as it was"
     ;;
 
+  waypoint_into_wall)
+    # Issue 31: a waypoint into a wall failed only path_completed, with no word that the robot was blocked, or where.
+    run_bench run "$scenario" --set 'robot.waypoints=[[0, 0], [0, 4]]' --set duration_s=8 --out "$tmp/out" --no-progress
+    expect_rc 1
+    grep -Eq "^FAIL path_completed +did not reach the end of the path within 8.0 s: blocked at \(0.00, 0.[0-9]+\) m since t = [0-9.]+ s, [0-9.]+ m short of the path's end, touching walls$" "$tmp/stdout" ||
+      fail "no blocked diagnosis on the path_completed line"
+    grep -E "path_completed" "$tmp/stdout"
+    ;;
+
   gl_bogus)
     STVL_GL=bogus run_bench run "$scenario" --out "$tmp/out" --no-progress --duration 1
     expect_rc 2
