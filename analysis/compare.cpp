@@ -109,7 +109,50 @@ Tables tables_of(const Comparison& c) {
   return t;
 }
 
+// The settings of a run: every leaf (numbers, strings, booleans) under these keys of metrics.json.
+const char* const kConfigKeys[] = {"scenario", "scenario_file", "kind", "recording", "seed", "voxel_size_m", "filter",
+                                   "filter_device", "gl_backend", "noise", "cameras", "machine"};
+
+void leaves(const nlohmann::json& j, const std::string& path, std::map<std::string, std::string>& out) {
+  if (j.is_object()) {
+    for (const auto& [key, value] : j.items()) leaves(value, path.empty() ? key : path + "." + key, out);
+  } else if (j.is_array()) {
+    for (std::size_t i = 0; i < j.size(); ++i) leaves(j[i], path + "[" + std::to_string(i) + "]", out);
+  } else {
+    out[path] = j.is_string() ? j.get<std::string>() : j.dump();
+  }
+}
+
+std::vector<ConfigDifference> config_differences(const nlohmann::json& a, const nlohmann::json& b) {
+  std::map<std::string, std::string> la, lb;
+  for (const char* key : kConfigKeys) {
+    if (a.contains(key)) leaves(a[key], key, la);
+    if (b.contains(key)) leaves(b[key], key, lb);
+  }
+  for (const char* key : {"tolerance_voxels", "recall_window_s", "phantom_clearance_m"}) {
+    if (a.contains("evaluation") && a["evaluation"].contains(key)) leaves(a["evaluation"][key], std::string("evaluation.") + key, la);
+    if (b.contains("evaluation") && b["evaluation"].contains(key)) leaves(b["evaluation"][key], std::string("evaluation.") + key, lb);
+  }
+  std::vector<ConfigDifference> out;
+  for (const auto& [path, value] : la) {
+    const auto it = lb.find(path);
+    if (it == lb.end()) out.push_back({path, value, "(absent)"});
+    else if (it->second != value) out.push_back({path, value, it->second});
+  }
+  for (const auto& [path, value] : lb)
+    if (!la.count(path)) out.push_back({path, "(absent)", value});
+  return out;
+}
+
+std::string fingerprint(const nlohmann::json& m) {
+  return m.contains("machine") && m["machine"].is_object() ? m["machine"].value("fingerprint", std::string()) : std::string();
+}
+
 }  // namespace
+
+bool is_timing_rule(const CompareRule& rule) {
+  return rule.path.rfind("timing_ms.", 0) == 0 || rule.path == "real_time_factor" || rule.path == "wall_time_s";
+}
 
 CompareRule parse_compare_rule(const std::string& text) {
   static const std::regex pattern(
@@ -138,8 +181,8 @@ std::vector<CompareRule> default_compare_rules(bool ground_truth) {
                              "delta(evaluation.mean.recall) < -0.01", "delta(evaluation.mean.costmap_precision) < -0.02",
                              "delta(evaluation.final.phantom_obstacles) > 0", "delta(evaluation.mean.max_phantom_obstacles) > 0"})
       rules.push_back(parse_compare_rule(text));
-  for (const char* text : {"ratio(timing_ms.filter.mean) > 1.2", "ratio(timing_ms.clear.mean) > 1.2",
-                           "ratio(timing_ms.mark.mean) > 1.2", "ratio(timing_ms.frame.mean) > 1.2"})
+  for (const char* text : {"ratio(timing_ms.filter.p50) > 1.2", "ratio(timing_ms.clear.p50) > 1.2",
+                           "ratio(timing_ms.mark.p50) > 1.2", "ratio(timing_ms.frame.p50) > 1.2"})
     rules.push_back(parse_compare_rule(text));
   return rules;
 }
@@ -163,29 +206,48 @@ Comparison compare_metrics(const nlohmann::json& a, const nlohmann::json& b, con
   for (const auto& [path, value] : fb)
     if (!ma.count(path)) c.only_in_b.push_back(path);
 
+  c.config_differences = config_differences(a, b);
+  c.same_machine = !fingerprint(a).empty() && fingerprint(a) == fingerprint(b);
   for (const auto& rule : rules) {
     const double va = figure(ma, rule.path, rule, c.a_name), vb = figure(mb, rule.path, rule, c.b_name);
+    if (is_timing_rule(rule) && !c.same_machine) {
+      c.outcomes.push_back({rule.text, "not judged",
+                            fingerprint(a).empty() || fingerprint(b).empty()
+                                ? "a run carries no machine fingerprint"
+                                : "measured on different machines (" + fingerprint(a) + " vs " + fingerprint(b) + ")"});
+      continue;
+    }
     double left = vb;
     if (rule.left == CompareRule::Left::kDelta) left = vb - va;
-    if (rule.left == CompareRule::Left::kRatio) {
-      if (va == 0.0) continue;  // no ratio to a zero
-      left = vb / va;
+    const bool ratio_of_zero = rule.left == CompareRule::Left::kRatio && va == 0.0;  // no ratio to a zero
+    if (rule.left == CompareRule::Left::kRatio && !ratio_of_zero) left = vb / va;
+    const std::string detail = rule.path + ": " + number(va) + " -> " + number(vb) + " (" +
+                               (rule.left == CompareRule::Left::kRatio ? (ratio_of_zero ? "no ratio to 0" : "x" + number(left))
+                                                                       : signed_number(vb - va)) + ")";
+    if (ratio_of_zero || !std::isfinite(left) || !holds(left, rule.op, rule.threshold)) {
+      c.outcomes.push_back({rule.text, "ok", detail});
+      continue;
     }
-    if (!std::isfinite(left) || !holds(left, rule.op, rule.threshold)) continue;
-    c.regressions.push_back({rule.text, rule.path + ": " + number(va) + " -> " + number(vb) + " (" +
-                                            (rule.left == CompareRule::Left::kRatio ? "x" + number(left) : signed_number(vb - va)) + ")"});
+    c.outcomes.push_back({rule.text, "regression", detail});
+    c.regressions.push_back({rule.text, detail});
   }
-  // Checks that passed in A and fail in B.
+  // Checks that passed in A and fail in B; a check not evaluated (status "not_evaluated") is not judged.
+  const auto judged = [](const nlohmann::json& check) {
+    return check.contains("name") && check.contains("passed") && check["passed"].is_boolean() &&
+           check.value("status", std::string()) != "not_evaluated";
+  };
   std::map<std::string, bool> passed_in_a;
   if (a.contains("checks") && a["checks"].is_array())
     for (const auto& check : a["checks"])
-      if (check.contains("name") && check.contains("passed")) passed_in_a[check["name"].get<std::string>()] = check["passed"].get<bool>();
+      if (judged(check)) passed_in_a[check["name"].get<std::string>()] = check["passed"].get<bool>();
   if (b.contains("checks") && b["checks"].is_array())
     for (const auto& check : b["checks"]) {
-      if (!check.contains("name") || !check.contains("passed") || check["passed"].get<bool>()) continue;
+      if (!judged(check) || check["passed"].get<bool>()) continue;
       const auto it = passed_in_a.find(check["name"].get<std::string>());
-      if (it != passed_in_a.end() && it->second)
+      if (it != passed_in_a.end() && it->second) {
         c.regressions.push_back({"check " + it->first, check.value("message", std::string())});
+        c.outcomes.push_back({"check " + it->first, "regression", check.value("message", std::string())});
+      }
     }
   return c;
 }
@@ -207,9 +269,34 @@ nlohmann::json load_metrics(const std::string& run_folder_or_file) {
   }
 }
 
+namespace {
+
+std::string machine_line(const Comparison& c) {
+  std::size_t not_judged = 0;
+  for (const auto& o : c.outcomes) not_judged += o.status == "not judged";
+  if (c.same_machine) return "Timing rules judged: both runs carry the same machine fingerprint.";
+  if (not_judged == 0) return "Different machines (or no fingerprint): no timing rule to judge.";
+  return "Timing rules not judged (" + std::to_string(not_judged) +
+         "): the runs do not carry the same machine fingerprint; timings of different machines are reported, not compared.";
+}
+
+}  // namespace
+
 std::string comparison_markdown(const Comparison& c) {
   std::ostringstream md;
   md << "## stvl-bench compare: " << cell(c.a_name) << " -> " << cell(c.b_name) << "\n\n";
+  // Settings first: figures of two different configurations differ for that reason alone.
+  if (c.config_differences.empty()) {
+    md << "Same configuration.\n\n";
+  } else {
+    const bool fold = c.config_differences.size() > 8;
+    md << "### Configuration differences (" << c.config_differences.size() << ")\n\n";
+    if (fold) md << "<details><summary>" << c.config_differences.size() << " settings differ</summary>\n\n";
+    md << "| setting | A | B |\n|---|---|---|\n";
+    for (const auto& d : c.config_differences) md << "| " << cell(d.path) << " | " << cell(d.a) << " | " << cell(d.b) << " |\n";
+    md << (fold ? "\n</details>\n\n" : "\n");
+  }
+  md << machine_line(c) << "\n\n";
   if (c.regressions.empty()) {
     md << "No regression.\n\n";
   } else {
@@ -219,17 +306,21 @@ std::string comparison_markdown(const Comparison& c) {
     md << "\n";
   }
   const Tables t = tables_of(c);
-  const auto table = [&](const char* title, const auto& rows) {
-    md << "### " << title << "\n\n| figure | A | B | delta |\n|---|---:|---:|---:|\n";
-    for (const auto& r : rows) md << "| " << cell(r[0]) << " | " << r[1] << " | " << r[2] << " | " << r[3] << " |\n";
-    md << "\n";
-  };
-  table("Headline figures", t.headline);
+  md << "### Headline figures\n\n| figure | A | B | delta |\n|---|---:|---:|---:|\n";
+  for (const auto& r : t.headline) md << "| " << cell(r[0]) << " | " << r[1] << " | " << r[2] << " | " << r[3] << " |\n";
+  md << "\n<details><summary>Rules (" << c.outcomes.size() << ")</summary>\n\n| rule | outcome | figures |\n|---|---|---|\n";
+  for (const auto& o : c.outcomes) md << "| " << cell(o.rule) << " | " << o.status << " | " << cell(o.detail) << " |\n";
+  md << "\n</details>\n\n";
   md << t.changed.size() << " of " << c.metrics.size() << " figures differ";
   if (!c.only_in_a.empty() || !c.only_in_b.empty())
     md << "; " << c.only_in_a.size() << " only in A, " << c.only_in_b.size() << " only in B";
   md << ".\n\n";
-  if (!t.changed.empty()) table("Every figure that differs", t.changed);
+  if (!t.changed.empty()) {
+    md << "<details><summary>Every figure that differs (" << t.changed.size() << ")</summary>\n\n"
+       << "| figure | A | B | delta |\n|---|---:|---:|---:|\n";
+    for (const auto& r : t.changed) md << "| " << cell(r[0]) << " | " << r[1] << " | " << r[2] << " | " << r[3] << " |\n";
+    md << "\n</details>\n";
+  }
   return md.str();
 }
 
@@ -237,8 +328,18 @@ std::string comparison_html(const Comparison& c) {
   std::ostringstream h;
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench compare</title><style>"
        "body{font-family:sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
-       "padding:3px 8px}td.n{text-align:right}.bad{color:#c62828}.ok{color:#1a7f37}</style></head><body>\n";
+       "padding:3px 8px}td.n{text-align:right}.bad{color:#c62828}.ok{color:#1a7f37}summary{cursor:pointer}"
+       "</style></head><body>\n";
   h << "<h1>stvl-bench compare</h1><p>A: " << xml_escape(c.a_name) << "<br>B: " << xml_escape(c.b_name) << "</p>\n";
+  if (c.config_differences.empty()) {
+    h << "<p>Same configuration.</p>\n";
+  } else {
+    h << "<h2>Configuration differences (" << c.config_differences.size() << ")</h2><table><tr><th>setting</th><th>A</th><th>B</th></tr>\n";
+    for (const auto& d : c.config_differences)
+      h << "<tr><td>" << xml_escape(d.path) << "</td><td>" << xml_escape(d.a) << "</td><td>" << xml_escape(d.b) << "</td></tr>\n";
+    h << "</table>\n";
+  }
+  h << "<p>" << xml_escape(machine_line(c)) << "</p>\n";
   if (c.regressions.empty()) {
     h << "<p class=\"ok\">No regression.</p>\n";
   } else {
@@ -249,18 +350,45 @@ std::string comparison_html(const Comparison& c) {
     h << "</table>\n";
   }
   const Tables t = tables_of(c);
-  const auto table = [&](const char* title, const auto& rows) {
-    h << "<h2>" << title << "</h2><table><tr><th>figure</th><th>A</th><th>B</th><th>delta</th></tr>\n";
+  const auto table = [&](const auto& rows) {
+    h << "<table><tr><th>figure</th><th>A</th><th>B</th><th>delta</th></tr>\n";
     for (const auto& r : rows)
       h << "<tr><td>" << xml_escape(r[0]) << "</td><td class=\"n\">" << r[1] << "</td><td class=\"n\">" << r[2]
         << "</td><td class=\"n\">" << r[3] << "</td></tr>\n";
     h << "</table>\n";
   };
-  table("Headline figures", t.headline);
-  h << "<p>" << t.changed.size() << " of " << c.metrics.size() << " figures differ.</p>\n";
-  if (!t.changed.empty()) table("Every figure that differs", t.changed);
+  h << "<h2>Headline figures</h2>";
+  table(t.headline);
+  h << "<details><summary>Rules (" << c.outcomes.size() << ")</summary><table><tr><th>rule</th><th>outcome</th><th>figures</th></tr>\n";
+  for (const auto& o : c.outcomes)
+    h << "<tr><td>" << xml_escape(o.rule) << "</td><td class=\"" << (o.status == "regression" ? "bad" : "") << "\">"
+      << o.status << "</td><td>" << xml_escape(o.detail) << "</td></tr>\n";
+  h << "</table></details>\n<p>" << t.changed.size() << " of " << c.metrics.size() << " figures differ.</p>\n";
+  if (!t.changed.empty()) {
+    h << "<details><summary>Every figure that differs (" << t.changed.size() << ")</summary>";
+    table(t.changed);
+    h << "</details>\n";
+  }
   h << "</body></html>\n";
   return h.str();
+}
+
+std::string comparison_junit(const Comparison& c) {
+  std::size_t failures = 0, skipped = 0;
+  for (const auto& o : c.outcomes) failures += o.status == "regression", skipped += o.status == "not judged";
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites tests=\"" << c.outcomes.size() << "\" failures=\"" << failures
+    << "\" skipped=\"" << skipped << "\">\n  <testsuite name=\"compare\" tests=\"" << c.outcomes.size() << "\" failures=\""
+    << failures << "\" skipped=\"" << skipped << "\">\n";
+  for (const auto& o : c.outcomes) {
+    x << "    <testcase classname=\"stvl-bench.compare\" name=\"" << xml_escape(o.rule) << "\">";
+    if (o.status == "regression") x << "<failure message=\"" << xml_escape(o.detail) << "\"/>";
+    else if (o.status == "not judged") x << "<skipped message=\"" << xml_escape(o.detail) << "\"/>";
+    else x << "<system-out>" << xml_escape(o.detail) << "</system-out>";
+    x << "</testcase>\n";
+  }
+  x << "  </testsuite>\n</testsuites>\n";
+  return x.str();
 }
 
 }  // namespace stvl::analysis

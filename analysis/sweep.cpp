@@ -17,6 +17,7 @@
 #include "common/atomic_file.hpp"
 #include "common/enum_names.hpp"
 #include "common/markup.hpp"
+#include "analysis/sweep_page.hpp"
 
 extern char** environ;
 
@@ -59,41 +60,6 @@ std::string csv_field(const std::string& text) {
   std::string out = "\"";
   for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
   return out + "\"";
-}
-
-// A Chart.js line chart of `figure` against the first axis's values, one line per combination of the other axes
-// (mean over seeds), as a JSON config.
-nlohmann::json chart_config(const nlohmann::json& table, const std::string& figure) {
-  const auto& axes = table["axes"];
-  const std::string x_key = axes.empty() ? "seed" : axes[0].get<std::string>();
-  std::vector<std::string> labels;
-  std::map<std::string, std::map<std::string, std::pair<double, int>>> series;  // line -> x -> (sum, n)
-  for (const auto& row : table["rows"]) {
-    const std::string x = x_key == "seed" ? row.value("seed", std::string("-")) : row["sets"][x_key].get<std::string>();
-    if (std::find(labels.begin(), labels.end(), x) == labels.end()) labels.push_back(x);
-    std::string line;
-    for (std::size_t a = 1; a < axes.size(); ++a)
-      line += (line.empty() ? "" : ", ") + axes[a].get<std::string>() + "=" + row["sets"][axes[a].get<std::string>()].get<std::string>();
-    if (!row.contains("figures") || !row["figures"].contains(figure) || !row["figures"][figure].is_number()) continue;
-    auto& cell = series[line.empty() ? figure : line][x];
-    cell.first += row["figures"][figure].get<double>();
-    cell.second += 1;
-  }
-  nlohmann::json datasets = nlohmann::json::array();
-  for (const auto& [line, cells] : series) {
-    nlohmann::json data = nlohmann::json::array();
-    for (const auto& x : labels) {
-      const auto it = cells.find(x);
-      data.push_back(it == cells.end() ? nlohmann::json() : nlohmann::json(it->second.first / it->second.second));
-    }
-    datasets.push_back({{"label", line}, {"data", data}});
-  }
-  return {{"type", "line"},
-          {"data", {{"labels", labels}, {"datasets", datasets}}},
-          {"options",
-           {{"animation", false},
-            {"plugins", {{"title", {{"display", true}, {"text", figure + " (mean over seeds)"}}}}},
-            {"scales", {{"x", {{"title", {{"display", true}, {"text", x_key}}}}}, {"y", {{"title", {{"display", true}, {"text", figure}}}}}}}}}};
 }
 
 }  // namespace
@@ -354,6 +320,11 @@ nlohmann::json collect_sweep(const std::string& dir_text, const std::string& cha
       metrics = nlohmann::json();
     }
     row["state"] = metrics.is_object() ? (metrics.value("passed", false) ? "passed" : "failed") : "missing";
+    row["failed_checks"] = nlohmann::json::array();  // by name, with their messages (sweep.html, --junit)
+    if (metrics.is_object() && metrics.contains("checks"))
+      for (const auto& c : metrics["checks"])
+        if (c.value("status", c.value("passed", false) ? "pass" : "fail") == "fail")
+          row["failed_checks"].push_back({{"name", c.value("name", "")}, {"message", c.value("message", "")}});
     if (metrics.is_object()) {
       row["figures"] = nlohmann::json::object();
       for (const auto& [figure, path] : headline()) {
@@ -373,35 +344,10 @@ nlohmann::json collect_sweep(const std::string& dir_text, const std::string& cha
   write_file_atomically(dir / "sweep.csv", csv);
   write_file_atomically(dir / "sweep_table.json", table.dump(2) + "\n");
 
-  std::ostringstream h;
-  h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench sweep</title><style>body{font-family:"
-       "sans-serif;margin:2em}table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px 8px}"
-       ".chart{width:800px;height:360px;display:inline-block}</style></head><body>\n<h1>stvl-bench sweep</h1><p>"
-    << xml_escape(table["scenario"].get<std::string>()) << ", " << table["rows"].size() << " points.</p>\n";
-  std::ifstream chart_js(chart_js_path);
-  if (chart_js) {
-    const std::string js((std::istreambuf_iterator<char>(chart_js)), {});
-    h << "<div class=\"chart\"><canvas id=\"f1\"></canvas></div><div class=\"chart\"><canvas id=\"filter_ms\"></canvas></div>\n"
-      << "<script>" << js << "</script>\n<script>\nnew Chart(document.getElementById('f1'), " << script_safe(chart_config(table, "f1").dump())
-      << ");\nnew Chart(document.getElementById('filter_ms'), " << script_safe(chart_config(table, "filter_ms_mean").dump()) << ");\n</script>\n";
-  } else {
-    h << "<p>(No charts: " << xml_escape(chart_js_path) << " is not installed; apt install libjs-chart.js.)</p>\n";
-  }
-  h << "<table><tr><th>point</th>";
-  for (const auto& axis : table["axes"]) h << "<th>" << xml_escape(axis.get<std::string>()) << "</th>";
-  h << "<th>seed</th><th>state</th>";
-  for (const auto& [figure, path] : headline()) h << "<th>" << figure << "</th>";
-  h << "</tr>\n";
-  for (const auto& row : table["rows"]) {
-    h << "<tr><td>" << xml_escape(row["point"].get<std::string>()) << "</td>";
-    for (const auto& axis : table["axes"]) h << "<td>" << xml_escape(row["sets"].value(axis.get<std::string>(), "")) << "</td>";
-    h << "<td>" << row.value("seed", std::string()) << "</td><td>" << row["state"].get<std::string>() << "</td>";
-    for (const auto& [figure, path] : headline())
-      h << "<td>" << (row.contains("figures") && row["figures"].contains(figure) ? row["figures"][figure].dump() : "") << "</td>";
-    h << "</tr>\n";
-  }
-  h << "</table></body></html>\n";
-  write_file_atomically(dir / "sweep.html", h.str());
+  std::vector<std::string> columns;
+  for (const auto& [figure, path] : headline()) columns.push_back(figure);
+  const std::string html = sweep_html(table, columns, chart_js_path);
+  write_file_atomically(dir / "sweep.html", html);
   return table;
 }
 

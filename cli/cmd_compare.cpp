@@ -17,7 +17,7 @@ struct CompareOptions {
   std::string a, b;
   std::vector<std::string> fail_on;
   bool no_default_rules = false;
-  std::string markdown, html;
+  std::string markdown, html, junit;
 };
 
 int compare(const CompareOptions& o) {
@@ -32,6 +32,7 @@ int compare(const CompareOptions& o) {
   std::printf("%s", markdown.c_str());
   if (!o.markdown.empty()) write_file_atomically(o.markdown, markdown);
   if (!o.html.empty()) write_file_atomically(o.html, comparison_html(c));
+  if (!o.junit.empty()) write_file_atomically(o.junit, comparison_junit(c));
   return c.regressed() ? kExitCheckFailed : kExitOk;
 }
 
@@ -42,12 +43,13 @@ const CommandRegistration kCompare{"compare", [](CLI::App& app) {
   cmd->add_option("b", o->b, "The new run: a run folder or its metrics.json")->required();
   cmd->add_option("--fail-on", o->fail_on,
                   "A regression rule, repeatable: PATH, delta(PATH) or ratio(PATH), then < <= > >=, then a number, "
-                  "e.g. 'delta(evaluation.mean.f1) < -0.01' or 'ratio(timing_ms.frame.mean) > 1.2'")
+                  "e.g. 'delta(evaluation.mean.f1) < -0.01' or 'ratio(timing_ms.frame.p50) > 1.2'")
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_flag("--no-default-rules", o->no_default_rules, "Only the --fail-on rules (and the checks)");
   cmd->add_option("--markdown", o->markdown, "Also write the Markdown (for a pull-request comment) to this file");
   cmd->add_option("--html", o->html, "Also write an HTML page to this file");
+  cmd->add_option("--junit", o->junit, "Also write JUnit XML (a testcase per rule and check; skipped: not judged)");
   return [o] { return compare(*o); };
 }};
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli/command.hpp"
+#include "common/staged_directory.hpp"
 #include "config/ros_binding.hpp"
 #include "recording/bag_writer.hpp"
 #include "report/report.hpp"
@@ -38,6 +39,7 @@ struct RunCommandOptions {
   ScenarioOverrides overrides;
   std::vector<std::string> sets;
   std::string noise;
+  bool require_path = false;
 };
 
 int run(const RunCommandOptions& o) {
@@ -47,6 +49,7 @@ int run(const RunCommandOptions& o) {
     if (o.noise != "on" && o.noise != "off") throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
     overrides.noise = o.noise == "on";
   }
+  const double scenario_duration_s = scenario.duration_s;
   apply_overrides(scenario, overrides);
   if (const auto& ros = scenario.ros_params) {
     // The linter's findings on the parameter file, with the FOV of the camera each source is bound to.
@@ -57,29 +60,51 @@ int run(const RunCommandOptions& o) {
                   ros->path.c_str(), ros->path.c_str());
   }
   RunOptions options;
-  options.out_dir = o.out_dir.empty() ? "out/" + scenario.name : o.out_dir;
-  options.bag_path = o.bag;
+  // Every output goes into a fresh staging folder, moved over --out only once the run is complete
+  // (common/staged_directory.hpp); a bag inside --out travels with it.
+  StagedDirectory staged(o.out_dir.empty() ? "out/" + scenario.name : o.out_dir);
+  options.out_dir = staged.path().string();
+  options.bag_path = o.bag.empty() ? std::string() : staged.redirect(o.bag).string();
   options.bag_compression = o.bag_compression;
   options.bag_format = o.bag_format;
   options.bag_topics = o.bag_topics;
   options.progress = !o.no_progress;
   options.stop_requested = catch_stop_signals();
+  if (scenario.duration_s < scenario_duration_s) options.cut_short_from_s = scenario_duration_s;
+  options.require_path = o.require_path;
 
-  const RunResult result = run_scenario(scenario, options);
+  RunResult result;
+  try {
+    result = run_scenario(scenario, options);
+    if (!result.interrupted) write_report(result, staged.path());
+  } catch (const std::exception& e) {
+    staged.abandon(std::string("stvl-bench: error: ") + e.what());
+    throw;
+  }
   if (result.interrupted) {
-    const bool ros2 = !o.bag.empty() && recording::parse_bag_format(o.bag_format, o.bag) == recording::BagFormat::kRos2;
-    const std::string active = (ros2 ? recording::ros2_bag_folder(o.bag) : o.bag) + ".active";
-    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written%s\n", caught_signal(),
-                 result.frames, options.bag_path.empty() ? "" : (", the bag stays as " + active).c_str());
+    const std::string incomplete = staged.final_path().string() + ".incomplete";
+    staged.abandon("interrupted by signal " + std::to_string(caught_signal()) + " after " + std::to_string(result.frames) +
+                   " frames");
+    std::string bag = o.bag;
+    if (!bag.empty() && options.bag_path != o.bag)  // it moved with the partial outputs
+      bag = (incomplete / std::filesystem::path(options.bag_path).lexically_relative(staged.path())).string();
+    const bool ros2 = !bag.empty() && recording::parse_bag_format(o.bag_format, o.bag) == recording::BagFormat::kRos2;
+    const std::string active = bag.empty() ? "" : (ros2 ? recording::ros2_bag_folder(bag) : bag) + ".active";
+    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written (%s left as it was, "
+                 "the partial output in %s)%s\n", caught_signal(), result.frames, staged.final_path().c_str(),
+                 incomplete.c_str(), active.empty() ? "" : (", the bag stays as " + active).c_str());
     return 128 + caught_signal();
   }
-  write_report(result, options.out_dir);
+  staged.commit();
+  options.out_dir = staged.final_path().string();
   if (o.profile) std::printf("%s", profile_table(result).c_str());
-  for (const auto& c : result.checks) std::printf("%s %-24s %s\n", c.passed ? "PASS" : "FAIL", c.name.c_str(), c.message.c_str());
+  for (const auto& c : result.checks)
+    std::printf("%s %-24s %s\n", !c.evaluated ? "SKIP" : c.passed ? "PASS" : "FAIL", c.name.c_str(), c.message.c_str());
   const auto& m = result.evaluation.mean;
-  std::printf("%s: %zu frames, %.1f s simulated, real-time factor %.2f, F1 %.3f (P %.3f R %.3f), outputs in %s\n",
-              scenario.name.c_str(), result.frames, result.sim_time_s, result.real_time_factor, m.f1, m.precision,
-              m.recall, options.out_dir.c_str());
+  char quality[96] = "map quality not evaluated (no evaluation after the recall window)";
+  if (m.snapshots > 0) std::snprintf(quality, sizeof quality, "F1 %.3f (P %.3f R %.3f)", m.f1, m.precision, m.recall);
+  std::printf("%s: %zu frames, %.1f s simulated, real-time factor %.2f, %s, outputs in %s\n", scenario.name.c_str(),
+              result.frames, result.sim_time_s, result.real_time_factor, quality, options.out_dir.c_str());
   return result.passed() ? kExitOk : kExitCheckFailed;
 }
 
@@ -110,6 +135,8 @@ const CommandRegistration kRun{"run", [](CLI::App& app) {
   cmd->add_option("--duration", o->overrides.duration_s, "Override the duration (s)");
   cmd->add_option("--gl", o->overrides.gl_backend, "Override the GL backend: auto | egl | osmesa");
   cmd->add_option("--noise", o->noise, "Override the depth noise: on | off");
+  cmd->add_flag("--require-path", o->require_path,
+               "Fail path_completed when --duration cuts the run short before the path's end (default: not evaluated)");
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
   cmd->add_flag("--profile", o->profile, "Print where the time went: per stage and per evaluation phase");
   return [o] { return run(*o); };

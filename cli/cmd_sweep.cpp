@@ -10,6 +10,8 @@
 #include "cli/command.hpp"
 #include "config/scenario.hpp"
 #include "analysis/sweep.hpp"
+#include "analysis/sweep_page.hpp"
+#include "common/atomic_file.hpp"
 
 namespace stvl::cli {
 using namespace stvl::config;
@@ -24,7 +26,15 @@ struct SweepOptions {
   int jobs = 1;
   std::string emit;
   std::string collect;
+  std::string junit;
 };
+
+// --junit F: one testcase per point of the collected table.
+void write_junit(const SweepOptions& o, const nlohmann::json& table) {
+  if (o.junit.empty()) return;
+  write_file_atomically(o.junit, sweep_junit(table));
+  std::printf("sweep: JUnit in %s\n", o.junit.c_str());
+}
 
 // Every point must load before any runs: a key that does not exist or a value of the wrong type names the
 // assignment (and the point).
@@ -73,6 +83,7 @@ int sweep(const SweepOptions& o) {
     const auto table = collect_sweep(o.collect);
     std::printf("sweep: %zu points collected into %s/sweep.csv, sweep_table.json, sweep.html\n", table["rows"].size(),
                 o.collect.c_str());
+    write_junit(o, table);
     return kExitOk;
   }
   if (o.scenario.empty()) throw std::invalid_argument("sweep: give a scenario file (or --collect DIR)");
@@ -91,7 +102,7 @@ int sweep(const SweepOptions& o) {
   }
   std::printf("sweep: %zu points, %d at a time, into %s\n", points.size(), o.jobs, out.c_str());
   const int worst = run_sweep_locally(binary, scenario, out, points, o.jobs);
-  collect_sweep(out);
+  write_junit(o, collect_sweep(out));
   std::printf("sweep: table in %s/sweep.csv and %s/sweep.html\n", out.c_str(), out.c_str());
   return worst;
 }
@@ -115,6 +126,7 @@ const CommandRegistration kSweep{"sweep", [](CLI::App& app) {
   cmd->add_option("--emit", o->emit, "Write the grid for an engine instead of running it: parallel | ctest | slurm")
       ->check(CLI::IsMember({"parallel", "ctest", "slurm"}));
   cmd->add_option("--collect", o->collect, "Merge the points' metrics.json of a sweep folder into one table");
+  cmd->add_option("--junit", o->junit, "Also write JUnit XML, one testcase per point, to this file (with --jobs or --collect)");
   return [o] { return sweep(*o); };
 }};
 

@@ -259,6 +259,7 @@ void read_evaluation(YamlMap e, Scenario& s) {
   e.get("min_observed_voxels", ev.min_observed_voxels);
   e.get("phantom_min_cells", ev.phantom_min_cells);
   e.get("phantom_clearance_m", ev.phantom_clearance_m);
+  e.get("path_corridor_m", ev.path_corridor_m);
   e.get("sample_depth_frames", s.outputs.sample_depth_frames);
   e.get("soak_sample_every_s", s.outputs.soak_sample_every_s);
   e.finish();
@@ -272,6 +273,8 @@ void read_evaluation(YamlMap e, Scenario& s) {
                 "must lie in 0..3");
   require_range(e, "min_observed_voxels", ev.min_observed_voxels, ev.min_observed_voxels >= 1, "must be >= 1");
   require_range(e, "phantom_min_cells", ev.phantom_min_cells, ev.phantom_min_cells >= 1, "must be >= 1");
+  require_range(e, "path_corridor_m", ev.path_corridor_m,
+                std::isfinite(ev.path_corridor_m) && ev.path_corridor_m >= 0 && ev.path_corridor_m <= 5, "must lie in [0, 5] m");
   require_range(e, "phantom_clearance_m", ev.phantom_clearance_m,
                 std::isfinite(ev.phantom_clearance_m) && ev.phantom_clearance_m >= 0 && ev.phantom_clearance_m <= 1,
                 "must lie in [0, 1] m");
@@ -299,7 +302,8 @@ void read_checks(YamlMap c, Scenario& s) {
       {"costmap_ghosts_max", &ch.costmap_ghosts_max},
       {"outage_cleared_max", &ch.outage_cleared_max},
       {"hidden_false_clears_max", &ch.hidden_false_clears_max},
-      {"self_lethal_cells_max", &ch.self_lethal_cells_max}};
+      {"self_lethal_cells_max", &ch.self_lethal_cells_max},
+      {"path_free_lethal_max", &ch.path_free_lethal_max}};
   for (const auto& [key, value] : counts) {
     get_optional(c, key, *value);
     if (*value) require_range(c, key, **value, **value >= 0, "must be >= 0");
@@ -371,6 +375,9 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   }
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
+  // The default checks (evaluation/checks.hpp) where the scenario sets no threshold of its own.
+  if (!s.checks.costmap_precision_min) s.checks.costmap_precision_min = evaluation::kDefaultCostmapPrecisionMin;
+  if (!s.checks.path_free_lethal_max) s.checks.path_free_lethal_max = evaluation::kDefaultPathFreeLethalMax;
   root.finish();
   s.pipeline.filter.csnb.seed = s.pipeline.seed;
   s.pipeline.sim.odometry.seed = s.pipeline.seed;
@@ -456,6 +463,8 @@ evaluation::EvaluationConfig evaluation_config(const Scenario& s) {
   e.cameras = s.pipeline.cameras.size();
   e.robot_footprint_B = s.pipeline.map.footprint_B;
   e.footprint_clearing = s.pipeline.map.update_footprint_enabled;
+  e.path_W = s.pipeline.path.waypoints_W;  // a looping path is closed: its last leg goes back to the first point
+  if (s.pipeline.path.loop && e.path_W.size() > 1 && e.path_W.back() != e.path_W.front()) e.path_W.push_back(e.path_W.front());
   return e;
 }
 

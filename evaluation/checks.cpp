@@ -13,7 +13,13 @@ std::string fixed(double value, int decimals) {
   return text.str();
 }
 
+CheckResult not_evaluated(const std::string& name, const std::string& why) { return {name, false, why, false}; }
+
+const char* check_status(const CheckResult& c) { return !c.evaluated ? "not_evaluated" : c.passed ? "pass" : "fail"; }
+
 namespace {
+
+const char* const kNoMean = "not evaluated: no evaluation after the recall window to average (the run was too short)";
 
 CheckResult at_least(const char* name, const char* what, double value, double min) {
   return {name, value >= min, std::string(what) + " " + fixed(value, 4) + ", required >= " + fixed(min, 4)};
@@ -25,13 +31,16 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
                                            const std::vector<std::string>& camera_names) {
   std::vector<CheckResult> r;
   const auto& mean = e.mean;
-  if (c.f1_3d_min) r.push_back(at_least("f1_3d", "mean 3D F1", mean.f1, *c.f1_3d_min));
-  if (c.iou_3d_min) r.push_back(at_least("iou_3d", "mean 3D IoU", mean.iou, *c.iou_3d_min));
-  if (c.costmap_precision_min)
-    r.push_back(at_least("costmap_precision", "mean costmap precision", mean.costmap_precision, *c.costmap_precision_min));
-  if (c.costmap_recall_min)
-    r.push_back(at_least("costmap_recall", "mean costmap recall", mean.costmap_recall, *c.costmap_recall_min));
-  if (c.camera_recall_min) {
+  const bool averaged = mean.snapshots > 0;
+  const auto mean_check = [&](const char* name, const char* what, double value, const std::optional<double>& min) {
+    if (min) r.push_back(averaged ? at_least(name, what, value, *min) : not_evaluated(name, kNoMean));
+  };
+  mean_check("f1_3d", "mean 3D F1", mean.f1, c.f1_3d_min);
+  mean_check("iou_3d", "mean 3D IoU", mean.iou, c.iou_3d_min);
+  mean_check("costmap_precision", "mean costmap precision", mean.costmap_precision, c.costmap_precision_min);
+  mean_check("costmap_recall", "mean costmap recall", mean.costmap_recall, c.costmap_recall_min);
+  if (c.camera_recall_min && !averaged) r.push_back(not_evaluated("camera_recall", kNoMean));
+  if (c.camera_recall_min && averaged) {
     const auto& recalls = mean.camera_recall;
     std::size_t lowest = 0;
     for (std::size_t i = 1; i < recalls.size(); ++i)
@@ -48,10 +57,10 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
       observed += o.observed;
       if (o.observed && !o.detected) missed += (missed.empty() ? "" : ", ") + o.name;
     }
-    r.push_back({"all_obstacles_detected", missed.empty() && observed > 0,
-                 observed == 0      ? "no obstacle was observed"
-                 : missed.empty() ? std::to_string(observed) + " observed obstacles all detected"
-                                  : "missed: " + missed});
+    r.push_back(observed == 0 ? not_evaluated("all_obstacles_detected", "not evaluated: no obstacle was observed")
+                              : CheckResult{"all_obstacles_detected", missed.empty(),
+                                            missed.empty() ? std::to_string(observed) + " observed obstacles all detected"
+                                                           : "missed: " + missed});
   }
   if (c.phantom_obstacles_max)
     r.push_back({"phantom_obstacles", e.final.phantom_obstacles <= *c.phantom_obstacles_max,
@@ -72,19 +81,33 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
                      std::to_string(mean.max_self_ring) + " in the ring) at one evaluation, allowed " +
                      std::to_string(allowed)});
   }
+  if (c.path_free_lethal_max) {
+    const PathBlock& worst = mean.max_path_block;
+    const auto allowed = static_cast<std::size_t>(*c.path_free_lethal_max);
+    r.push_back({"path_free_lethal", worst.cells <= allowed,
+                 "at worst " + std::to_string(worst.cells) + " lethal cells where the truth is free along the path" +
+                     (worst.cells ? " (t = " + fixed(mean.max_path_block_time_s, 1) + " s, the first at (" +
+                                        fixed(worst.first_x_m, 2) + ", " + fixed(worst.first_y_m, 2) + ") m, " +
+                                        fixed(worst.first_along_m, 2) + " m along the path)"
+                                  : std::string()) +
+                     ", allowed " + std::to_string(allowed)});
+  }
   if (c.clearing_latency_max_s) {
     const auto& cl = e.clearing;
-    const bool ok = cl.stale_voxels_seen_through > 0 && cl.not_cleared == 0 && cl.max_latency_s <= *c.clearing_latency_max_s;
-    r.push_back({"clearing_latency", ok,
-                 cl.stale_voxels_seen_through == 0
-                     ? "no stale voxel of a moved body was seen through"
-                     : "max latency " + fixed(cl.max_latency_s, 3) + " s, required <= " + fixed(*c.clearing_latency_max_s, 3) +
-                           " s (" + std::to_string(cl.not_cleared) + " never cleared)"});
+    const bool ok = cl.not_cleared == 0 && cl.max_latency_s <= *c.clearing_latency_max_s;
+    r.push_back(cl.stale_voxels_seen_through == 0
+                    ? not_evaluated("clearing_latency", "not evaluated: no stale voxel of a moved body was seen through")
+                    : CheckResult{"clearing_latency", ok,
+                                  "max latency " + fixed(cl.max_latency_s, 3) + " s, required <= " +
+                                      fixed(*c.clearing_latency_max_s, 3) + " s (" + std::to_string(cl.not_cleared) +
+                                      " never cleared)"});
   }
   if (c.accuracy_p90_max_m)
-    r.push_back({"accuracy_p90", e.accuracy.p90_m <= *c.accuracy_p90_max_m,
-                 "p90 distance to the true surface " + fixed(e.accuracy.p90_m, 4) + " m, required <= " +
-                     fixed(*c.accuracy_p90_max_m, 4) + " m"});
+    r.push_back(e.accuracy.count == 0
+                    ? not_evaluated("accuracy_p90", "not evaluated: no mapped voxel")
+                    : CheckResult{"accuracy_p90", e.accuracy.p90_m <= *c.accuracy_p90_max_m,
+                                  "p90 distance to the true surface " + fixed(e.accuracy.p90_m, 4) + " m, required <= " +
+                                      fixed(*c.accuracy_p90_max_m, 4) + " m"});
   if (c.hidden_false_clears_max) {
     const auto& o = e.occlusion;
     r.push_back({"hidden_false_clears", o.hidden_false_clears <= static_cast<std::size_t>(*c.hidden_false_clears_max),
@@ -189,10 +212,25 @@ CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad) {
           "the robot fell over or left the world at t = " + fixed(time_s, 2) + " s (tilt " + fixed(tilt_rad, 2) + " rad)"};
 }
 
-CheckResult path_completed_check(bool completed, double time_s, double duration_s) {
+CheckResult path_completed_check(bool completed, double time_s, double duration_s, double cut_short_from_s,
+                                 bool required_when_cut_short, const std::string& blocked) {
+  if (!completed && cut_short_from_s > 0 && !required_when_cut_short)
+    return not_evaluated("path_completed", "not evaluated: the path's end was not reached within " + fixed(duration_s, 1) +
+                                               " s, the run cut short by --duration (the scenario runs " +
+                                               fixed(cut_short_from_s, 1) + " s; --require-path fails on it)");
   return {"path_completed", completed,
           completed ? "reached the end of the path at t = " + fixed(time_s, 2) + " s"
-                    : "did not reach the end of the path within " + fixed(duration_s, 1) + " s"};
+                    : "did not reach the end of the path within " + fixed(duration_s, 1) + " s" +
+                          (blocked.empty() ? std::string() : ": " + blocked)};
+}
+
+std::string blocked_diagnosis(const Eigen::Vector2d& at_W, double since_s, const Eigen::Vector2d& path_end_W,
+                              const std::vector<std::string>& touching) {
+  std::string text = "blocked at (" + fixed(at_W.x(), 2) + ", " + fixed(at_W.y(), 2) + ") m since t = " + fixed(since_s, 1) +
+                     " s, " + fixed((path_end_W - at_W).norm(), 2) + " m short of the path's end, touching ";
+  if (touching.empty()) return text + "nothing";
+  for (std::size_t i = 0; i < touching.size(); ++i) text += (i ? ", " : "") + touching[i];
+  return text;
 }
 
 }  // namespace stvl::evaluation

@@ -32,6 +32,8 @@ void EvaluationConfig::validate() const {
   require(phantom_min_cells >= 1, "phantom_min_cells", phantom_min_cells, "must be >= 1");
   require(std::isfinite(phantom_clearance_m) && phantom_clearance_m >= 0 && phantom_clearance_m <= 1,
           "phantom_clearance_m", phantom_clearance_m, "must lie in [0, 1] m");
+  require(std::isfinite(path_corridor_m) && path_corridor_m >= 0 && path_corridor_m <= 5, "path_corridor_m",
+          path_corridor_m, "must lie in [0, 5] m");
 }
 
 }  // namespace stvl::evaluation

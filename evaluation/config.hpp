@@ -33,6 +33,13 @@ struct EvaluationConfig {
   bool footprint_clearing = false;
   double self_ring_m = 0.10;
 
+  // The path the robot must drive (the scenario's waypoints, a looping one closed; world frame) and the half
+  // width of the corridor around it (YAML evaluation.path_corridor_m): lethal cells with no true footprint within
+  // tolerance whose centre lies this close to the path block the robot (issue 31: a floor marked lethal).
+  // 0.35 m: the robot's shell radius (worlds/robot.xml, 0.225 m) plus 0.125 m, about a nav2 inflation radius.
+  std::vector<Eigen::Vector2d> path_W;
+  double path_corridor_m = 0.35;
+
   // Throws std::invalid_argument naming the field (by its YAML key) and value.
   void validate() const;
 };

@@ -40,6 +40,7 @@ EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double 
     m.max_self_inside = std::max(m.max_self_inside, s.self_marking.inside);
     m.max_self_ring = std::max(m.max_self_ring, s.self_marking.ring);
     m.max_self_lethal = std::max(m.max_self_lethal, s.self_marking.total());
+    if (s.path_block.cells > m.max_path_block.cells) m.max_path_block = s.path_block, m.max_path_block_time_s = s.time_s;
   }
   std::size_t n = 0;
   double phantoms = 0;
@@ -296,6 +297,7 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellGrid& leth
   }
   snap.self_marking = count_self_marking(lethal, footprint_W, cell_m, config_.self_ring_m, footprint, config_.tolerance_voxels);
   CostmapMatches m = match_costmap(lethal, footprint, observed_cells, config_.tolerance_voxels);
+  snap.path_block = lethal_near_path(m.false_positive, config_.path_W, cell_m, config_.path_corridor_m);
   timer.emplace(times_.phantoms_ms);
   snap.lethal_cells = m.lethal;
   snap.costmap_precision = m.precision;

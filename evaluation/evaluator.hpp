@@ -43,6 +43,7 @@ struct EvaluationSnapshot {
   std::vector<CameraRecall> cameras;  // by camera index (config.cameras of them)
   ProjectionGuard projection;         // the costmap against the voxels it was projected from
   SelfMarking self_marking;           // lethal cells on the robot (config.robot_footprint_B; 0 without one)
+  PathBlock path_block;               // lethal cells in truth-free space within config.path_corridor_m of the path
 };
 
 // Means over the snapshots after the first recall window (all of them when there is only one).
@@ -59,6 +60,9 @@ struct EvaluationMean {
   // The most self-marking lethal cells at one snapshot (warm-up included): inside the footprint, in the ring,
   // both together.
   std::size_t max_self_inside = 0, max_self_ring = 0, max_self_lethal = 0;
+  // The snapshot with the most lethal cells in truth-free space along the path (over every snapshot), and when.
+  PathBlock max_path_block;
+  double max_path_block_time_s = 0;
 };
 
 struct EvaluationSummary {

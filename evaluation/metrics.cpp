@@ -70,6 +70,30 @@ CellGrid lethal_cells(const mapping::Costmap2D& costmap, double cell_m) {
   return lethal;
 }
 
+PathBlock lethal_near_path(const std::vector<CellKey>& free_lethal, const std::vector<Eigen::Vector2d>& path_W,
+                           double cell_m, double corridor_m) {
+  PathBlock block;
+  if (path_W.size() < 2) return block;
+  block.first_along_m = std::numeric_limits<double>::infinity();
+  for (const CellKey& c : free_lethal) {
+    const Eigen::Vector2d p((c.x + 0.5) * cell_m, (c.y + 0.5) * cell_m);
+    double best_m = std::numeric_limits<double>::infinity(), along_m = 0.0, start_m = 0.0;
+    for (std::size_t i = 1; i < path_W.size(); ++i) {
+      const Eigen::Vector2d a = path_W[i - 1], d = path_W[i] - a;
+      const double length_m = d.norm();
+      const double t = length_m > 0 ? std::clamp((p - a).dot(d) / (length_m * length_m), 0.0, 1.0) : 0.0;
+      const double distance_m = (a + t * d - p).norm();
+      if (distance_m < best_m) best_m = distance_m, along_m = start_m + t * length_m;
+      start_m += length_m;
+    }
+    if (best_m > corridor_m) continue;
+    ++block.cells;
+    if (along_m < block.first_along_m) block.first_along_m = along_m, block.first_x_m = p.x(), block.first_y_m = p.y();
+  }
+  if (block.cells == 0) block.first_along_m = 0.0;
+  return block;
+}
+
 CellGrid column_counts(const mapping::VoxelMap& map, double min_z_m, double max_z_m) {
   std::vector<CellKey> columns;  // once per leaf holding the column
   std::vector<int> voxels;

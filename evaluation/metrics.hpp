@@ -107,6 +107,17 @@ struct Phantom {
 std::vector<Phantom> find_phantoms(const CellGrid& lethal, const CellGrid& footprint, double cell_m, double clearance_m,
                                    int min_cells);
 
+// Lethal cells where the robot must drive (issue 31): of `free_lethal` (lethal cells with no true footprint cell
+// within tolerance: match_costmap's false positives), those whose centre lies within corridor_m of the polyline
+// path_W. first_*: the one nearest the path's start along the path (its arc length), for messages.
+struct PathBlock {
+  std::size_t cells = 0;
+  double first_x_m = 0, first_y_m = 0, first_along_m = 0;
+};
+// Counts them as above; cell_m the cell size. A path of fewer than 2 points blocks nothing.
+PathBlock lethal_near_path(const std::vector<CellKey>& free_lethal, const std::vector<Eigen::Vector2d>& path_W,
+                           double cell_m, double corridor_m);
+
 // Distance of mapped voxel centres to the nearest true surface.
 struct DistanceStats {
   std::size_t count = 0;

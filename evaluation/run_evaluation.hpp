@@ -25,6 +25,9 @@ struct RunEnd {
   bool path_required = false;   // the scenario stops at the path's end (and so must reach it)
   bool path_done = false;
   double duration_s = 0;        // the scenario's duration
+  double cut_short_from_s = 0;  // > 0: --duration shortened the run from this many seconds
+  bool path_required_when_cut_short = false;
+  std::string blocked;          // blocked_diagnosis() when the robot stopped short of the path's end
   SoakSeries soak;
 };
 

@@ -7,6 +7,8 @@
 #include "report/raster.hpp"
 #include "run/replay.hpp"
 #include "report/report.hpp"
+#include "report/machine.hpp"
+#include "report/report_sections.hpp"
 #include "report/report_page.hpp"
 
 namespace stvl::report {
@@ -78,6 +80,7 @@ nlohmann::json replay_metrics_json(const ReplayResult& r) {
           {"recorded_s", r.recorded_s},
           {"wall_time_s", r.wall_time_s},
           {"real_time_factor", r.real_time_factor},
+          {"machine", machine_json()},
           {"voxel_size_m", r.pipeline.map.voxel_size_m},
           {"filter", filter::to_string(r.pipeline.filter.type)},
           {"filter_device", r.filter_device},
@@ -102,7 +105,7 @@ void write_replay_report(const ReplayResult& r, const std::filesystem::path& out
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench replay: " << xml_escape(info.path)
     << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
        "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}img{max-width:100%;border:1px solid #ddd}"
-       ".notice{background:#fff4d6;border:1px solid #e0b84a;padding:0.6em 1em}</style>\n"
+       ".notice{background:#fff4d6;border:1px solid #e0b84a;padding:0.6em 1em}" << legend_css() << "</style>\n"
     << interactive_head_html(scripts) << "</head><body>\n";
   h << "<h1>Replay of " << xml_escape(std::filesystem::path(info.path).filename().string()) << "</h1>\n"
     << "<p class=\"notice\"><b>No ground truth.</b> This is a recording, not a simulation: nothing here says whether "
@@ -148,16 +151,17 @@ void write_replay_report(const ReplayResult& r, const std::filesystem::path& out
   series.path_W = &r.path_W, series.view = &r.map_view;
   h << interactive_body_html(series, caption.str(), scripts);
   if (costmap) {
-    h << "<h2>Costmap</h2><p><img src=\"costmap.png\" alt=\"costmap\" style=\"image-rendering:pixelated\"></p>"
+    h << "<h2>Costmap</h2><p><img src=\"" << png_file_data_uri(out / "costmap.png") << "\" alt=\"costmap\" style=\"image-rendering:pixelated\"></p>"
          "<p>Black: lethal; white: free; grey: unknown; blue: the camera's base over the recording.</p>\n";
   }
   h << "<h2>Recorded depth frames</h2>\n";
   for (std::size_t index : r.sampled_frames) {
     char name[64];
     std::snprintf(name, sizeof name, "depth_%05zu_color.png", index);
-    h << "<img src=\"frames/" << name << "\" width=\"424\" alt=\"" << name << "\"> ";
+    h << "<img src=\"" << png_file_data_uri(out / "frames" / name) << "\" width=\"424\" alt=\"" << name << "\"> ";
   }
-  h << "<p>Near blue to far red over " << k.min_range_m << " .. 6 m; black: no depth.</p>\n";
+  h << "<p class=\"legend\">Depth <span class=\"turbo\"></span> from " << significant(k.min_range_m)
+    << " m (dark blue) to 6 m and beyond (dark red); black: no depth.</p>\n";
   h << "<h2>Timing</h2><table><tr><th>stage</th><th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
   for (const auto& [stage, stats] : metrics["timing_ms"].items())
     h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()

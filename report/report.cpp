@@ -7,7 +7,9 @@
 
 #include "common/atomic_file.hpp"
 #include "common/markup.hpp"
+#include "report/machine.hpp"
 #include "report/raster.hpp"
+#include "report/report_sections.hpp"
 #include "report/report_page.hpp"
 
 namespace stvl::report {
@@ -25,6 +27,8 @@ nlohmann::json stage_stats(std::vector<double> ms) {
 
 namespace {
 
+nlohmann::json mean_figures_json(const evaluation::EvaluationMean& m);
+
 nlohmann::json snapshot_json(const evaluation::EvaluationSnapshot& s) {
   return {{"time_s", s.time_s},
           {"mapped_voxels", s.mapped_voxels},
@@ -40,11 +44,27 @@ nlohmann::json snapshot_json(const evaluation::EvaluationSnapshot& s) {
           {"lethal_without_voxels", s.projection.lethal_without_voxels},
           {"columns_without_lethal", s.projection.columns_without_lethal},
           {"self_lethal_inside", s.self_marking.inside},
-          {"self_lethal_ring", s.self_marking.ring}};
+          {"self_lethal_ring", s.self_marking.ring},
+          {"path_free_lethal", s.path_block.cells}};
 }
 
 // The means over the run; phantom_obstacles is the mean count, max_phantom_obstacles the most at one snapshot.
+// Without a snapshot to average ("evaluated": false) the averaged figures are null: not evaluated, not zero.
 nlohmann::json mean_json(const evaluation::EvaluationMean& m) {
+  nlohmann::json j = mean_figures_json(m);
+  j["evaluated"] = m.snapshots > 0;
+  if (m.snapshots == 0)
+    for (const char* key : {"precision", "recall", "f1", "iou", "costmap_precision", "costmap_recall", "phantom_obstacles",
+                            "mapped_voxels", "observed_truth_voxels", "lethal_cells"})
+      j[key] = nullptr;
+  const auto& block = m.max_path_block;
+  j["max_path_free_lethal"] = block.cells;
+  j["max_path_free_lethal_at"] = {{"time_s", m.max_path_block_time_s}, {"first_x_m", block.first_x_m},
+                                  {"first_y_m", block.first_y_m}, {"first_along_m", block.first_along_m}};
+  return j;
+}
+
+nlohmann::json mean_figures_json(const evaluation::EvaluationMean& m) {
   return {{"time_s", m.time_s},
           {"snapshots", m.snapshots},
           {"mapped_voxels", m.mapped_voxels},
@@ -81,30 +101,17 @@ nlohmann::json final_json(const evaluation::EvaluationSnapshot& s) {
   return j;
 }
 
-RgbImage top_down_image(const RunResult& r) {
-  const auto& td = r.top_down;
-  Eigen::AlignedBox2d bounds = td.bounds_W;
-  for (const auto& p : r.path_W) bounds.extend(p);
-  if (bounds.isEmpty()) bounds = Eigen::AlignedBox2d(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1));
-  const int cells_x = static_cast<int>(std::ceil(bounds.sizes().x() / td.cell_m)) + 2;
-  const int cells_y = static_cast<int>(std::ceil(bounds.sizes().y() / td.cell_m)) + 2;
-  const int scale = std::max(1, std::min(8, 1800 / std::max(cells_x, cells_y)));
-  RgbImage image(std::max(1, cells_x * scale), std::max(1, cells_y * scale));
-  const auto px = [&](double x) { return static_cast<int>((x - bounds.min().x()) / td.cell_m * scale) + scale; };
-  const auto py = [&](double y) { return image.height() - 1 - (static_cast<int>((y - bounds.min().y()) / td.cell_m * scale) + scale); };
-  const auto paint = [&](const std::vector<stvl::CellKey>& cells, Rgb color) {
-    for (const auto& c : cells) {
-      const int x = px(c.x * td.cell_m), y = py((c.y + 1) * td.cell_m);
-      image.fill_rect(x, y, x + scale - 1, y + scale - 1, color);
-    }
-  };
-  paint(td.truth, {190, 190, 190});
-  paint(td.false_negative, {40, 90, 230});
-  paint(td.true_positive, {30, 160, 60});
-  paint(td.false_positive, {220, 40, 40});
-  for (std::size_t i = 1; i < r.path_W.size(); ++i)
-    image.line(px(r.path_W[i - 1].x()), py(r.path_W[i - 1].y()), px(r.path_W[i].x()), py(r.path_W[i].y()), {0, 0, 0});
-  return image;
+// filter.type is what runs on the cloud: "passthrough" where there is no decimation but the marking band's
+// passthrough (STVL's default `filter`, issue 31: it said "none"); "decimation" the voxel grid or CSNB alone.
+nlohmann::json filter_json(const filter::FilterConfig& f, const std::string& device) {
+  const bool pass = f.passthrough_enabled || f.type == filter::FilterType::kPassthrough;
+  const bool decimates = f.type == filter::FilterType::kVoxel || f.type == filter::FilterType::kCsnb;
+  nlohmann::json j = {{"type", decimates ? filter::to_string(f.type) : pass ? "passthrough" : "none"},
+                      {"device", device},
+                      {"decimation", decimates ? filter::to_string(f.type) : "none"},
+                      {"passthrough", pass}};
+  if (pass) j["passthrough_band_m"] = {f.passthrough.min_z_m, f.passthrough.max_z_m};
+  return j;
 }
 
 nlohmann::json camera_list_json(const Scenario& s) {
@@ -117,18 +124,6 @@ nlohmann::json camera_list_json(const Scenario& s) {
                     {"rate_hz", c.intrinsics.rate_hz}, {"noise", c.noise.enabled}, {"sources", sources}});
   }
   return list;
-}
-
-// Every leaf under `j` as "a.b[2].c" -> value text, in the document's order.
-void flatten(const nlohmann::json& j, const std::string& path, std::vector<std::pair<std::string, std::string>>& out) {
-  if (j.is_object()) {
-    for (const auto& [key, value] : j.items()) flatten(value, path.empty() ? key : path + "." + key, out);
-  } else if (j.is_array()) {
-    for (std::size_t i = 0; i < j.size(); ++i) flatten(j[i], path + "[" + std::to_string(i) + "]", out);
-    if (j.empty()) out.emplace_back(path, "(none)");
-  } else {
-    out.emplace_back(path, j.is_string() ? j.get<std::string>() : j.dump());
-  }
 }
 
 // evaluation.failure_modes.occlusion: occluded obstacles erased (STVL #134); null times: never.
@@ -197,33 +192,6 @@ nlohmann::json outage_json(const RunResult& r) {
 
 }  // namespace
 
-// STVL's known failure modes as this run measured them: the figures every run has (phantoms, rays' false clears,
-// the projection guard) and every figure under evaluation.failure_modes.
-std::string failure_modes_html(const nlohmann::json& metrics) {
-  const nlohmann::json& e = metrics.at("evaluation");
-  std::ostringstream h;
-  h << "<h2>Failure modes</h2><p>STVL's known failure modes as this run measured them against truth (the table in "
-       "docs/fidelity.md says which scenario reproduces each and which option fixes it).</p>"
-       "<table><tr><th>failure mode</th><th>figure</th><th>value</th></tr>\n";
-  const auto row = [&](const std::string& mode, const std::string& figure, const std::string& value) {
-    h << "<tr><td>" << xml_escape(mode) << "</td><td>" << xml_escape(figure) << "</td><td>" << xml_escape(value) << "</td></tr>\n";
-  };
-  const auto text = [](const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); };
-  row("ghosts (phantom obstacles)", "final phantoms", text(e.at("final").at("phantom_obstacles")));
-  row("ghosts (phantom obstacles)", "most at one evaluation", text(e.at("mean").at("max_phantom_obstacles")));
-  row("rays clearing true voxels", "evaluation.clearing.false_clears", text(e.at("clearing").at("false_clears")));
-  row("costmap ghosts", "lethal cells without voxels (worst)", text(e.at("mean").at("max_lethal_without_voxels")));
-  row("costmap ghosts", "voxel columns without a lethal cell (worst)", text(e.at("mean").at("max_columns_without_lethal")));
-  if (e.contains("failure_modes"))
-    for (const auto& [mode, figures] : e.at("failure_modes").items()) {
-      std::vector<std::pair<std::string, std::string>> leaves;
-      flatten(figures, "", leaves);
-      for (const auto& [figure, value] : leaves) row(mode, figure, value);
-    }
-  h << "</table>\n";
-  return h.str();
-}
-
 nlohmann::json metrics_json(const RunResult& r) {
   const auto& e = r.evaluation;
   nlohmann::json obstacles = nlohmann::json::array();
@@ -255,7 +223,8 @@ nlohmann::json metrics_json(const RunResult& r) {
     }
   }
   nlohmann::json checks = nlohmann::json::array();
-  for (const auto& c : r.checks) checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}});
+  for (const auto& c : r.checks)
+    checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}, {"status", evaluation::check_status(c)}});
   const auto& t = r.times;
   nlohmann::json metrics = {
       {"scenario", r.scenario.name},
@@ -266,7 +235,7 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"frames", r.frames},
       {"sim_time_s", r.sim_time_s},
       {"voxel_size_m", r.scenario.pipeline.map.voxel_size_m},
-      {"filter", {{"type", filter::to_string(r.scenario.pipeline.filter.type)}, {"device", r.filter_device}}},
+      {"filter", filter_json(r.scenario.pipeline.filter, r.filter_device)},
       {"gl_backend", r.gl_backend},
       {"noise", r.scenario.camera().noise.enabled},
       {"cameras", camera_list_json(r.scenario)},
@@ -313,6 +282,7 @@ nlohmann::json metrics_json(const RunResult& r) {
         {"per_camera", camera_timing}}},
       {"wall_time_s", r.wall_time_s},
       {"real_time_factor", r.real_time_factor},
+      {"machine", machine_json()},
   };
   metrics["evaluation"]["failure_modes"]["occlusion"] = occlusion_json(e.occlusion);
   metrics["evaluation"]["failure_modes"]["self_marking"] = self_marking_json(r);
@@ -365,16 +335,18 @@ std::string profile_table(const RunResult& r) {
 }
 
 std::string junit_xml(const RunResult& r) {
-  int failures = 0;
-  for (const auto& c : r.checks) failures += !c.passed;
+  int failures = 0, skipped = 0;
+  for (const auto& c : r.checks) failures += c.evaluated && !c.passed, skipped += !c.evaluated;
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-    << "<testsuites tests=\"" << r.checks.size() << "\" failures=\"" << failures << "\">\n"
+    << "<testsuites tests=\"" << r.checks.size() << "\" failures=\"" << failures << "\" skipped=\"" << skipped << "\">\n"
     << "  <testsuite name=\"" << xml_escape(r.scenario.name) << "\" tests=\"" << r.checks.size() << "\" failures=\""
-    << failures << "\" time=\"" << r.wall_time_s << "\">\n";
+    << failures << "\" skipped=\"" << skipped << "\" time=\"" << r.wall_time_s << "\">\n";
   for (const auto& c : r.checks) {
     x << "    <testcase classname=\"stvl-bench." << xml_escape(r.scenario.name) << "\" name=\"" << xml_escape(c.name) << "\">";
-    if (c.passed)
+    if (!c.evaluated)
+      x << "<skipped message=\"" << xml_escape(c.message) << "\"/>";
+    else if (c.passed)
       x << "<system-out>" << xml_escape(c.message) << "</system-out>";
     else
       x << "<failure message=\"" << xml_escape(c.message) << "\"/>";
@@ -388,7 +360,8 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   const nlohmann::json metrics = metrics_json(r);
   write_file_atomically(out / "metrics.json", metrics.dump(2) + "\n");
   write_file_atomically(out / "junit.xml", junit_xml(r));
-  write_png(out / "top_down.png", top_down_image(r));
+  const std::string top_down_png = encode_png(top_down_image(r));
+  write_file_atomically(out / "top_down.png", top_down_png);
   const ReportScripts scripts = load_report_scripts();
 
   const auto& e = r.evaluation;
@@ -396,18 +369,20 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   h.precision(4);
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench: " << xml_escape(r.scenario.name)
     << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
-       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}"
-       "img{max-width:100%;border:1px solid #ddd}</style>\n"
+       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}.skip{color:#8a6d00}"
+       "img{max-width:100%;border:1px solid #ddd}"
+    << legend_css() << "</style>\n"
     << interactive_head_html(scripts) << "</head><body>\n";
   h << "<h1>" << xml_escape(r.scenario.name) << " <span class=\"" << (r.passed() ? "pass\">PASSED" : "fail\">FAILED")
     << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.pipeline.seed << ", " << r.frames
     << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s << " s (real-time factor "
     << r.real_time_factor << "), voxel " << r.scenario.pipeline.map.voxel_size_m << " m, filter "
-    << filter::to_string(r.scenario.pipeline.filter.type) << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
+    << metrics["filter"]["type"].get<std::string>() << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
     << (r.scenario.camera().noise.enabled ? "on" : "off") << ".</p>\n";
   h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";
   for (const auto& c : r.checks)
-    h << "<tr><td>" << xml_escape(c.name) << "</td><td class=\"" << (c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
+    h << "<tr><td>" << xml_escape(c.name) << "</td><td class=\""
+      << (!c.evaluated ? "skip\">not evaluated" : c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
       << xml_escape(c.message) << "</td></tr>\n";
   h << "</table>\n<h2>Map quality</h2><p>Tolerance " << r.scenario.evaluation.tolerance_voxels
     << " voxel(s); recall against surfaces seen by the noise-free camera within the last "
@@ -418,16 +393,16 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
       << s.iou << "</td><td>" << s.costmap_precision << "</td><td>" << s.costmap_recall << "</td><td>" << phantoms
       << "</td></tr>\n";
   };
-  row("mean", e.mean, fixed(e.mean.phantom_obstacles, 2) + " (at most " + std::to_string(e.mean.max_phantom_obstacles) + ")");
+  if (e.mean.snapshots > 0)
+    row("mean", e.mean, fixed(e.mean.phantom_obstacles, 2) + " (at most " + std::to_string(e.mean.max_phantom_obstacles) + ")");
+  else
+    h << "<tr><td>mean</td><td colspan=\"7\" class=\"skip\">not evaluated: no evaluation after the recall window</td></tr>\n";
   row("final", e.final, std::to_string(e.final.phantom_obstacles));
   h << "</table><p>Distance of mapped voxel centres to the true surface: mean " << e.accuracy.mean_m << " m, median "
     << e.accuracy.median_m << " m, p90 " << e.accuracy.p90_m << " m, p99 " << e.accuracy.p99_m << " m.</p>\n";
+  h << map_contents_html(r);
   h << interactive_body_html(r, scripts);
-  h << "<h2>Top-down: truth vs map</h2>";
-  if (scripts.complete()) h << "<p>Zoom <input type=\"range\" id=\"topdown-zoom\" min=\"1\" max=\"8\" step=\"0.5\" value=\"1\"></p>";
-  h << "<div style=\"overflow:auto;max-height:75vh\"><img id=\"topdown\" src=\"top_down.png\" alt=\"top-down map\" "
-       "style=\"max-width:100%;image-rendering:pixelated\"></div><p>Grey: true footprints in the height band; green: lethal "
-       "and true; red: lethal and false; blue: observed footprint missed; black: the robot's path.</p>\n";
+  h << top_down_html(r, top_down_png, scripts.complete());
   h << "<h2>Obstacles</h2><table><tr><th>body</th><th>observed</th><th>detected</th><th>best recall</th></tr>\n";
   for (const auto& o : e.obstacles)
     h << "<tr><td>" << xml_escape(o.name) << "</td><td>" << (o.observed ? "yes" : "no") << "</td><td class=\""
@@ -437,20 +412,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     << e.clearing.mean_latency_s << " s, " << e.clearing.not_cleared << " never cleared; ray-cast clearing removed "
     << e.false_clears << " true obstacle voxels (false clears).</p>\n";
   h << failure_modes_html(metrics);
-  h << "<h2>Sample depth frames</h2>\n";
-  std::vector<std::string> frames;
-  if (std::filesystem::is_directory(out / "frames"))
-    for (const auto& f : std::filesystem::directory_iterator(out / "frames"))
-      if (f.path().filename().string().find("_color.png") != std::string::npos) frames.push_back(f.path().filename().string());
-  std::sort(frames.begin(), frames.end());
-  // Several cameras: a row per camera, its files named <camera>_depth_NNNNN.
-  const auto& cams = r.scenario.pipeline.cameras;
-  for (const auto& c : cams) {
-    const std::string prefix = cams.size() > 1 ? c.name + "_depth_" : "depth_";
-    if (cams.size() > 1) h << "<h3>" << xml_escape(c.name) << "</h3>\n";
-    for (const auto& f : frames)
-      if (f.rfind(prefix, 0) == 0) h << "<img src=\"frames/" << f << "\" width=\"424\" alt=\"" << f << "\"> ";
-  }
+  h << depth_frames_html(r, out);
   h << "\n<h2>Timing</h2><table><tr><th>stage</th><th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
   for (const auto& [stage, stats] : metrics["timing_ms"].items()) {
     if (stage == "evaluation_phases" || stage == "per_camera" || stage == "soak") continue;

@@ -1,6 +1,6 @@
 #pragma once
-// A run's outputs for machines and people: metrics.json, junit.xml (one testcase per check), report.html with
-// PNG pictures (top-down truth vs map, the robot's path, sample depth frames, timing and quality plots).
+// A run's outputs for machines and people: metrics.json, junit.xml (one testcase per check), report.html, one
+// self-contained page (its pictures inlined: report_sections.hpp).
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -26,9 +26,6 @@ double mean_of(const std::vector<T>& values) {
 nlohmann::json stage_stats(std::vector<double> ms);
 // Every figure of the run; timings under "timing_ms" (mean, p50, p95 per stage) and "real_time_factor".
 nlohmann::json metrics_json(const RunResult& result);
-// report.html's "Failure modes" section from a run's metrics: phantoms, the rays' false clears, the projection
-// guard, and every figure under evaluation.failure_modes (one row per leaf, named by its dotted path).
-std::string failure_modes_html(const nlohmann::json& metrics);
 std::string junit_xml(const RunResult& result);
 // Where a run's time went: per-stage mean and p95 ms per frame with each stage's share of the frame, then the
 // evaluation's phases per frame (`stvl-bench run --profile`).

@@ -20,6 +20,10 @@ struct RunOptions {
   std::string bag_topics;        // empty: all for ROS 1, default for ROS 2 (recording::BagTopics)
   bool progress = true;          // progress bar on a TTY, plain lines otherwise
   const std::atomic<bool>* stop_requested = nullptr;  // set from a signal handler
+  // > 0: --duration cut the run short from the scenario's own duration (seconds); a path not reached is then
+  // reported as not evaluated unless require_path (--require-path).
+  double cut_short_from_s = 0;
+  bool require_path = false;
 };
 
 // Wall-clock milliseconds per frame, one series per stage (a frame's pipeline::StageTimes appended, plus what

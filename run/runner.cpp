@@ -1,6 +1,7 @@
 #include "run/runner.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 
@@ -8,6 +9,7 @@
 #include "common/stopwatch.hpp"
 #include "pipeline/pipeline.hpp"
 #include "run/bag_recorder.hpp"
+#include "sim/contacts.hpp"
 
 namespace stvl::run {
 namespace {
@@ -29,7 +31,7 @@ std::unique_ptr<pipeline::Pipeline> build_pipeline(const config::Scenario& s) {
 
 bool RunResult::passed() const {
   for (const auto& c : checks)
-    if (!c.passed) return false;
+    if (c.evaluated && !c.passed) return false;
   return !interrupted;
 }
 
@@ -62,7 +64,11 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   evaluation::RunEnd end;
   end.path_required = s.stop_at_path_end;
   end.duration_s = s.duration_s;
+  end.cut_short_from_s = options.cut_short_from_s;
+  end.path_required_when_cut_short = options.require_path;
   const auto wall_start = SteadyClock::now();
+  Eigen::Vector2d moved_at_W(NAN, NAN);  // where the robot last moved by more than 2 cm, and when
+  double moved_s = 0;
   const auto before_map_update = [&](const pipeline::FrameResult& f, const mapping::VoxelMap& map) {
     evaluation.before_update(f, world, map);
   };
@@ -84,6 +90,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     if (bag) bag->record(f, pipeline, f.map_updated && publish.due(f.time_s));
 
     r.path_W.emplace_back(f.T_world_base.translation().head<2>());
+    if (!((r.path_W.back() - moved_at_W).norm() <= 0.02)) moved_at_W = r.path_W.back(), moved_s = f.time_s;
     r.times.append(f.times);
     r.camera_times[f.camera_index].append(f.times);
     r.times.evaluation.push_back(evaluation.last_frame_ms());
@@ -110,6 +117,10 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   r.soak = soak.series();
   if (r.interrupted) return r;  // the bag stays as <bag>.active; no result file is written
 
+  // A robot that stopped short of the path's end (2 s and more without moving): where, and what it touches.
+  if (end.path_required && !end.path_done && !end.fell && r.frames > 0 && r.sim_time_s - moved_s >= 2.0)
+    end.blocked = evaluation::blocked_diagnosis(r.path_W.back(), moved_s, s.pipeline.path.waypoints_W.back(),
+                                                sim::robot_contacts(world, pipeline.simulator().robot().base_body_id()));
   end.frames = r.frames;
   end.time_s = r.sim_time_s;
   end.soak = r.soak;

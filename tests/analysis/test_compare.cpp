@@ -30,7 +30,9 @@ nlohmann::json run_metrics() {
             {"obstacles", {{{"name", "box_1"}, {"best_recall", 1.0}}, {{"name", "desk_1"}, {"best_recall", 0.5}}}}}},
           {"checks", {{{"name", "f1_3d"}, {"passed", true}, {"message", "F1 0.9"}}}},
           {"timing_ms", {{"filter", stage(2.0)}, {"clear", stage(1.0)}, {"mark", stage(0.5)}, {"frame", stage(20.0)}}},
-          {"real_time_factor", 1.5}};
+          {"real_time_factor", 1.5},
+          {"voxel_size_m", 0.05},
+          {"machine", {{"cpu", "Test CPU"}, {"fingerprint", "00000000000000aa"}}}};
 }
 
 TEST(CompareRules, ParseValueDeltaAndRatioWithEveryOperator) {
@@ -70,8 +72,9 @@ TEST(Compare, PlantedRegressionsAreFlaggedEachByItsRule) {
   nlohmann::json b = run_metrics();
   b["evaluation"]["mean"]["f1"] = 0.885;                        // -0.015
   b["evaluation"]["final"]["phantom_obstacles"] = 1;            // a new phantom
-  b["timing_ms"]["filter"]["mean"] = 2.5;                       // x1.25
-  b["timing_ms"]["frame"]["mean"] = 23.0;                       // x1.15: within 20 %
+  b["timing_ms"]["filter"]["p50"] = 2.5;                        // x1.25
+  b["timing_ms"]["frame"]["p50"] = 23.0;                        // x1.15: within 20 %
+  b["timing_ms"]["clear"]["mean"] = 1.69;                       // x1.69 on the mean alone: medians are judged
   b["evaluation"]["mean"]["recall"] = 0.875;                    // -0.005: within 0.01
   b["checks"][0]["passed"] = false;
   b["checks"][0]["message"] = "F1 0.885, required >= 0.89";
@@ -79,9 +82,9 @@ TEST(Compare, PlantedRegressionsAreFlaggedEachByItsRule) {
   std::vector<std::string> what;
   for (const auto& r : c.regressions) what.push_back(r.what);
   EXPECT_THAT(what, ::testing::ElementsAre("delta(evaluation.mean.f1) < -0.01", "delta(evaluation.final.phantom_obstacles) > 0",
-                                           "ratio(timing_ms.filter.mean) > 1.2", "check f1_3d"));
+                                           "ratio(timing_ms.filter.p50) > 1.2", "check f1_3d"));
   EXPECT_EQ(c.regressions[0].detail, "evaluation.mean.f1: 0.9 -> 0.885 (-0.015)");
-  EXPECT_EQ(c.regressions[2].detail, "timing_ms.filter.mean: 2 -> 2.5 (x1.25)");
+  EXPECT_EQ(c.regressions[2].detail, "timing_ms.filter.p50: 2 -> 2.5 (x1.25)");
   EXPECT_EQ(c.regressions[3].detail, "F1 0.885, required >= 0.89");
   const std::string md = comparison_markdown(c);
   EXPECT_THAT(md, HasSubstr("**4 regressions**"));
@@ -112,7 +115,7 @@ TEST(Compare, AMissingMetricIsAnErrorWithTheNearestName) {
   nlohmann::json b = run_metrics();
   b["timing_ms"].erase("filter");
   EXPECT_THAT(invalid_argument_of([&] { compare_metrics(run_metrics(), b, default_compare_rules(), "a", "new"); }),
-              HasSubstr("timing_ms.filter.mean is not a figure of new"));
+              HasSubstr("timing_ms.filter.p50 is not a figure of new"));
   const Comparison c = compare_metrics(run_metrics(), b, {});
   EXPECT_EQ(c.only_in_a.size(), 3u);  // mean, p50, p95
 }
@@ -134,11 +137,13 @@ TEST(Compare, LoadMetricsTakesAFolderOrAFileAndRejectsTheRest) {
 TEST(Compare, TwoReplaysWithoutGroundTruth) {
   // A replay's metrics.json (stvl-bench replay) has no evaluation: it loads, and the defaults without ground
   // truth are the timing rules alone, which find a planted slowdown.
-  const nlohmann::json a = {{"kind", "replay"}, {"ground_truth", false}, {"map", {{"voxels", 100}}},
-                            {"timing_ms", {{"filter", {{"mean", 2.0}}}, {"clear", {{"mean", 1.0}}},
-                                           {"mark", {{"mean", 1.0}}}, {"frame", {{"mean", 10.0}}}}}};
+  nlohmann::json a = {{"kind", "replay"}, {"ground_truth", false}, {"map", {{"voxels", 100}}},
+                      {"timing_ms", {{"filter", {{"p50", 2.0}}}, {"clear", {{"p50", 1.0}}},
+                                     {"mark", {{"p50", 1.0}}}, {"frame", {{"p50", 10.0}}}}}};
   nlohmann::json b = a;
-  b["timing_ms"]["frame"]["mean"] = 13.0;
+  b["timing_ms"]["frame"]["p50"] = 13.0;
+  a["machine"] = {{"fingerprint", "f"}};
+  b["machine"] = {{"fingerprint", "f"}};
   const stvl::test::TempDir dir("compare_replay");
   std::ofstream(dir.path() / "metrics.json") << a.dump();
   EXPECT_TRUE(is_replay(load_metrics(dir.path().string())));
@@ -149,10 +154,42 @@ TEST(Compare, TwoReplaysWithoutGroundTruth) {
   EXPECT_FALSE(compare_metrics(a, a, rules).regressed());
   const Comparison c = compare_metrics(a, b, rules);
   ASSERT_EQ(c.regressions.size(), 1u);
-  EXPECT_EQ(c.regressions[0].what, "ratio(timing_ms.frame.mean) > 1.2");
+  EXPECT_EQ(c.regressions[0].what, "ratio(timing_ms.frame.p50) > 1.2");
   // The defaults with ground truth ask for figures a replay does not have.
   EXPECT_THAT(invalid_argument_of([&] { compare_metrics(a, b, default_compare_rules()); }),
               HasSubstr("evaluation.mean.f1 is not a figure"));
+}
+
+// Issue 31: timings of different machines are reported, not judged; differing settings are shown first; the
+// long tables fold; JUnit has a testcase per rule.
+TEST(Compare, TimingRulesNeedTheSameMachineAndSettingsComeFirst) {
+  nlohmann::json b = run_metrics();
+  b["timing_ms"]["frame"]["p50"] = 40.0;  // x2
+  b["machine"]["fingerprint"] = "00000000000000bb";
+  b["voxel_size_m"] = 0.1;
+  Comparison c = compare_metrics(run_metrics(), b, default_compare_rules());
+  EXPECT_FALSE(c.regressed());
+  EXPECT_FALSE(c.same_machine);
+  std::size_t not_judged = 0;
+  for (const auto& o : c.outcomes) not_judged += o.status == "not judged";
+  EXPECT_EQ(not_judged, 4u);
+  ASSERT_EQ(c.config_differences.size(), 2u);
+  EXPECT_EQ(c.config_differences[0].path, "machine.fingerprint");
+  EXPECT_EQ(c.config_differences[1].path, "voxel_size_m");
+  const std::string md = comparison_markdown(c);
+  EXPECT_LT(md.find("### Configuration differences (2)"), md.find("### Headline figures"));
+  EXPECT_THAT(md, HasSubstr("| voxel_size_m | 0.05 | 0.1 |"));
+  EXPECT_THAT(md, HasSubstr("Timing rules not judged (4)"));
+  EXPECT_THAT(md, HasSubstr("<details><summary>Every figure that differs ("));
+  const std::string junit = comparison_junit(c);
+  EXPECT_THAT(junit, HasSubstr("tests=\"10\" failures=\"0\" skipped=\"4\""));
+  EXPECT_THAT(junit, HasSubstr("name=\"ratio(timing_ms.frame.p50) &gt; 1.2\"><skipped message=\"measured on different machines"));
+  b["machine"]["fingerprint"] = "00000000000000aa";  // the same machine: judged
+  c = compare_metrics(run_metrics(), b, default_compare_rules());
+  ASSERT_EQ(c.regressions.size(), 1u);
+  EXPECT_EQ(c.regressions[0].what, "ratio(timing_ms.frame.p50) > 1.2");
+  EXPECT_THAT(comparison_junit(c), HasSubstr("failures=\"1\" skipped=\"0\""));
+  EXPECT_THAT(comparison_markdown(compare_metrics(run_metrics(), run_metrics(), {})), HasSubstr("Same configuration."));
 }
 
 TEST(CompareCommand, ExitCodesAndOutputs) {
@@ -169,8 +206,11 @@ TEST(CompareCommand, ExitCodesAndOutputs) {
   const std::string cmd = stvl::test::quoted(bin.string()) + " compare ";
   EXPECT_EQ(stvl::test::run_shell(cmd + a_dir + " " + a_dir).exit_code, 0);
   const std::string md = (dir.path() / "out.md").string(), html = (dir.path() / "out.html").string();
-  const auto regressed = stvl::test::run_shell(cmd + a_dir + " " + b_dir + " --markdown " + stvl::test::quoted(md) + " --html " + stvl::test::quoted(html));
+  const std::string junit = (dir.path() / "out.xml").string();
+  const auto regressed = stvl::test::run_shell(cmd + a_dir + " " + b_dir + " --markdown " + stvl::test::quoted(md) +
+                                               " --html " + stvl::test::quoted(html) + " --junit " + stvl::test::quoted(junit));
   EXPECT_EQ(regressed.exit_code, 1) << regressed.output;
+  EXPECT_THAT(stvl::test::TempDir::read(junit), HasSubstr("name=\"delta(evaluation.mean.f1) &lt; -0.01\"><failure "));
   EXPECT_THAT(stvl::test::TempDir::read(md), HasSubstr("delta(evaluation.mean.f1) < -0.01"));
   EXPECT_THAT(stvl::test::TempDir::read(html), HasSubstr("<h2 class=\"bad\">1 regression</h2>"));
   // Only the user's rule: the F1 drop passes, the user's own threshold on it does not.

@@ -1,4 +1,5 @@
 #include "analysis/sweep.hpp"
+#include "analysis/sweep_page.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -18,6 +19,7 @@ namespace fs = std::filesystem;
 using test::invalid_argument_of;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 std::size_t lines_of(const std::string& text) { return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')); }
 
@@ -115,8 +117,11 @@ TEST(SweepCollect, OneRowPerPointWithItsFiguresOrMissing) {
   for (std::size_t i = 0; i < 3; ++i) {  // the last point never ran
     fs::create_directories(dir.path() / points[i].name);
     const nlohmann::json m = {{"passed", i != 1},
-                              {"evaluation", {{"mean", {{"f1", 0.5 + 0.1 * i}}}}},
-                              {"timing_ms", {{"filter", {{"mean", 2.0 * (i + 1)}}}}}};
+                              {"evaluation", {{"mean", {{"f1", 0.5 + 0.1 * i + 1e-12}}}}},
+                              {"timing_ms", {{"filter", {{"mean", 2.0 * (i + 1)}}}}},
+                              {"checks", {{{"name", "f1_3d"}, {"passed", i != 1}, {"status", i != 1 ? "pass" : "fail"},
+                                           {"message", "mean 3D F1 <low>"}},
+                                          {{"name", "path_completed"}, {"passed", false}, {"status", "not_evaluated"}}}}};
     std::ofstream(dir.path() / points[i].name / "metrics.json") << m.dump();
   }
   const nlohmann::json table = collect_sweep(dir.path().string(), "/nonexistent/chart.min.js");
@@ -125,16 +130,29 @@ TEST(SweepCollect, OneRowPerPointWithItsFiguresOrMissing) {
   EXPECT_EQ(table["rows"][2]["sets"]["filter.type"], "csnb");
   EXPECT_EQ(table["rows"][2]["seed"], "1");
   EXPECT_EQ(table["rows"][2]["sets"]["voxel-size"], "0.05");
-  EXPECT_DOUBLE_EQ(table["rows"][2]["figures"]["f1"].get<double>(), 0.7);
+  EXPECT_NEAR(table["rows"][2]["figures"]["f1"].get<double>(), 0.7, 1e-9);
   EXPECT_DOUBLE_EQ(table["rows"][2]["figures"]["filter_ms_mean"].get<double>(), 6.0);
   EXPECT_EQ(table["rows"][1]["state"], "failed");
   EXPECT_EQ(table["rows"][3]["state"], "missing");
   const std::string csv = stvl::test::TempDir::read(dir.path() / "sweep.csv");
   EXPECT_EQ(lines_of(csv), 5u);
   EXPECT_THAT(csv, HasSubstr("point,filter.type,voxel-size,seed,state,f1,"));
-  EXPECT_THAT(csv, HasSubstr("002_filter.type=csnb_voxel-size=0.05_seed=1,csnb,0.05,1,passed,0.7"));
+  EXPECT_THAT(csv, HasSubstr("002_filter.type=csnb_voxel-size=0.05_seed=1,csnb,0.05,1,passed,0.70000000000"));
   EXPECT_THAT(csv, HasSubstr("003_filter.type=csnb_voxel-size=0.1_seed=1,csnb,0.1,1,missing,"));
-  EXPECT_THAT(stvl::test::TempDir::read(dir.path() / "sweep.html"), HasSubstr("No charts"));
+  const std::string html = stvl::test::TempDir::read(dir.path() / "sweep.html");
+  EXPECT_THAT(html, HasSubstr("No charts"));
+  // Issue 31: the failing check named, 3-4 significant digits, a link to each point's report, the table scrolls.
+  EXPECT_THAT(html, HasSubstr(">failed: f1_3d</td>"));
+  EXPECT_THAT(html, HasSubstr("title=\"mean 3D F1 &lt;low&gt;&#10;\""));
+  EXPECT_THAT(html, HasSubstr("<td class=\"n\">0.7</td>"));
+  EXPECT_THAT(html, Not(HasSubstr("0.70000000000")));
+  EXPECT_THAT(html, HasSubstr("<a href=\"002_filter.type=csnb_voxel-size=0.05_seed=1/report.html\">"));
+  EXPECT_THAT(html, HasSubstr("<div class=\"wide\"><table>"));
+  EXPECT_THAT(html, HasSubstr("4 points, <span class=\"passed\">2 passed</span>, <span class=\"failed\">1 failed</span>"));
+  const std::string junit = sweep_junit(table);
+  EXPECT_THAT(junit, HasSubstr("<testsuites tests=\"4\" failures=\"1\" errors=\"1\">"));
+  EXPECT_THAT(junit, HasSubstr("<failure message=\"failed: f1_3d\">f1_3d: mean 3D F1 &lt;low&gt;"));
+  EXPECT_THAT(junit, HasSubstr("<error message=\"the point did not run"));
   EXPECT_THAT(invalid_argument_of([&] { collect_sweep((dir.path() / "none").string()); }), HasSubstr("no sweep.json"));
 }
 
@@ -156,6 +174,8 @@ TEST(SweepCollect, ChartsInlineChartJsAndAverageOverSeeds) {
   EXPECT_THAT(html, HasSubstr("\"labels\":[\"0.05\",\"0.1\"]"));
   EXPECT_THAT(html, ::testing::ContainsRegex("\"data\":\\[0\\.15[0-9]*,0\\.35[0-9]*\\]"));
   EXPECT_GT(html.size(), 100000u);  // Chart.js itself is inlined: the page opens offline
+  EXPECT_THAT(html, HasSubstr("\"borderColor\":\"#0072B2\""));  // a colour of its own, not Chart.js's pale grey
+  EXPECT_THAT(html, HasSubstr("\"maintainAspectRatio\":false"));
 }
 
 }  // namespace

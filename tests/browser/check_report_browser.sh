@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # report.html in a real browser: a short run of the default corridor, then headless Chromium (Debian's) loads its
 # report.html. The page must log no script error, every chart canvas and the 3D view must have painted pixels
-# (the page counts them itself once drawn: <pre id="selftest">), and the checks table must say what
-# metrics.json says. Leaves report.png (a screenshot) beside the report.
+# (the page counts them itself once drawn: <pre id="selftest">), the checks table must say what metrics.json
+# says, and every picture must be inlined (one self-contained file). Leaves report.png (a screenshot) beside the report.
 # With a recording (a bag or PNG folder) instead of a scenario: its replay's report, which has no quality chart
 # and no checks, says it has no ground truth, and shows the map's voxels unjudged.
 set -euo pipefail
@@ -48,8 +48,11 @@ if replay:
     sys.exit(0)
 assert t["view3d_points"]["tp"] > 0 and t["view3d_points"]["truth"] > 0, t["view3d_points"]
 table = re.search(r"<h2>Checks</h2><table>(.*?)</table>", dom, re.S).group(1)
-rows = re.findall(r"<tr><td>(.*?)</td><td[^>]*>(pass|FAIL)</td>", table)
-expected = [(c["name"], "pass" if c["passed"] else "FAIL") for c in metrics["checks"]]
+rows = re.findall(r"<tr><td>(.*?)</td><td[^>]*>(pass|FAIL|not evaluated)</td>", table)
+label = {"pass": "pass", "fail": "FAIL", "not_evaluated": "not evaluated"}  # a 4 s run: path_completed not evaluated
+expected = [(c["name"], label[c["status"]]) for c in metrics["checks"]]
 assert [(html.unescape(n), r) for n, r in rows] == expected, f"checks table {rows} != metrics.json {expected}"
-print(f"PASS: charts {charts}, 3D view {t['view3d']} px, {len(rows)} checks as in metrics.json")
+imgs = re.findall(r'<img[^>]* src="([^"]{0,40})', dom)
+assert imgs and all(src.startswith("data:image/png;base64,") for src in imgs), f"pictures not inlined: {imgs}"
+print(f"PASS: charts {charts}, 3D view {t['view3d']} px, {len(rows)} checks as in metrics.json, {len(imgs)} inlined pictures")
 PY

@@ -10,6 +10,7 @@ using ::testing::HasSubstr;
 
 evaluation::EvaluationSummary summary() {
   evaluation::EvaluationSummary s;
+  s.mean.snapshots = 20;
   s.mean.f1 = 0.9871;
   s.mean.iou = 0.5;
   s.final.phantom_obstacles = 2;
@@ -17,6 +18,7 @@ evaluation::EvaluationSummary summary() {
   s.clearing.stale_voxels_seen_through = 5;
   s.clearing.max_latency_s = 0.25;
   s.accuracy.p90_m = 0.031;
+  s.accuracy.count = 100;
   return s;
 }
 
@@ -70,14 +72,73 @@ TEST(Checks, OneResultPerThresholdInOrderWithValueAndThreshold) {
   EXPECT_TRUE(evaluation_checks({}, summary()).empty());
 }
 
-TEST(Checks, ClearingWithNothingSeenThroughFailsAndSaysWhy) {
+TEST(Checks, ClearingWithNothingSeenThroughIsNotEvaluatedAndSaysWhy) {
   ChecksConfig c;
   c.clearing_latency_max_s = 1.0;
   evaluation::EvaluationSummary s;
   const auto r = evaluation_checks(c, s);
   ASSERT_EQ(r.size(), 1u);
+  EXPECT_FALSE(r[0].evaluated);
+  EXPECT_STREQ(check_status(r[0]), "not_evaluated");
+  EXPECT_EQ(r[0].message, "not evaluated: no stale voxel of a moved body was seen through");
+}
+
+// Issue 31: a run of 2 s or less printed "mean 3D F1 0.0000" and failed although nothing was averaged.
+TEST(Checks, MeanFiguresWithoutASnapshotAreNotEvaluatedNotZero) {
+  ChecksConfig c;
+  c.f1_3d_min = 0.85, c.iou_3d_min = 0.5, c.costmap_precision_min = 0.7, c.costmap_recall_min = 0.5;
+  c.camera_recall_min = 0.8, c.all_obstacles_detected = true, c.accuracy_p90_max_m = 0.05;
+  evaluation::EvaluationSummary s;  // mean.snapshots == 0, nothing observed, no mapped voxel
+  const auto r = evaluation_checks(c, s);
+  ASSERT_EQ(r.size(), 7u);
+  for (const auto& check : r) {
+    EXPECT_FALSE(check.evaluated) << check.name;
+    EXPECT_THAT(check.message, HasSubstr("not evaluated")) << check.name;
+  }
+  s = summary();  // averaged: judged as before
+  c = {};
+  c.f1_3d_min = 0.85;
+  EXPECT_TRUE(evaluation_checks(c, s)[0].evaluated);
+  EXPECT_TRUE(evaluation_checks(c, s)[0].passed);
+}
+
+// Issue 31: the floor marked lethal ahead of the robot passed every check; path_free_lethal says where.
+TEST(Checks, PathFreeLethalFailsOnTheWorstEvaluationAndSaysWhere) {
+  ChecksConfig c;
+  c.path_free_lethal_max = 0;
+  evaluation::EvaluationSummary s;
+  auto r = evaluation_checks(c, s);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_TRUE(r[0].passed);
+  EXPECT_EQ(r[0].message, "at worst 0 lethal cells where the truth is free along the path, allowed 0");
+  s.mean.max_path_block = {3145, 3.08, -0.33, 3.08};
+  s.mean.max_path_block_time_s = 19.0;
+  r = evaluation_checks(c, s);
   EXPECT_FALSE(r[0].passed);
-  EXPECT_EQ(r[0].message, "no stale voxel of a moved body was seen through");
+  EXPECT_EQ(r[0].name, "path_free_lethal");
+  EXPECT_EQ(r[0].message, "at worst 3145 lethal cells where the truth is free along the path (t = 19.0 s, the first "
+                          "at (3.08, -0.33) m, 3.08 m along the path), allowed 0");
+}
+
+// Issue 31: a robot that stops short says where, since when and what it touches.
+TEST(Checks, ABlockedRobotIsDiagnosedOnThePathCheck) {
+  const std::string blocked = blocked_diagnosis({0.0, 0.884}, 3.93, {0.0, 4.0}, {"desk_2", "walls"});
+  EXPECT_EQ(blocked, "blocked at (0.00, 0.88) m since t = 3.9 s, 3.12 m short of the path's end, touching desk_2, walls");
+  EXPECT_EQ(path_completed_check(false, 10, 10, 0, false, blocked).message,
+            "did not reach the end of the path within 10.0 s: " + blocked);
+  EXPECT_THAT(blocked_diagnosis({1, 1}, 2, {1, 1}, {}), HasSubstr("touching nothing"));
+}
+
+TEST(Checks, APathCutShortByDurationIsReportedNotFailedUnlessRequired) {
+  const CheckResult cut = path_completed_check(false, 10, 10, 45);
+  EXPECT_FALSE(cut.evaluated);
+  EXPECT_EQ(cut.message, "not evaluated: the path's end was not reached within 10.0 s, the run cut short by --duration "
+                         "(the scenario runs 45.0 s; --require-path fails on it)");
+  const CheckResult required = path_completed_check(false, 10, 10, 45, true);
+  EXPECT_TRUE(required.evaluated);
+  EXPECT_FALSE(required.passed);
+  EXPECT_TRUE(path_completed_check(true, 8, 10, 45).passed);  // reached anyway: judged
+  EXPECT_TRUE(path_completed_check(false, 45, 45).evaluated);  // the scenario's own duration: judged
 }
 
 TEST(Checks, SelfLethalCellsTakesTheWorstEvaluation) {

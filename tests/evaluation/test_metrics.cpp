@@ -176,6 +176,22 @@ TEST(SelfMarking, CountsLethalCellsInsideTheFootprintAndInItsRing) {
   EXPECT_EQ(count_self_marking(lethal, {{0, 0}, {1, 1}}, 0.1, 0.10, {}, 1).total(), 0u);  // no footprint
 }
 
+// Issue 31: lethal cells where the truth is free within the corridor around the path, the first along it named.
+TEST(PathBlock, CountsFreeLethalCellsWithinTheCorridorOfThePath) {
+  const std::vector<Eigen::Vector2d> path{{0.0, 0.0}, {2.0, 0.0}, {2.0, 2.0}};
+  // Centres at 0.1 m cells: (1.05, 0.05) on the first leg, (2.25, 1.05) 0.25 m beside the second,
+  // (1.05, 0.55) 0.55 m off, (-0.55, 0.05) 0.55 m before the start.
+  const std::vector<CellKey> cells{{22, 10}, {10, 0}, {10, 5}, {-6, 0}};
+  const PathBlock b = lethal_near_path(cells, path, 0.1, 0.35);
+  EXPECT_EQ(b.cells, 2u);
+  EXPECT_NEAR(b.first_x_m, 1.05, 1e-9);
+  EXPECT_NEAR(b.first_y_m, 0.05, 1e-9);
+  EXPECT_NEAR(b.first_along_m, 1.05, 1e-9);
+  EXPECT_EQ(lethal_near_path(cells, path, 0.1, 0.6).cells, 4u);
+  EXPECT_EQ(lethal_near_path(cells, {{0.0, 0.0}}, 0.1, 0.35).cells, 0u);  // no path, nothing blocks it
+  EXPECT_EQ(lethal_near_path({}, path, 0.1, 0.35).cells, 0u);
+}
+
 TEST(DistanceStats, NearestRankQuantiles) {
   std::vector<double> d;
   for (int i = 100; i >= 0; --i) d.push_back(i * 0.001);  // 0 .. 0.1 m, unsorted

@@ -117,7 +117,8 @@ case $case_name in
     # About 3 s in, and at least until the frame loop has started (the bag exists).
     sleep 3
     for _ in $(seq 1 200); do
-      [[ -e "$tmp/out/run.bag.active" ]] && break
+      # The run writes into a staging folder beside --out (common/staged_directory.hpp), the bag with it.
+      compgen -G "$tmp/out.partial-*/run.bag.active" >/dev/null && break
       kill -0 "$pid" 2>/dev/null || break
       sleep 0.1
     done
@@ -144,6 +145,46 @@ case $case_name in
     expect_rc "$expected"
     grep -q "interrupted by signal" "$tmp/stderr" || fail "no 'interrupted by signal' message"
     expect_no_results "$tmp"
+    [[ -e "$tmp/out" ]] && fail "an interrupted run created $tmp/out"
+    grep -q "interrupted by signal" "$tmp/out.incomplete/INCOMPLETE" || fail "the partial output is not marked INCOMPLETE"
+    [[ -e "$tmp/out.incomplete/run.bag.active" ]] || fail "the bag did not stay as run.bag.active in out.incomplete"
+    ;;
+
+  rerun_same_out)
+    # Issue 31: a second run into the same --out kept the first one's frames/*.png, and an interrupted run into
+    # an old folder left the old complete results mixed with its own. Now a completed run replaces the folder
+    # whole; an interrupted one leaves it untouched and its own output in out.incomplete, marked.
+    run_bench run "$scenario" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 0
+    touch "$tmp/out/frames/depth_99999_color.png"
+    run_bench run "$scenario" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 0
+    [[ -e "$tmp/out/frames/depth_99999_color.png" ]] && fail "the second run kept the first run's frame"
+    [[ -n "$(compgen -G "$tmp/out.*")" ]] && fail "left beside the folder: $(compgen -G "$tmp/out.*")"
+    before=$(md5sum "$tmp/out/metrics.json")
+    "$bench" run "$scenario" --out "$tmp/out" --no-progress >"$tmp/stdout" 2>"$tmp/stderr" &
+    pid=$!
+    for _ in $(seq 1 300); do
+      compgen -G "$tmp/out.partial-*/frames/*.png" >/dev/null && break
+      sleep 0.1
+    done
+    kill -s INT "$pid"
+    wait "$pid"
+    rc=$?
+    expect_rc 130
+    [[ "$(md5sum "$tmp/out/metrics.json")" == "$before" ]] || fail "the interrupted run changed the old results"
+    grep -q "interrupted by signal 2" "$tmp/out.incomplete/INCOMPLETE" || fail "the partial output is not marked"
+    [[ -e "$tmp/out.incomplete/metrics.json" ]] && fail "the partial output holds a metrics.json"
+    echo "a completed run replaced the folder whole; the interrupted one left it as it was"
+    ;;
+
+  waypoint_into_wall)
+    # Issue 31: a waypoint into a wall failed only path_completed, with no word that the robot was blocked, or where.
+    run_bench run "$scenario" --set 'robot.waypoints=[[0, 0], [0, 4]]' --set duration_s=8 --out "$tmp/out" --no-progress
+    expect_rc 1
+    grep -Eq "^FAIL path_completed +did not reach the end of the path within 8.0 s: blocked at \(0.00, 0.[0-9]+\) m since t = [0-9.]+ s, [0-9.]+ m short of the path's end, touching walls$" "$tmp/stdout" ||
+      fail "no blocked diagnosis on the path_completed line"
+    grep -E "path_completed" "$tmp/stdout"
     ;;
 
   gl_bogus)
@@ -401,12 +442,10 @@ EOF
 
   replay_bag_truncated | replay_bag_no_depth | replay_bag_rgb8 | replay_bag_mono8 | replay_bag_size_mismatch | \
   replay_bag_short_step | replay_bag_zero_fx | replay_bag_nan_fx)
-    # A malformed recording (written by make_bad_recording.py from the real D435 bag's message definitions):
-    # exit 2 with a message naming the fault, nothing left that looks complete.
-    real=$src/../shared/realdata/d435_office_corner/single_depth_color_640x480.bag
-    [[ -f $real ]] || skip "no $real (shared/realdata beside the checkout)"
+    # A malformed recording, written by this test (make_bad_recording.py with ROS 1's message definitions, no
+    # real recording needed): exit 2 with a message naming the fault, nothing left that looks complete.
     kind=${case_name#replay_bag_}
-    /usr/bin/python3 "$src/tests/faults/make_bad_recording.py" "$kind" "$real" "$tmp/bad.bag" || fail "could not write the bad bag"
+    /usr/bin/python3 "$src/tests/faults/make_bad_recording.py" "$kind" - "$tmp/bad.bag" || fail "could not write the bad bag"
     run_bench replay "$tmp/bad.bag" --out "$tmp/out" --no-progress
     expect_rc 2
     case $kind in

@@ -1,13 +1,14 @@
 #!/usr/bin/python3
 """Writes one malformed recording for the replay's fault tests (Debian's python3-rosbag: /usr/bin/python3).
 
-  make_bad_recording.py KIND REAL_BAG OUT
+  make_bad_recording.py KIND - OUT          (the message definitions of ros_msg_defs.py: needs no recording)
+  make_bad_recording.py KIND REAL_BAG OUT   (the definitions a real bag holds)
 
-The message classes come from the real D435 bag's own definitions (genpy), so the bags are what a ROS 1 recorder
-writes but for the one fault. KIND: truncated, no_depth, rgb8, mono8, size_mismatch, short_step, zero_fx, nan_fx; valid, valid_bz2, valid_lz4
+The message classes are built from ROS 1's sensor_msgs definitions (genpy), so the bags are what a ROS 1
+recorder writes but for the one fault; truncated is a well-formed bag cut at 60 %. KIND: truncated, no_depth, rgb8, mono8, size_mismatch, short_step, zero_fx, nan_fx; valid, valid_bz2, valid_lz4
 (well-formed small bags: the recording fuzz target's seeds).
 """
-import shutil
+import os
 import sys
 
 import genpy
@@ -15,14 +16,17 @@ import genpy.dynamic
 import rosbag
 
 kind, real, out = sys.argv[1:4]
-if kind == 'truncated':
-    shutil.copy(real, out)
-    with open(out, 'r+b') as f:
-        f.truncate(int(f.seek(0, 2) * 0.6))
-    sys.exit(0)
+truncate = kind == 'truncated'
+if truncate:
+    kind = 'valid'
 
-with rosbag.Bag(real) as bag:
-    defs = {c.datatype: c.msg_def for c in bag._connections.values()}
+if real == '-':
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import ros_msg_defs
+    defs = {'sensor_msgs/Image': ros_msg_defs.IMAGE, 'sensor_msgs/CameraInfo': ros_msg_defs.CAMERA_INFO}
+else:
+    with rosbag.Bag(real) as bag:
+        defs = {c.datatype: c.msg_def for c in bag._connections.values()}
 Image = genpy.dynamic.generate_dynamic('sensor_msgs/Image', defs['sensor_msgs/Image'])['sensor_msgs/Image']
 CameraInfo = genpy.dynamic.generate_dynamic('sensor_msgs/CameraInfo', defs['sensor_msgs/CameraInfo'])['sensor_msgs/CameraInfo']
 
@@ -64,3 +68,7 @@ with rosbag.Bag(out, 'w', compression=compression) as bag:
         bag.write('/camera/depth/camera_info', info, t)
         if kind != 'no_depth':
             bag.write('/camera/depth/image_rect_raw', image, t)
+
+if truncate:
+    with open(out, 'r+b') as f:
+        f.truncate(int(f.seek(0, 2) * 0.6))

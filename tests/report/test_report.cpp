@@ -1,4 +1,5 @@
 #include "report/report.hpp"
+#include "report/report_sections.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -51,6 +52,7 @@ RunResult synthetic_result() {
   for (int i = 100; i >= 0; --i) r.times.frame.push_back(i);  // 0..100, descending
   std::rotate(r.times.frame.begin(), r.times.frame.begin() + 37, r.times.frame.end());
   r.evaluation.mean.f1 = 0.75;
+  r.evaluation.mean.snapshots = 2;
   r.evaluation.final.phantom_obstacles = 3;
   r.evaluation.final.phantoms = {{1.5, -2.25, 4}, {3.0, 0.5, 2}, {7.25, 1.0, 9}};
   evaluation::EvaluationSnapshot snapshot;
@@ -88,10 +90,57 @@ TEST(ReportJunit, OneTestcasePerCheckAndAFailureForEachFailedOne) {
   EXPECT_EQ(count_of(xml, "<testcase "), 3u);
   EXPECT_EQ(count_of(xml, "</testcase>"), 3u);
   EXPECT_EQ(count_of(xml, "<failure "), 2u);
-  EXPECT_THAT(xml, HasSubstr("<testsuites tests=\"3\" failures=\"2\">"));
+  EXPECT_THAT(xml, HasSubstr("<testsuites tests=\"3\" failures=\"2\" skipped=\"0\">"));
   EXPECT_THAT(xml, HasSubstr("name=\"f1_3d\"><system-out>"));
   EXPECT_THAT(xml, HasSubstr("name=\"iou_3d\"><failure message=\"mean 3D IoU 0.2, required &gt;= 0.5\"/>"));
   EXPECT_EQ(xml.rfind("<?xml version=\"1.0\" encoding=\"UTF-8\"?>", 0), 0u);
+}
+
+// Issue 31: a check with nothing to judge is a skipped testcase, not a failure, and does not fail the run.
+TEST(ReportJunit, ChecksNotEvaluatedAreSkipped) {
+  RunResult r = synthetic_result();
+  r.checks = {{"f1_3d", true, "mean 3D F1 0.9, required >= 0.85"},
+              evaluation::not_evaluated("path_completed", "not evaluated: cut short")};
+  const std::string xml = junit_xml(r);
+  EXPECT_THAT(xml, HasSubstr("<testsuites tests=\"2\" failures=\"0\" skipped=\"1\">"));
+  EXPECT_THAT(xml, HasSubstr("name=\"path_completed\"><skipped message=\"not evaluated: cut short\"/>"));
+  EXPECT_TRUE(r.passed());
+  const nlohmann::json m = metrics_json(r);
+  EXPECT_EQ(m["checks"][1]["status"], "not_evaluated");
+  EXPECT_EQ(m["checks"][0]["status"], "pass");
+  EXPECT_EQ(m["passed"], true);
+}
+
+// Issue 31: metrics.json said filter.type "none" for STVL's default passthrough.
+TEST(ReportMetrics, FilterTypeNamesThePassthroughWithoutDecimation) {
+  RunResult r = synthetic_result();
+  auto& f = r.scenario.pipeline.filter;
+  f.type = filter::FilterType::kNone;
+  f.passthrough_enabled = true;
+  f.passthrough = {0.0, 2.0};
+  nlohmann::json j = metrics_json(r)["filter"];
+  EXPECT_EQ(j["type"], "passthrough");
+  EXPECT_EQ(j["decimation"], "none");
+  EXPECT_EQ(j["passthrough_band_m"], nlohmann::json({0.0, 2.0}));
+  f.passthrough_enabled = false;
+  EXPECT_EQ(metrics_json(r)["filter"]["type"], "none");
+  f.type = filter::FilterType::kVoxel;
+  f.passthrough_enabled = true;
+  j = metrics_json(r)["filter"];
+  EXPECT_EQ(j["type"], "voxel");
+  EXPECT_EQ(j["passthrough"], true);
+}
+
+// Issue 31: without a snapshot to average the mean figures are null, not 0.
+TEST(ReportMetrics, MeanFiguresWithoutASnapshotAreNull) {
+  RunResult r = synthetic_result();
+  r.evaluation.mean.snapshots = 0;
+  const auto mean = metrics_json(r)["evaluation"]["mean"];
+  EXPECT_EQ(mean["evaluated"], false);
+  EXPECT_TRUE(mean["f1"].is_null());
+  EXPECT_TRUE(mean["costmap_precision"].is_null());
+  r.evaluation.mean.snapshots = 3;
+  EXPECT_DOUBLE_EQ(metrics_json(r)["evaluation"]["mean"]["f1"].get<double>(), 0.75);
 }
 
 TEST(ReportJunit, TextIsEscaped) {
@@ -155,23 +204,38 @@ TEST(ReportMetrics, HoldsEveryFigureOfTheRun) {
   EXPECT_EQ(m["points"]["map_voxels_final"], 9);
 }
 
-TEST(ReportFailureModes, EveryRunsFiguresAndEachFigureUnderFailureModes) {
+// Issue 31: the section was a dump of ~100 metric paths ("22.066666666666666"); now one row per mode with what it
+// means and the verdict of the check that judges it, every figure folded and rounded below.
+TEST(ReportFailureModes, OneReadableRowPerModeWithItsVerdictAndEveryFigureFolded) {
   nlohmann::json m = metrics_json(synthetic_result());
   std::string html = failure_modes_html(m);
-  EXPECT_THAT(html, HasSubstr("<td>ghosts (phantom obstacles)</td><td>final phantoms</td><td>3</td>"));
-  EXPECT_THAT(html, HasSubstr("<td>evaluation.clearing.false_clears</td>"));
-  EXPECT_THAT(html, HasSubstr("<td>occlusion</td><td>hidden_false_clears</td><td>0</td>"));  // every run has them
-  m["evaluation"]["failure_modes"] = {{"occlusion", {{"hidden_false_clears", 4}, {"box", {{"gone_s", 2.5}}}}},
-                                      {"outage", {{"cameras", {{{"name", "front<1>"}, {"stale_s", 1}}}}}},
-                                      {"empty", {{"list", nlohmann::json::array()}}}};
+  EXPECT_THAT(html, HasSubstr("<tr><th>failure mode</th><th>this run</th><th>what it means</th><th>verdict</th></tr>"));
+  EXPECT_THAT(html, HasSubstr("<td>ghosts (phantom obstacles)</td><td>3 at the end, at most 0 at one evaluation</td>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"skip\">not checked by this scenario</td>"));
+  m["checks"] = {{{"name", "phantom_obstacles"}, {"passed", false}, {"status", "fail"}},
+                 {{"name", "hidden_false_clears"}, {"passed", false}, {"status", "not_evaluated"}}};
+  m["evaluation"]["failure_modes"]["occlusion"]["hidden_false_clears"] = 1284;
+  m["evaluation"]["failure_modes"]["extra"] = {{"ratio", 22.066666666666666}, {"list", nlohmann::json::array()}};
   html = failure_modes_html(m);
-  EXPECT_THAT(html, HasSubstr("<td>occlusion</td><td>hidden_false_clears</td><td>4</td>"));
-  EXPECT_THAT(html, HasSubstr("<td>occlusion</td><td>box.gone_s</td><td>2.5</td>"));
-  EXPECT_THAT(html, HasSubstr("<td>outage</td><td>cameras[0].name</td><td>front&lt;1&gt;</td>"));
-  EXPECT_THAT(html, HasSubstr("<td>outage</td><td>cameras[0].stale_s</td><td>1</td>"));
-  EXPECT_THAT(html, HasSubstr("<td>empty</td><td>list</td><td>(none)</td>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"fail\">phantom_obstacles: FAIL</td>"));
+  EXPECT_THAT(html, HasSubstr("1284 true voxels cleared while hidden; 0 bodies vanished from the map"));
+  EXPECT_THAT(html, HasSubstr("hidden_false_clears: not evaluated"));
+  EXPECT_THAT(html, HasSubstr("<details><summary>Every figure under evaluation.failure_modes ("));
+  EXPECT_THAT(html, HasSubstr("<td>extra.ratio</td><td>22.07</td>"));
+  EXPECT_THAT(html, HasSubstr("<td>extra.list</td><td>(none)</td>"));
+  EXPECT_THAT(html, Not(HasSubstr("22.0666")));
   m["evaluation"].erase("clearing");
   EXPECT_THROW(failure_modes_html(m), nlohmann::json::exception);  // a figure every run has is missing
+}
+
+TEST(ReportSections, SignificantDigitsAndBase64) {
+  EXPECT_EQ(significant(22.066666666666666), "22.07");
+  EXPECT_EQ(significant(1284), "1284");
+  EXPECT_EQ(significant(0.000312345), "0.0003123");
+  EXPECT_EQ(base64(""), "");
+  EXPECT_EQ(base64("f"), "Zg==");
+  EXPECT_EQ(base64("fo"), "Zm8=");
+  EXPECT_EQ(base64("foobar"), "Zm9vYmFy");
 }
 
 TEST(ReportMetrics, TimingStatsPerStage) {
@@ -318,6 +382,30 @@ TEST(ReportFiles, WriteReportWritesEveryOutput) {
     EXPECT_TRUE(fs::is_regular_file(dir.path() / name)) << name;
   EXPECT_EQ(nlohmann::json::parse(test::TempDir::read(dir.path() / "metrics.json"))["frames"], 5);
   EXPECT_THAT(test::TempDir::read(dir.path() / "report.html"), HasSubstr("<h2>Failure modes</h2>"));
+}
+
+// Issue 31: report.html loaded top_down.png and frames/ from beside it; a CI keeping only the page showed broken
+// images. Now every picture is a data URI, with its legend and scale.
+TEST(ReportFiles, TheReportIsOneSelfContainedFile) {
+  const test::TempDir dir("report_self_contained");
+  RunResult r = synthetic_result();
+  r.scenario.pipeline.cameras.resize(1);
+  r.top_down.cell_m = 0.05;
+  r.top_down.bounds_W = Eigen::AlignedBox2d(Eigen::Vector2d(0, -1), Eigen::Vector2d(10, 1));
+  r.top_down.false_positive = {{10, 0}};
+  fs::create_directories(dir.path() / "frames");
+  write_png(dir.path() / "frames" / "depth_00010_color.png", RgbImage(4, 3));
+  write_report(r, dir.path());
+  const std::string html = test::TempDir::read(dir.path() / "report.html");
+  EXPECT_THAT(html, Not(HasSubstr("src=\"top_down.png\"")));
+  EXPECT_THAT(html, Not(HasSubstr("src=\"frames/")));
+  EXPECT_EQ(count_of(html, "<img "), count_of(html, "<img id=\"topdown\" src=\"data:image/png;base64,") +
+                                         count_of(html, "<img src=\"data:image/png;base64,"));
+  EXPECT_EQ(count_of(html, "<img "), 2u);
+  EXPECT_THAT(html, HasSubstr("lethal where the truth is free"));
+  EXPECT_THAT(html, HasSubstr("Scale: the bar under the map is 2 m"));
+  EXPECT_THAT(html, HasSubstr("<span class=\"turbo\"></span>"));
+  EXPECT_THAT(html, HasSubstr("STVL forgets"));
   for (const auto& name : dir.names()) EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
 }
 
