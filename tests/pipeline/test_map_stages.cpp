@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <map>
+#include <vector>
 
 #include "tests/support/fixture.hpp"
 
@@ -74,6 +76,62 @@ TEST(MapStages, RaycastClearingRemovesAWallThatMovedAway) {
   EXPECT_GT(far.cleared_keys.size(), at_two / 2);  // the rays to the wall at 3 m pass through the old one
   for (const VoxelKey& key : stages.map().voxel_keys())
     EXPECT_GT(stages.map().center_of(key).x(), 2.5) << "a voxel of the old wall was left";
+}
+
+// Two cameras on one pose whose frames share a time, in frustum mode: the voxel times after one update at t = 1 s
+// of every voxel the wall at t = 0 left (the second frame sees nothing).
+std::map<VoxelKey, double> times_after_shared_instant(mapping::UpdateGrouping grouping) {
+  PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
+  config.map.update_grouping = grouping;
+  config.map.voxel_decay_s = 100.0;
+  config.cameras.front().sources.front().params.decay_acceleration_per_s3 = 6.0;  // 1 s of age: 1 s more
+  config.cameras.front().name = config.cameras.front().sources.front().name = "a";
+  CameraConfig b = config.cameras.front();
+  b.name = b.sources.front().name = "b";
+  config.cameras.push_back(b);
+  MapStages stages(config);
+  const auto next_at = [](double a_s, double b_s) {
+    return MapStages::CamerasNow{[](std::size_t) { return camera_along_x(); },
+                                 [=](std::size_t c) { return c == 0 ? a_s : b_s; }};
+  };
+  FrameResult wall = wall_frame(config, 2.0, 0.0);
+  stages.sense(wall);
+  stages.update(wall, next_at(1.0, 1.0));  // camera b has no frame at 0
+  EXPECT_TRUE(wall.map_updated);
+  FrameResult first = wall_frame(config, 0.0, 1.0);  // no returns: the frustum clears, nothing marks
+  stages.sense(first);
+  stages.update(first, next_at(2.0, 1.0));  // camera b's frame at 1 s follows
+  FrameResult second = wall_frame(config, 0.0, 1.0);
+  second.camera_index = 1;
+  stages.sense(second);
+  stages.update(second, next_at(2.0, 2.0));
+  EXPECT_TRUE(second.map_updated);
+  EXPECT_EQ(first.map_updated, grouping == mapping::UpdateGrouping::kCameraFrame);
+  std::map<VoxelKey, double> times;
+  for (const VoxelKey& key : stages.map().voxel_keys()) times[key] = *stages.map().lookup(stages.map().center_of(key));
+  return times;
+}
+
+// STVL's layer clears with every source's frustum in one pass (the first frustum holding a voxel accelerates it,
+// once), then marks: a voxel in both cameras' frustums at one instant ages 1./6 * 6 * 1^3 = 1 s more, not twice.
+TEST(MapStages, CamerasSharingATimeMakeOneUpdate) {
+  const auto instant = times_after_shared_instant(mapping::UpdateGrouping::kInstant);
+  // Ours, one update per camera frame: the second frame at the same time accelerates it again, with the age the
+  // first left (1 - (-1) = 2 s): 1./6 * 6 * 8 = 8 s more.
+  const auto per_frame = times_after_shared_instant(mapping::UpdateGrouping::kCameraFrame);
+  ASSERT_EQ(per_frame.size(), instant.size());
+  std::size_t accelerated = 0;
+  for (const auto& [key, t] : instant) {
+    ASSERT_EQ(per_frame.count(key), 1u);
+    if (t == 0.0) {  // a wall voxel whose centre lies outside the frustum: neither accelerates it
+      EXPECT_EQ(per_frame.at(key), 0.0);
+      continue;
+    }
+    ++accelerated;
+    EXPECT_DOUBLE_EQ(t, -1.0);  // marked at 0, accelerated by 1 s once
+    EXPECT_DOUBLE_EQ(per_frame.at(key), -9.0);
+  }
+  EXPECT_GT(accelerated, instant.size() / 2);
 }
 
 }  // namespace

@@ -45,3 +45,23 @@ for f in fails: print("FAIL:", f)
 sys.exit(1 if fails else 0)
 PY
 /usr/bin/python3 "$checker" "$out/run.bag" "$out/expect.json"
+# The bag ends with the run's last map (the update of the last instant takes all three cameras; issue 28, 5):
+# the last /stvl/voxel_grid holds map.ply's voxels exactly.
+/usr/bin/python3 - "$out/run.bag" "$out/run/map.ply" <<'PY'
+import struct, sys
+import rosbag
+last = None
+for _, msg, _ in rosbag.Bag(sys.argv[1]).read_messages(topics=["/stvl/voxel_grid"]):
+    last = msg
+def keys(points, size=0.05):
+    return {tuple(int(round(c / size - 0.5)) for c in p) for p in points}
+grid = [struct.unpack_from("<fff", last.data, i * last.point_step) for i in range(last.width * last.height)]
+data = open(sys.argv[2], "rb").read()
+end = data.index(b"end_header\n") + len(b"end_header\n")
+count = int([l for l in data[:end].decode().splitlines() if l.startswith("element vertex")][0].split()[2])
+stride = (len(data) - end) // max(count, 1)
+ply = [struct.unpack_from("<fff", data, end + i * stride) for i in range(count)]
+a, b = keys(grid), keys(ply)
+print("bag's last voxel grid: %d voxels, map.ply: %d, in both: %d" % (len(a), len(b), len(a & b)))
+sys.exit(0 if a == b and a else 1)
+PY
