@@ -93,7 +93,9 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
 std::vector<BoundCamera> bound_cameras(const pipeline::PipelineConfig& config) {
   std::vector<BoundCamera> bound;
   for (const auto& c : config.cameras)
-    for (const auto& source : c.sources) bound.push_back({source.name, c.intrinsics.hfov_rad(), c.intrinsics.vfov_rad()});
+    for (const auto& source : c.sources)
+      bound.push_back({source.name, c.intrinsics.hfov_rad(), c.intrinsics.vfov_rad(), c.name, c.mount.height_m,
+                       c.mount.pitch_rad, c.mount.roll_rad, c.intrinsics.max_range_m});
   return bound;
 }
 

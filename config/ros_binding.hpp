@@ -23,7 +23,7 @@ int bound_camera_index(const RosObservationSource& source, const std::vector<pip
 // source bound to no camera, a camera left without a source, and sources whose filters differ.
 void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config, bool derive_filter);
 
-// Each bound source's camera FOV, for lint_ros_stvl_layer().
+// Each bound source's camera (name, FOV, mount, range), for lint_ros_stvl_layer().
 std::vector<BoundCamera> bound_cameras(const pipeline::PipelineConfig& config);
 
 }  // namespace stvl::config

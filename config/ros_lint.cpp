@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/enum_names.hpp"
+#include "config/ros_lint_geometry.hpp"
 #include "config/ros_params_detail.hpp"
 #include "config/stvl_keys.hpp"
 
@@ -14,6 +15,7 @@ namespace {
 
 using ros_detail::dotted;
 using ros_detail::key_line;
+namespace geo = lint_geometry;
 
 constexpr double kFovTolerance = 0.05;  // relative
 
@@ -22,6 +24,11 @@ std::string number(double value) {
   text << value;
   return text.str();
 }
+
+// Rounded to the centimetre, down or up (a suggestion that is safe on its side).
+double cm_down(double m) { return std::floor(m * 100.0 + 1e-6) / 100.0; }
+double cm_up(double m) { return std::ceil(m * 100.0 - 1e-6) / 100.0; }
+std::string cm(double m) { return number(std::round(m * 100.0) / 100.0); }
 
 bool contains(const std::vector<std::string>& keys, const std::string& key) {
   return std::find(keys.begin(), keys.end(), key) != keys.end();
@@ -140,11 +147,6 @@ class Linter {
     const std::string prefix = dotted(nodes_.layer_path, s.name);
     const auto& v = s.stvl;
     integer_doubles(node, prefix, stvl_double_key_names(StvlScope::kSource, kReadByRos2));
-    if (v.marking && v.max_z_m < v.obstacle_range_m)
-      add(line_or(node, "max_z", s.line), dotted(prefix, "max_z"),
-          "max_z = " + number(v.max_z_m) + " m is below obstacle_range = " + number(v.obstacle_range_m) +
-              " m: voxels marked beyond the clearing frustum never clear by decay_acceleration",
-          "max_z: " + number(v.obstacle_range_m) + " (>= obstacle_range)");
     if (v.marking && v.min_obstacle_height_m <= 0.0)
       add(line_or(node, "min_obstacle_height", s.line), dotted(prefix, "min_obstacle_height"),
           "min_obstacle_height = " + number(v.min_obstacle_height_m) +
@@ -155,9 +157,25 @@ class Linter {
           "decay_acceleration = 0 on a clearing source: the frustum does not speed up decay, only voxel_decay clears",
           "decay_acceleration: 15.0 (STVL's example)");
     for (const auto& camera : cameras) {
-      if (camera.source != s.name) continue;
+      if (camera.source != s.name || !v.clearing) continue;  // the FOV shapes the clearing frustum only
       fov(node, s, prefix, "horizontal_fov_angle", v.horizontal_fov_rad, camera.hfov_rad);
       fov(node, s, prefix, "vertical_fov_angle", v.vertical_fov_rad, camera.vfov_rad);
+    }
+  }
+
+  // Across the enabled sources of each camera: marking beyond every clearing frustum's far plane, and heights
+  // marked that no clearing frustum of the camera ever contains.
+  void camera_sources(const std::vector<BoundCamera>& cameras) {
+    for (const auto& m : layer_.sources) {
+      if (!m.enabled || !m.stvl.marking) continue;
+      std::vector<const RosObservationSource*> clearing;
+      for (const auto& c : layer_.sources)
+        if (c.enabled && c.stvl.clearing && camera_key(c, cameras) == camera_key(m, cameras)) clearing.push_back(&c);
+      if (clearing.empty()) continue;
+      marks_past_far_plane(m, clearing);
+      const BoundCamera* camera = bound(m, cameras);
+      if (camera && camera->height_m > 0.0 && camera->hfov_rad > 0.0 && camera->vfov_rad > 0.0)
+        heights_never_cleared(m, clearing, *camera);
     }
   }
 
@@ -173,6 +191,97 @@ class Linter {
     add(line, key, version() + " does not read " + k + "; it has no effect",
         nearest.empty() ? "remove it" : nearest + " (the nearest key STVL reads)");
   }
+  static const BoundCamera* bound(const RosObservationSource& s, const std::vector<BoundCamera>& cameras) {
+    for (const auto& c : cameras)
+      if (c.source == s.name) return &c;
+    return nullptr;
+  }
+  // Sources with the same key feed one camera: the bound camera's name, else the topic, else the sensor_frame.
+  static std::string camera_key(const RosObservationSource& s, const std::vector<BoundCamera>& cameras) {
+    const BoundCamera* c = bound(s, cameras);
+    if (c && !c->camera.empty()) return "camera " + c->camera;
+    const std::string topic = !s.topic.empty() && s.topic.front() == '/' ? s.topic.substr(1) : s.topic;
+    if (!topic.empty()) return "topic " + topic;
+    return s.sensor_frame.empty() ? "source " + s.name : "frame " + s.sensor_frame;
+  }
+  std::string where(const RosObservationSource& s) const { return s.name + " (line " + std::to_string(s.line) + ")"; }
+
+  // STVL's far plane sits at max_z cos(h/2) cos(v/2) along the optical axis; a marking source whose obstacle_range
+  // reaches past every clearing frustum of its camera leaves voxels frustum acceleration never reaches.
+  void marks_past_far_plane(const RosObservationSource& m, const std::vector<const RosObservationSource*>& clearing) {
+    const RosObservationSource* best = nullptr;
+    double far = 0.0;
+    for (const auto* c : clearing) {
+      const double f = geo::stvl_plane_depth(c->stvl.max_z_m, c->stvl.horizontal_fov_rad, c->stvl.vertical_fov_rad);
+      if (!best || f > far + 1e-12 || (c == &m && f >= far - 1e-12)) best = c, far = f;
+    }
+    const double range = m.stvl.obstacle_range_m;
+    if (!(range > far + 1e-9)) return;
+    const auto& b = best->stvl;
+    const std::string plane =
+        "STVL's depth-camera frustum puts its far plane at max_z·cos(h/2)·cos(v/2) = " + number(b.max_z_m) +
+        " × cos(" + number(b.horizontal_fov_rad / 2.0) + ") × cos(" + number(b.vertical_fov_rad / 2.0) + ") = " +
+        cm(far) + " m along the optical axis, not at max_z";
+    const std::string beyond = ": voxels marked between " + cm(far) + " and " + number(range) +
+                               " m are never reached by frustum acceleration (decay_acceleration), only voxel_decay removes them";
+    const std::string raise = "max_z: " + number(cm_up(geo::stvl_radial_for_depth(range, b.horizontal_fov_rad,
+                                                                                   b.vertical_fov_rad)));
+    const YAML::Node node = nodes_.layer[m.name];
+    const std::string prefix = dotted(nodes_.layer_path, m.name);
+    if (best == &m)
+      add(line_or(node, "max_z", m.line), dotted(prefix, "max_z"),
+          "max_z = " + number(b.max_z_m) + " m with obstacle_range = " + number(range) + " m: " + plane + beyond,
+          raise + " (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: " + number(cm_down(far)));
+    else
+      add(line_or(node, "obstacle_range", m.line), dotted(prefix, "obstacle_range"),
+          "obstacle_range = " + number(range) + " m marks past the clearing frustum of " + where(*best) +
+              ", the same camera's source reaching farthest: " + plane + beyond,
+          raise + " on " + best->name + " (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: " +
+              number(cm_down(far)));
+  }
+
+  // Heights (world z) the camera marks within obstacle_range that no clearing frustum of it contains at any
+  // distance: the robot drives on a flat floor, so a voxel's height relative to the camera never changes.
+  void heights_never_cleared(const RosObservationSource& m, const std::vector<const RosObservationSource*>& clearing,
+                             const BoundCamera& camera) {
+    const geo::CameraHeight pose{camera.height_m, camera.pitch_rad, camera.roll_rad};
+    const double range = camera.max_range_m > 0.0 ? std::min(m.stvl.obstacle_range_m, camera.max_range_m)
+                                                  : m.stvl.obstacle_range_m;
+    geo::HeightRange marked = geo::view_heights(pose, camera.hfov_rad, camera.vfov_rad, range);
+    marked.min_m = std::max(marked.min_m, 0.0);  // nothing below the floor
+    const bool band = m.filter != RosSourceFilter::kNone;  // filter none applies no height band (STVL's buffer)
+    if (band) {
+      marked.min_m = std::max(marked.min_m, m.stvl.min_obstacle_height_m);
+      marked.max_m = std::min(marked.max_m, m.stvl.max_obstacle_height_m);
+    }
+    if (!(marked.max_m > marked.min_m)) return;
+    std::vector<geo::HeightRange> frustums;
+    std::string names;
+    for (const auto* c : clearing) {
+      frustums.push_back(geo::stvl_frustum_heights(pose, c->stvl.min_z_m, c->stvl.max_z_m, c->stvl.horizontal_fov_rad,
+                                                   c->stvl.vertical_fov_rad));
+      names += (names.empty() ? "" : ", ") + c->name + " z " + cm(frustums.back().min_m) + ".." +
+               cm(frustums.back().max_m) + " m";
+    }
+    const auto left = geo::uncovered(marked, frustums, layer_.map.voxel_size_m);
+    if (left.empty()) return;
+    double top = frustums[0].max_m, bottom = frustums[0].min_m;
+    for (const auto& f : frustums) top = std::max(top, f.max_m), bottom = std::min(bottom, f.min_m);
+    std::string heights;
+    for (const auto& r : left) heights += (heights.empty() ? "" : " and ") + cm(r.min_m) + ".." + cm(r.max_m);
+    const bool above = left.back().max_m > top;
+    const std::string k = above ? "max_obstacle_height" : "min_obstacle_height";
+    const std::string value = number(above ? cm_down(top) : cm_up(bottom));
+    add(line_or(nodes_.layer[m.name], k, m.line), dotted(dotted(nodes_.layer_path, m.name), k),
+        "heights " + heights + " m (world z) are marked but never cleared: camera " + camera.camera + " (" +
+            cm(camera.height_m) + " m above the floor, pitch " + cm(camera.pitch_rad * 180.0 / M_PI) +
+            " deg) sees them within obstacle_range = " + number(m.stvl.obstacle_range_m) +
+            " m, and no clearing frustum of it (STVL's: " + names +
+            ") contains them at any distance or robot pose: those voxels leave only by voxel_decay",
+        (band ? "" : "filter: \"passthrough\" with ") + k + ": " + value + ", or widen the clearing source's " +
+            "vertical_fov_angle / raise its max_z");
+  }
+
   void fov(const YAML::Node& node, const RosObservationSource& s, const std::string& prefix, const std::string& k,
            double written_rad, double real_rad) {
     if (!(real_rad > 0.0) || std::abs(written_rad - real_rad) <= kFovTolerance * real_rad) return;
@@ -200,6 +309,7 @@ std::vector<LintFinding> lint_ros_stvl_layer(const std::string& path, const std:
     linter.source_keys(s);
     linter.source_values(s, cameras);
   }
+  linter.camera_sources(cameras);
   return linter.take();
 }
 

@@ -3,9 +3,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 #include <utility>
 
+#include "config/ros_lint_geometry.hpp"
 #include "tests/config/ros_texts.hpp"
 #include "tests/support/invalid_argument.hpp"
 
@@ -29,6 +31,16 @@ std::string replaced(std::string text, const std::string& from, const std::strin
   const auto pos = text.find(from);
   EXPECT_NE(pos, std::string::npos) << from;
   return pos == std::string::npos ? text : text.replace(pos, from.size(), to);
+}
+
+// The camera a source is bound to, when lint knows only its FOV (and, for `camera`, which sources share it).
+BoundCamera fov_of(const std::string& source, double hfov_rad, double vfov_rad, const std::string& camera = "") {
+  BoundCamera bound;
+  bound.source = source;
+  bound.hfov_rad = hfov_rad;
+  bound.vfov_rad = vfov_rad;
+  bound.camera = camera;
+  return bound;
 }
 
 class RosLint : public ::testing::Test {
@@ -116,22 +128,45 @@ TEST_F(RosLint, DecayModelsStvlTreatsAsPersistent) {
 
 TEST_F(RosLint, MaxZBelowObstacleRange) {
   EXPECT_EQ(only(kClean + "  obstacle_range: 4.0\n  max_z: 3.0\n"),
-            at(9, "cam.max_z") + "max_z = 3 m is below obstacle_range = 4 m: voxels marked beyond the clearing "
-                                 "frustum never clear by decay_acceleration; write instead: max_z: 4 (>= obstacle_range)");
+            at(9, "cam.max_z") + "max_z = 3 m with obstacle_range = 4 m: STVL's depth-camera frustum puts its far "
+                                 "plane at max_z·cos(h/2)·cos(v/2) = 3 × cos(0.52) × cos(0.35) = 2.45 m along the "
+                                 "optical axis, not at max_z: voxels marked between 2.45 and 4 m are never reached "
+                                 "by frustum acceleration (decay_acceleration), only voxel_decay removes them; write "
+                                 "instead: max_z: 4.91 (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: 2.44");
+}
+
+TEST_F(RosLint, FarPlaneIsNotMaxZ) {
+  // max_z above obstacle_range is not enough: the far plane lies at 3.5 cos(0.52) cos(0.35) = 2.85 m.
+  EXPECT_THAT(only(kClean + "  obstacle_range: 3.0\n  max_z: 3.5\n"),
+              HasSubstr(at(9, "cam.max_z") + "max_z = 3.5 m with obstacle_range = 3 m: STVL's depth-camera frustum "
+                                             "puts its far plane at max_z·cos(h/2)·cos(v/2) = 3.5 × cos(0.52) × "
+                                             "cos(0.35) = 2.85 m"));
+  EXPECT_TRUE(lint(kClean + "  obstacle_range: 3.0\n  max_z: 3.7\n").empty());  // far plane 3.02 m
+  // A source that does not clear has no frustum: its max_z says nothing.
+  EXPECT_TRUE(lint(replaced(kClean, "sources: cam", "sources: cam other") +
+                   "other:\n  min_obstacle_height: 0.05\n  obstacle_range: 4.0\n  max_z: 3.0\n").empty());
 }
 
 TEST_F(RosLint, FovOffTheBoundCamera) {
   const std::string text = kClean + "  horizontal_fov_angle: 1.5\n";
   EXPECT_TRUE(lint(text).empty());  // no camera bound: nothing to compare with
-  EXPECT_TRUE(lint(text, {{"cam", 1.46, 0.7}}).empty());  // within 5 %
-  EXPECT_EQ(only(text, {{"cam", 1.2, 0.7}}),
+  EXPECT_TRUE(lint(text, {fov_of("cam", 1.46, 0.7)}).empty());  // within 5 %
+  EXPECT_EQ(only(text, {fov_of("cam", 1.2, 0.7)}),
             at(8, "cam.horizontal_fov_angle") + "horizontal_fov_angle = 1.5 rad is more than 5 % off the bound "
                                                 "camera's 1.2 rad: STVL's clearing frustum clears voxels the camera "
                                                 "cannot see; write instead: horizontal_fov_angle: 1.2");
-  EXPECT_EQ(only(text, {{"cam", 1.5, 0.9}}),
+  EXPECT_EQ(only(text, {fov_of("cam", 1.5, 0.9)}),
             at(4, "cam.vertical_fov_angle") + "vertical_fov_angle = 0.7 rad is more than 5 % off the bound camera's "
                                               "0.9 rad: STVL's clearing frustum leaves the edges of the view "
                                               "uncleared; write instead: vertical_fov_angle: 0.9");
+}
+
+TEST_F(RosLint, NoFovFindingForASourceThatDoesNotClear) {
+  const std::string marking_only = replaced(kClean, "  clearing: true\n", "  clearing: false\n") +
+                                   "  horizontal_fov_angle: 1.5\n";
+  const auto findings = lint(marking_only, {fov_of("cam", 1.2, 0.9)});
+  ASSERT_EQ(findings.size(), 1u);  // the layer's: no source clears
+  EXPECT_EQ(findings[0].key, "observation_sources");
 }
 
 TEST_F(RosLint, MinObstacleHeightAtTheFloor) {
@@ -139,6 +174,100 @@ TEST_F(RosLint, MinObstacleHeightAtTheFloor) {
             at(6, "cam.min_obstacle_height") + "min_obstacle_height = 0 m: STVL marks points at floor level, so the "
                                                "depth camera's floor noise becomes obstacles; write instead: "
                                                "min_obstacle_height: 0.05 (above the floor noise)");
+}
+
+// A nav2 layer with one camera's marking and clearing sources, as nav2's STVL configurations write the pair
+// (both read the camera's topic; layer body from line 8).
+const std::string kMarkAndClear =
+    "voxel_decay: 15.0\n"                            // 8
+    "voxel_size: 0.05\n"                             // 9
+    "observation_sources: rgbd1_mark rgbd1_clear\n"  // 10
+    "rgbd1_mark:\n"                                  // 11
+    "  data_type: PointCloud2\n"                     // 12
+    "  topic: /input_pointcloud\n"                   // 13
+    "  marking: true\n"                              // 14
+    "  clearing: false\n"                            // 15
+    "  obstacle_range: 3.0\n"                        // 16
+    "  min_obstacle_height: 0.02\n"                  // 17
+    "  max_obstacle_height: 2.0\n"                   // 18
+    "  filter: \"passthrough\"\n"                    // 19
+    "rgbd1_clear:\n"                                 // 20
+    "  data_type: PointCloud2\n"                     // 21
+    "  topic: /input_pointcloud\n"                   // 22
+    "  marking: false\n"                             // 23
+    "  clearing: true\n"                             // 24
+    "  max_z: 7.0\n"                                 // 25
+    "  min_z: 0.02\n"                                // 26
+    "  vertical_fov_angle: 0.8745\n"                 // 27
+    "  horizontal_fov_angle: 1.048\n"                // 28
+    "  decay_acceleration: 15.0\n"                   // 29
+    "  model_type: 0\n";                             // 30
+
+TEST_F(RosLint, MarkingSourcePastTheClearingSourcesFarPlane) {
+  EXPECT_TRUE(lint(test::nav2_text(kMarkAndClear)).empty());  // far plane 5.49 m, obstacle_range 3 m
+  EXPECT_EQ(only(test::nav2_text(replaced(kMarkAndClear, "obstacle_range: 3.0", "obstacle_range: 6.0"))),
+            at(16, "stvl_layer.rgbd1_mark.obstacle_range") +
+                "obstacle_range = 6 m marks past the clearing frustum of rgbd1_clear (line 20), the same camera's "
+                "source reaching farthest: STVL's depth-camera frustum puts its far plane at max_z·cos(h/2)·cos(v/2) "
+                "= 7 × cos(0.524) × cos(0.43725) = 5.49 m along the optical axis, not at max_z: voxels marked "
+                "between 5.49 and 6 m are never reached by frustum acceleration (decay_acceleration), only "
+                "voxel_decay removes them; write instead: max_z: 7.65 on rgbd1_clear (obstacle_range / "
+                "(cos(h/2)·cos(v/2))), or obstacle_range: 5.49");
+  // max_z 3.5 >= obstacle_range 3, but its far plane lies at 2.75 m.
+  EXPECT_THAT(only(test::nav2_text(replaced(kMarkAndClear, "max_z: 7.0", "max_z: 3.5"))),
+              HasSubstr(at(16, "stvl_layer.rgbd1_mark.obstacle_range") + "obstacle_range = 3 m marks past the "
+                        "clearing frustum of rgbd1_clear (line 20)"));
+  // A clearing source of another camera (topic) clears nothing of this one's marks.
+  EXPECT_TRUE(lint(test::nav2_text(replaced(replaced(kMarkAndClear, "obstacle_range: 3.0", "obstacle_range: 6.0"),
+                                            "  topic: /input_pointcloud\n  marking: false",
+                                            "  topic: /other/points\n  marking: false"))).empty());
+  // Bound to different cameras at run time: no longer one camera's sources.
+  EXPECT_TRUE(lint(test::nav2_text(replaced(kMarkAndClear, "obstacle_range: 3.0", "obstacle_range: 6.0")),
+                   {fov_of("rgbd1_mark", 1.048, 0.8745, "left"), fov_of("rgbd1_clear", 1.048, 0.8745, "right")}).empty());
+}
+
+TEST_F(RosLint, HeightsMarkedButNeverCleared) {
+  // A camera 0.5 m above the floor pitched 0.3 rad down with a 1.0 rad vertical FOV sees up to
+  // 0.5 + 3 sin(0.5 - 0.3) = 1.10 m within obstacle_range 3; a clearing frustum of 0.6 rad tops out at 0.5 m.
+  const std::string text = test::nav2_text(replaced(kMarkAndClear, "vertical_fov_angle: 0.8745", "vertical_fov_angle: 0.6"));
+  const std::vector<BoundCamera> front = {{"rgbd1_mark", 1.048, 1.0, "front", 0.5, 0.3, 0.0, 10.0},
+                                          {"rgbd1_clear", 1.048, 1.0, "front", 0.5, 0.3, 0.0, 10.0}};
+  const auto findings = lint(text, front);
+  ASSERT_EQ(findings.size(), 2u);
+  EXPECT_EQ(test::file_as_FILE(format_finding(findings[0]), path_),
+            at(18, "stvl_layer.rgbd1_mark.max_obstacle_height") +
+                "heights 0.5..1.1 m (world z) are marked but never cleared: camera front (0.5 m above the floor, "
+                "pitch 17.19 deg) sees them within obstacle_range = 3 m, and no clearing frustum of it (STVL's: "
+                "rgbd1_clear z -2.92..0.5 m) contains them at any distance or robot pose: those voxels leave only "
+                "by voxel_decay; write instead: max_obstacle_height: 0.5, or widen the clearing source's "
+                "vertical_fov_angle / raise its max_z");
+  EXPECT_EQ(findings[1].key, "stvl_layer.rgbd1_clear.vertical_fov_angle");  // 0.6 rad on a 1.0 rad camera
+  // The band kept below the frustum's top: only the FOV finding remains.
+  EXPECT_EQ(lint(replaced(text, "max_obstacle_height: 2.0", "max_obstacle_height: 0.5"), front).size(), 1u);
+  // Without a mount (lint from the command line) heights are not judged.
+  EXPECT_EQ(lint(text, {fov_of("rgbd1_mark", 1.048, 1.0), fov_of("rgbd1_clear", 1.048, 1.0)}).size(), 1u);
+}
+
+TEST_F(RosLint, StvlFrustumGeometry) {
+  namespace geo = lint_geometry;
+  EXPECT_NEAR(geo::stvl_plane_depth(7.0, 1.04, 0.7), 5.7064, 1e-4);  // /work/notes: h 1.04, v 0.7, max_z 7
+  EXPECT_NEAR(geo::stvl_radial_for_depth(geo::stvl_plane_depth(7.0, 1.04, 0.7), 1.04, 0.7), 7.0, 1e-12);
+  // Level camera: the top far corners at 0.5 + 7 cos(h/2) sin(v/2).
+  const auto level = geo::stvl_frustum_heights({0.5, 0.0, 0.0}, 0.0, 7.0, 1.04, 0.7);
+  EXPECT_NEAR(level.max_m, 0.5 + 7.0 * std::cos(0.52) * std::sin(0.35), 1e-12);
+  EXPECT_NEAR(level.min_m, 0.5 - 7.0 * std::cos(0.52) * std::sin(0.35), 1e-12);
+  // The ideal view: the top edge's centre 0.2 rad above the horizon; pitched past v/2, nothing above the camera.
+  const auto view = geo::view_heights({0.5, 0.3, 0.0}, 1.048, 1.0, 3.0);
+  EXPECT_NEAR(view.max_m, 0.5 + 3.0 * std::sin(0.2), 1e-9);
+  EXPECT_NEAR(view.min_m, 0.5 - 3.0 * std::sin(0.8), 1e-9);
+  EXPECT_NEAR(geo::view_heights({0.5, 0.8, 0.0}, 1.048, 1.0, 3.0).max_m, 0.5, 1e-12);
+  // Rolled a quarter turn, the horizontal FOV spans the heights.
+  EXPECT_NEAR(geo::view_heights({0.5, 0.0, M_PI / 2}, 1.048, 1.0, 3.0).max_m, 0.5 + 3.0 * std::sin(0.524), 1e-9);
+  const auto left = geo::uncovered({0.0, 2.0}, {{-1.0, 0.5}, {1.0, 1.02}}, 0.05);
+  ASSERT_EQ(left.size(), 2u);
+  EXPECT_DOUBLE_EQ(left[0].min_m, 0.5);
+  EXPECT_DOUBLE_EQ(left[0].max_m, 1.0);
+  EXPECT_DOUBLE_EQ(left[1].min_m, 1.02);
 }
 
 TEST_F(RosLint, NoClearingSource) {
