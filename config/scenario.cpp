@@ -217,13 +217,15 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   map.get("voxel_decay", m.voxel_decay_s);
   std::string decay = mapping::to_string(m.decay_model), mode = mapping::to_string(m.clearing_mode),
               walk = mapping::to_string(m.clearing_walk), rounding = mapping::to_string(m.mark_rounding),
-              geometry = mapping::to_string(m.frustum_geometry), grouping = mapping::to_string(m.update_grouping);
+              geometry = mapping::to_string(m.frustum_geometry), grouping = mapping::to_string(m.update_grouping),
+              band = mapping::to_string(m.costmap_band);
   map.get("decay_model", decay);
   map.get("clearing_mode", mode);
   map.get("clearing_walk", walk);
   map.get("mark_rounding", rounding);
   map.get("frustum_geometry", geometry);
   map.get("update_grouping", grouping);
+  map.get("costmap_band", band);
   validate_keys({{"decay_model", &map, "decay_model"}}, [&] { m.decay_model = mapping::parse_decay_model(decay); });
   validate_keys({{"clearing_mode", &map, "clearing_mode"}}, [&] { m.clearing_mode = mapping::parse_clearing_mode(mode); });
   validate_keys({{"clearing_walk", &map, "clearing_walk"}}, [&] { m.clearing_walk = mapping::parse_clearing_walk(walk); });
@@ -232,6 +234,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
                 [&] { m.frustum_geometry = mapping::parse_frustum_geometry(geometry); });
   validate_keys({{"update_grouping", &map, "update_grouping"}},
                 [&] { m.update_grouping = mapping::parse_update_grouping(grouping); });
+  validate_keys({{"costmap_band", &map, "costmap_band"}}, [&] { m.costmap_band = mapping::parse_costmap_band(band); });
   map.get("mark_threshold", m.mark_threshold);
   int expiry_leaves = static_cast<int>(m.expiry_leaves_per_update);
   map.get("expiry_leaves_per_update", expiry_leaves);
@@ -460,6 +463,7 @@ evaluation::EvaluationConfig evaluation_config(const Scenario& s) {
   const pipeline::HeightBand band = pipeline::marking_band(s.pipeline);
   e.min_obstacle_height_m = band.min_m;
   e.max_obstacle_height_m = band.max_m;
+  e.costmap_every_voxel = s.pipeline.map.costmap_band == mapping::CostmapBand::kEveryVoxel;
   e.cameras = s.pipeline.cameras.size();
   e.robot_footprint_B = s.pipeline.map.footprint_B;
   e.footprint_clearing = s.pipeline.map.update_footprint_enabled;

@@ -15,6 +15,9 @@ struct EvaluationConfig {
   double min_obstacle_height_m = 0.0;
   double max_obstacle_height_m = 3.0;
   std::size_t cameras = 1;  // recall is also reported per camera
+  // The map's costmap counts every voxel of a column (STVL's); false: only those in the height band above (the
+  // map's costmap_band: marking_band).
+  bool costmap_every_voxel = true;
 
   // YAML evaluation.*, same names.
   double recall_window_s = 2.0;     // recall counts truth voxels the noise-free camera saw this recently

@@ -274,11 +274,13 @@ std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const VoxelMa
 CellGrid Evaluator::project_lethal(const mapping::VoxelMap& map, CellGrid& columns) {
   const PhaseTimer timer(times_.costmap_ms);
   if (map.empty()) return {};
-  columns = column_counts(map, config_.min_obstacle_height_m, config_.max_obstacle_height_m);
-  mapping::CostmapOptions options;
+  mapping::CostmapOptions options;  // its band infinite unless the costmap counts the marking band only
+  if (!config_.costmap_every_voxel) {
+    options.min_obstacle_height_m = config_.min_obstacle_height_m;
+    options.max_obstacle_height_m = config_.max_obstacle_height_m;
+  }
+  columns = column_counts(map, options.min_obstacle_height_m, options.max_obstacle_height_m);
   options.resolution_m = config_.voxel_size_m;
-  options.min_obstacle_height_m = config_.min_obstacle_height_m;
-  options.max_obstacle_height_m = config_.max_obstacle_height_m;
   if (config_.footprint_clearing) options.free_polygon_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
   return lethal_cells(map.project_costmap(options), config_.voxel_size_m);
 }

@@ -52,6 +52,10 @@ UpdateGrouping parse_update_grouping(const std::string& text) {
   return parse_enum(text, kUpdateGroupingNames, "update_grouping");
 }
 std::string to_string(UpdateGrouping grouping) { return enum_name(grouping, kUpdateGroupingNames); }
+constexpr EnumName<CostmapBand> kCostmapBandNames[] = {{CostmapBand::kEveryVoxel, "every_voxel"},
+                                                       {CostmapBand::kMarkingBand, "marking_band"}};
+CostmapBand parse_costmap_band(const std::string& text) { return parse_enum(text, kCostmapBandNames, "costmap_band"); }
+std::string to_string(CostmapBand band) { return enum_name(band, kCostmapBandNames); }
 ClearingWalk parse_clearing_walk(const std::string& text) { return parse_enum(text, kClearingWalkNames, "clearing_walk"); }
 std::string to_string(ClearingWalk walk) { return enum_name(walk, kClearingWalkNames); }
 MarkRounding parse_mark_rounding(const std::string& text) { return parse_enum(text, kMarkRoundingNames, "mark_rounding"); }

@@ -64,6 +64,15 @@ enum class UpdateGrouping { kInstant, kCameraFrame };
 UpdateGrouping parse_update_grouping(const std::string& text);
 std::string to_string(UpdateGrouping grouping);
 
+// Which voxels of a column count toward its costmap cell (the map's projection and the evaluation's).
+// every_voxel: STVL's (TemporalClearAndGenerateCostmap counts every voxel that survives, whatever its height;
+//   heights are limited only by the marking filter, on the points).
+// marking_band (ours, the bench before 2026-12-03): only voxels whose centre z lies in the marking sources'
+//   [min_obstacle_height, max_obstacle_height]; with STVL's z shift a low obstacle's voxel can fall under it.
+enum class CostmapBand { kEveryVoxel, kMarkingBand };
+CostmapBand parse_costmap_band(const std::string& text);
+std::string to_string(CostmapBand band);
+
 struct StvlConfig {
   // Accepted range [0.01, 1.0] m (STVL's usable range is 0.02..0.2): below 1 cm one 10 m frustum holds
   // over 10^9 voxels; above 1 m the map is useless for a ground robot.
@@ -80,6 +89,7 @@ struct StvlConfig {
   MarkRounding mark_rounding = MarkRounding::kStvl;             // YAML map.mark_rounding; floor is ours
   FrustumGeometry frustum_geometry = FrustumGeometry::kStvl;    // YAML map.frustum_geometry; ideal is ours
   UpdateGrouping update_grouping = UpdateGrouping::kInstant;    // YAML map.update_grouping; camera_frame is ours
+  CostmapBand costmap_band = CostmapBand::kEveryVoxel;          // YAML map.costmap_band; marking_band is ours
   // Bound on expiry work per update in bounded mode; a backlog larger than this is worked off over the next
   // updates (lag = ceil(backlog / expiry_leaves_per_update) updates).
   std::size_t expiry_leaves_per_update = 256;

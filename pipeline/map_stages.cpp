@@ -205,9 +205,11 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
 
 mapping::CostmapOptions costmap_options(const PipelineConfig& config, const Eigen::Isometry3d& T_world_base) {
   mapping::CostmapOptions options;
-  const HeightBand band = marking_band(config);
-  options.min_obstacle_height_m = band.min_m;
-  options.max_obstacle_height_m = band.max_m;
+  if (config.map.costmap_band == mapping::CostmapBand::kMarkingBand) {  // ours; STVL counts every voxel
+    const HeightBand band = marking_band(config);
+    options.min_obstacle_height_m = band.min_m;
+    options.max_obstacle_height_m = band.max_m;
+  }
   if (config.map.update_footprint_enabled)  // STVL: at the robot's pose of the last update
     options.free_polygon_W = mapping::footprint_in_world(config.map.footprint_B, T_world_base);
   return options;

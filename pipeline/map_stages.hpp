@@ -60,7 +60,8 @@ class MapStages {
   std::vector<std::unique_ptr<Sources>> cameras_;
 };
 
-// The costmap's options: the marking sources' height band and, with map.update_footprint_enabled, the footprint
+// The costmap's options: with map.costmap_band marking_band (ours) the marking sources' height band (STVL's
+// every_voxel: no band) and, with map.update_footprint_enabled, the footprint
 // at T_world_base freed (STVL's footprint clearing at the robot's pose of the last update).
 mapping::CostmapOptions costmap_options(const PipelineConfig& config, const Eigen::Isometry3d& T_world_base);
 

@@ -55,10 +55,10 @@ class Pipeline {
   const PipelineConfig& config() const { return config_; }  // as given to the constructor
   const sim::Simulator& simulator() const { return *sim_; }  // the world and robot it steps
   const mapping::VoxelMap& map() const;  // as the last step() left it
-  // The map's costmap at its voxel size over the occupied extent (1 x 1 when empty), counting voxels inside
-  // the marking height band: from the lowest min_obstacle_height_m to the highest max_obstacle_height_m of
-  // the marking sources; with map.update_footprint_enabled, the footprint's cells at the robot's current pose
-  // are free (STVL's footprint clearing).
+  // The map's costmap at its voxel size over the occupied extent (1 x 1 when empty), counting every voxel of a
+  // column (STVL's) or, with map.costmap_band marking_band (ours), those inside the marking sources' height band;
+  // with map.update_footprint_enabled, the footprint's cells at the robot's current pose are free (STVL's
+  // footprint clearing).
   mapping::Costmap2D costmap() const;
   // The options costmap() uses: costmap_options() of map_stages.hpp at the robot's current true pose.
   mapping::CostmapOptions costmap_options() const;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <map>
 #include <vector>
@@ -76,6 +77,19 @@ TEST(MapStages, RaycastClearingRemovesAWallThatMovedAway) {
   EXPECT_GT(far.cleared_keys.size(), at_two / 2);  // the rays to the wall at 3 m pass through the old one
   for (const VoxelKey& key : stages.map().voxel_keys())
     EXPECT_GT(stages.map().center_of(key).x(), 2.5) << "a voxel of the old wall was left";
+}
+
+// STVL counts every voxel of a column toward its cell; the marking band on the voxel centres is ours.
+TEST(MapStages, CostmapBandIsOursAndOff) {
+  PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
+  config.cameras.front().sources.front().params.min_obstacle_height_m = 0.1;
+  mapping::CostmapOptions stvl = costmap_options(config, Eigen::Isometry3d::Identity());
+  EXPECT_TRUE(std::isinf(stvl.min_obstacle_height_m) && stvl.min_obstacle_height_m < 0);
+  EXPECT_TRUE(std::isinf(stvl.max_obstacle_height_m) && stvl.max_obstacle_height_m > 0);
+  config.map.costmap_band = mapping::CostmapBand::kMarkingBand;
+  const mapping::CostmapOptions ours = costmap_options(config, Eigen::Isometry3d::Identity());
+  EXPECT_DOUBLE_EQ(ours.min_obstacle_height_m, 0.1);
+  EXPECT_DOUBLE_EQ(ours.max_obstacle_height_m, 3.0);
 }
 
 // Two cameras on one pose whose frames share a time, in frustum mode: the voxel times after one update at t = 1 s
