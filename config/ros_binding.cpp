@@ -51,6 +51,7 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
   config.map.voxel_decay_s = layer.map.voxel_decay_s;
   config.map.decay_model = layer.map.decay_model;
   config.map.mark_threshold = layer.map.mark_threshold;
+  if (layer.update_frequency_hz) config.map.update_frequency_hz = *layer.update_frequency_hz;
   // STVL's footprint clearing with the costmap's footprint (nav2: a non-empty footprint wins over robot_radius).
   config.map.update_footprint_enabled = layer.update_footprint_enabled;
   config.map.footprint_B.clear();

@@ -155,6 +155,7 @@ void read_costmap(const LayerNodes& nodes, const std::string& file, RosStvlLayer
   optional_of("width", out.width_m);
   optional_of("height", out.height_m);
   optional_of("rolling_window", out.rolling_window);
+  optional_of("update_frequency", out.update_frequency_hz);
   std::optional<bool> tracking;
   optional_of("track_unknown_space", tracking);
   out.track_unknown_space = tracking.value_or(false);  // STVL's default follows the costmap's (false)

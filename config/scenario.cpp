@@ -236,6 +236,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
                 [&] { m.update_grouping = mapping::parse_update_grouping(grouping); });
   validate_keys({{"costmap_band", &map, "costmap_band"}}, [&] { m.costmap_band = mapping::parse_costmap_band(band); });
   map.get("mark_threshold", m.mark_threshold);
+  map.get("update_frequency", m.update_frequency_hz);
   int expiry_leaves = static_cast<int>(m.expiry_leaves_per_update);
   map.get("expiry_leaves_per_update", expiry_leaves);
   require_range(map, "expiry_leaves_per_update", expiry_leaves, expiry_leaves >= 1, "must be >= 1");
@@ -244,7 +245,8 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   require_range(map, "publish_period_s", s.outputs.publish_period_s,
                 std::isfinite(s.outputs.publish_period_s) && s.outputs.publish_period_s > 0, "must be finite and > 0 s");
   validate_keys({{"voxel_size", &map, "voxel_size"}, {"voxel_decay", &map, "voxel_decay"},
-                 {"decay_model", &map, "decay_model"}, {"mark_threshold", &map, "mark_threshold"}},
+                 {"decay_model", &map, "decay_model"}, {"mark_threshold", &map, "mark_threshold"},
+                 {"update_frequency", &map, "update_frequency"}},
                 [&] { m.validate(); });
   read_footprint(map, m);
   if (map.has("observation")) {

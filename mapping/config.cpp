@@ -73,6 +73,9 @@ void StvlConfig::validate() const {
   const int model = static_cast<int>(decay_model);
   if (model != 0 && model != 1 && model != -1) reject("decay_model", model, "must be linear, exponential or persistent");
   if (mark_threshold < 0) reject("mark_threshold", mark_threshold, "must be >= 0");
+  require_finite("update_frequency", update_frequency_hz);
+  if (update_frequency_hz < 0.0 || update_frequency_hz > 1000.0)
+    reject("update_frequency", update_frequency_hz, "must lie in [0, 1000] Hz (0: an update per camera instant)");
   if (clearing_mode != ClearingMode::kFrustum && clearing_mode != ClearingMode::kRaycast)
     reject("clearing_mode", static_cast<int>(clearing_mode), "must be frustum or raycast");
   if (clearing_walk != ClearingWalk::kBounded && clearing_walk != ClearingWalk::kFullWalk)

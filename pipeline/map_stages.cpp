@@ -152,11 +152,16 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
   if (instant)  // another camera still takes a frame at this time: STVL's update of the instant runs at the last
     for (std::size_t index = 0; index < cameras_.size(); ++index)
       if (index != f.camera_index && at_this_instant(now.next_frame_time_s(index))) f.map_updated = false;
+  const double frequency_hz = config_.map.update_frequency_hz;
+  if (frequency_hz > 0.0 && f.time_s + 1e-9 < static_cast<double>(next_update_) / frequency_hz)
+    f.map_updated = false;  // STVL's next update is later: the reading waits in the buffers
   if (!f.map_updated) {
     f.times.clear_ms = ms_since(start);
     f.times.map_cpu_ms = process_cpu_ms() - cpu_start_ms;
     return;
   }
+  if (frequency_hz > 0.0)
+    while (static_cast<double>(next_update_) / frequency_hz <= f.time_s + 1e-9) ++next_update_;
   // STVL's update: the readings of every buffer it applies, clearing first, then marking, all at this time.
   std::vector<mapping::ClearingObservation> clearing;
   std::vector<std::pair<const SourceReading*, const mapping::ObservationSource*>> marking;
@@ -164,7 +169,8 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
     Sources& c = *cameras_[index];
     // The cameras that took a frame at this instant (this one alone per camera frame), and once per update
     // time the buffers of cameras that have missed a frame.
-    const bool took_frame = &c == &camera || (instant && at_this_instant(c.last_frame_s));
+    // At the update frequency every buffer applies, as STVL's layer reads them all at every update.
+    const bool took_frame = &c == &camera || (instant && at_this_instant(c.last_frame_s)) || frequency_hz > 0.0;
     if (!took_frame && (!c.overdue(f.time_s, now.next_frame_time_s(index)) || c.last_reapplied_s >= f.time_s - 1e-9))
       continue;
     if (!took_frame) c.last_reapplied_s = f.time_s;
@@ -175,7 +181,7 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
       for (const auto& r : c.buffers[s].readings()) {
         if (params.clearing) clearing.push_back({r->T_world_camera, params, &r->decimated_W, &r->no_return_W});
         if (params.marking) marking.emplace_back(r.get(), &params);
-        if (took_frame && at_this_instant(r->time_s)) continue;  // this instant's own reading
+        if (at_this_instant(r->time_s)) continue;  // this instant's own reading
         ++f.reapplied_readings;
         SourceStatus& status = c.status[s];
         ++status.reapplied_readings;

@@ -58,6 +58,7 @@ class MapStages {
   bool passthrough_ = false;
   mapping::VoxelMap map_;
   std::vector<std::unique_ptr<Sources>> cameras_;
+  std::size_t next_update_ = 0;  // with map.update_frequency_hz: the index k of the next update time k / f
 };
 
 // The costmap's options: with map.costmap_band marking_band (ours) the marking sources' height band (STVL's

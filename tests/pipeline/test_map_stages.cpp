@@ -79,6 +79,26 @@ TEST(MapStages, RaycastClearingRemovesAWallThatMovedAway) {
     EXPECT_GT(stages.map().center_of(key).x(), 2.5) << "a voxel of the old wall was left";
 }
 
+// nav2's update_frequency 5 Hz and a 15 Hz camera: STVL updates at 0, 0.2, 0.4 s, each with the newest reading of
+// each buffer (persistence 0); the frames at 1/15 and 2/15 s are never marked.
+TEST(MapStages, UpdatesAtTheCostmapsFrequencyTakeTheNewestReading) {
+  PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
+  config.map.update_frequency_hz = 5.0;
+  MapStages stages(config);
+  const double walls_m[] = {2.0, 3.0, 4.0, 0.0};  // the last frame sees nothing
+  std::vector<bool> updated;
+  for (int k = 0; k < 4; ++k) {
+    FrameResult f = wall_frame(config, walls_m[k], k / 15.0);
+    stages.sense(f);
+    stages.update(f, kOneCamera);
+    updated.push_back(f.map_updated);
+  }
+  EXPECT_EQ(updated, (std::vector<bool>{true, false, false, true}));
+  ASSERT_FALSE(stages.map().empty());
+  for (const VoxelKey& key : stages.map().voxel_keys())
+    EXPECT_LT(stages.map().center_of(key).x(), 2.5) << "a wall of a frame between updates was marked";
+}
+
 // STVL counts every voxel of a column toward its cell; the marking band on the voxel centres is ours.
 TEST(MapStages, CostmapBandIsOursAndOff) {
   PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
