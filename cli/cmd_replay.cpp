@@ -160,13 +160,7 @@ const CommandRegistration kReplay{"replay", [](CLI::App& app) {
   cmd->add_option("--rate", o->rate_hz, "PNG folder without timestamps: frames per second")->check(CLI::PositiveNumber);
   cmd->add_option("--max-frames", o->max_frames, "Replay at most this many frames (0: all)");
   cmd->add_option("--bag", o->bag, "Also write the replay as a ROS 1 bag or (FILE.mcap) a rosbag2 folder: depth, clouds, map, costmap");
-  cmd->add_option("--bag-format", o->bag_format, "ros1 | ros2 (default: ros2 for a name ending in .mcap, ros1 otherwise)")
-      ->check(CLI::IsMember({"ros1", "ros2"}));
-  cmd->add_option("--bag-compression", o->bag_compression, "ROS 1: none (default) | bz2 | lz4; ROS 2: zstd (default) | lz4 | none")
-      ->check(CLI::IsMember({"none", "bz2", "lz4", "zstd"}));
-  cmd->add_option("--bag-topics", o->bag_topics,
-                  "Topics in the bag: all | default | a comma-separated list of topics and globs ('*'); default: all "
-                  "for ROS 1, default for ROS 2 (everything but the full clouds */depth/points)");
+  add_bag_options(*cmd, o->bag_format, o->bag_compression, o->bag_topics);
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
   return [o] { return replay(*o); };
 }};

@@ -114,13 +114,7 @@ const CommandRegistration kRun{"run", [](CLI::App& app) {
   cmd->add_option("scenario", o->scenario, "Scenario YAML file (default: scenarios/office_corridor.yaml)");
   cmd->add_option("--out", o->out_dir, "Output directory (default: out/<scenario name>)");
   cmd->add_option("--bag", o->bag, "Also write the run as a ROS 1 bag (FILE.bag) or a rosbag2 folder with one MCAP file (FILE.mcap -> folder FILE)");
-  cmd->add_option("--bag-format", o->bag_format, "ros1 | ros2 (default: ros2 for a name ending in .mcap, ros1 otherwise)")
-      ->check(CLI::IsMember({"ros1", "ros2"}));
-  cmd->add_option("--bag-compression", o->bag_compression, "ROS 1: none (default) | bz2 | lz4; ROS 2: zstd (default) | lz4 | none")
-      ->check(CLI::IsMember({"none", "bz2", "lz4", "zstd"}));
-  cmd->add_option("--bag-topics", o->bag_topics,
-                  "Topics in the bag: all | default | a comma-separated list of topics and globs ('*'); default: all "
-                  "for ROS 1, default for ROS 2 (everything but the full clouds */depth/points)");
+  add_bag_options(*cmd, o->bag_format, o->bag_compression, o->bag_topics);
   cmd->add_option("--set", o->sets,
                   "Set a scenario key before it is read, KEY=VALUE (dotted keys, list items as [i]; repeatable), e.g. "
                   "--set map.observation.clear_on_no_return=false")

@@ -30,6 +30,10 @@ int caught_signal();
 using CommandRun = std::function<int()>;
 using CommandSetup = std::function<CommandRun(CLI::App& app)>;
 
+// --bag-format, --bag-compression and --bag-topics, the bag options `run` and `replay` share (--bag itself
+// says what each command writes).
+void add_bag_options(CLI::App& cmd, std::string& format, std::string& compression, std::string& topics);
+
 struct CommandRegistration {
   CommandRegistration(std::string name, CommandSetup setup);
 };
