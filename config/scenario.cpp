@@ -28,15 +28,19 @@ struct ObservationDefaults {
   std::shared_ptr<YamlMap> yaml;  // null when the file has no map.observation
 };
 
-void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides) {
+void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides, const worldgen::MapWorld* map_world) {
   std::vector<double> start{0.0, 0.0, 0.0};
   robot.get("start", start);
   if (start.size() != 3) robot.fail(robot.raw("start"), "start", "expected [x_m, y_m, yaw_deg]");
   require_range(robot, "start", "non-finite values", std::isfinite(start[0] + start[1] + start[2]), "must be finite");
   s.pipeline.start_pose = {start[0], start[1], start[2] * kDegToRad};
   std::vector<std::vector<double>> waypoints;
-  robot.require("waypoints", waypoints);
-  s.pipeline.path.waypoints_W.clear();
+  if (map_world && !robot.has("waypoints")) {
+    plan_on_map(*map_world, robot, s);  // nav2_map without waypoints: the path planned on the map
+  } else {
+    robot.require("waypoints", waypoints);
+    s.pipeline.path.waypoints_W.clear();
+  }
   for (const auto& xy : waypoints) s.pipeline.path.waypoints_W.push_back(to_point2(xy, robot, "waypoints"));
   robot.require("speed_mps", s.pipeline.path.cruise_speed_mps);
   robot.get("loop", s.pipeline.path.loop);  // soak (issue #270): a patrol that never ends
@@ -57,7 +61,7 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   if (robot.has("cameras")) read_cameras(robot, s, overrides);
   robot.get("geoms_seen_by_cameras", s.pipeline.robot_geoms_seen);
   if (!s.pipeline.robot_geoms_seen.empty()) try {  // names checked against the world here, for file:line
-      sim::World::from_file(s.pipeline.world_path).show_robot_geoms_to_cameras(s.pipeline.robot_geoms_seen);
+      pipeline::load_world(s.pipeline).show_robot_geoms_to_cameras(s.pipeline.robot_geoms_seen);
     } catch (const std::invalid_argument& e) {
       robot.fail(robot.raw("geoms_seen_by_cameras"), "geoms_seen_by_cameras", e.what());
     }
@@ -344,17 +348,24 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   root.require("name", s.name);
   require_range(root, "name", "an empty name", !s.name.empty(), "must not be empty");
   std::string world;
-  root.require("world", world);
-  require_range(root, "world", "an empty path", !world.empty(), "must not be empty");
-  s.pipeline.world_path = std::filesystem::path(world).is_absolute()
-                     ? world
-                     : (std::filesystem::path(base_dir) / world).lexically_normal().string();
+  std::shared_ptr<const worldgen::MapWorld> map_world;  // nav2_map: the world built from a nav2 map instead
+  if (root.has("nav2_map") && root.has("world"))
+    root.fail(root.raw("nav2_map"), "nav2_map", "give either world (an MJCF file) or nav2_map (a map to build one from), not both");
+  if (root.has("nav2_map")) map_world = read_nav2_map(root.map("nav2_map"), s, base_dir);
+  else root.require("world", world);
+  require_range(root, "world", "an empty path", map_world || !world.empty(), "must not be empty");
+  if (!map_world)
+    s.pipeline.world_path = std::filesystem::path(world).is_absolute()
+                       ? world
+                       : (std::filesystem::path(base_dir) / world).lexically_normal().string();
   root.get("seed", s.pipeline.seed);
   root.get("duration_s", s.duration_s);
   require_range(root, "duration_s", s.duration_s, s.duration_s > 0 && s.duration_s <= 3600, "must lie in (0, 3600] s");
   root.get("stop_at_path_end", s.stop_at_path_end);
   std::vector<std::optional<YamlMap>> camera_overrides{std::nullopt};
-  read_robot(root.map("robot"), s, camera_overrides);
+  read_robot(root.map("robot"), s, camera_overrides, map_world.get());
+  if (YamlMap robot = root.map("robot"); map_world && !robot.has("waypoints") && !root.has("duration_s"))
+    s.duration_s = planned_duration_s(robot, s);
   if (s.pipeline.path.loop) {  // a looping path has no end to stop at
     if (root.has("stop_at_path_end") && s.stop_at_path_end)
       root.fail(root.raw("stop_at_path_end"), "stop_at_path_end", "robot.loop never reaches an end; set it false or leave it out");

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <initializer_list>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -11,6 +12,10 @@
 
 #include "config/scenario.hpp"
 #include "config/yaml_reader.hpp"
+
+namespace stvl::worldgen {
+struct MapWorld;
+}
 
 namespace stvl::config::scenario_detail {
 
@@ -86,5 +91,14 @@ void read_outages(YamlMap& camera, pipeline::CameraConfig& c, double duration_s)
 void read_camera(YamlMap camera, Scenario& s);
 void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides);
 void read_filter(YamlMap filter, Scenario& s);
+
+// scenario_map.cpp: `nav2_map` (instead of `world`): the world built in memory from a nav2 map (worldgen/), and the
+// path planned on it when robot.waypoints is left out.
+std::shared_ptr<const worldgen::MapWorld> read_nav2_map(YamlMap map, Scenario& s, const std::string& base_dir);
+// robot.waypoints planned on the map (from robot.start when the file gives one, which must then be read already;
+// else along the map's longest path, which sets the start pose too).
+void plan_on_map(const worldgen::MapWorld& world, YamlMap& robot, Scenario& s);
+// The duration a planned drive needs (worldgen's scenario writer's); throws naming robot.waypoints above 3600 s.
+double planned_duration_s(YamlMap& robot, const Scenario& s);
 
 }  // namespace stvl::config::scenario_detail

@@ -53,6 +53,9 @@ bool in_outage(const CameraConfig& camera, double time_s);
 
 struct PipelineConfig {
   std::string world_path;  // MJCF file holding the robot
+  // A world built in memory instead (a scenario's nav2_map): its MJCF text, world_path then naming where it came
+  // from; its <include>s (robot.xml) resolve against world_include_dir.
+  std::string world_xml, world_include_dir;
   // Depth noise (per camera and frame; camera 0 uses it as it is, camera c > 0 a seed derived from it and c);
   // the filter's and odometry's seeds are their own.
   std::uint64_t seed = 1;

@@ -51,8 +51,17 @@ void check_inside_world(const PipelineConfig& c, const sim::World& world) {
 
 }  // namespace
 
+sim::World load_world(const PipelineConfig& c) {
+  if (c.world_xml.empty()) return sim::World::from_file(c.world_path);
+  try {
+    return sim::World::from_string(c.world_xml, c.world_include_dir);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("the world built from " + c.world_path + ": " + e.what());
+  }
+}
+
 std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& c) {
-  sim::World world = sim::World::from_file(c.world_path);
+  sim::World world = load_world(c);
   world.show_robot_geoms_to_cameras(c.robot_geoms_seen);
   auto sim = std::make_unique<sim::Simulator>(std::move(world), c.sim);
   sim->set_start_pose(c.start_pose);

@@ -82,5 +82,8 @@ class Pipeline {
 // pipeline steps; the render command and benchmarks use it alone).
 std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& config);
 
+// The config's world as loaded: world_xml when it is set, else the file world_path.
+sim::World load_world(const PipelineConfig& config);
+
 
 }  // namespace stvl::pipeline

@@ -1,0 +1,61 @@
+// A scenario's `nav2_map`: the world built in memory from a nav2 map (worldgen/map_world.hpp) and loaded
+// through MuJoCo's virtual file system (nothing is written), and robot.waypoints planned on the map when the file
+// leaves them out.
+#include <cmath>
+#include <filesystem>
+#include <optional>
+
+#include "config/scenario_detail.hpp"
+#include "worldgen/map_world.hpp"
+#include "worldgen/scenario_writer.hpp"
+
+namespace stvl::config::scenario_detail {
+
+std::shared_ptr<const worldgen::MapWorld> read_nav2_map(YamlMap map, Scenario& s, const std::string& base_dir) {
+  std::string file;
+  double wall_height_m = 2.5;
+  map.require("file", file);
+  require_range(map, "file", "an empty path", !file.empty(), "must not be empty");
+  map.get("wall_height_m", wall_height_m);
+  require_range(map, "wall_height_m", wall_height_m, std::isfinite(wall_height_m) && wall_height_m > 0 && wall_height_m <= 10,
+                "must lie in (0, 10] m");
+  map.finish();
+  const std::string path =
+      std::filesystem::path(file).is_absolute() ? file : (std::filesystem::path(base_dir) / file).lexically_normal().string();
+  std::shared_ptr<worldgen::MapWorld> world;
+  try {
+    world = std::make_shared<worldgen::MapWorld>(worldgen::build_map_world(path, wall_height_m));
+  } catch (const std::invalid_argument& e) {
+    map.fail(map.raw("file"), "file", e.what());
+  }
+  s.pipeline.world_path = path;
+  s.pipeline.world_xml = worldgen::write_mjcf(world->spec);
+  s.pipeline.world_include_dir = std::filesystem::path(worldgen::shipped_robot_xml()).parent_path().string();
+  return world;
+}
+
+void plan_on_map(const worldgen::MapWorld& world, YamlMap& robot, Scenario& s) {
+  const double radius_m = worldgen::robot_footprint_radius_m(worldgen::shipped_robot_xml());
+  std::optional<Eigen::Vector2d> start;
+  if (robot.has("start")) start = Eigen::Vector2d(s.pipeline.start_pose.x_m, s.pipeline.start_pose.y_m);
+  worldgen::PlannedPath path;
+  try {
+    path = worldgen::plan_path(worldgen::map_drive_grid(world, radius_m), world.grid.cells, start, std::nullopt, "robot.start",
+                               "the farthest point from it");
+  } catch (const std::invalid_argument& e) {
+    robot.fail(start ? robot.raw("start") : YAML::Node(), start ? "start" : "waypoints",
+               std::string("planning robot.waypoints on ") + s.pipeline.world_path + ": " + e.what());
+  }
+  s.pipeline.path.waypoints_W = path.waypoints_W;
+  if (!start) s.pipeline.start_pose = {path.waypoints_W.front().x(), path.waypoints_W.front().y(), path.start_yaw_rad};
+}
+
+double planned_duration_s(YamlMap& robot, const Scenario& s) {
+  const auto& p = s.pipeline;
+  const double duration_s = worldgen::drive_duration_s(p.path.waypoints_W, p.path.cruise_speed_mps, p.start_pose.yaw_rad);
+  require_range(robot, "waypoints", "a planned drive of " + fixed_text(duration_s) + " s", duration_s <= 3600,
+                "needs more than a scenario's 3600 s; give robot.waypoints or robot.start nearer the end");
+  return duration_s;
+}
+
+}  // namespace stvl::config::scenario_detail
