@@ -23,7 +23,7 @@ Item desk(Rng& rng, Body& b) {
   const double w = rng.snapped(1.2, 1.6, 0.1), d = rng.snapped(0.6, 0.8, 0.05), h = 0.74;
   b.geoms.push_back(box({0, 0, h - 0.015}, w / 2, d / 2, 0.015, kWood));
   for (double sx : {-1.0, 1.0})
-    for (double sy : {-1.0, 1.0}) b.geoms.push_back(cylinder({sx * (w / 2 - 0.05), sy * (d / 2 - 0.05), (h - 0.03) / 2}, 0.025, (h - 0.03) / 2, kMetal));
+    for (double sy : {-1.0, 1.0}) b.geoms.push_back(box({sx * (w / 2 - 0.05), sy * (d / 2 - 0.05), (h - 0.03) / 2}, 0.02, 0.02, (h - 0.03) / 2, kMetal));
   b.geoms.push_back(box({0, -(d / 2 - 0.03), 0.45}, w / 2 - 0.08, 0.01, 0.2, "0.55 0.4 0.3 1"));  // modesty panel
   if (rng.chance(0.7)) {  // a monitor on a foot
     const double x = rng.snapped(-w / 4, w / 4, 0.05);
@@ -50,7 +50,7 @@ Item cart(Rng& rng, Body& b) {
   for (double z : {0.15, 0.8}) b.geoms.push_back(box({0, 0, z}, hx, hy, 0.015, metal));
   for (double sx : {-1.0, 1.0})
     for (double sy : {-1.0, 1.0}) {
-      b.geoms.push_back(cylinder({sx * (hx - 0.02), sy * (hy - 0.02), 0.475}, 0.015, 0.325, metal));
+      b.geoms.push_back(box({sx * (hx - 0.02), sy * (hy - 0.02), 0.475}, 0.015, 0.015, 0.325, metal));
       b.geoms.push_back({"sphere", "", Eigen::Vector3d(sx * (hx - 0.07), sy * (hy - 0.06), 0.05), {0.05}, {}, 0, kObstacleGroup, "0.1 0.1 0.1 1"});
     }
   b.geoms.push_back(capsule({-hx - 0.02, -hy + 0.03, 0.8}, {-hx - 0.02, -hy + 0.03, 1.0}, 0.015, metal));

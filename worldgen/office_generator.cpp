@@ -119,7 +119,7 @@ class Builder {
     start_ = d.center_W + d.into_room * std::min(2.0, depth / 2);
     goal_ = {layout_.branch_corridor.center().x(), o_.height_m - 1.0};
     raster_.keep_free(Shape::disc(*start_, 0.8));
-    raster_.keep_free(Shape::box(0.5 * (*start_ + d.center_W), {0.6, 0.5 * (*start_ - d.center_W).norm() + 0.3}, yaw_facing(d.into_room)));
+    raster_.keep_free(Shape::box(0.5 * (*start_ + d.center_W), {0.9, 0.5 * (*start_ - d.center_W).norm() + 0.3}, yaw_facing(d.into_room)));
     raster_.keep_free(Shape::disc(*goal_, 1.0));
   }
 
@@ -246,8 +246,8 @@ class Builder {
 
   bool add_standing_in_corridor(int k) { return place_in_corridor(person_item(k), 0.05); }
 
-  // Back and forth between two points of a room twice, turning at each end, from some seconds before the robot
-  // could pass the room's door at cruise speed (from t = 1 s when the path does not pass it); then standing.
+  // To a point of a room and back, turning there, from some seconds before the robot could pass the room's door at
+  // cruise speed (from t = 1 s when the path does not pass it); standing before and after.
   bool add_walker(int k, const PlannedPath& path) {
     const Item person = person_item(k);
     for (int attempt = 0; attempt < 80; ++attempt) {
@@ -260,18 +260,13 @@ class Builder {
       raster_.mark(lane);
       const double yaw = deg(heading_of(b - a)), walk_s = d / kWalkMps;
       const auto [s_m, off_m] = project_on_path(path.waypoints_W, room->door.center_W);
-      double t = off_m < 3.0 ? std::max(1.0, s_m / o_.speed_mps - kWalkLeadS) : 1.0;
+      const double t = off_m < 3.0 ? std::max(1.0, s_m / o_.speed_mps - kWalkLeadS) : 1.0;
       for (Body& body : placed(person, a, heading_of(b - a))) bodies_.push_back(body);
       MovingBodySpec m{"person_" + std::to_string(k + 1),
-                       "walks " + fixed(d, 1) + " m to and fro twice in a " + room->region + " room from t = " + fixed(t, 1) + " s, then stands",
+                       "walks " + fixed(d, 1) + " m and back in a " + room->region + " room from t = " + fixed(t, 1) + " s",
                        {}, {}};
-      for (int lap = 0; lap < 2; ++lap) {
-        m.keyframes.push_back({t, {a.x(), a.y(), 0}, yaw});
-        m.keyframes.push_back({t += walk_s, {b.x(), b.y(), 0}, yaw});
-        m.keyframes.push_back({t += 1.0, {b.x(), b.y(), 0}, yaw + 180});
-        m.keyframes.push_back({t += walk_s, {a.x(), a.y(), 0}, yaw + 180});
-        t += 1.0;
-      }
+      m.keyframes = {{t, {a.x(), a.y(), 0}, yaw}, {t + walk_s, {b.x(), b.y(), 0}, yaw},
+                     {t + walk_s + 1.0, {b.x(), b.y(), 0}, yaw + 180}, {t + 2 * walk_s + 1.0, {a.x(), a.y(), 0}, yaw + 180}};
       walks_.push_back(m);
       return true;
     }

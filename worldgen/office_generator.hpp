@@ -1,9 +1,10 @@
 #pragma once
 // A generated office: make_layout's corridors and rooms, furniture in the rooms and along the corridors, a
-// wall-mounted fire extinguisher, people standing and walking (mocap bodies; a walk inside a room that repeats,
-// or one brief crossing of the corridor ahead of the robot, over before the robot can be within 4.8 m of it), and
-// the robot's path from a room at the far end of the main corridor, out of its open door, along the corridor and
-// up the branch to its end, planned with the planner of planner.hpp. One seed gives one world, byte for byte.
+// wall-mounted fire extinguisher, people standing and walking (mocap bodies: a walk to a point of a room and back
+// as the robot passes its door, or one brief crossing of the corridor ahead of the robot, over before the robot
+// can be within 4.8 m of it; walks are bounded, a moving body costs the evaluation every frame), and the robot's
+// path from a room at the far end of the main corridor, out of its open door, along the corridor and up the
+// branch to its end, planned with the planner of planner.hpp. One seed gives one world, byte for byte.
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -145,7 +145,7 @@ OfficeLayout make_layout(double width_m, double height_m, double wall_height_m, 
   OfficeLayout l;
   l.width_m = width_m, l.height_m = height_m, l.wall_height_m = wall_height_m;
   const double W = width_m, H = height_m;
-  const double wc = rng.snapped(1.8, 2.4, 0.05), wb = rng.snapped(1.6, 2.2, 0.05);
+  const double wc = rng.snapped(1.8, 2.4, 0.1), wb = rng.snapped(1.6, 2.2, 0.1);  // wall lines stay on the 0.05 m grid
   const double cy = rng.snapped(std::max(0.4 * H, wc / 2 + 2.8), std::min(0.6 * H, H - wc / 2 - 2.8), 0.05);
   const double yb = cy - wc / 2, yt = cy + wc / 2;
   l.t_junction = rng.chance(0.5);
