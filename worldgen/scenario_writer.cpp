@@ -117,8 +117,8 @@ std::string write_scenario_yaml(const ScenarioSpec& s) {
     << "  # must meet. README.md (\"Your building, your robot\") gives what generated worlds measured when the generator\n"
     << "  # was written. 0.9 fails a map that gets a tenth of what the camera saw wrong.\n"
     << "  f1_3d_min: 0.9\n"
-    << "  # Flying pixels at the door jambs the robot passes close by leave a few isolated lethal cells on its way (STVL\n"
-    << "  # has no edge filter). 10 cells still fails a floor marked lethal (thousands of cells, evaluation/checks.hpp).\n"
+    << "  # Flying pixels at the edges the robot passes close by (door jambs) leave a few isolated lethal cells on its way\n"
+    << "  # (STVL has no edge filter). 10 cells still fails a floor marked lethal (thousands, evaluation/checks.hpp).\n"
     << "  path_free_lethal_max: 10\n";
   return y.str();
 }
