@@ -35,7 +35,8 @@ std::vector<double> octile_costs(const DriveGrid& g, CellIndex from) {
   cost[g.frame.index(from)] = 0;
   open.push({0.0, g.frame.index(from)});
   while (!open.empty()) {
-    const auto [c, i] = open.top();
+    const double c = open.top().first;  // plain variables: a lambda may not capture structured bindings in C++17
+    const std::size_t i = open.top().second;
     open.pop();
     if (c > cost[i]) continue;
     for_each_step(g, g.frame.cell(i), [&](CellIndex n, double step) {
@@ -93,7 +94,8 @@ std::vector<CellIndex> astar(const DriveGrid& g, CellIndex start, CellIndex goal
   cost[s] = 0;
   open.push({heuristic(start), s});
   while (!open.empty()) {
-    const auto [f, i] = open.top();
+    const double f = open.top().first;
+    const std::size_t i = open.top().second;
     open.pop();
     if (i == t) break;
     const CellIndex c = g.frame.cell(i);

@@ -45,5 +45,36 @@ TEST(Png, BadSizesAndMissingFilesThrow) {
   EXPECT_THROW(read_png_gray16("/nonexistent/stvl.png"), std::runtime_error);
 }
 
+TEST(Png, DecodeGivesTheSamplesOfEveryColourType) {
+  const std::vector<std::uint8_t> grey_alpha{0, 255, 128, 7, 254, 0};
+  const PngImage ga = decode_png(encode_png(3, 1, PngFormat::kGrayAlpha8, grey_alpha.data()), "ga.png", 100);
+  EXPECT_EQ(ga.width, 3);
+  EXPECT_EQ(ga.height, 1);
+  EXPECT_EQ(ga.channels, 2);
+  EXPECT_EQ(ga.bit_depth, 8);
+  EXPECT_EQ(ga.samples, std::vector<std::uint16_t>(grey_alpha.begin(), grey_alpha.end()));
+  const std::vector<std::uint8_t> rgba{1, 2, 3, 4, 5, 6, 7, 8};
+  const PngImage c = decode_png(encode_png(1, 2, PngFormat::kRgba8, rgba.data()), "c.png", 100);
+  EXPECT_EQ(c.channels, 4);
+  EXPECT_EQ(c.samples, std::vector<std::uint16_t>(rgba.begin(), rgba.end()));
+  const std::vector<std::uint16_t> deep{0, 65535, 300};
+  const PngImage d = decode_png(encode_png(3, 1, PngFormat::kGray16, deep.data()), "d.png", 100);
+  EXPECT_EQ(d.bit_depth, 16);
+  EXPECT_EQ(d.samples, deep);
+}
+
+TEST(Png, DecodeRefusesTruncatedAndOversizedImagesNamingThem) {
+  const std::vector<std::uint8_t> grey(64 * 64, 9);
+  const std::string bytes = encode_png(64, 64, PngFormat::kGray8, grey.data());
+  EXPECT_THROW(decode_png(bytes.substr(0, bytes.size() / 2), "half.png", 1 << 20), std::runtime_error);
+  try {
+    decode_png(bytes, "big.png", 4095);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("big.png: 64 x 64 pixels exceed the limit of 4095"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(decode_png("not a png", "x.png", 100), std::runtime_error);
+}
+
 }  // namespace
 }  // namespace stvl
