@@ -218,7 +218,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   std::string decay = mapping::to_string(m.decay_model), mode = mapping::to_string(m.clearing_mode),
               walk = mapping::to_string(m.clearing_walk), rounding = mapping::to_string(m.mark_rounding),
               geometry = mapping::to_string(m.frustum_geometry), grouping = mapping::to_string(m.update_grouping),
-              band = mapping::to_string(m.costmap_band);
+              band = mapping::to_string(m.costmap_band), timing = mapping::to_string(m.costmap_timing);
   map.get("decay_model", decay);
   map.get("clearing_mode", mode);
   map.get("clearing_walk", walk);
@@ -226,6 +226,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   map.get("frustum_geometry", geometry);
   map.get("update_grouping", grouping);
   map.get("costmap_band", band);
+  map.get("costmap_timing", timing);
   validate_keys({{"decay_model", &map, "decay_model"}}, [&] { m.decay_model = mapping::parse_decay_model(decay); });
   validate_keys({{"clearing_mode", &map, "clearing_mode"}}, [&] { m.clearing_mode = mapping::parse_clearing_mode(mode); });
   validate_keys({{"clearing_walk", &map, "clearing_walk"}}, [&] { m.clearing_walk = mapping::parse_clearing_walk(walk); });
@@ -235,6 +236,8 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   validate_keys({{"update_grouping", &map, "update_grouping"}},
                 [&] { m.update_grouping = mapping::parse_update_grouping(grouping); });
   validate_keys({{"costmap_band", &map, "costmap_band"}}, [&] { m.costmap_band = mapping::parse_costmap_band(band); });
+  validate_keys({{"costmap_timing", &map, "costmap_timing"}},
+                [&] { m.costmap_timing = mapping::parse_costmap_timing(timing); });
   map.get("mark_threshold", m.mark_threshold);
   map.get("update_frequency", m.update_frequency_hz);
   int expiry_leaves = static_cast<int>(m.expiry_leaves_per_update);

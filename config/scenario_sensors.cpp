@@ -173,6 +173,7 @@ void read_filter(YamlMap filter, Scenario& s) {
   if (filter.has("passthrough")) {
     auto p = filter.map("passthrough");
     p.get("enabled", f.passthrough_enabled);
+    p.get("before_decimation", f.band_before_decimation);
     p.get("min_z_m", f.passthrough.min_z_m);
     p.get("max_z_m", f.passthrough.max_z_m);
     require_range(p, "min_z_m", f.passthrough.min_z_m,

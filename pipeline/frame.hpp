@@ -4,6 +4,7 @@
 // structs: the pipeline (pipeline.hpp), the stages after the depth image (map_stages.hpp), the evaluation, the
 // replay and the outputs all speak them.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -112,6 +113,14 @@ struct FrameResult {
   // Readings of earlier frames this update applied again from the sources' buffers (observation_persistence, or
   // a stopped camera's buffer, as STVL applies every buffer at every update).
   std::size_t reapplied_readings = 0;
+  // With map_updated: every reading the update took, in the order STVL's layer takes them (cameras in order, each
+  // camera's sources in order, each buffer newest first), this instant's and earlier frames' alike; the bag
+  // writes them at the update (run/bag_recorder.hpp). Empty when the map was not updated.
+  struct AppliedReading {
+    std::size_t camera_index = 0, source_index = 0;
+    std::shared_ptr<const SourceReading> reading;
+  };
+  std::vector<AppliedReading> applied_readings;
   // False when this frame's reading only went into its sources' buffers: another camera takes a frame at the
   // same time, and STVL's update of that instant (map.update_grouping: instant) runs at the last of them.
   bool map_updated = true;
