@@ -4,8 +4,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/enum_names.hpp"
+
 namespace stvl::sim {
 namespace {
+
+constexpr EnumName<DriveMode> kDriveModeNames[] = {
+    {DriveMode::kPhysics, "physics"}, {DriveMode::kKinematic, "kinematic"}, {DriveMode::kAuto, "auto"}};
 
 constexpr double kSamePoint_m = 1e-6;
 constexpr double kSameHeading_rad = 1e-9;
@@ -29,6 +34,9 @@ struct Ramp {
 };
 
 }  // namespace
+
+DriveMode parse_drive_mode(const std::string& text) { return parse_enum(text, kDriveModeNames, "drive"); }
+std::string to_string(DriveMode mode) { return enum_name(mode, kDriveModeNames); }
 
 KinematicDrive::KinematicDrive(PathFollowerConfig limits) : limits_(limits) {
   if (!(limits_.decel_mps2 > 0) || !(limits_.max_angular_speed_radps > 0) || !(limits_.angular_decel_radps2 > 0))

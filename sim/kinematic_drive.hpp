@@ -4,6 +4,7 @@
 // leg's heading and drives the leg straight; speeds ramp up and down under the path follower's limits. The pose
 // is a function of time, so it lies on the polyline (and on the start's leg to it) up to rounding. A looping path
 // goes round without end, a lap at each return to the first waypoint (as PathFollower counts them).
+#include <string>
 #include <vector>
 
 #include "sim/path_follower.hpp"
@@ -12,6 +13,9 @@ namespace stvl::sim {
 
 // How the robot's base moves: wheels on the floor under the physics, or placed along the path each step.
 enum class DriveMode { kPhysics, kKinematic, kAuto };
+// "physics", "kinematic", "auto"; parse throws std::invalid_argument naming the choices.
+DriveMode parse_drive_mode(const std::string& text);
+std::string to_string(DriveMode mode);
 
 class KinematicDrive {
  public:

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 namespace stvl::test {
 
 // A fresh folder under the system's temporary one, removed with the object.
