@@ -8,6 +8,7 @@ namespace stvl::sim {
 namespace {
 
 constexpr int kCircleSides = 32;
+constexpr double kStraight_m = 1e-4;
 
 bool below(const mjModel* m, int body, int root) {
   for (; body > 0; body = m->body_parentid[body])
@@ -108,6 +109,21 @@ std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> points) {
     hull[k++] = points[i];
   }
   hull.resize(k - 1);
+  // Corners that stand less than kStraight_m off the line through their neighbours (a wheel's rim seen edge-on,
+  // rounded rotations) are no corners: dropped one at a time, the flattest first.
+  while (hull.size() > 3) {
+    std::size_t flattest = 0;
+    double least = kStraight_m;
+    for (std::size_t i = 0; i < hull.size(); ++i) {
+      const Eigen::Vector2d& a = hull[(i + hull.size() - 1) % hull.size()];
+      const Eigen::Vector2d& c = hull[(i + 1) % hull.size()];
+      const double base = (c - a).norm();
+      const double height = base > 0 ? std::abs(cross(a, hull[i], c)) / base : 0.0;
+      if (height < least) least = height, flattest = i;
+    }
+    if (!(least < kStraight_m)) break;
+    hull.erase(hull.begin() + static_cast<std::ptrdiff_t>(flattest));
+  }
   return hull;
 }
 

@@ -20,8 +20,8 @@ struct RobotExtent {
 // ellipsoids, mesh vertices) and their outlines (circles as circumscribed 32-gons, meshes by their vertices).
 RobotExtent robot_extent(const mjModel* m, const mjData* d, int root_body, const std::vector<int>& wheel_bodies);
 
-// The convex hull of `points`, counter-clockwise from the lowest-x point, collinear points dropped; fewer than
-// three distinct points come back as they are (deduplicated).
+// The convex hull of `points`, counter-clockwise from the lowest-x point; corners less than 0.1 mm off the line
+// through their neighbours are dropped. Fewer than three distinct points come back as they are (deduplicated).
 std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> points);
 
 }  // namespace stvl::sim
