@@ -3,16 +3,14 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "common/enum_names.hpp"
+
 namespace stvl::sim {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string listed(const std::vector<std::string>& items) {
-  std::string text;
-  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
-  return "[" + text + "]";
-}
+std::string listed(const std::vector<std::string>& items) { return "[" + joined(items) + "]"; }
 
 bool starts_with(const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; }
 

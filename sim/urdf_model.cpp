@@ -227,12 +227,6 @@ class Reader {
   std::string dir_;
 };
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const auto& n : names) text += (text.empty() ? "" : ", ") + n;
-  return text;
-}
-
 // " (links, nearest first: a, b, ...)": every link, the names nearest to `name` first.
 std::string links_nearest_first(const UrdfModel& model, const std::string& name) {
   std::vector<std::string> names;

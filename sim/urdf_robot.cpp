@@ -8,6 +8,7 @@
 
 #include <tinyxml2.h>
 
+#include "common/enum_names.hpp"
 #include "sim/simulator.hpp"
 #include "sim/urdf_geometry.hpp"
 #include "sim/urdf_mjcf.hpp"
@@ -186,12 +187,6 @@ Probe probe_physics(const UrdfRobot& robot) {
   if (!failure.empty()) return {false, "the physics probe failed: " + failure};
   return {true, "the physics probe drove a 1.5 m path with a right-angle turn in " + fixed(sim.time_s(), 1) +
                     " s, tilt at most " + fixed(tilt, 3) + " rad, at most " + fixed(off_path, 3) + " m off the path"};
-}
-
-std::string joined(const std::vector<std::string>& items) {
-  std::string text;
-  for (const auto& item : items) text += (text.empty() ? "" : ", ") + item;
-  return text;
 }
 
 // Whether `root` includes a file named robot.xml (any folder), searching its elements.
