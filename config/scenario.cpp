@@ -28,7 +28,7 @@ struct ObservationDefaults {
   std::shared_ptr<YamlMap> yaml;  // null when the file has no map.observation
 };
 
-void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides) {
+void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides, const std::string& base_dir) {
   std::vector<double> start{0.0, 0.0, 0.0};
   robot.get("start", start);
   if (start.size() != 3) robot.fail(robot.raw("start"), "start", "expected [x_m, y_m, yaw_deg]");
@@ -43,6 +43,7 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   validate_keys({{"waypoints", &robot, "waypoints"}, {"waypoint", &robot, "waypoints"}, {"cruise_speed_mps", &robot, "speed_mps"}},
                 [&] { sim::PathFollower(s.pipeline.sim.follower).set_path(s.pipeline.path); });
 
+  read_urdf_robot(robot, s, base_dir);
   if (robot.has("camera_mount")) {
     auto mount = robot.map("camera_mount");
     auto& m = s.pipeline.sim.camera_mount;
@@ -57,7 +58,7 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   if (robot.has("cameras")) read_cameras(robot, s, overrides);
   robot.get("geoms_seen_by_cameras", s.pipeline.robot_geoms_seen);
   if (!s.pipeline.robot_geoms_seen.empty()) try {  // names checked against the world here, for file:line
-      sim::World::from_file(s.pipeline.world_path).show_robot_geoms_to_cameras(s.pipeline.robot_geoms_seen);
+      pipeline::load_world(s.pipeline).show_robot_geoms_to_cameras(s.pipeline.robot_geoms_seen);
     } catch (const std::invalid_argument& e) {
       robot.fail(robot.raw("geoms_seen_by_cameras"), "geoms_seen_by_cameras", e.what());
     }
@@ -179,7 +180,8 @@ void read_ros_params(YamlMap& map, Scenario& s, const std::string& base_dir) {
 }
 
 // map.update_footprint_enabled, map.robot_radius, map.footprint (STVL's footprint clearing; nav2's keys).
-void read_footprint(YamlMap& map, mapping::StvlConfig& m) {
+void read_footprint(YamlMap& map, Scenario& s) {
+  mapping::StvlConfig& m = s.pipeline.map;
   map.get("update_footprint_enabled", m.update_footprint_enabled);
   map.get("clear_footprint_voxels_below", m.footprint_clearing_height_m);
   require_range(map, "clear_footprint_voxels_below", m.footprint_clearing_height_m,
@@ -193,6 +195,7 @@ void read_footprint(YamlMap& map, mapping::StvlConfig& m) {
     map.get("robot_radius", radius_m);
     require_range(map, "robot_radius", radius_m, std::isfinite(radius_m) && radius_m > 0.0, "must be finite and > 0 m");
     m.footprint_B = mapping::footprint_from_radius(radius_m);
+    s.footprint_source = "map.robot_radius";
   }
   if (map.has("footprint")) {
     std::vector<std::vector<double>> points;
@@ -204,8 +207,9 @@ void read_footprint(YamlMap& map, mapping::StvlConfig& m) {
       if (!p.allFinite()) map.fail(map.raw("footprint"), "footprint", "points must be finite");
       m.footprint_B.push_back(p);
     }
+    s.footprint_source = "map.footprint";
   }
-  if (m.footprint_clearing_height_m > 0.0 && m.footprint_B.empty() && !map.has("ros_params"))
+  if (m.footprint_clearing_height_m > 0.0 && m.footprint_B.empty() && !map.has("ros_params") && !s.pipeline.urdf_robot)
     map.fail(map.raw("clear_footprint_voxels_below"), "clear_footprint_voxels_below",
              "needs the robot's footprint (map.robot_radius or map.footprint)");
 }
@@ -251,7 +255,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
                  {"decay_model", &map, "decay_model"}, {"mark_threshold", &map, "mark_threshold"},
                  {"update_frequency", &map, "update_frequency"}},
                 [&] { m.validate(); });
-  read_footprint(map, m);
+  read_footprint(map, s);
   if (map.has("observation")) {
     observation.yaml = std::make_shared<YamlMap>(map.map("observation"));
     read_observation(*observation.yaml, observation.source, observation.hfov_rad, observation.vfov_rad);
@@ -357,7 +361,7 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   require_range(root, "duration_s", s.duration_s, s.duration_s > 0 && s.duration_s <= 3600, "must lie in (0, 3600] s");
   root.get("stop_at_path_end", s.stop_at_path_end);
   std::vector<std::optional<YamlMap>> camera_overrides{std::nullopt};
-  read_robot(root.map("robot"), s, camera_overrides);
+  read_robot(root.map("robot"), s, camera_overrides, base_dir);
   if (s.pipeline.path.loop) {  // a looping path has no end to stop at
     if (root.has("stop_at_path_end") && s.stop_at_path_end)
       root.fail(root.raw("stop_at_path_end"), "stop_at_path_end", "robot.loop never reaches an end; set it false or leave it out");
@@ -380,7 +384,12 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   if (s.ros_params) {
     const RosStvlLayer layer = load_ros_stvl_layer(s.ros_params->path, s.ros_params->layer, s.ros_params->costmap);
     apply_ros_layer(layer, s.pipeline, !root.has("filter"));
+    const bool footprint = layer.footprint && !layer.footprint->empty();
+    s.footprint_source = footprint || layer.robot_radius_m
+                             ? std::string("ros_params ") + (footprint ? "footprint" : "robot_radius") + " (" + s.ros_params->path + ")"
+                             : "";
   }
+  complete_footprint(s);
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
   // The default checks (evaluation/checks.hpp) where the scenario sets no threshold of its own.

@@ -87,4 +87,11 @@ void read_camera(YamlMap camera, Scenario& s);
 void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides);
 void read_filter(YamlMap filter, Scenario& s);
 
+// scenario_robot.cpp: robot.urdf with package_path, wheels and drive (the robot built, sim.robot and sim.drive set
+// from it; without urdf those keys are errors); a camera's `frame` (a URDF link) as its mount; the URDF's
+// footprint where the scenario and its ROS file give none.
+void read_urdf_robot(YamlMap& robot, Scenario& s, const std::string& base_dir);
+void read_camera_frame(YamlMap& camera, const Scenario& s, pipeline::CameraConfig& c);
+void complete_footprint(Scenario& s);
+
 }  // namespace stvl::config::scenario_detail

@@ -20,6 +20,7 @@
 #include "sensors/depth_noise.hpp"
 #include "sensors/gl_context.hpp"
 #include "sim/simulator.hpp"
+#include "sim/urdf_robot.hpp"
 
 namespace stvl::pipeline {
 
@@ -41,6 +42,7 @@ struct Outage {
 struct CameraConfig {
   std::string name = "camera";  // its frames are <name>_link, <name>_depth_optical_frame; its topics /<name>/...
   sim::CameraMount mount;       // camera_link on base_link
+  std::string frame;            // the URDF link the mount came from (robot.cameras[i].frame); empty: given as a mount
   sensors::CameraIntrinsics intrinsics = sensors::CameraIntrinsics::d435_848x480();  // also its rate and range
   sensors::GlBackend gl_backend = sensors::GlBackend::kAuto;
   sensors::DepthNoiseConfig noise;
@@ -53,7 +55,10 @@ struct CameraConfig {
 bool in_outage(const CameraConfig& camera, double time_s);
 
 struct PipelineConfig {
-  std::string world_path;  // MJCF file holding the robot
+  std::string world_path;  // MJCF file holding the robot (its <include file="robot.xml"/>)
+  // robot.urdf: the robot built from a URDF, standing in for the world's robot.xml; null: robot.xml. sim.robot and
+  // sim.drive follow it (config/).
+  std::shared_ptr<const sim::UrdfRobot> urdf_robot;
   // Depth noise (per camera and frame; camera 0 uses it as it is, camera c > 0 a seed derived from it and c);
   // the filter's and odometry's seeds are their own.
   std::uint64_t seed = 1;

@@ -51,8 +51,12 @@ void check_inside_world(const PipelineConfig& c, const sim::World& world) {
 
 }  // namespace
 
+sim::World load_world(const PipelineConfig& c) {
+  return c.urdf_robot ? sim::load_world_with_robot(c.world_path, *c.urdf_robot) : sim::World::from_file(c.world_path);
+}
+
 std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& c) {
-  sim::World world = sim::World::from_file(c.world_path);
+  sim::World world = load_world(c);
   world.show_robot_geoms_to_cameras(c.robot_geoms_seen);
   auto sim = std::make_unique<sim::Simulator>(std::move(world), c.sim);
   sim->set_start_pose(c.start_pose);
@@ -156,7 +160,9 @@ Pipeline::Pipeline(PipelineConfig config)
   for (std::size_t i = 0; i < config_.cameras.size(); ++i) {
     const CameraConfig& c = config_.cameras[i];
     const Eigen::Vector3d p_base = sim::T_base_camera_link(c.mount).translation();
-    const std::string geom = sim_->robot().geom_containing(p_base);
+    // A camera at a URDF link may sit inside that link's own housing.
+    const int own_body = c.frame.empty() ? -1 : mj_name2id(sim_->world().model(), mjOBJ_BODY, c.frame.c_str());
+    const std::string geom = sim_->robot().geom_containing(p_base, own_body);
     if (!geom.empty())
       throw std::invalid_argument("camera '" + c.name + "': mounted inside the robot's body (geom '" + geom + "')");
     cameras_.push_back(std::make_unique<Camera>(sim_->world().model(), c, camera_noise_seed(config_.seed, i)));

@@ -217,6 +217,27 @@ nlohmann::json outage_json(const RunResult& r) {
   return {{"cameras", cameras}};
 }
 
+// robot.urdf: the robot from the URDF, its wheels, the drive used and why, and where the footprint came from.
+nlohmann::json urdf_robot_json(const config::Scenario& s) {
+  const sim::UrdfRobot& robot = *s.pipeline.urdf_robot;
+  return {{"urdf", robot.config.urdf},
+          {"name", robot.urdf.name},
+          {"base_link", robot.urdf.root},
+          {"links", robot.urdf.links.size()},
+          {"mass_kg", robot.mass_kg},
+          {"wheels",
+           {{"left_joint", robot.wheels.left_joint},
+            {"right_joint", robot.wheels.right_joint},
+            {"radius_m", robot.wheels.radius_m},
+            {"track_width_m", robot.wheels.track_width_m},
+            {"how", robot.wheels.named ? "named" : "found"}}},
+          {"drive", sim::to_string(robot.drive)},
+          {"drive_reason", robot.drive_reason},
+          {"footprint_source", s.footprint_source},
+          {"footprint_points", s.pipeline.map.footprint_B.size()},
+          {"notices", robot.notices}};
+}
+
 }  // namespace
 
 nlohmann::json metrics_json(const RunResult& r) {
@@ -314,6 +335,7 @@ nlohmann::json metrics_json(const RunResult& r) {
   };
   metrics["evaluation"]["failure_modes"]["occlusion"] = occlusion_json(e.occlusion);
   metrics["evaluation"]["failure_modes"]["self_marking"] = self_marking_json(r);
+  if (r.scenario.pipeline.urdf_robot) metrics["robot"] = urdf_robot_json(r.scenario);
 
   if (r.soak.sample_every_s > 0) {  // soak (issue #270): voxels here, resident memory and map cost with the timings
     nlohmann::json voxels = nlohmann::json::array(), resources = nlohmann::json::array();
