@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -18,6 +20,7 @@
 #include "common/enum_names.hpp"
 #include "common/markup.hpp"
 #include "analysis/sweep_page.hpp"
+#include "analysis/sweep_worlds.hpp"
 
 extern char** environ;
 
@@ -127,16 +130,69 @@ std::vector<std::uint64_t> parse_seeds(const std::string& text) {
   return seeds;
 }
 
+std::vector<SweepWorld> prepare_worlds(const std::string& binary, const std::string& spec, const std::string& out_dir) {
+  const fs::path root = fs::absolute(out_dir) / "worlds";
+  std::vector<std::pair<std::string, std::vector<std::string>>> makes;  // label, world command
+  std::vector<SweepWorld> worlds;
+  if (spec.rfind("generate:", 0) == 0) {
+    for (const std::uint64_t seed : parse_seeds(spec.substr(9))) {
+      const std::string label = "generate:" + std::to_string(seed);
+      makes.push_back({label, {binary, "world", "generate", "--seed", std::to_string(seed), "--out",
+                               (root / ("generate_" + std::to_string(seed))).string()}});
+    }
+  } else {
+    std::stringstream list(spec);
+    std::string entry;
+    while (std::getline(list, entry, ',')) {
+      entry = trim(entry);
+      if (entry.empty()) continue;
+      std::error_code error;
+      if (!fs::is_regular_file(entry, error))
+        throw std::invalid_argument("--worlds " + entry + ": no such file (a nav2 map YAML or a scenario)");
+      const std::string file = fs::absolute(entry).lexically_normal().string();
+      std::ifstream in(file);
+      std::string line;
+      bool map = false;  // map_server's YAML has a top-level `image:` key; a scenario has none
+      while (std::getline(in, line)) map = map || line.rfind("image:", 0) == 0;
+      if (!map) {
+        worlds.push_back({fs::path(file).filename().string(), file, ""});
+        continue;
+      }
+      const std::string label = "map:" + fs::path(file).stem().string();
+      makes.push_back({label, {binary, "world", "from-map", file, "--out",
+                               (root / ("map_" + safe(fs::path(file).stem().string()))).string()}});
+    }
+  }
+  for (const auto& [label, argv] : makes) {
+    const std::string dir = argv.back();
+    std::error_code error;
+    fs::remove_all(dir, error);
+    fs::create_directories(root);
+    const std::string log = dir + ".log";
+    const int status = std::system((shell_line(argv) + " > " + shell_line({log}) + " 2>&1").c_str());
+    if (status != 0) {
+      std::ifstream in(log);
+      const std::string output((std::istreambuf_iterator<char>(in)), {});
+      throw std::invalid_argument("--worlds " + label + ": `" + shell_line(argv) + "` failed: " + trim(output));
+    }
+    worlds.push_back({label, (fs::path(dir) / "scenario.yaml").string(), shell_line(argv)});
+  }
+  if (worlds.empty()) throw std::invalid_argument("--worlds " + spec + ": no world");
+  return worlds;
+}
+
 std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std::vector<std::uint64_t>& seeds,
-                                   std::size_t max_points) {
-  std::size_t count = seeds.empty() ? 1 : seeds.size();
+                                   std::size_t max_points, const std::vector<SweepWorld>& worlds) {
+  std::size_t count = (seeds.empty() ? 1 : seeds.size()) * std::max<std::size_t>(1, worlds.size());
+  if (count > max_points) throw std::invalid_argument("sweep: more than " + std::to_string(max_points) + " points");
   for (const auto& axis : axes) {
     if (axis.values.empty()) throw std::invalid_argument("sweep: the axis " + axis.key + " has no value: the grid is empty");
     if (count > max_points / axis.values.size())
       throw std::invalid_argument("sweep: more than " + std::to_string(max_points) + " points");
     count *= axis.values.size();
   }
-  if (axes.empty() && seeds.empty()) throw std::invalid_argument("sweep: an empty grid (give --set, --option or --seeds)");
+  if (axes.empty() && seeds.empty() && worlds.empty())
+    throw std::invalid_argument("sweep: an empty grid (give --set, --option, --seeds or --worlds)");
   std::vector<SweepPoint> points;
   for (std::size_t i = 0; i < count; ++i) {
     SweepPoint p;
@@ -152,6 +208,11 @@ std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std
     char prefix[24];
     std::snprintf(prefix, sizeof prefix, "%03zu", i);
     p.name = prefix;
+    if (!worlds.empty()) {
+      const SweepWorld& w = worlds[rest % worlds.size()];
+      p.world = w.label, p.scenario = w.scenario, p.make_world = w.make_command;
+      p.name += "_" + safe(w.label);
+    }
     for (std::size_t a = 0; a < sets.size(); ++a)  // an axis of one value tells the points apart from nothing
       if (axes[a].values.size() > 1) p.name += "_" + safe(sets[a].rfind("--", 0) == 0 ? sets[a].substr(2) : sets[a]);
     if (p.seed) p.name += "_seed=" + std::to_string(*p.seed);
@@ -162,7 +223,8 @@ std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std
 
 std::vector<std::string> point_command(const std::string& binary, const std::string& scenario, const std::string& out_dir,
                                        const SweepPoint& point) {
-  std::vector<std::string> argv = {binary, "run", scenario, "--out", (fs::path(out_dir) / point.name).string(), "--no-progress"};
+  std::vector<std::string> argv = {binary, "run", point.scenario.empty() ? scenario : point.scenario, "--out",
+                                   (fs::path(out_dir) / point.name).string(), "--no-progress"};
   for (const auto& s : point.sets) {
     const std::size_t equals = s.find('=');
     if (s.rfind("--", 0) == 0) {
@@ -200,8 +262,10 @@ std::vector<std::string> emit_sweep(const std::string& engine, const std::string
   };
   nlohmann::json grid = {{"scenario", scenario}, {"points", nlohmann::json::array()}};
   for (const auto& p : points) {
-    nlohmann::json point = {{"name", p.name}, {"sets", p.sets}};
+    nlohmann::json point = {{"name", p.name}, {"sets", p.sets},
+                            {"command", shell_line(point_command(binary, scenario, dir.string(), p))}};
     if (p.seed) point["seed"] = *p.seed;
+    if (!p.world.empty()) point["world"] = p.world, point["make_world"] = p.make_world;
     grid["points"].push_back(point);
   }
   write("sweep.json", grid.dump(2) + "\n");
@@ -299,7 +363,8 @@ nlohmann::json collect_sweep(const std::string& dir_text, const std::string& cha
   };
   if (!grid["points"].empty())
     for (const auto& set : grid["points"][0]["sets"]) table["axes"].push_back(key_of(set.get<std::string>()));
-  std::string csv = "point";
+  const bool worlds = !grid["points"].empty() && grid["points"][0].contains("world");
+  std::string csv = worlds ? "point,world" : "point";
   for (const auto& axis : table["axes"]) csv += "," + csv_field(axis.get<std::string>());
   csv += ",seed,state";
   for (const auto& [name, path] : headline()) csv += "," + name;
@@ -312,6 +377,8 @@ nlohmann::json collect_sweep(const std::string& dir_text, const std::string& cha
       row["sets"][key_of(s)] = s.substr(s.find('=') + 1);
     }
     if (point.contains("seed")) row["seed"] = std::to_string(point["seed"].get<std::uint64_t>());
+    for (const char* key : {"world", "make_world", "command"})
+      if (point.contains(key)) row[key] = point[key];
     nlohmann::json metrics;
     try {
       std::ifstream in(dir / name / "metrics.json");
@@ -321,10 +388,14 @@ nlohmann::json collect_sweep(const std::string& dir_text, const std::string& cha
     }
     row["state"] = metrics.is_object() ? (metrics.value("passed", false) ? "passed" : "failed") : "missing";
     row["failed_checks"] = nlohmann::json::array();  // by name, with their messages (sweep.html, --junit)
+    row["checks"] = nlohmann::json::object();        // every check's status: pass, fail or skip
     if (metrics.is_object() && metrics.contains("checks"))
-      for (const auto& c : metrics["checks"])
-        if (c.value("status", c.value("passed", false) ? "pass" : "fail") == "fail")
+      for (const auto& c : metrics["checks"]) {
+        const std::string status = c.value("status", c.value("passed", false) ? "pass" : "fail");
+        row["checks"][c.value("name", "")] = status;
+        if (status == "fail")
           row["failed_checks"].push_back({{"name", c.value("name", "")}, {"message", c.value("message", "")}});
+      }
     if (metrics.is_object()) {
       row["figures"] = nlohmann::json::object();
       for (const auto& [figure, path] : headline()) {
@@ -334,6 +405,7 @@ nlohmann::json collect_sweep(const std::string& dir_text, const std::string& cha
       }
     }
     csv += csv_field(name);
+    if (worlds) csv += "," + csv_field(row.value("world", std::string()));
     for (const auto& axis : table["axes"]) csv += "," + csv_field(row["sets"].value(axis.get<std::string>(), ""));
     csv += "," + row.value("seed", std::string()) + "," + row["state"].get<std::string>();
     for (const auto& [figure, path] : headline())
@@ -341,6 +413,7 @@ nlohmann::json collect_sweep(const std::string& dir_text, const std::string& cha
     csv += "\n";
     table["rows"].push_back(row);
   }
+  if (worlds) table["over_worlds"] = over_worlds(table);
   write_file_atomically(dir / "sweep.csv", csv);
   write_file_atomically(dir / "sweep_table.json", table.dump(2) + "\n");
 

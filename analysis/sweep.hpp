@@ -22,8 +22,24 @@ struct SweepAxis {
 // map's and the filter's voxel size together) or are not scenario keys.
 const std::vector<std::string>& sweep_run_options();  // voxel-size, filter, device, memory, duration, noise, gl
 
+// One world of a --worlds axis: its label ("generate:17", or a map's or a scenario's file name), the scenario its
+// points run, and the shell command that made that scenario (empty for a scenario file given as it is).
+struct SweepWorld {
+  std::string label, scenario, make_command;
+};
+
+// "generate:SEEDS" (SEEDS as parse_seeds takes them) or a comma-separated list of files: nav2 maps (a map_server
+// YAML, told by its `image` key) and scenario files. Generated worlds and maps become worlds now, in
+// OUT_DIR/worlds/<label>, by `BINARY world generate --seed N` and `BINARY world from-map FILE`. Throws
+// std::invalid_argument naming the entry for a bad spec, a missing file, or a world command that fails (with its
+// output).
+std::vector<SweepWorld> prepare_worlds(const std::string& binary, const std::string& spec, const std::string& out_dir);
+
 struct SweepPoint {
   std::size_t index = 0;
+  std::string world;     // its world's label (a --worlds axis), or empty
+  std::string scenario;  // the scenario it runs when not the sweep's own (a --worlds axis)
+  std::string make_world;  // the command that made that scenario, or empty
   std::string name;  // its folder: "003_map.voxel_size=0.05_seed=2" (safe characters; axes of one value left out)
   std::vector<std::string> sets;             // "KEY=VALUE" per axis, in axis order ("--voxel-size=0.05" for options)
   std::optional<std::uint64_t> seed;         // absent without --seeds
@@ -36,12 +52,13 @@ SweepAxis parse_sweep_axis(const std::string& text, bool option = false);
 // "1..5", "3", "1,4,9" (or mixed: "1..3,7") to seeds; throws std::invalid_argument for anything else or none.
 std::vector<std::uint64_t> parse_seeds(const std::string& text);
 
-// Every combination, the first axis varying slowest, seeds fastest. Throws std::invalid_argument for an empty
-// grid or more than max_points points.
+// Every combination, the worlds varying slowest, then the axes in order, seeds fastest. Throws
+// std::invalid_argument for an empty grid or more than max_points points.
 std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std::vector<std::uint64_t>& seeds,
-                                   std::size_t max_points = 10000);
+                                   std::size_t max_points = 10000, const std::vector<SweepWorld>& worlds = {});
 
-// The argument vector of a point's run: BIN run SCENARIO --out OUT_DIR/NAME --no-progress [--set ...] [--seed S].
+// The argument vector of a point's run: BIN run SCENARIO --out OUT_DIR/NAME --no-progress [--set ...] [--seed S]
+// (the point's own scenario when it has one).
 std::vector<std::string> point_command(const std::string& binary, const std::string& scenario, const std::string& out_dir,
                                        const SweepPoint& point);
 // One shell command line (arguments single-quoted).

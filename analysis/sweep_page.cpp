@@ -8,6 +8,7 @@
 #include <map>
 #include <sstream>
 
+#include "analysis/sweep_worlds.hpp"
 #include "common/markup.hpp"
 
 namespace stvl::analysis {
@@ -95,7 +96,9 @@ std::string sweep_html(const nlohmann::json& table, const std::vector<std::strin
   } else {
     h << "<p>(No charts: " << xml_escape(chart_js_path) << " is not installed; apt install libjs-chart.js.)</p>\n";
   }
-  h << "<div class=\"wide\"><table><tr><th>point</th>";
+  if (table.contains("over_worlds")) h << over_worlds_html(table["over_worlds"]);
+  const bool worlds = table.contains("over_worlds");
+  h << "<div class=\"wide\"><table><tr><th>point</th>" << (worlds ? "<th>world</th>" : "");
   for (const auto& axis : table["axes"]) h << "<th>" << xml_escape(axis.get<std::string>()) << "</th>";
   h << "<th>seed</th><th>state</th>";
   for (const auto& figure : columns) h << "<th>" << xml_escape(figure) << "</th>";
@@ -105,6 +108,7 @@ std::string sweep_html(const nlohmann::json& table, const std::vector<std::strin
     h << "<tr><td>" << (state == "missing" ? xml_escape(point)
                                            : "<a href=\"" + xml_escape(point) + "/report.html\">" + xml_escape(point) + "</a>")
       << "</td>";
+    if (worlds) h << "<td>" << xml_escape(row.value("world", std::string())) << "</td>";
     for (const auto& axis : table["axes"]) h << "<td>" << xml_escape(row["sets"].value(axis.get<std::string>(), "")) << "</td>";
     std::string failing;
     for (const auto& c : row.value("failed_checks", nlohmann::json::array()))

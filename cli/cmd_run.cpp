@@ -49,6 +49,15 @@ int run(const RunCommandOptions& o) {
     if (o.noise != "on" && o.noise != "off") throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
     overrides.noise = o.noise == "on";
   }
+  if (const auto& robot = scenario.pipeline.urdf_robot) {
+    for (const auto& notice : robot->notices) std::printf("notice: %s\n", notice.c_str());
+    std::printf("robot: %s from %s (base %s, %.2f kg; wheels %s: %s and %s, radius %.3f m, track %.3f m)\n",
+                robot->urdf.name.c_str(), robot->config.urdf.c_str(), robot->urdf.root.c_str(), robot->mass_kg,
+                robot->wheels.named ? "named" : "found", robot->wheels.left_joint.c_str(), robot->wheels.right_joint.c_str(),
+                robot->wheels.radius_m, robot->wheels.track_width_m);
+    std::printf("drive: %s (%s)\n", sim::to_string(robot->drive).c_str(), robot->drive_reason.c_str());
+    std::printf("footprint: %s\n", scenario.footprint_source.empty() ? "none" : scenario.footprint_source.c_str());
+  }
   const double scenario_duration_s = scenario.duration_s;
   apply_overrides(scenario, overrides);
   if (const auto& ros = scenario.ros_params) {

@@ -1,4 +1,4 @@
-// stvl-bench sweep SCENARIO --set KEY=V1,V2 [--option NAME=V1,V2] [--seeds 1..5] [--jobs N | --emit ENGINE]:
+// stvl-bench sweep SCENARIO|--worlds SPEC --set KEY=V1,V2 [--option NAME=V1,V2] [--seeds 1..5] [--jobs N | --emit ENGINE]:
 // the grid of a scenario's variants, run here or written out for GNU parallel, CTest or Slurm;
 // stvl-bench sweep --collect DIR: every point's metrics.json in one table (CSV, JSON, HTML with charts).
 #include <cstdio>
@@ -22,6 +22,7 @@ struct SweepOptions {
   std::string scenario;
   std::vector<std::string> sets, options;
   std::string seeds;
+  std::string worlds;
   std::string out_dir;
   int jobs = 1;
   std::string emit;
@@ -38,7 +39,7 @@ void write_junit(const SweepOptions& o, const nlohmann::json& table) {
 
 // Every point must load before any runs: a key that does not exist or a value of the wrong type names the
 // assignment (and the point).
-void validate_points(const std::string& scenario, const std::vector<SweepPoint>& points) {
+void validate_points(const std::string& sweep_scenario, const std::vector<SweepPoint>& points) {
   for (const auto& p : points) {
     std::vector<std::string> sets;
     ScenarioOverrides overrides;
@@ -70,7 +71,7 @@ void validate_points(const std::string& scenario, const std::vector<SweepPoint>&
       }
     }
     try {
-      Scenario s = load_scenario(scenario, sets);
+      Scenario s = load_scenario(p.scenario.empty() ? sweep_scenario : p.scenario, sets);
       apply_overrides(s, overrides);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string(e.what()) + " (sweep point " + p.name + ")");
@@ -86,15 +87,26 @@ int sweep(const SweepOptions& o) {
     write_junit(o, table);
     return kExitOk;
   }
-  if (o.scenario.empty()) throw std::invalid_argument("sweep: give a scenario file (or --collect DIR)");
-  const std::string scenario = std::filesystem::absolute(o.scenario).string();
+  if (o.scenario.empty() && o.worlds.empty())
+    throw std::invalid_argument("sweep: give a scenario file or --worlds (or --collect DIR)");
+  if (!o.scenario.empty() && !o.worlds.empty())
+    throw std::invalid_argument("sweep: give a scenario file or --worlds, not both (each world brings its scenario)");
+  const std::string scenario = o.scenario.empty() ? "" : std::filesystem::absolute(o.scenario).string();
   std::vector<SweepAxis> axes;
   for (const auto& s : o.sets) axes.push_back(parse_sweep_axis(s));
   for (const auto& s : o.options) axes.push_back(parse_sweep_axis(s, true));
-  const auto points = sweep_grid(axes, o.seeds.empty() ? std::vector<std::uint64_t>{} : parse_seeds(o.seeds));
-  validate_points(scenario, points);
-  const std::string out = o.out_dir.empty() ? "out/sweep-" + std::filesystem::path(scenario).stem().string() : o.out_dir;
+  const std::string out = !o.out_dir.empty() ? o.out_dir
+                          : o.worlds.empty() ? "out/sweep-" + std::filesystem::path(scenario).stem().string()
+                                             : "out/sweep-worlds";
   const std::string binary = std::filesystem::read_symlink("/proc/self/exe").string();
+  std::vector<SweepWorld> worlds;
+  if (!o.worlds.empty()) {
+    worlds = prepare_worlds(binary, o.worlds, out);
+    std::printf("sweep: %zu worlds in %s/worlds\n", worlds.size(), out.c_str());
+  }
+  const auto points =
+      sweep_grid(axes, o.seeds.empty() ? std::vector<std::uint64_t>{} : parse_seeds(o.seeds), 10000, worlds);
+  validate_points(scenario, points);
   if (!o.emit.empty()) {
     for (const auto& path : emit_sweep(o.emit, binary, scenario, out, points)) std::printf("sweep: wrote %s\n", path.c_str());
     std::printf("sweep: %zu points; then stvl-bench sweep --collect %s\n", points.size(), out.c_str());
@@ -121,6 +133,11 @@ const CommandRegistration kSweep{"sweep", [](CLI::App& app) {
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--seeds", o->seeds, "Seeds, e.g. 1..5 or 1,4,9 (the fastest-varying axis)");
+  cmd->add_option("--worlds", o->worlds,
+                  "A world axis instead of a scenario (the slowest-varying): generate:SEEDS (e.g. generate:1..200, "
+                  "offices made by stvl-bench world generate) or a comma-separated list of nav2 map YAMLs (made into "
+                  "worlds by world from-map) and scenario files; sweep.html gives each figure's mean, p5, p95 and "
+                  "worst world with the command that reproduces it, and the share of worlds where each check holds");
   cmd->add_option("--out", o->out_dir, "Output folder: one subfolder per point (default: out/sweep-<scenario>)");
   cmd->add_option("--jobs", o->jobs, "Points run at once here (default 1)")->check(CLI::Range(1, 256));
   cmd->add_option("--emit", o->emit, "Write the grid for an engine instead of running it: parallel | ctest | slurm")

@@ -47,6 +47,13 @@ inline std::string nearest_name(const std::string& text, const std::vector<std::
   return best;
 }
 
+// "a, b, c": names joined for messages.
+inline std::string joined(const std::vector<std::string>& names, const std::string& separator = ", ") {
+  std::string text;
+  for (const auto& name : names) text += (text.empty() ? "" : separator) + name;
+  return text;
+}
+
 template <class E, std::size_t N>
 const char* enum_name(E value, const EnumName<E> (&names)[N]) {
   for (const auto& n : names)

@@ -87,8 +87,12 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
   f.passthrough_enabled = first->filter != RosSourceFilter::kNone;
   f.type = first->filter == RosSourceFilter::kVoxel ? filter::FilterType::kVoxel : filter::FilterType::kNone;
   f.voxel.voxel_size_m = layer.map.voxel_size_m;
-  // STVL passes voxel_min_points to a PCL whose VoxelGrid ignores it (scenarios/README.md): every voxel counts.
-  f.voxel.min_points_per_voxel = 1;
+  // STVL's VoxelGrid takes the band as its z filter limits, before the leaves are counted.
+  f.band_before_decimation = first->filter == RosSourceFilter::kVoxel;
+  // voxel_min_points (STVL #241): VoxelGrid<PCLPointCloud2> ignored it before PCL 1.12 (PCL commit 7a7210dd), so
+  // on ROS 1 Noetic (Ubuntu 20.04, PCL 1.10) every leaf counts; ROS 2 Humble and later (PCL >= 1.12) drop leaves
+  // with fewer points. A ROS 2 file is read as Humble or later (Foxy and Galactic, on PCL 1.10, behave like ROS 1).
+  f.voxel.min_points_per_voxel = layer.flavour == RosFlavour::kRos1 ? 1 : std::max(1, first->voxel_min_points);
 }
 
 std::vector<BoundCamera> bound_cameras(const pipeline::PipelineConfig& config) {

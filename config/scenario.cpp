@@ -28,25 +28,24 @@ struct ObservationDefaults {
   std::shared_ptr<YamlMap> yaml;  // null when the file has no map.observation
 };
 
-void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides, const worldgen::MapWorld* map_world) {
+void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides, const std::string& base_dir,
+                const worldgen::MapWorld* map_world) {
   std::vector<double> start{0.0, 0.0, 0.0};
   robot.get("start", start);
   if (start.size() != 3) robot.fail(robot.raw("start"), "start", "expected [x_m, y_m, yaw_deg]");
   require_range(robot, "start", "non-finite values", std::isfinite(start[0] + start[1] + start[2]), "must be finite");
   s.pipeline.start_pose = {start[0], start[1], start[2] * kDegToRad};
   std::vector<std::vector<double>> waypoints;
-  if (map_world && !robot.has("waypoints")) {
-    plan_on_map(*map_world, robot, s);  // nav2_map without waypoints: the path planned on the map
-  } else {
-    robot.require("waypoints", waypoints);
-    s.pipeline.path.waypoints_W.clear();
-  }
+  const bool plan = map_world && !robot.has("waypoints");  // nav2_map without waypoints: planned for the robot below
+  if (!plan) robot.require("waypoints", waypoints);
+  s.pipeline.path.waypoints_W.clear();
   for (const auto& xy : waypoints) s.pipeline.path.waypoints_W.push_back(to_point2(xy, robot, "waypoints"));
   robot.require("speed_mps", s.pipeline.path.cruise_speed_mps);
   robot.get("loop", s.pipeline.path.loop);  // soak (issue #270): a patrol that never ends
+  read_urdf_robot(robot, s, base_dir);
+  if (plan) plan_on_map(*map_world, robot, s);
   validate_keys({{"waypoints", &robot, "waypoints"}, {"waypoint", &robot, "waypoints"}, {"cruise_speed_mps", &robot, "speed_mps"}},
                 [&] { sim::PathFollower(s.pipeline.sim.follower).set_path(s.pipeline.path); });
-
   if (robot.has("camera_mount")) {
     auto mount = robot.map("camera_mount");
     auto& m = s.pipeline.sim.camera_mount;
@@ -183,7 +182,8 @@ void read_ros_params(YamlMap& map, Scenario& s, const std::string& base_dir) {
 }
 
 // map.update_footprint_enabled, map.robot_radius, map.footprint (STVL's footprint clearing; nav2's keys).
-void read_footprint(YamlMap& map, mapping::StvlConfig& m) {
+void read_footprint(YamlMap& map, Scenario& s) {
+  mapping::StvlConfig& m = s.pipeline.map;
   map.get("update_footprint_enabled", m.update_footprint_enabled);
   map.get("clear_footprint_voxels_below", m.footprint_clearing_height_m);
   require_range(map, "clear_footprint_voxels_below", m.footprint_clearing_height_m,
@@ -197,6 +197,7 @@ void read_footprint(YamlMap& map, mapping::StvlConfig& m) {
     map.get("robot_radius", radius_m);
     require_range(map, "robot_radius", radius_m, std::isfinite(radius_m) && radius_m > 0.0, "must be finite and > 0 m");
     m.footprint_B = mapping::footprint_from_radius(radius_m);
+    s.footprint_source = "map.robot_radius";
   }
   if (map.has("footprint")) {
     std::vector<std::vector<double>> points;
@@ -208,8 +209,9 @@ void read_footprint(YamlMap& map, mapping::StvlConfig& m) {
       if (!p.allFinite()) map.fail(map.raw("footprint"), "footprint", "points must be finite");
       m.footprint_B.push_back(p);
     }
+    s.footprint_source = "map.footprint";
   }
-  if (m.footprint_clearing_height_m > 0.0 && m.footprint_B.empty() && !map.has("ros_params"))
+  if (m.footprint_clearing_height_m > 0.0 && m.footprint_B.empty() && !map.has("ros_params") && !s.pipeline.urdf_robot)
     map.fail(map.raw("clear_footprint_voxels_below"), "clear_footprint_voxels_below",
              "needs the robot's footprint (map.robot_radius or map.footprint)");
 }
@@ -222,7 +224,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   std::string decay = mapping::to_string(m.decay_model), mode = mapping::to_string(m.clearing_mode),
               walk = mapping::to_string(m.clearing_walk), rounding = mapping::to_string(m.mark_rounding),
               geometry = mapping::to_string(m.frustum_geometry), grouping = mapping::to_string(m.update_grouping),
-              band = mapping::to_string(m.costmap_band);
+              band = mapping::to_string(m.costmap_band), timing = mapping::to_string(m.costmap_timing);
   map.get("decay_model", decay);
   map.get("clearing_mode", mode);
   map.get("clearing_walk", walk);
@@ -230,6 +232,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   map.get("frustum_geometry", geometry);
   map.get("update_grouping", grouping);
   map.get("costmap_band", band);
+  map.get("costmap_timing", timing);
   validate_keys({{"decay_model", &map, "decay_model"}}, [&] { m.decay_model = mapping::parse_decay_model(decay); });
   validate_keys({{"clearing_mode", &map, "clearing_mode"}}, [&] { m.clearing_mode = mapping::parse_clearing_mode(mode); });
   validate_keys({{"clearing_walk", &map, "clearing_walk"}}, [&] { m.clearing_walk = mapping::parse_clearing_walk(walk); });
@@ -239,6 +242,8 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   validate_keys({{"update_grouping", &map, "update_grouping"}},
                 [&] { m.update_grouping = mapping::parse_update_grouping(grouping); });
   validate_keys({{"costmap_band", &map, "costmap_band"}}, [&] { m.costmap_band = mapping::parse_costmap_band(band); });
+  validate_keys({{"costmap_timing", &map, "costmap_timing"}},
+                [&] { m.costmap_timing = mapping::parse_costmap_timing(timing); });
   map.get("mark_threshold", m.mark_threshold);
   map.get("update_frequency", m.update_frequency_hz);
   int expiry_leaves = static_cast<int>(m.expiry_leaves_per_update);
@@ -252,7 +257,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
                  {"decay_model", &map, "decay_model"}, {"mark_threshold", &map, "mark_threshold"},
                  {"update_frequency", &map, "update_frequency"}},
                 [&] { m.validate(); });
-  read_footprint(map, m);
+  read_footprint(map, s);
   if (map.has("observation")) {
     observation.yaml = std::make_shared<YamlMap>(map.map("observation"));
     read_observation(*observation.yaml, observation.source, observation.hfov_rad, observation.vfov_rad);
@@ -363,7 +368,7 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   require_range(root, "duration_s", s.duration_s, s.duration_s > 0 && s.duration_s <= 3600, "must lie in (0, 3600] s");
   root.get("stop_at_path_end", s.stop_at_path_end);
   std::vector<std::optional<YamlMap>> camera_overrides{std::nullopt};
-  read_robot(root.map("robot"), s, camera_overrides, map_world.get());
+  read_robot(root.map("robot"), s, camera_overrides, base_dir, map_world.get());
   if (YamlMap robot = root.map("robot"); map_world && !robot.has("waypoints") && !root.has("duration_s"))
     s.duration_s = planned_duration_s(robot, s);
   if (s.pipeline.path.loop) {  // a looping path has no end to stop at
@@ -388,7 +393,12 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   if (s.ros_params) {
     const RosStvlLayer layer = load_ros_stvl_layer(s.ros_params->path, s.ros_params->layer, s.ros_params->costmap);
     apply_ros_layer(layer, s.pipeline, !root.has("filter"));
+    const bool footprint = layer.footprint && !layer.footprint->empty();
+    s.footprint_source = footprint || layer.robot_radius_m
+                             ? std::string("ros_params ") + (footprint ? "footprint" : "robot_radius") + " (" + s.ros_params->path + ")"
+                             : "";
   }
+  complete_footprint(s);
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
   // The default checks (evaluation/checks.hpp) where the scenario sets no threshold of its own.

@@ -41,6 +41,9 @@ struct Scenario {
   // "file:line: robot.cameras[i].mount" per camera ("" for the one-camera form), for errors the pipeline finds
   // only once the world is loaded (a camera inside the robot's body).
   std::vector<std::string> camera_mount_locations;
+  // Where pipeline.map.footprint_B came from: "map.footprint", "map.robot_radius", "ros_params footprint (FILE)",
+  // "ros_params robot_radius (FILE)", "URDF collision shapes (FILE)"; empty: no footprint.
+  std::string footprint_source;
 
   pipeline::CameraConfig& camera() { return pipeline.cameras.front(); }
   const pipeline::CameraConfig& camera() const { return pipeline.cameras.front(); }

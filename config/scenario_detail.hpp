@@ -92,11 +92,18 @@ void read_camera(YamlMap camera, Scenario& s);
 void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides);
 void read_filter(YamlMap filter, Scenario& s);
 
+// scenario_robot.cpp: robot.urdf with package_path, wheels and drive (the robot built, sim.robot and sim.drive set
+// from it; without urdf those keys are errors); a camera's `frame` (a URDF link) as its mount; the URDF's
+// footprint where the scenario and its ROS file give none.
+void read_urdf_robot(YamlMap& robot, Scenario& s, const std::string& base_dir);
+void read_camera_frame(YamlMap& camera, const Scenario& s, pipeline::CameraConfig& c);
+void complete_footprint(Scenario& s);
 // scenario_map.cpp: `nav2_map` (instead of `world`): the world built in memory from a nav2 map (worldgen/), and the
 // path planned on it when robot.waypoints is left out.
 std::shared_ptr<const worldgen::MapWorld> read_nav2_map(YamlMap map, Scenario& s, const std::string& base_dir);
-// robot.waypoints planned on the map (from robot.start when the file gives one, which must then be read already;
-// else along the map's longest path, which sets the start pose too).
+// robot.waypoints planned on the map for the robot's footprint radius (a URDF robot's when robot.urdf was read, else
+// worlds/robot.xml's), from robot.start when the file gives one (read already), else along the map's longest path,
+// which sets the start pose too.
 void plan_on_map(const worldgen::MapWorld& world, YamlMap& robot, Scenario& s);
 // The duration a planned drive needs (worldgen's scenario writer's); throws naming robot.waypoints above 3600 s.
 double planned_duration_s(YamlMap& robot, const Scenario& s);

@@ -1,6 +1,7 @@
 // A scenario's `nav2_map`: the world built in memory from a nav2 map (worldgen/map_world.hpp) and loaded
 // through MuJoCo's virtual file system (nothing is written), and robot.waypoints planned on the map when the file
 // leaves them out.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -34,8 +35,21 @@ std::shared_ptr<const worldgen::MapWorld> read_nav2_map(YamlMap map, Scenario& s
   return world;
 }
 
+namespace {
+
+// The robot's footprint radius: the URDF robot's footprint (its collision shapes' hull) when it has one, else
+// worlds/robot.xml's.
+double robot_radius_m(const Scenario& s) {
+  double radius_m = 0;
+  if (s.pipeline.urdf_robot)
+    for (const Eigen::Vector2d& corner : s.pipeline.urdf_robot->footprint_B) radius_m = std::max(radius_m, corner.norm());
+  return radius_m > 0 ? radius_m : worldgen::robot_footprint_radius_m(worldgen::shipped_robot_xml());
+}
+
+}  // namespace
+
 void plan_on_map(const worldgen::MapWorld& world, YamlMap& robot, Scenario& s) {
-  const double radius_m = worldgen::robot_footprint_radius_m(worldgen::shipped_robot_xml());
+  const double radius_m = robot_radius_m(s);
   std::optional<Eigen::Vector2d> start;
   if (robot.has("start")) start = Eigen::Vector2d(s.pipeline.start_pose.x_m, s.pipeline.start_pose.y_m);
   worldgen::PlannedPath path;

@@ -147,8 +147,13 @@ void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap
     require_range(entry, "name", "an empty name", !c.name.empty(), "must not be empty");
     for (const auto& other : s.pipeline.cameras)
       if (other.name == c.name) entry.fail(entry.raw("name"), "name", "two cameras are named '" + c.name + "'");
-    s.camera_mount_locations.push_back(entry.where("mount"));
-    read_mount(entry.map("mount"), c.mount);
+    if (entry.has("frame")) {
+      s.camera_mount_locations.push_back(entry.where("frame"));
+      read_camera_frame(entry, s, c);
+    } else {
+      s.camera_mount_locations.push_back(entry.where("mount"));
+      read_mount(entry.map("mount"), c.mount);
+    }
     read_camera_sensor(entry, c);
     read_outages(entry, c, s.duration_s);
     c.sources.front().name = c.name;
@@ -173,6 +178,7 @@ void read_filter(YamlMap filter, Scenario& s) {
   if (filter.has("passthrough")) {
     auto p = filter.map("passthrough");
     p.get("enabled", f.passthrough_enabled);
+    p.get("before_decimation", f.band_before_decimation);
     p.get("min_z_m", f.passthrough.min_z_m);
     p.get("max_z_m", f.passthrough.max_z_m);
     require_range(p, "min_z_m", f.passthrough.min_z_m,

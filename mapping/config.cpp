@@ -56,6 +56,12 @@ constexpr EnumName<CostmapBand> kCostmapBandNames[] = {{CostmapBand::kEveryVoxel
                                                        {CostmapBand::kMarkingBand, "marking_band"}};
 CostmapBand parse_costmap_band(const std::string& text) { return parse_enum(text, kCostmapBandNames, "costmap_band"); }
 std::string to_string(CostmapBand band) { return enum_name(band, kCostmapBandNames); }
+constexpr EnumName<CostmapTiming> kCostmapTimingNames[] = {{CostmapTiming::kStvl, "stvl"},
+                                                           {CostmapTiming::kAfterMark, "after_mark"}};
+CostmapTiming parse_costmap_timing(const std::string& text) {
+  return parse_enum(text, kCostmapTimingNames, "costmap_timing");
+}
+std::string to_string(CostmapTiming timing) { return enum_name(timing, kCostmapTimingNames); }
 ClearingWalk parse_clearing_walk(const std::string& text) { return parse_enum(text, kClearingWalkNames, "clearing_walk"); }
 std::string to_string(ClearingWalk walk) { return enum_name(walk, kClearingWalkNames); }
 MarkRounding parse_mark_rounding(const std::string& text) { return parse_enum(text, kMarkRoundingNames, "mark_rounding"); }

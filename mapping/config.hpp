@@ -73,6 +73,15 @@ enum class CostmapBand { kEveryVoxel, kMarkingBand };
 CostmapBand parse_costmap_band(const std::string& text);
 std::string to_string(CostmapBand band);
 
+// When the costmap (project_costmap, for_each_column) sees an update's marks.
+// stvl: STVL builds its 2D costmap during ClearFrustums, before Mark (layer.cpp updateBounds, ros2 403d9ed and
+//   noetic-devel 5e06daf), and publishes that: voxels that mark() created since the last clear() are not
+//   counted, so an update's new obstacles reach the costmap one update later (refreshed voxels count at once).
+// after_mark (ours, the bench before 2026-12-03): the costmap counts every voxel in the map.
+enum class CostmapTiming { kStvl, kAfterMark };
+CostmapTiming parse_costmap_timing(const std::string& text);
+std::string to_string(CostmapTiming timing);
+
 struct StvlConfig {
   // Accepted range [0.01, 1.0] m (STVL's usable range is 0.02..0.2): below 1 cm one 10 m frustum holds
   // over 10^9 voxels; above 1 m the map is useless for a ground robot.
@@ -90,6 +99,7 @@ struct StvlConfig {
   FrustumGeometry frustum_geometry = FrustumGeometry::kStvl;    // YAML map.frustum_geometry; ideal is ours
   UpdateGrouping update_grouping = UpdateGrouping::kInstant;    // YAML map.update_grouping; camera_frame is ours
   CostmapBand costmap_band = CostmapBand::kEveryVoxel;          // YAML map.costmap_band; marking_band is ours
+  CostmapTiming costmap_timing = CostmapTiming::kStvl;          // YAML map.costmap_timing; after_mark is ours
   // nav2's costmap update_frequency (YAML map.update_frequency, or the costmap's own key in a ROS parameter file):
   // STVL's layer updates at k / update_frequency_hz, the first camera frame at or after each such time, applying
   // every source's buffer (persistence 0: its newest reading, marked again with the update's time); frames in

@@ -72,20 +72,27 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
   impl_->check_time(time_s);
   if (!source.marking) return 0;
   const Eigen::Vector3d origin_W = T_world_camera.translation();
-  const double range_sq_m2 = source.obstacle_range_m * source.obstacle_range_m;
+  // STVL's range test (grid.cpp operator()): both squares rounded to float, the point's terms in double.
+  const float range_sq_m2 = static_cast<float>(source.obstacle_range_m * source.obstacle_range_m);
   const bool indexed = impl_->uses_expiry_index();
   const double due_s = time_s + impl_->config.voxel_decay_s;
+  const bool track_created = impl_->config.costmap_timing == CostmapTiming::kStvl;
   auto accessor = impl_->grid->getAccessor();
   Coord last_leaf(std::numeric_limits<int>::max());
   std::size_t marked = 0;
   for (Eigen::Index i = 0; i < points_W.cols(); ++i) {
     const Eigen::Vector3d p_W = points_W.col(i).cast<double>();
     if (!p_W.allFinite()) continue;
-    const double distance_sq_m2 = (p_W - origin_W).squaredNorm();
+    const double dx = p_W.x() - origin_W.x(), dy = p_W.y() - origin_W.y(), dz = p_W.z() - origin_W.z();
+    const float distance_sq_m2 = static_cast<float>(dx * dx + dy * dy + dz * dz);
     if (distance_sq_m2 > range_sq_m2 || distance_sq_m2 < kMinMarkDistanceSq_m2) continue;
     if (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m) continue;
     Coord key;
     if (!impl_->mark_key(p_W, key)) continue;
+    if (track_created && !accessor.isValueOn(key)) {
+      const Coord leaf = leaf_origin(key), local = key - leaf;
+      impl_->created_since_clear[leaf][local.x()] |= std::uint64_t{1} << (8 * local.y() + local.z());
+    }
     accessor.setValueOn(key, time_s);
     ++marked;
     if (indexed) {
@@ -113,6 +120,7 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
     clearing.push_back(obs);
   }
   impl_->check_time(time_s);
+  impl_->created_since_clear.clear();  // STVL's costmap of this update counts every voxel there is now
   ClearStats stats;
   std::vector<Frustum> frustums;
   if (impl_->config.clearing_mode == ClearingMode::kFrustum) {
@@ -215,8 +223,10 @@ void VoxelMap::for_each_column(double min_z_m, double max_z_m,
     if (band == 0) continue;
     band *= 0x0101010101010101ull;  // the same z bits in every column of a word
     const auto& mask = leaf->getValueMask();
+    const auto created = impl_->created_since_clear.find(o);
     for (int x = 0; x < 8; ++x) {  // word x holds the columns (x, y = 0..7)
-      const std::uint64_t in_band = mask.template getWord<std::uint64_t>(static_cast<openvdb::Index>(x)) & band;
+      std::uint64_t in_band = mask.template getWord<std::uint64_t>(static_cast<openvdb::Index>(x)) & band;
+      if (created != impl_->created_since_clear.end()) in_band &= ~created->second[static_cast<std::size_t>(x)];
       if (in_band == 0) continue;
       for (int y = 0; y < 8; ++y)
         if (const int n = __builtin_popcountll((in_band >> (8 * y)) & 0xffu)) visit(o.x() + x, o.y() + y, n);

@@ -103,7 +103,8 @@ class VoxelMap {
   void for_each_leaf(const std::function<void(const VoxelKey& origin, const std::uint64_t* on)>& visit) const;
   // Calls visit(x, y, voxels) with a column's x, y keys and how many of its voxels have their centre z in
   // [min_z_m, max_z_m] (at least one), a leaf's 64 columns at a time (popcounts of its masks): a column spanning
-  // several leaves comes once per leaf.
+  // several leaves comes once per leaf. With config.costmap_timing stvl, voxels that mark() created since the
+  // last clear() are left out (STVL's costmap is built before its marks).
   void for_each_column(double min_z_m, double max_z_m, const std::function<void(int x, int y, int voxels)>& visit) const;
   std::vector<Voxel> voxels() const;                // sorted by key
   Eigen::Matrix3Xf voxel_centers() const;           // in voxel_keys() order
@@ -114,7 +115,8 @@ class VoxelMap {
   // Removes these voxels where present; appends the removed ones to `erased` when given. Returns how many.
   std::size_t erase(const std::vector<VoxelKey>& keys, std::vector<VoxelKey>* erased = nullptr);
 
-  // Column projection: lethal where a column holds >= max(mark_threshold, 1) voxels inside the band.
+  // Column projection: lethal where a column holds >= max(mark_threshold, 1) voxels inside the band (counted as
+  // for_each_column() counts them, so with costmap_timing stvl the last update's new voxels are not yet in it).
   Costmap2D project_costmap(const CostmapOptions& options = {}) const;
 
   // .vdb with one DoubleGrid "stvl_voxels" (world transform puts voxel centres at (k + 0.5)*s) and the

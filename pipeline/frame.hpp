@@ -4,6 +4,7 @@
 // structs: the pipeline (pipeline.hpp), the stages after the depth image (map_stages.hpp), the evaluation, the
 // replay and the outputs all speak them.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@
 #include "sensors/depth_noise.hpp"
 #include "sensors/gl_context.hpp"
 #include "sim/simulator.hpp"
+#include "sim/urdf_robot.hpp"
 
 namespace stvl::pipeline {
 
@@ -40,6 +42,7 @@ struct Outage {
 struct CameraConfig {
   std::string name = "camera";  // its frames are <name>_link, <name>_depth_optical_frame; its topics /<name>/...
   sim::CameraMount mount;       // camera_link on base_link
+  std::string frame;            // the URDF link the mount came from (robot.cameras[i].frame); empty: given as a mount
   sensors::CameraIntrinsics intrinsics = sensors::CameraIntrinsics::d435_848x480();  // also its rate and range
   sensors::GlBackend gl_backend = sensors::GlBackend::kAuto;
   sensors::DepthNoiseConfig noise;
@@ -52,7 +55,10 @@ struct CameraConfig {
 bool in_outage(const CameraConfig& camera, double time_s);
 
 struct PipelineConfig {
-  std::string world_path;  // MJCF file holding the robot
+  std::string world_path;  // MJCF file holding the robot (its <include file="robot.xml"/>)
+  // robot.urdf: the robot built from a URDF, standing in for the world's robot.xml; null: robot.xml. sim.robot and
+  // sim.drive follow it (config/).
+  std::shared_ptr<const sim::UrdfRobot> urdf_robot;
   // A world built in memory instead (a scenario's nav2_map): its MJCF text, world_path then naming where it came
   // from; its <include>s (robot.xml) resolve against world_include_dir.
   std::string world_xml, world_include_dir;
@@ -115,6 +121,14 @@ struct FrameResult {
   // Readings of earlier frames this update applied again from the sources' buffers (observation_persistence, or
   // a stopped camera's buffer, as STVL applies every buffer at every update).
   std::size_t reapplied_readings = 0;
+  // With map_updated: every reading the update took, in the order STVL's layer takes them (cameras in order, each
+  // camera's sources in order, each buffer newest first), this instant's and earlier frames' alike; the bag
+  // writes them at the update (run/bag_recorder.hpp). Empty when the map was not updated.
+  struct AppliedReading {
+    std::size_t camera_index = 0, source_index = 0;
+    std::shared_ptr<const SourceReading> reading;
+  };
+  std::vector<AppliedReading> applied_readings;
   // False when this frame's reading only went into its sources' buffers: another camera takes a frame at the
   // same time, and STVL's update of that instant (map.update_grouping: instant) runs at the last of them.
   bool map_updated = true;

@@ -117,8 +117,13 @@ void MapStages::sense(FrameResult& f) {
   f.times.cloud_ms = ms_since(start);
 
   start = SteadyClock::now();
-  f.decimated_W = filter_.apply(f.cloud_W);
-  f.marking_W = passthrough_ ? filter::passthrough(f.decimated_W, config_.filter.passthrough) : f.decimated_W;
+  if (passthrough_ && config_.filter.band_before_decimation) {  // STVL's buffer: the band, then the voxel grid
+    f.marking_W = filter_.apply(filter::passthrough(f.cloud_W, config_.filter.passthrough));
+    f.decimated_W = f.marking_W;
+  } else {
+    f.decimated_W = filter_.apply(f.cloud_W);
+    f.marking_W = passthrough_ ? filter::passthrough(f.decimated_W, config_.filter.passthrough) : f.decimated_W;
+  }
   f.times.filter_ms = ms_since(start);
 }
 
@@ -144,6 +149,7 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
   }
   camera.last_frame_s = f.time_s;
   f.reapplied_readings = 0;
+  f.applied_readings.clear();
   f.cleared_keys.clear();
   f.footprint_cleared = 0;
   const bool instant = config_.map.update_grouping == mapping::UpdateGrouping::kInstant;
@@ -179,6 +185,7 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
       const auto& params = c.config.sources[s].params;
       if (!took_frame && params.drop_when_not_current && !c.buffers[s].current(f.time_s)) continue;
       for (const auto& r : c.buffers[s].readings()) {
+        if (params.clearing || params.marking) f.applied_readings.push_back({index, s, r});
         if (params.clearing) clearing.push_back({r->T_world_camera, params, &r->decimated_W, &r->no_return_W});
         if (params.marking) marking.emplace_back(r.get(), &params);
         if (at_this_instant(r->time_s)) continue;  // this instant's own reading

@@ -52,12 +52,16 @@ void check_inside_world(const PipelineConfig& c, const sim::World& world) {
 }  // namespace
 
 sim::World load_world(const PipelineConfig& c) {
-  if (c.world_xml.empty()) return sim::World::from_file(c.world_path);
-  try {
-    return sim::World::from_string(c.world_xml, c.world_include_dir);
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error("the world built from " + c.world_path + ": " + e.what());
+  if (!c.world_xml.empty()) {  // a world built in memory (nav2_map), with the URDF robot in place of robot.xml
+    std::vector<sim::VirtualFile> robot;
+    if (c.urdf_robot) robot.push_back({"robot.xml", c.urdf_robot->mjcf});
+    try {
+      return sim::World::from_string(c.world_xml, c.world_include_dir, robot);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error("the world built from " + c.world_path + ": " + e.what());
+    }
   }
+  return c.urdf_robot ? sim::load_world_with_robot(c.world_path, *c.urdf_robot) : sim::World::from_file(c.world_path);
 }
 
 std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& c) {
@@ -165,7 +169,9 @@ Pipeline::Pipeline(PipelineConfig config)
   for (std::size_t i = 0; i < config_.cameras.size(); ++i) {
     const CameraConfig& c = config_.cameras[i];
     const Eigen::Vector3d p_base = sim::T_base_camera_link(c.mount).translation();
-    const std::string geom = sim_->robot().geom_containing(p_base);
+    // A camera at a URDF link may sit inside that link's own housing.
+    const int own_body = c.frame.empty() ? -1 : mj_name2id(sim_->world().model(), mjOBJ_BODY, c.frame.c_str());
+    const std::string geom = sim_->robot().geom_containing(p_base, own_body);
     if (!geom.empty())
       throw std::invalid_argument("camera '" + c.name + "': mounted inside the robot's body (geom '" + geom + "')");
     cameras_.push_back(std::make_unique<Camera>(sim_->world().model(), c, camera_noise_seed(config_.seed, i)));

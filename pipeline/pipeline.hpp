@@ -78,12 +78,13 @@ class Pipeline {
   FrameResult frame_;
 };
 
+// The config's world with its robot: the file world_path, or world_xml when set (a scenario's nav2_map); with
+// robot.xml, or the URDF robot in its place.
+sim::World load_world(const PipelineConfig& config);
+
 // The config's world with the robot at its start pose, on its path, and the moving bodies scripted (what the
 // pipeline steps; the render command and benchmarks use it alone).
 std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& config);
-
-// The config's world as loaded: world_xml when it is set, else the file world_path.
-sim::World load_world(const PipelineConfig& config);
 
 
 }  // namespace stvl::pipeline

@@ -332,12 +332,22 @@ void BagWriter::write_camera_info(double t_s, const sensors::CameraIntrinsics& i
 
 void BagWriter::write_points(const std::string& topic, double t_s, const std::string& frame_id,
                              const Eigen::Matrix3Xf& points, bool latched) {
+  write_cloud(topic, t_s, t_s, frame_id, points, latched);
+}
+
+void BagWriter::write_points_stamped(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
+                                     const Eigen::Matrix3Xf& points) {
+  write_cloud(topic, t_s, stamp_s, frame_id, points, false);
+}
+
+void BagWriter::write_cloud(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
+                            const Eigen::Matrix3Xf& points, bool latched) {
   if (topic.size() < 2 || topic.front() != '/') {
     throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points, got '" +
                                 topic + "'");
   }
   if (frame_id.empty()) throw std::invalid_argument("BagWriter: empty frame_id for " + topic);
-  const ros::Time stamp = to_ros_time(t_s);
+  const ros::Time stamp = to_ros_time(stamp_s);
   sensor_msgs::PointCloud2& msg = impl_->cloud;
   msg.header = impl_->header(topic, stamp, frame_id);
   if (msg.fields.empty()) {
@@ -361,7 +371,7 @@ void BagWriter::write_points(const std::string& topic, double t_s, const std::st
   // Column-major 3xN floats are exactly the packed x y z records of the cloud.
   msg.data.resize(static_cast<std::size_t>(msg.row_step));
   if (n > 0) std::memcpy(msg.data.data(), points.data(), msg.data.size());
-  impl_->write(topic, stamp, msg, latched);
+  impl_->write(topic, to_ros_time(t_s), msg, latched);
 }
 
 std::vector<std::int8_t> occupancy_values(const mapping::Costmap2D& costmap) {

@@ -81,6 +81,10 @@ class BagSink {
                                  const std::string& camera = "camera") = 0;
   virtual void write_points(const std::string& topic, double t_s, const std::string& frame_id,
                             const Eigen::Matrix3Xf& points, bool latched = false) = 0;
+  // The same cloud recorded at t_s with header stamp stamp_s: a reading taken at stamp_s (so tf gives the pose it
+  // was taken at) that a map update applied at t_s.
+  virtual void write_points_stamped(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
+                                    const Eigen::Matrix3Xf& points) = 0;
   virtual void write_costmap(double t_s, const mapping::Costmap2D& costmap) = 0;
   // Finishes the export and gives it its final name; further writes throw.
   virtual void close() = 0;
@@ -125,6 +129,8 @@ class BagWriter : public BagSink {
   // sensor_msgs/PointCloud2 with fields x y z float32, unorganized (height 1); is_dense when all finite.
   void write_points(const std::string& topic, double t_s, const std::string& frame_id,
                     const Eigen::Matrix3Xf& points, bool latched = false) override;
+  void write_points_stamped(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
+                            const Eigen::Matrix3Xf& points) override;
   // /stvl/costmap nav_msgs/OccupancyGrid, frame map, row-major from the origin cell; costs translated as
   // nav2's costmap publisher does (occupancy_values()).
   void write_costmap(double t_s, const mapping::Costmap2D& costmap) override;
@@ -136,6 +142,8 @@ class BagWriter : public BagSink {
   const std::string& path() const override { return path_; }
 
  private:
+  void write_cloud(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
+                   const Eigen::Matrix3Xf& points, bool latched);
   struct Impl;
   std::string path_;
   std::unique_ptr<Impl> impl_;

@@ -142,13 +142,20 @@ class Ros2BagWriter final : public BagSink {
   }
   void write_points(const std::string& topic, double t_s, const std::string& frame_id, const Eigen::Matrix3Xf& points,
                     bool latched) override {
+    write_cloud(topic, t_s, t_s, frame_id, points, latched);
+  }
+  void write_points_stamped(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
+                            const Eigen::Matrix3Xf& points) override {
+    write_cloud(topic, t_s, stamp_s, frame_id, points, false);
+  }
+  void write_cloud(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
+                   const Eigen::Matrix3Xf& points, bool latched) {
     if (topic.size() < 2 || topic.front() != '/')
       throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points, got '" + topic + "'");
     if (frame_id.empty()) throw std::invalid_argument("BagWriter: empty frame_id for " + topic);
-    const auto t = stamp_ns(t_s);
     const auto n = static_cast<std::uint32_t>(points.cols());
     CdrWriter w(buf_);
-    put_header(w, t, frame_id);
+    put_header(w, stamp_ns(stamp_s), frame_id);
     w.put(std::uint32_t(1)), w.put(n);
     w.put(std::uint32_t(3));
     for (std::uint32_t i = 0; i < 3; ++i) {
@@ -159,7 +166,7 @@ class Ros2BagWriter final : public BagSink {
     w.put(std::uint32_t(12)), w.put(12 * n);
     w.put_bytes(points.data(), std::size_t(12) * n);  // 3xN column-major floats are the packed x y z records
     w.put(std::uint8_t(points.allFinite() ? 1 : 0));
-    write(topic, "sensor_msgs/msg/PointCloud2", t, latched);
+    write(topic, "sensor_msgs/msg/PointCloud2", stamp_ns(t_s), latched);
   }
   void write_costmap(double t_s, const mapping::Costmap2D& costmap) override {
     if (costmap.width <= 0 || costmap.height <= 0 || costmap.cells.size() != std::size_t(costmap.width) * costmap.height)

@@ -10,6 +10,7 @@
 #include "report/machine.hpp"
 #include "report/raster.hpp"
 #include "report/report_sections.hpp"
+#include "run/bag_recorder.hpp"
 #include "report/report_page.hpp"
 
 namespace stvl::report {
@@ -114,16 +115,42 @@ nlohmann::json filter_json(const filter::FilterConfig& f, const std::string& dev
   return j;
 }
 
+// Each camera and its sources with the STVL parameters the run used, under STVL's key names (angles in radians,
+// lengths in metres), the sensor frame and the topic of its clouds in the bag: enough to feed STVL's own code the bag.
 nlohmann::json camera_list_json(const Scenario& s) {
   nlohmann::json list = nlohmann::json::array();
-  for (const auto& c : s.pipeline.cameras) {
+  for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i) {
+    const auto& c = s.pipeline.cameras[i];
     nlohmann::json sources = nlohmann::json::array();
-    for (const auto& source : c.sources)
-      sources.push_back({{"name", source.name}, {"marking", source.params.marking}, {"clearing", source.params.clearing}});
+    for (std::size_t k = 0; k < c.sources.size(); ++k) {
+      const auto& p = c.sources[k].params;
+      sources.push_back({{"name", c.sources[k].name}, {"marking", p.marking}, {"clearing", p.clearing},
+                         {"topic", run::source_cloud_topic(s.pipeline.cameras, i, k)},
+                         {"sensor_frame", recording::camera_optical_frame(c.name)},
+                         {"obstacle_range", p.obstacle_range_m}, {"min_obstacle_height", p.min_obstacle_height_m},
+                         {"max_obstacle_height", p.max_obstacle_height_m}, {"min_z", p.min_z_m}, {"max_z", p.max_z_m},
+                         {"horizontal_fov_angle", p.horizontal_fov_rad}, {"vertical_fov_angle", p.vertical_fov_rad},
+                         {"decay_acceleration", p.decay_acceleration_per_s3},
+                         {"observation_persistence", p.observation_persistence_s},
+                         {"expected_update_rate", p.expected_update_rate_s}});
+    }
     list.push_back({{"name", c.name}, {"width", c.intrinsics.width}, {"height", c.intrinsics.height},
                     {"rate_hz", c.intrinsics.rate_hz}, {"noise", c.noise.enabled}, {"sources", sources}});
   }
   return list;
+}
+
+// The map's STVL parameters (STVL's key names; decay_model as STVL's integer code) and which of our options ran.
+nlohmann::json map_json(const mapping::StvlConfig& m) {
+  nlohmann::json footprint = nlohmann::json::array();
+  for (const auto& p : m.footprint_B) footprint.push_back({p.x(), p.y()});
+  return {{"voxel_size", m.voxel_size_m}, {"voxel_decay", m.voxel_decay_s}, {"decay_model", static_cast<int>(m.decay_model)},
+          {"mark_threshold", m.mark_threshold}, {"update_frequency", m.update_frequency_hz},
+          {"clearing_mode", mapping::to_string(m.clearing_mode)}, {"mark_rounding", mapping::to_string(m.mark_rounding)},
+          {"frustum_geometry", mapping::to_string(m.frustum_geometry)},
+          {"update_grouping", mapping::to_string(m.update_grouping)},
+          {"costmap_band", mapping::to_string(m.costmap_band)}, {"costmap_timing", mapping::to_string(m.costmap_timing)},
+          {"update_footprint_enabled", m.update_footprint_enabled}, {"footprint", footprint}};
 }
 
 // evaluation.failure_modes.occlusion: occluded obstacles erased (STVL #134); null times: never.
@@ -190,6 +217,27 @@ nlohmann::json outage_json(const RunResult& r) {
   return {{"cameras", cameras}};
 }
 
+// robot.urdf: the robot from the URDF, its wheels, the drive used and why, and where the footprint came from.
+nlohmann::json urdf_robot_json(const config::Scenario& s) {
+  const sim::UrdfRobot& robot = *s.pipeline.urdf_robot;
+  return {{"urdf", robot.config.urdf},
+          {"name", robot.urdf.name},
+          {"base_link", robot.urdf.root},
+          {"links", robot.urdf.links.size()},
+          {"mass_kg", robot.mass_kg},
+          {"wheels",
+           {{"left_joint", robot.wheels.left_joint},
+            {"right_joint", robot.wheels.right_joint},
+            {"radius_m", robot.wheels.radius_m},
+            {"track_width_m", robot.wheels.track_width_m},
+            {"how", robot.wheels.named ? "named" : "found"}}},
+          {"drive", sim::to_string(robot.drive)},
+          {"drive_reason", robot.drive_reason},
+          {"footprint_source", s.footprint_source},
+          {"footprint_points", s.pipeline.map.footprint_B.size()},
+          {"notices", robot.notices}};
+}
+
 }  // namespace
 
 nlohmann::json metrics_json(const RunResult& r) {
@@ -239,6 +287,7 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"gl_backend", r.gl_backend},
       {"noise", r.scenario.camera().noise.enabled},
       {"cameras", camera_list_json(r.scenario)},
+      {"map", map_json(r.scenario.pipeline.map)},
       {"evaluation",
        {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
         {"recall_window_s", r.scenario.evaluation.recall_window_s},
@@ -286,6 +335,7 @@ nlohmann::json metrics_json(const RunResult& r) {
   };
   metrics["evaluation"]["failure_modes"]["occlusion"] = occlusion_json(e.occlusion);
   metrics["evaluation"]["failure_modes"]["self_marking"] = self_marking_json(r);
+  if (r.scenario.pipeline.urdf_robot) metrics["robot"] = urdf_robot_json(r.scenario);
 
   if (r.soak.sample_every_s > 0) {  // soak (issue #270): voxels here, resident memory and map cost with the timings
     nlohmann::json voxels = nlohmann::json::array(), resources = nlohmann::json::array();

@@ -50,22 +50,56 @@ BagRecorder::BagRecorder(const std::string& path, const BagSettings& settings, c
 
 BagRecorder::~BagRecorder() = default;
 
-void BagRecorder::record(const pipeline::FrameResult& f, const pipeline::Pipeline& pipeline, bool publish_map) {
-  record(f, pipeline.config().cameras[f.camera_index].intrinsics, pipeline.config().cameras.size() > 1,
-         map_state(pipeline), publish_map);
+std::string source_cloud_topic(const std::vector<pipeline::CameraConfig>& cameras, std::size_t camera_index,
+                               std::size_t source_index) {
+  std::size_t sources = 0;
+  for (const auto& c : cameras) sources += c.sources.size();
+  if (sources <= 1) return "/stvl/filtered_points";
+  return "/stvl/" + cameras.at(camera_index).sources.at(source_index).name + "/filtered_points";
 }
 
-void BagRecorder::record(const pipeline::FrameResult& f, const sensors::CameraIntrinsics& intrinsics,
-                         bool several_cameras, const MapState& map, bool publish_map) {
+Eigen::Matrix3Xf source_marking_cloud(const pipeline::SourceReading& reading, const mapping::ObservationSource& source) {
+  if (!source.marking) return Eigen::Matrix3Xf(3, 0);
+  const Eigen::Matrix3Xf& points = reading.marking_W;
+  Eigen::Matrix3Xf kept(3, points.cols());
+  Eigen::Index n = 0;
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if (!points.col(i).allFinite()) continue;
+    const double z = points(2, i);
+    if (z > source.max_obstacle_height_m || z < source.min_obstacle_height_m) continue;
+    kept.col(n++) = points.col(i);
+  }
+  kept.conservativeResize(3, n);
+  return kept;
+}
+
+void BagRecorder::record(const pipeline::FrameResult& f, const pipeline::Pipeline& pipeline, bool publish_map) {
+  record(f, pipeline.config().cameras, map_state(pipeline), publish_map);
+}
+
+void BagRecorder::record(const pipeline::FrameResult& f, const std::vector<pipeline::CameraConfig>& cameras,
+                         const MapState& map, bool publish_map) {
+  const sensors::CameraIntrinsics& intrinsics = cameras.at(f.camera_index).intrinsics;
   std::optional<mapping::Costmap2D> costmap;
   Eigen::Matrix3Xf voxels;
   const bool want_voxels = publish_map && topics_.wants("/stvl/voxel_grid");
   if (want_voxels) voxels = map.map->voxel_centers();
   if (publish_map && !map.map->empty() && topics_.wants("/stvl/costmap")) costmap = map.costmap();
   const std::string& camera = f.camera;
-  // One camera: /stvl/filtered_points; several: /stvl/<camera>/filtered_points (frames of one time would
-  // otherwise share a topic and a stamp).
-  const std::string filtered_topic = several_cameras ? "/stvl/" + camera + "/filtered_points" : "/stvl/filtered_points";
+  // The update's readings, as STVL's Mark and ClearFrustums would take them: topic, header stamp, cloud.
+  struct Reading {
+    std::string topic;
+    double stamp_s;
+    Eigen::Matrix3Xf points_W;
+  };
+  std::vector<Reading> readings;
+  if (f.map_updated)
+    for (const auto& applied : f.applied_readings) {
+      const std::string topic = source_cloud_topic(cameras, applied.camera_index, applied.source_index);
+      if (!topics_.wants(topic)) continue;
+      const auto& source = cameras.at(applied.camera_index).sources.at(applied.source_index).params;
+      readings.push_back({topic, applied.reading->time_s, source_marking_cloud(*applied.reading, source)});
+    }
   // Cameras whose frames share a time share its robot messages (tf would warn of repeated data).
   const bool robot_messages = !last_robot_time_s_ || f.time_s > *last_robot_time_s_;
   last_robot_time_s_ = f.time_s;
@@ -73,11 +107,11 @@ void BagRecorder::record(const pipeline::FrameResult& f, const sensors::CameraIn
   const recording::BagTopics& w = topics_;
   const bool want[] = {w.wants("/clock"), w.wants("/tf"), w.wants("/odom"), w.wants("/ground_truth/pose"),
                        w.wants(camera_topic(camera, "depth/image_rect_raw")), w.wants(camera_topic(camera, "depth/camera_info")),
-                       w.wants(camera_topic(camera, "depth/points")), w.wants(filtered_topic)};
+                       w.wants(camera_topic(camera, "depth/points"))};
   worker_->submit([bag = bag_.get(), want = std::vector<bool>(std::begin(want), std::end(want)), t = f.time_s, T_world_base = f.T_world_base, T_map_odom = f.T_map_odom,
-                   T_odom_base = f.T_odom_base, v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics, camera, filtered_topic,
+                   T_odom_base = f.T_odom_base, v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics, camera,
                    depth = f.depth, cloud_C = want[6] ? Eigen::Matrix3Xf(f.cloud_C()) : Eigen::Matrix3Xf(),
-                   marking_W = want[7] ? f.marking_W : Eigen::Matrix3Xf(), voxels = std::move(voxels), want_voxels, costmap = std::move(costmap), robot_messages,
+                   readings = std::move(readings), voxels = std::move(voxels), want_voxels, costmap = std::move(costmap), robot_messages,
                    ground_truth = ground_truth_] {
     if (robot_messages) {
       if (want[0]) bag->write_clock(t);
@@ -88,7 +122,7 @@ void BagRecorder::record(const pipeline::FrameResult& f, const sensors::CameraIn
     if (want[4]) bag->write_depth_image(t, intrinsics, sensors::depth_to_millimetres(depth), camera);
     if (want[5]) bag->write_camera_info(t, intrinsics, camera);
     if (want[6]) bag->write_points(camera_topic(camera, "depth/points"), t, camera_optical_frame(camera), cloud_C);
-    if (want[7]) bag->write_points(filtered_topic, t, kMapFrame, marking_W);
+    for (const auto& r : readings) bag->write_points_stamped(r.topic, t, r.stamp_s, kMapFrame, r.points_W);
     if (want_voxels) bag->write_points("/stvl/voxel_grid", t, kMapFrame, voxels);
     if (costmap) bag->write_costmap(t, *costmap);
   });

@@ -31,6 +31,15 @@ struct BagSettings {
 BagSettings bag_settings(const std::string& path, const std::string& format, const std::string& compression,
                          const std::string& topics);
 
+// The topic of a source's marking clouds: /stvl/filtered_points when the config has one source, else
+// /stvl/<source>/filtered_points (a native camera's one source is named after the camera).
+std::string source_cloud_topic(const std::vector<pipeline::CameraConfig>& cameras, std::size_t camera_index,
+                               std::size_t source_index);
+// What STVL's measurement buffer hands Mark for a source: with a marking source, the reading's marking points whose
+// z lies in [min_obstacle_height, max_obstacle_height] (PCL's PassThrough on the world z, inclusive, float z
+// against double limits); nothing for a clearing-only source (STVL buffers no cloud for it).
+Eigen::Matrix3Xf source_marking_cloud(const pipeline::SourceReading& reading, const mapping::ObservationSource& source);
+
 class BagRecorder {
  public:
   // Opens path (as path.active until close()) and writes /tf_static for the cameras and, with ground truth, its
@@ -49,9 +58,11 @@ class BagRecorder {
     const mapping::VoxelMap* map = nullptr;
     std::function<mapping::Costmap2D()> costmap;
   };
-  // The frame's messages (its camera's intrinsics; topics per camera when there are several); the map and
-  // costmap too when publish_map.
-  void record(const pipeline::FrameResult& frame, const sensors::CameraIntrinsics& intrinsics, bool several_cameras,
+  // The frame's messages (its camera's intrinsics, from cameras[frame.camera_index]; topics per camera when there
+  // are several); when the frame updated the map, the readings the update took (source_cloud_topic(), stamped with
+  // the reading's time, recorded at the update's: only those, each as often as an update applied it); the map
+  // and costmap too when publish_map.
+  void record(const pipeline::FrameResult& frame, const std::vector<pipeline::CameraConfig>& cameras,
               const MapState& map, bool publish_map);
   void record(const pipeline::FrameResult& frame, const pipeline::Pipeline& pipeline, bool publish_map);
   // The map and costmap once more at time_s (the end of the run).

@@ -128,7 +128,7 @@ ReplayResult replay_recording(recording::Recording& recording, const ReplaySetti
           std::vector<BagSink::CameraFrames>{{camera.name, T_base_optical * T_link_optical.inverse(), T_link_optical}},
           nullptr);
     }
-    if (bag) bag->record(f, camera.intrinsics, false, map_state, publish.due(f.time_s));
+    if (bag) bag->record(f, r.pipeline.cameras, map_state, publish.due(f.time_s));
     r.times.bag.push_back(ms_since(bag_start));
     r.times.frame.push_back(ms_since(frame_start));
     r.frames += 1;

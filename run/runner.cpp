@@ -101,7 +101,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     r.points_filtered.push_back(static_cast<std::size_t>(f.marking_W.cols()));
     r.map_voxels.push_back(pipeline.map().size());
     soak.frame(f.time_s, f.times.clear_ms + f.times.mark_ms, f.times.map_cpu_ms,
-               pipeline.simulator().follower().laps_completed(), pipeline.map());
+               pipeline.simulator().laps_completed(), pipeline.map());
     r.frames += 1;
     r.footprint_voxels_cleared += f.footprint_cleared;
     r.sim_time_s = f.time_s;

@@ -15,7 +15,7 @@ runtime=(
   librosbag-storage-dev libroscpp-core-dev libsensor-msgs-dev libtf2-msgs-dev libnav-msgs-dev
   libgeometry-msgs-dev libstd-msgs-dev
   libzstd-dev liblz4-dev libsqlite3-dev
-  libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev
+  libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev libtinyxml2-dev
   libjs-chart.js libjs-three
 )
 # The tests, the sanitizer and fuzz builds, the browser and RViz checks, the sweep engines, the benchmark peers.

@@ -38,6 +38,8 @@ DiffDriveRobot::DiffDriveRobot(World& world, DiffDriveConfig config)
   const int right_joint = hinge_dof(world, config_.right_joint);
   left_dof_ = m->jnt_dofadr[left_joint];
   right_dof_ = m->jnt_dofadr[right_joint];
+  left_qpos_ = m->jnt_qposadr[left_joint];
+  right_qpos_ = m->jnt_qposadr[right_joint];
   left_act_ = world.actuator_id(config_.left_actuator);
   right_act_ = world.actuator_id(config_.right_actuator);
   link_site_ = world.site_id(config_.camera_link_site);
@@ -55,13 +57,18 @@ DiffDriveRobot::DiffDriveRobot(World& world, DiffDriveConfig config)
   free_qpos_ = m->jnt_qposadr[free_joint];
   free_dof_ = m->jnt_dofadr[free_joint];
 
-  const int left_body = m->jnt_bodyid[left_joint];
-  const int right_body = m->jnt_bodyid[right_joint];
-  if (m->body_geomnum[left_body] < 1 || m->geom_type[m->body_geomadr[left_body]] != mjGEOM_CYLINDER) {
-    throw std::invalid_argument("wheel body of '" + config_.left_joint + "' needs a cylinder geom");
+  if (config_.wheel_radius_m > 0 || config_.track_width_m > 0) {
+    wheel_radius_m_ = config_.wheel_radius_m;
+    track_width_m_ = config_.track_width_m;
+  } else {
+    const int left_body = m->jnt_bodyid[left_joint];
+    const int right_body = m->jnt_bodyid[right_joint];
+    if (m->body_geomnum[left_body] < 1 || m->geom_type[m->body_geomadr[left_body]] != mjGEOM_CYLINDER) {
+      throw std::invalid_argument("wheel body of '" + config_.left_joint + "' needs a cylinder geom");
+    }
+    wheel_radius_m_ = m->geom_size[3 * m->body_geomadr[left_body]];
+    track_width_m_ = std::abs(m->body_pos[3 * left_body + 1] - m->body_pos[3 * right_body + 1]);
   }
-  wheel_radius_m_ = m->geom_size[3 * m->body_geomadr[left_body]];
-  track_width_m_ = std::abs(m->body_pos[3 * left_body + 1] - m->body_pos[3 * right_body + 1]);
   if (!(wheel_radius_m_ > 0) || !(track_width_m_ > 0)) {
     throw std::invalid_argument("degenerate wheel geometry in world '" + world.source() + "'");
   }
@@ -118,6 +125,26 @@ void DiffDriveRobot::set_pose(double x_m, double y_m, double yaw_rad) {
   world_->forward();
 }
 
+void DiffDriveRobot::place(const Pose2D& pose, const Twist2D& twist, double dt_s) {
+  mjData* d = world_->data();
+  const mjModel* m = world_->model();
+  const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
+  d->qpos[free_qpos_ + 0] = pose.x_m;
+  d->qpos[free_qpos_ + 1] = pose.y_m;
+  d->qpos[free_qpos_ + 2] = m->body_pos[3 * base_body_ + 2];
+  to_mj_quat(Eigen::Quaterniond(Eigen::AngleAxisd(pose.yaw_rad, Eigen::Vector3d::UnitZ())), d->qpos + free_qpos_ + 3);
+  // A freejoint's velocity: linear in the world frame, angular in the body's (yaw only: the same).
+  const double qvel[6] = {twist.v_mps * c, twist.v_mps * s, 0, 0, 0, twist.omega_radps};
+  std::copy(qvel, qvel + 6, d->qvel + free_dof_);
+  v_target_ = v_mps_ = twist.v_mps;
+  omega_target_ = omega_radps_ = twist.omega_radps;
+  const double half_track = 0.5 * track_width_m_;
+  const double left = (twist.v_mps - twist.omega_radps * half_track) / wheel_radius_m_;
+  const double right = (twist.v_mps + twist.omega_radps * half_track) / wheel_radius_m_;
+  d->qvel[left_dof_] = left, d->qvel[right_dof_] = right;
+  d->qpos[left_qpos_] += left * dt_s, d->qpos[right_qpos_] += right * dt_s;
+}
+
 double DiffDriveRobot::tilt_rad() const {
   const Eigen::Vector3d z = T_world_base().linear().col(2);
   return std::acos(std::clamp(z.z(), -1.0, 1.0));
@@ -170,9 +197,15 @@ Eigen::Isometry3d T_base_camera_link(const CameraMount& mount) {
 
 Eigen::Isometry3d DiffDriveRobot::T_base_camera_link() const { return sim::T_base_camera_link(mount_); }
 
-std::string DiffDriveRobot::geom_containing(const Eigen::Vector3d& p_base) const {
+std::string DiffDriveRobot::geom_containing(const Eigen::Vector3d& p_base, int own_body) const {
   const mjModel* m = world_->model();
+  const auto own = [&](int body) {
+    for (int b = own_body; b > 0 && b != base_body_; b = m->body_parentid[b])
+      if (b == body) return true;
+    return false;
+  };
   for (int g = 0; g < m->ngeom; ++g) {
+    if (own(m->geom_bodyid[g])) continue;
     // The geom's pose in base_link at rest: up its body chain to base_link.
     int body = m->geom_bodyid[g];
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

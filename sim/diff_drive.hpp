@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include "sim/path_follower.hpp"
 #include "sim/world.hpp"
 
 namespace stvl::sim {
@@ -18,6 +19,10 @@ struct DiffDriveConfig {
   std::string camera_link_site = "camera_link";
   std::string optical_site = "camera_depth_optical_frame";
   std::string camera = "camera_depth";  // MuJoCo camera (x right, y up, looks along -z); optional
+  // 0: read from the model as robot.xml lays it out (the first geom of each wheel body a cylinder, the wheel
+  // bodies' y on base_link); a URDF robot gives both (sim/urdf_robot.hpp).
+  double wheel_radius_m = 0.0;
+  double track_width_m = 0.0;
   double max_linear_speed_mps = 1.2;
   double max_angular_speed_radps = 2.0;
   double max_linear_accel_mps2 = 1.0;
@@ -63,6 +68,9 @@ class DiffDriveRobot {
   void set_pose(double x_m, double y_m, double yaw_rad);
   // Angle between base z and world z.
   double tilt_rad() const;
+  // Kinematic drive: puts the base at `pose` on the floor (its rest height, level) moving with `twist`, and turns
+  // the wheels at the matching rates over dt_s (for looks and odometry). Call after the physics step.
+  void place(const Pose2D& pose, const Twist2D& twist, double dt_s);
 
   // Moves the camera sites (and camera) on the model; throws std::invalid_argument out of range
   // (height 0.3..1.2 m, |pitch| <= 1.0 rad, forward offset -0.3..0.6 m).
@@ -74,8 +82,9 @@ class DiffDriveRobot {
   // World pose of the optical frame site.
   Eigen::Isometry3d T_world_camera() const;
   // Name of the robot geom (base_link's and its wheels', at rest) that holds p_base, a point in base_link;
-  // empty when none does. Boxes, spheres and cylinders exactly, other shapes by their bounding spheres.
-  std::string geom_containing(const Eigen::Vector3d& p_base) const;
+  // empty when none does. Boxes, spheres and cylinders exactly, other shapes by their bounding spheres. The geoms
+  // of `own_body` and of its ancestors below base_link (a camera's housing; -1: none) do not count.
+  std::string geom_containing(const Eigen::Vector3d& p_base, int own_body = -1) const;
 
   int base_body_id() const { return base_body_; }
 
@@ -83,7 +92,7 @@ class DiffDriveRobot {
   World* world_;
   DiffDriveConfig config_;
   CameraMount mount_;
-  int base_body_, left_dof_, right_dof_, left_act_, right_act_, link_site_, optical_site_;
+  int base_body_, left_dof_, right_dof_, left_qpos_, right_qpos_, left_act_, right_act_, link_site_, optical_site_;
   int camera_ = -1;
   int free_qpos_, free_dof_;
   double wheel_radius_m_ = 0, track_width_m_ = 0;

@@ -17,14 +17,35 @@ Simulator::Simulator(World world, SimulatorConfig config)
   }
   steps_per_control_ = std::max(1, static_cast<int>(std::lround(config_.control_period_s / world_.timestep_s())));
   robot_.set_camera_mount(config_.camera_mount);
+  if (config_.drive == DriveMode::kAuto) throw std::invalid_argument("simulator: drive auto must be resolved first");
+  if (config_.drive == DriveMode::kKinematic) {
+    kinematic_.emplace(config_.follower);
+    const Eigen::Isometry3d T = robot_.T_world_base();
+    hold_ = {T.translation().x(), T.translation().y(), std::atan2(T.linear()(1, 0), T.linear()(0, 0))};
+    // Placed, not pushed: the robot's geoms touch nothing (no contact forces on the world, no unstable wheels).
+    mjModel* m = world_.mutable_model();
+    for (int g = 0; g < m->ngeom; ++g)
+      for (int b = m->geom_bodyid[g]; b > 0; b = m->body_parentid[b])
+        if (b == robot_.base_body_id()) {
+          m->geom_contype[g] = m->geom_conaffinity[g] = 0;
+          break;
+        }
+  }
 }
 
 void Simulator::set_start_pose(const Pose2D& pose_W) {
   robot_.set_pose(pose_W.x_m, pose_W.y_m, pose_W.yaw_rad);
+  hold_ = pose_W;
   odometry_ = WheelOdometry(robot_.wheel_radius_m(), robot_.track_width_m(), config_.odometry);
 }
 
-void Simulator::set_path(const Path& path) { follower_.set_path(path); }
+void Simulator::set_path(const Path& path) {
+  follower_.set_path(path);
+  if (!kinematic_) return;
+  const Eigen::Isometry3d T = robot_.T_world_base();
+  const Eigen::Vector3d x_axis = T.linear().col(0);
+  kinematic_->set_path(path, {T.translation().x(), T.translation().y(), std::atan2(x_axis.y(), x_axis.x())}, time_s());
+}
 
 void Simulator::set_mocap_tracks(std::vector<MocapTrack> tracks) {
   mocap_ = MocapScript(world_, std::move(tracks));
@@ -33,6 +54,10 @@ void Simulator::set_mocap_tracks(std::vector<MocapTrack> tracks) {
 }
 
 void Simulator::step() {
+  if (kinematic_) {
+    kinematic_step();
+    return;
+  }
   if (step_count_ % steps_per_control_ == 0 && follower_.has_path()) {
     const Eigen::Isometry3d T = robot_.T_world_base();
     const Eigen::Vector3d x_axis = T.linear().col(0);
@@ -44,6 +69,20 @@ void Simulator::step() {
   mjModel* m = world_.mutable_model();
   mjData* d = world_.data();
   mj_step2(m, d);
+  mocap_.apply(m, d, d->time);
+  mj_step1(m, d);
+  const Eigen::Vector2d rates = robot_.wheel_rates_radps();
+  odometry_.update(rates.x(), rates.y(), dt);
+  ++step_count_;
+}
+
+void Simulator::kinematic_step() {
+  const double dt = world_.timestep_s();
+  mjModel* m = world_.mutable_model();
+  mjData* d = world_.data();
+  mj_step2(m, d);  // the rest of the world moves on; the robot's own integration is overwritten below
+  const KinematicDrive::State state = kinematic_->has_path() ? kinematic_->at(d->time) : KinematicDrive::State{hold_, {}};
+  robot_.place(state.pose, state.twist, dt);
   mocap_.apply(m, d, d->time);
   mj_step1(m, d);
   const Eigen::Vector2d rates = robot_.wheel_rates_radps();

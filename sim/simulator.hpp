@@ -3,11 +3,13 @@
 //   stvl::sim::Simulator sim(stvl::sim::World::from_file("worlds/office_corridor.xml"));
 //   sim.set_path({{{0, 0}, {5, 0}}, 0.6});
 //   while (!sim.path_finished() && sim.time_s() < 30) sim.step();
+#include <optional>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "sim/diff_drive.hpp"
+#include "sim/kinematic_drive.hpp"
 #include "sim/mocap_script.hpp"
 #include "sim/odometry.hpp"
 #include "sim/path_follower.hpp"
@@ -21,11 +23,14 @@ struct SimulatorConfig {
   OdometryConfig odometry;
   CameraMount camera_mount;
   double control_period_s = 0.02;  // path follower rate; wheel commands are rate-limited every step
+  // kPhysics: the path follower's wheel commands through the physics. kKinematic: the base placed along the path
+  // every step (KinematicDrive), the robot's geoms touching nothing. kAuto is resolved before (sim/urdf_robot.hpp).
+  DriveMode drive = DriveMode::kPhysics;
 };
 
 class Simulator {
  public:
-  // Throws std::invalid_argument if the world lacks the robot or the config is out of range.
+  // Throws std::invalid_argument if the world lacks the robot or the config is out of range (drive kAuto too).
   explicit Simulator(World world, SimulatorConfig config = {});
   Simulator(const Simulator&) = delete;
   Simulator& operator=(const Simulator&) = delete;
@@ -33,11 +38,13 @@ class Simulator {
   // Places the robot at rest and restarts odometry (T_odom_base = identity here).
   void set_start_pose(const Pose2D& pose_W);
   void set_path(const Path& path);
-  bool path_finished() const { return follower_.finished(); }
+  bool path_finished() const { return kinematic_ ? kinematic_->finished(time_s()) : follower_.finished(); }
+  // Returns to the first waypoint of a looping path so far (0 for other paths).
+  int laps_completed() const { return kinematic_ ? kinematic_->laps_completed(time_s()) : follower_.laps_completed(); }
   void set_mocap_tracks(std::vector<MocapTrack> tracks);
 
   // One physics step: controller (every control_period_s), wheel commands, physics, mocap
-  // script at the new time, kinematics, odometry.
+  // script at the new time, kinematics, odometry. A kinematic drive places the base after the physics instead.
   void step();
   // Steps until time_s() >= t_s.
   void run_until(double t_s);
@@ -60,12 +67,16 @@ class Simulator {
   }
 
  private:
+  void kinematic_step();
+
   World world_;
   SimulatorConfig config_;
   DiffDriveRobot robot_;
   PathFollower follower_;
   WheelOdometry odometry_;
   MocapScript mocap_;
+  std::optional<KinematicDrive> kinematic_;  // with DriveMode::kKinematic
+  Pose2D hold_;  // where a kinematic robot without a path stays
   int steps_per_control_ = 10;
   long step_count_ = 0;
 };

@@ -3,6 +3,8 @@
 #include <array>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace stvl::sim {
@@ -15,6 +17,23 @@ std::string trimmed(const char* text) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
   for (char& c : s) if (c == '\n') c = ' ';
   return s;
+}
+
+// Compiles `name` from a virtual file system holding `files`; null with MuJoCo's message in `error` on failure.
+// mjVFS is about 2 MB: heap only.
+mjModel* load_with_vfs(const std::string& name, const std::vector<VirtualFile>& files, std::array<char, kErrorSize>& error) {
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  for (const auto& file : files) {
+    if (file.text.empty() || mj_makeEmptyFileVFS(vfs.get(), file.name.c_str(), static_cast<int>(file.text.size())) != 0) {
+      mj_deleteVFS(vfs.get());
+      throw std::runtime_error("cannot create virtual file '" + file.name + "' for world '" + name + "'");
+    }
+    std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), file.name.c_str())], file.text.data(), file.text.size());
+  }
+  mjModel* model = mj_loadXML(name.c_str(), vfs.get(), error.data(), kErrorSize);
+  mj_deleteVFS(vfs.get());
+  return model;
 }
 
 }  // namespace
@@ -41,6 +60,19 @@ World World::from_file(const std::string& path) {
   return World(model, path);
 }
 
+World World::from_file(const std::string& path, const std::vector<VirtualFile>& replacements) {
+  if (!std::filesystem::is_regular_file(path)) throw std::runtime_error("world file not found: '" + path + "'");
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::vector<VirtualFile> files{{std::filesystem::path(path).filename().string(), text.str()}};
+  files.insert(files.end(), replacements.begin(), replacements.end());
+  std::array<char, kErrorSize> error{};
+  mjModel* model = load_with_vfs(path, files, error);
+  if (!model) throw std::runtime_error("cannot load world '" + path + "': " + trimmed(error.data()));
+  return World(model, path);
+}
+
 Eigen::AlignedBox2d World::extent_xy() const {
   Eigen::AlignedBox2d extent;
   const mjModel* m = model_.get();
@@ -62,26 +94,20 @@ Eigen::AlignedBox2d World::extent_xy() const {
   return extent;
 }
 
-World World::from_string(const std::string& xml, const std::string& base_dir) {
+World World::from_string(const std::string& xml, const std::string& base_dir, const std::vector<VirtualFile>& replacements) {
   if (xml.empty()) throw std::invalid_argument("world XML string is empty");
   if (!base_dir.empty() && !std::filesystem::is_directory(base_dir)) {
     throw std::runtime_error("world base directory not found: '" + base_dir + "'");
   }
   // The string lives in MuJoCo's virtual file system under a name inside base_dir, so that
-  // relative <include>s resolve against base_dir on disk. mjVFS is about 2 MB: heap only.
+  // relative <include>s resolve against base_dir on disk.
   const std::filesystem::path dir = base_dir.empty() ? std::filesystem::current_path()
                                                       : std::filesystem::path(base_dir);
   const std::string name = (dir / "__stvl_inline_world__.xml").string();
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  if (mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(xml.size())) != 0) {
-    throw std::runtime_error("cannot create virtual file for world XML string");
-  }
-  const int index = mj_findFileVFS(vfs.get(), name.c_str());
-  std::memcpy(vfs->filedata[index], xml.data(), xml.size());
   std::array<char, kErrorSize> error{};
-  mjModel* model = mj_loadXML(name.c_str(), vfs.get(), error.data(), kErrorSize);
-  mj_deleteVFS(vfs.get());
+  std::vector<VirtualFile> files{{"__stvl_inline_world__.xml", xml}};
+  files.insert(files.end(), replacements.begin(), replacements.end());
+  mjModel* model = load_with_vfs(name, files, error);
   const std::string source = "<xml string, base dir '" + dir.string() + "'>";
   if (!model) throw std::runtime_error("cannot load world " + source + ": " + trimmed(error.data()));
   return World(model, source);

@@ -15,12 +15,24 @@ namespace stvl::sim {
 constexpr int kRobotGeomGroup = 2;
 constexpr int kRobotSeenGeomGroup = 3;
 
+// A file MuJoCo reads from memory instead of disk. MuJoCo 2.2.2's virtual file system matches files by their base
+// name, case-insensitively, wherever an <include> or a mesh names them.
+struct VirtualFile {
+  std::string name;  // a base name, e.g. "robot.xml"
+  std::string text;
+};
+
 class World {
  public:
   // Throws std::runtime_error naming the path and quoting MuJoCo's error text.
   static World from_file(const std::string& path);
-  // `base_dir` resolves <include file=...> and mesh files; empty means the current directory.
-  static World from_string(const std::string& xml, const std::string& base_dir = "");
+  // The world at `path` with `replacements` standing in for the files of their names (sim/urdf_robot.hpp gives a
+  // generated robot.xml this way). Throws std::runtime_error as from_file.
+  static World from_file(const std::string& path, const std::vector<VirtualFile>& replacements);
+  // `base_dir` resolves <include file=...> and mesh files; empty means the current directory. `replacements` stand
+  // in for the files of their names.
+  static World from_string(const std::string& xml, const std::string& base_dir = "",
+                           const std::vector<VirtualFile>& replacements = {});
 
   World(World&&) noexcept;
   World& operator=(World&&) noexcept;

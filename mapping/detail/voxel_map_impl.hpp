@@ -4,7 +4,9 @@
 // header: each file that does costs 10-20 s and 600 MB to compile.
 #include <openvdb/openvdb.h>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <set>
 #include <unordered_map>
@@ -52,6 +54,9 @@ struct VoxelMap::Impl {
   // voxel's expiry; `due_by_leaf` mirrors `due_queue` so an entry can be moved earlier.
   std::set<std::pair<double, Coord>> due_queue;
   std::unordered_map<Coord, double> due_by_leaf;
+  // costmap_timing stvl: the voxels mark() created since the last clear(), per leaf origin as the leaf's value
+  // mask words (word x, bit 8 y + z): STVL's costmap is built before its marks, so the projection leaves them out.
+  std::unordered_map<Coord, std::array<std::uint64_t, 8>> created_since_clear;
 
   explicit Impl(const StvlConfig& map_config);
 

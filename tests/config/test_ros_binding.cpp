@@ -59,6 +59,7 @@ front_mark:
   min_obstacle_height: 0.1
   max_obstacle_height: 1.5
   filter: voxel
+  voxel_min_points: 4
 front_clear:
   sensor_frame: front_depth_optical_frame
   marking: false
@@ -96,6 +97,14 @@ TEST(RosBinding, MarkingAndClearingSourcesOfOneCameraKeepTheirOwnValues) {
   EXPECT_TRUE(c.filter.passthrough_enabled);
   EXPECT_DOUBLE_EQ(c.filter.passthrough.min_z_m, 0.1);
   EXPECT_DOUBLE_EQ(c.filter.passthrough.max_z_m, 1.5);
+  // STVL's VoxelGrid takes the band as z limits before counting; Noetic's PCL 1.10 ignores voxel_min_points.
+  EXPECT_TRUE(c.filter.band_before_decimation);
+  EXPECT_EQ(c.filter.voxel.min_points_per_voxel, 1);
+  // The same layer read by ROS 2's rules (Humble and later, PCL >= 1.12) drops leaves of fewer than 4 points.
+  pipeline::PipelineConfig ros2 = cameras({"front"});
+  apply_ros_layer(load_ros_stvl_layer(write_file(dir, "bare.yaml", kMarkAndClear), ""), ros2, true);
+  EXPECT_EQ(ros2.filter.voxel.min_points_per_voxel, 4);
+  EXPECT_TRUE(ros2.filter.band_before_decimation);
   // A scenario's own filter is kept.
   pipeline::PipelineConfig own = cameras({"front"});
   own.filter.type = filter::FilterType::kCsnb;
@@ -119,7 +128,7 @@ TEST(RosBinding, BadBindingsNameFileLineAndSource) {
   std::string mixed = kMarkAndClear;
   mixed.replace(mixed.rfind("filter: voxel"), 13, "filter: none");
   EXPECT_THAT(binding_error(mixed, cameras({"front"})),
-              HasSubstr("FILE:19: stvl_layer.front_clear: filter none differs from front_mark's voxel"));
+              HasSubstr("FILE:20: stvl_layer.front_clear: filter none differs from front_mark's voxel"));
 }
 
 // nav2: a non-empty footprint wins over robot_radius; neither: no footprint (nothing cleared).

@@ -53,6 +53,17 @@ TEST(ScenarioMap, GivenStartWaypointsAndDurationAreKept) {
   EXPECT_DOUBLE_EQ(given.duration_s, 30.0);
 }
 
+TEST(ScenarioMap, AUrdfRobotIsPlannedForWithItsOwnFootprintAndLoadsIntoTheMapWorld) {
+  const Scenario s = parse_scenario("name: m\nnav2_map: {file: maps/office_floor.yaml}\nrobot:\n"
+                                    "  urdf: urdf/example_bot/example_bot.urdf\n  package_path: [urdf]\n  drive: kinematic\n"
+                                    "  speed_mps: 0.6\n  cameras:\n    - {name: camera, frame: camera_depth_optical_frame}\n",
+                                    "map.yaml", kWorlds);
+  ASSERT_TRUE(s.pipeline.urdf_robot);
+  EXPECT_GE(s.pipeline.path.waypoints_W.size(), 2u);
+  const auto sim = pipeline::make_simulator(s.pipeline);  // the URDF robot in place of robot.xml, through the VFS
+  EXPECT_GE(sim->world().model()->nbody, 3);
+}
+
 TEST(ScenarioMap, ErrorsNameTheFileLineAndKey) {
   EXPECT_THAT(error_of("name: m\nworld: office_corridor.xml\nnav2_map: {file: maps/office_floor.yaml}\n" + kRobot),
               HasSubstr("map.yaml:3: nav2_map: give either world (an MJCF file) or nav2_map"));

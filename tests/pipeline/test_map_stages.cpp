@@ -168,5 +168,35 @@ TEST(MapStages, CamerasSharingATimeMakeOneUpdate) {
   EXPECT_GT(accelerated, instant.size() / 2);
 }
 
+// STVL's buffer with `filter: voxel` (PCL's VoxelGrid with the band as z limits): the band first, then the leaves.
+// Ours decimates the whole cloud and bands the centroids. A wall at 2 m from z 0.23 to 1.77 m, leaves of 0.4 m,
+// band [0.9, 1.3]: the leaf row z [1.2, 1.6) has its centroid at about 1.4 m (out of band) for ours, while its
+// in-band points alone (z 1.2..1.3) give a centroid inside the band for STVL's order.
+TEST(MapStages, StvlVoxelFilterBandsBeforeTheLeaves) {
+  std::size_t marking[2] = {0, 0};
+  for (const bool band_first : {false, true}) {
+    PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
+    config.filter.type = filter::FilterType::kVoxel;
+    config.filter.voxel.voxel_size_m = 0.4;
+    config.filter.passthrough_enabled = true;
+    config.filter.passthrough = {0.9, 1.3};
+    config.filter.band_before_decimation = band_first;
+    MapStages stages(config);
+    FrameResult f = wall_frame(config, 2.0, 0.0);
+    stages.sense(f);
+    for (Eigen::Index i = 0; i < f.marking_W.cols(); ++i) {
+      EXPECT_GE(f.marking_W(2, i), 0.9f);
+      EXPECT_LE(f.marking_W(2, i), 1.3f);
+    }
+    if (band_first) {
+      EXPECT_EQ(f.decimated_W, f.marking_W);  // what marks also clears
+    } else {
+      EXPECT_GT(f.decimated_W.cols(), f.marking_W.cols());  // the whole wall decimated
+    }
+    marking[band_first] = static_cast<std::size_t>(f.marking_W.cols());
+  }
+  EXPECT_GT(marking[1], marking[0]);  // the leaf row at 1.2..1.6 m marks only in STVL's order
+}
+
 }  // namespace
 }  // namespace stvl::pipeline

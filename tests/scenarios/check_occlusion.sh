@@ -12,7 +12,7 @@ here=$(dirname "$0")
 rm -rf "$out" && mkdir -p "$out"
 rc=0
 "$bin" run "$here/../../scenarios/cart_crossing.yaml" --out "$out/frustum" --no-progress \
-  --set map.clearing_mode=frustum >"$out/frustum.log" 2>&1 || rc=$?
+  --set map.clearing_mode=frustum --set map.costmap_timing=stvl >"$out/frustum.log" 2>&1 || rc=$?
 [[ $rc -eq 1 ]] || { echo "FAIL: frustum run exited $rc, expected 1 (a failed check)"; tail -n 20 "$out/frustum.log"; exit 1; }
 /usr/bin/python3 - "$out/frustum/metrics.json" <<'PY'
 import json, sys
