@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "sim/triangle_mesh.hpp"
@@ -43,9 +44,15 @@ Eigen::AlignedBox3d cube(int x, int y, int z, double s) {
   return Eigen::AlignedBox3d(lo.array() - kPad_m, (lo.array() + s + kPad_m));
 }
 
-void too_many(const std::string& what, double n, const char* of) {
-  throw std::invalid_argument(what + ": " + std::to_string(n) + " candidate voxels (" + of +
-                              "); restrict bounds_W or use a larger size");
+[[noreturn]] void too_many(const std::string& what, double n, const char* of, const std::vector<Triangle>& triangles) {
+  Eigen::AlignedBox3d all;
+  for (const Triangle& t : triangles) all.extend(box_of(t));
+  char text[256];
+  std::snprintf(text, sizeof text,
+                ": %.3g candidate voxels (%s); its triangles span %.4g x %.4g x %.4g m (check the mesh's units and "
+                "scale); restrict bounds_W or use a larger size",
+                n, of, all.sizes().x(), all.sizes().y(), all.sizes().z());
+  throw std::invalid_argument(what + text);
 }
 
 // The triangle clipped to the column [x0, x1] x [y0, y1] (Sutherland-Hodgman); its heights' range, or false.
@@ -113,9 +120,9 @@ std::vector<VoxelKey> voxelize_triangles(const std::vector<Triangle>& triangles_
     const Range r = intersect(range_of(box_of(t), s), region);
     if (!r.empty()) candidates += r.count();
   }
-  if (candidates > kMaxCandidates) too_many(what, candidates, "the triangles' bounding boxes");
+  if (candidates > kMaxCandidates) too_many(what, candidates, "the triangles' bounding boxes", triangles_W);
   const bool fill = solid && closed;
-  if (fill && region.count() > kMaxCandidates) too_many(what, region.count(), "the solid's bounding box");
+  if (fill && region.count() > kMaxCandidates) too_many(what, region.count(), "the solid's bounding box", triangles_W);
 
   for (const Triangle& t : triangles_W) {
     const Range r = intersect(range_of(box_of(t), s), region);
@@ -164,7 +171,7 @@ std::vector<CellKey> footprint_triangles(const std::vector<Triangle>& triangles_
     const Range r = range_of(b, s);
     candidates += double(r.hi.x() - r.lo.x() + 1) * double(r.hi.y() - r.lo.y() + 1);
   }
-  if (candidates > kMaxCandidates) too_many(what, candidates, "footprint cells of the triangles' bounding boxes");
+  if (candidates > kMaxCandidates) too_many(what, candidates, "footprint cells of the triangles' bounding boxes", triangles_W);
   for (const Triangle& t : triangles_W) {
     const Eigen::AlignedBox3d b = box_of(t);
     if (b.max().z() < min_z_m - kPad_m || b.min().z() > max_z_m + kPad_m) continue;
@@ -178,8 +185,8 @@ std::vector<CellKey> footprint_triangles(const std::vector<Triangle>& triangles_
   }
   if (closed && !all.isEmpty()) {  // columns inside the solid through the whole band
     const Range r = range_of(all, s);
-    if (double(r.hi.x() - r.lo.x() + 1) * double(r.hi.y() - r.lo.y() + 1) > kMaxCandidates)
-      too_many(what, r.count(), "footprint cells of the solid's bounding box");
+    const double columns = double(r.hi.x() - r.lo.x() + 1) * double(r.hi.y() - r.lo.y() + 1);
+    if (columns > kMaxCandidates) too_many(what, columns, "footprint cells of the solid's bounding box", triangles_W);
     const double mid = 0.5 * (min_z_m + max_z_m);
     const auto cross = crossings(triangles_W, s, r.lo.head<2>(), r.hi.head<2>(), [&](double z) { return z > mid; });
     for (std::size_t i = 0; i < cross.size();) {
