@@ -422,6 +422,42 @@ TEST(MeshTruth, PlanesFloorLeftOutOthersExactOrNoted) {
   EXPECT_NE(notes[0].note.find("'endless'"), std::string::npos) << notes[0].note;
 }
 
+// --- The shipped scan world ---------------------------------------------------------------------------------
+
+TEST(MeshTruth, ShippedMeshRoomIsItsWallsAndTable) {
+  World world = World::from_file(test::worlds_dir() + "/mesh_room.xml");
+  const auto geoms = obstacle_geoms(world);
+  ASSERT_EQ(geoms.size(), 2u);
+  EXPECT_EQ(geoms[0].body_name, "walls");
+  EXPECT_EQ(geoms[1].body_name, "table");
+  for (const auto& g : geoms) EXPECT_TRUE(g.shape == ShapeType::mesh && g.mesh->closed()) << g.label;
+  EXPECT_TRUE(truth_notes(world).empty());
+  // The footprints are the rectangles worlds/mesh_room.xml describes (cells of 0.05 m meeting one), not the boxes.
+  struct Rect { double x0, x1, y0, y1; };
+  const std::vector<Rect> walls = {{-1.113, 5.087, 1.522, 1.622},   {-1.113, 1.587, -1.578, -1.478},
+                                   {2.487, 5.087, -1.578, -1.478},  {-1.113, -1.013, -1.478, 1.522},
+                                   {4.987, 5.087, -1.478, 1.522}};
+  const std::vector<Rect> table = {{2.213, 3.213, 0.587, 1.187}};
+  auto cells_of = [](const std::vector<Rect>& rects) {
+    std::vector<CellKey> out;
+    for (int x = -40; x <= 110; ++x)
+      for (int y = -40; y <= 40; ++y)
+        for (const Rect& r : rects)
+          if (x * 0.05 <= r.x1 && (x + 1) * 0.05 >= r.x0 && y * 0.05 <= r.y1 && (y + 1) * 0.05 >= r.y0) {
+            out.push_back({x, y});
+            break;
+          }
+    return out;
+  };
+  const auto prints = footprints(geoms, 0.05, 0.1, 2.0);
+  EXPECT_EQ(prints[0].cells, cells_of(walls));
+  EXPECT_EQ(prints[1].cells, cells_of(table));
+  // mj_ray meets the same triangles: through the door gap nothing, beside it the south wall.
+  EXPECT_FALSE(cast_ray(world, {2.0, 0.0, 0.5}, {0, -1, 0}).hit);
+  EXPECT_NEAR(cast_ray(world, {1.0, 0.0, 0.5}, {0, -1, 0}).distance_m, 1.478, 1e-5);
+  EXPECT_NEAR(cast_ray(world, {2.0, 0.0, 0.5}, {0, 1, 0}).distance_m, 1.522, 1e-5);
+}
+
 // --- Bad input ----------------------------------------------------------------------------------------------
 
 TEST(MeshTruth, BadMeshesAreRefusedNamingTheGeom) {
