@@ -1,6 +1,7 @@
 #pragma once
-// Ground-truth geometry from the simulated world, independent of rendering: obstacle geoms,
-// exact voxelization, 2D footprints, ray casting. Poses are read from data() as of the last
+// Ground-truth geometry from the simulated world, read from the model rather than from rendered
+// images (but as the renderer draws it): obstacle geoms, exact voxelization, 2D footprints, ray
+// casting (mj_ray, which meets meshes' triangles). Poses are read from data() as of the last
 // World::step()/forward(), so moved mocap bodies are seen where they are now.
 //
 // Voxelization is a region-vs-shape test, not sampling. A voxel is a closed cube.
@@ -24,7 +25,7 @@
 //  - planes: a horizontal plane at or below z = 0.01 m is the floor and is left out on purpose
 //    (the marking band excludes it); other finite planes are their rectangle (a surface); an
 //    infinite one that is not the floor is left out, and truth_notes() says so.
-// Cost: one test per voxel of each geom's bounding box (clipped to bounds_W), single-threaded.
+// Cost (primitives): one test per voxel of each geom's bounding box (clipped to bounds_W), single-threaded.
 // The whole office corridor, z 0..2 m: 0.16 s at 0.05 m; 1.0 s at 0.02 m (1.36 M surface voxels).
 // Meshes: per triangle. A closed 100k-triangle mesh (a bumpy sphere of radius 2.5 m, test
 // MeshTruth.HundredThousandTrianglesAtFiveCentimetres) at 0.05 m: surface 0.18 s (66.5k voxels),
