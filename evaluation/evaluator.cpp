@@ -359,6 +359,7 @@ EvaluationSummary Evaluator::finish(double time_s, const sim::World& world, cons
   summary.observed_off_truth_voxels = off_truth_keys_.size();
   summary.false_clears = false_clears_;
   summary.occlusion = hidden_clears_.result();
+  summary.truth = {truth_.geom_count(), truth_.mesh_geom_count(), truth_.mesh_triangle_count(), truth_.notes()};
   return summary;
 }
 

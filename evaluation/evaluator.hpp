@@ -65,7 +65,14 @@ struct EvaluationMean {
   double max_path_block_time_s = 0;
 };
 
+// What the truth is made of, and what it could not make exact (metrics.json evaluation.truth).
+struct TruthSummary {
+  std::size_t geoms = 0, mesh_geoms = 0, mesh_triangles = 0;
+  std::vector<sim::TruthNote> notes;  // empty: every obstacle geom the cameras draw is exact (the floor aside)
+};
+
 struct EvaluationSummary {
+  TruthSummary truth;
   std::vector<EvaluationSnapshot> snapshots;
   EvaluationMean mean;
   EvaluationSnapshot final;  // at the end of the run

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <mutex>
+#include <set>
+#include <string>
 
 #include "evaluation/metrics.hpp"
 
@@ -32,6 +36,14 @@ std::vector<sim::BodyVoxels> voxelize_in_band(const std::vector<sim::ObstacleGeo
   return bodies;
 }
 
+// Each note once per process, however many truths meet it.
+void print_once(const std::string& note) {
+  static std::mutex mutex;
+  static std::set<std::string> printed;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (printed.insert(note).second) std::fprintf(stderr, "stvl truth: %s\n", note.c_str());
+}
+
 // Same geoms at the same poses (and so the same voxels, footprints and distances).
 bool same_placement(const std::vector<sim::ObstacleGeom>& a, const std::vector<sim::ObstacleGeom>& b) {
   if (a.size() != b.size()) return false;
@@ -46,6 +58,8 @@ bool same_placement(const std::vector<sim::ObstacleGeom>& a, const std::vector<s
 
 Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(config) {
   config_.validate();
+  notes_ = sim::truth_notes(world);
+  for (const auto& n : notes_) print_once(n.note);
   geoms_ = sim::obstacle_geoms(world);
   std::vector<sim::ObstacleGeom> statics;
   for (const auto& g : geoms_) (is_mocap(world, g.body_id) ? dynamic_geoms_ : statics).push_back(g);
@@ -194,6 +208,16 @@ bool Truth::moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const {
       if (const auto bucket = geoms_near_.find({x, y}); bucket != geoms_near_.end() && bucket->second.has_moving)
         return true;
   return false;
+}
+
+std::size_t Truth::mesh_geom_count() const {
+  return std::count_if(geoms_.begin(), geoms_.end(), [](const sim::ObstacleGeom& g) { return g.mesh != nullptr; });
+}
+
+std::size_t Truth::mesh_triangle_count() const {
+  std::size_t n = 0;
+  for (const auto& g : geoms_) n += g.mesh ? g.mesh->faces().size() : 0;
+  return n;
 }
 
 Eigen::AlignedBox2d Truth::bounds_W() const {

@@ -58,6 +58,12 @@ class Truth {
   bool moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const;
   // x/y extent of every obstacle now.
   Eigen::AlignedBox2d bounds_W() const;
+  // What the truth could not make exact (sim::truth_notes(), each printed once to stderr when first met), and
+  // what it is made of: obstacle geoms, of them meshes (mesh assets, height fields, finite planes), their triangles.
+  const std::vector<sim::TruthNote>& notes() const { return notes_; }
+  std::size_t geom_count() const { return geoms_.size(); }
+  std::size_t mesh_geom_count() const;
+  std::size_t mesh_triangle_count() const;
   // Truth voxel centres, sorted by key.
   Eigen::Matrix3Xf voxel_centers() const;
 
@@ -66,6 +72,7 @@ class Truth {
   bool near_static_mask(const VoxelKey& key, int tol) const;
 
   EvaluationConfig config_;
+  std::vector<sim::TruthNote> notes_;
   std::vector<sim::ObstacleGeom> geoms_;          // every obstacle geom, current poses
   std::vector<sim::ObstacleGeom> dynamic_geoms_;  // those of mocap bodies
   std::vector<sim::BodyVoxels> static_bodies_, dynamic_bodies_;

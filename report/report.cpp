@@ -270,6 +270,8 @@ nlohmann::json metrics_json(const RunResult& r) {
                              {"mark", stage_stats(ct.mark)}};
     }
   }
+  nlohmann::json truth_notes = nlohmann::json::array();
+  for (const auto& n : e.truth.notes) truth_notes.push_back({{"geom", n.geom}, {"note", n.note}});
   nlohmann::json checks = nlohmann::json::array();
   for (const auto& c : r.checks)
     checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}, {"status", evaluation::check_status(c)}});
@@ -292,6 +294,12 @@ nlohmann::json metrics_json(const RunResult& r) {
        {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
         {"recall_window_s", r.scenario.evaluation.recall_window_s},
         {"phantom_clearance_m", r.scenario.evaluation.phantom_clearance_m},
+        {"truth",
+         {{"exact", e.truth.notes.empty()},
+          {"geoms", e.truth.geoms},
+          {"mesh_geoms", e.truth.mesh_geoms},
+          {"mesh_triangles", e.truth.mesh_triangles},
+          {"notes", truth_notes}}},
         {"mean", mean_json(e.mean)},
         {"final", final_json(e.final)},
         {"snapshots", snapshots},
@@ -450,6 +458,14 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   row("final", e.final, std::to_string(e.final.phantom_obstacles));
   h << "</table><p>Distance of mapped voxel centres to the true surface: mean " << e.accuracy.mean_m << " m, median "
     << e.accuracy.median_m << " m, p90 " << e.accuracy.p90_m << " m, p99 " << e.accuracy.p99_m << " m.</p>\n";
+  h << "<p>Truth: " << e.truth.geoms << " obstacle geoms, " << e.truth.mesh_geoms << " of them triangle meshes ("
+    << e.truth.mesh_triangles << " triangles), voxelized exactly";
+  if (e.truth.notes.empty()) h << ".</p>\n";
+  else {
+    h << " except:</p><ul>";
+    for (const auto& n : e.truth.notes) h << "<li>" << xml_escape(n.note) << "</li>";
+    h << "</ul>\n";
+  }
   h << map_contents_html(r);
   h << interactive_body_html(r, scripts);
   h << top_down_html(r, top_down_png, scripts.complete());

@@ -3,8 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <mutex>
 #include <stdexcept>
 #include <unordered_map>
+
+#include "sim/mesh_voxelize.hpp"
 
 namespace stvl::sim {
 namespace {
@@ -76,6 +81,154 @@ void check_count(const IndexRange& r, const char* what) {
   }
 }
 
+
+// --- Triangles from the model, shared between calls ---------------------------------------------------------
+// obstacle_geoms() runs at every truth update; meshes are built once per distinct content (a hash of the data
+// the triangles come from) and kept while some geom holds them.
+
+struct Hash64 {
+  std::uint64_t h = 0x9E3779B97F4A7C15ull;
+  void add(const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (; bytes >= 8; bytes -= 8, p += 8) {
+      std::uint64_t w;
+      std::memcpy(&w, p, 8);
+      mix(w);
+    }
+    std::uint64_t tail = 0;
+    std::memcpy(&tail, p, bytes);
+    mix(tail ^ (static_cast<std::uint64_t>(bytes) << 56));
+  }
+  void mix(std::uint64_t w) {
+    h = (h ^ w) * 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 31;
+  }
+};
+
+template <typename Build>
+std::shared_ptr<const TriangleMesh> cached_mesh(std::uint64_t key, Build build) {
+  static std::mutex mutex;
+  static std::unordered_map<std::uint64_t, std::weak_ptr<const TriangleMesh>> cache;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (auto it = cache.find(key); it != cache.end())
+    if (auto mesh = it->second.lock()) return mesh;
+  for (auto it = cache.begin(); it != cache.end();) it = it->second.expired() ? cache.erase(it) : std::next(it);
+  auto mesh = build();
+  cache[key] = mesh;
+  return mesh;
+}
+
+std::shared_ptr<const TriangleMesh> model_mesh(const mjModel* m, int id, const std::string& label) {
+  const int nv = m->mesh_vertnum[id], nf = m->mesh_facenum[id];
+  const float* vert = m->mesh_vert + 3 * m->mesh_vertadr[id];
+  const int* face = m->mesh_face + 3 * m->mesh_faceadr[id];
+  Hash64 key;
+  key.add("mesh", 4);
+  key.add(&nv, sizeof nv);
+  key.add(&nf, sizeof nf);
+  key.add(vert, 3 * sizeof(float) * std::max(nv, 0));
+  key.add(face, 3 * sizeof(int) * std::max(nf, 0));
+  return cached_mesh(key.h, [&] {
+    std::vector<Eigen::Vector3d> vertices(std::max(nv, 0));
+    for (int v = 0; v < nv; ++v) vertices[v] = Eigen::Vector3d(vert[3 * v], vert[3 * v + 1], vert[3 * v + 2]);
+    std::vector<TriangleMesh::Face> faces(std::max(nf, 0));
+    for (int f = 0; f < nf; ++f) faces[f] = {face[3 * f], face[3 * f + 1], face[3 * f + 2]};
+    return std::make_shared<const TriangleMesh>(std::move(vertices), std::move(faces), label);
+  });
+}
+
+// A height field as the renderer draws it (mjr_uploadHField): the grid, each cell split along its (c, r) ->
+// (c+1, r+1) diagonal, the four sides down to the base at -size[3], and the base (split like the grid, so that
+// every edge is shared: closed).
+std::shared_ptr<const TriangleMesh> height_field_mesh(const mjModel* m, int id, const std::string& label) {
+  const int nr = m->hfield_nrow[id], nc = m->hfield_ncol[id];
+  const float* data = m->hfield_data + m->hfield_adr[id];
+  float sz[4];
+  for (int i = 0; i < 4; ++i) sz[i] = static_cast<float>(m->hfield_size[4 * id + i]);
+  Hash64 key;
+  key.add("hfield", 6);
+  key.add(&nr, sizeof nr);
+  key.add(&nc, sizeof nc);
+  key.add(sz, sizeof sz);
+  key.add(data, sizeof(float) * std::max(nr * nc, 0));
+  return cached_mesh(key.h, [&] {
+    if (nr < 2 || nc < 2) throw std::invalid_argument(label + ": a height field needs at least 2 x 2 samples");
+    const float width = 0.5f * (nc - 1), height = 0.5f * (nr - 1);
+    std::vector<Eigen::Vector3d> vertices(2 * nr * nc);
+    auto top = [&](int r, int c) { return r * nc + c; };
+    auto base = [&](int r, int c) { return nr * nc + r * nc + c; };
+    for (int r = 0; r < nr; ++r)
+      for (int c = 0; c < nc; ++c) {
+        const float x = sz[0] * (c / width - 1.0f), y = sz[1] * (r / height - 1.0f);
+        vertices[top(r, c)] = Eigen::Vector3d(x, y, data[r * nc + c] * sz[2]);
+        vertices[base(r, c)] = Eigen::Vector3d(x, y, -sz[3]);
+      }
+    std::vector<TriangleMesh::Face> faces;
+    faces.reserve(4 * (nr - 1) * (nc - 1) + 4 * (nr - 1) + 4 * (nc - 1));
+    for (int layer = 0; layer < 2; ++layer) {
+      auto at = [&](int r, int c) { return layer * nr * nc + r * nc + c; };
+      for (int r = 0; r + 1 < nr; ++r)
+        for (int c = 0; c + 1 < nc; ++c) {
+          faces.push_back({at(r + 1, c), at(r, c), at(r + 1, c + 1)});
+          faces.push_back({at(r, c), at(r + 1, c + 1), at(r, c + 1)});
+        }
+    }
+    auto side = [&](int r0, int c0, int r1, int c1) {
+      faces.push_back({top(r0, c0), top(r1, c1), base(r1, c1)});
+      faces.push_back({top(r0, c0), base(r1, c1), base(r0, c0)});
+    };
+    for (int r = 0; r + 1 < nr; ++r) side(r, 0, r + 1, 0), side(r, nc - 1, r + 1, nc - 1);
+    for (int c = 0; c + 1 < nc; ++c) side(0, c, 0, c + 1), side(nr - 1, c, nr - 1, c + 1);
+    return std::make_shared<const TriangleMesh>(std::move(vertices), std::move(faces), label);
+  });
+}
+
+std::shared_ptr<const TriangleMesh> rectangle_mesh(double hx, double hy, const std::string& label) {
+  Hash64 key;
+  key.add("plane", 5);
+  key.add(&hx, sizeof hx);
+  key.add(&hy, sizeof hy);
+  return cached_mesh(key.h, [&] {
+    std::vector<Eigen::Vector3d> v = {{-hx, -hy, 0}, {hx, -hy, 0}, {hx, hy, 0}, {-hx, hy, 0}};
+    return std::make_shared<const TriangleMesh>(std::move(v), std::vector<TriangleMesh::Face>{{0, 1, 2}, {0, 2, 3}}, label);
+  });
+}
+
+std::string name_of(const mjModel* m, int type, int id) {
+  const char* name = mj_id2name(m, type, id);
+  return name && *name ? name : "";
+}
+
+std::string geom_label(const World& world, int g) {
+  const mjModel* m = world.model();
+  const std::string name = name_of(m, mjOBJ_GEOM, g);
+  std::string label = name.empty() ? "geom " + std::to_string(g) : "geom '" + name + "'";
+  label += " (";
+  if (m->geom_type[g] == mjGEOM_MESH && m->geom_dataid[g] >= 0) label += "mesh '" + name_of(m, mjOBJ_MESH, m->geom_dataid[g]) + "', ";
+  if (m->geom_type[g] == mjGEOM_HFIELD && m->geom_dataid[g] >= 0)
+    label += "height field '" + name_of(m, mjOBJ_HFIELD, m->geom_dataid[g]) + "', ";
+  return label + "body '" + world.body_name(m->geom_bodyid[g]) + "')";
+}
+
+bool in_groups(const mjModel* m, int g, unsigned group_mask) {
+  const int group = m->geom_group[g];
+  return group >= 0 && group < mjNGROUP && ((group_mask >> group) & 1u);
+}
+
+// The floor: a horizontal plane at or below 1 cm, left out on purpose.
+bool is_floor(const mjData* d, int g) {
+  return std::abs(d->geom_xmat[9 * g + 8]) > 1 - 1e-9 && d->geom_xpos[3 * g + 2] <= 0.01;
+}
+
+std::vector<detail::Triangle> triangles_W(const ObstacleGeom& geom) {
+  std::vector<detail::Triangle> out(geom.mesh->faces().size());
+  for (std::size_t f = 0; f < out.size(); ++f) {
+    const auto t = geom.mesh->triangle(f);
+    out[f] = {geom.T_world_geom * t[0], geom.T_world_geom * t[1], geom.T_world_geom * t[2]};
+  }
+  return out;
+}
+
 }  // namespace
 
 Eigen::AlignedBox3d ObstacleGeom::aabb_W() const {
@@ -97,6 +250,11 @@ Eigen::AlignedBox3d ObstacleGeom::aabb_W() const {
     case ShapeType::box:
       half = R.cwiseAbs() * size_m;
       break;
+    case ShapeType::mesh: {  // tight: MuJoCo turns meshes to their principal axes, so the box of the geom
+      Eigen::AlignedBox3d b;  // frame's box would be loose
+      for (const auto& v : mesh->vertices()) b.extend(T_world_geom * v);
+      return b;
+    }
   }
   return Eigen::AlignedBox3d(T_world_geom.translation() - half, T_world_geom.translation() + half);
 }
@@ -116,12 +274,18 @@ double ObstacleGeom::signed_distance_m(const Eigen::Vector3d& p_W) const {
     }
     case ShapeType::ellipsoid:
       return size_m.minCoeff() * (p.cwiseQuotient(size_m).norm() - 1.0);
+    case ShapeType::mesh: {
+      const double d = mesh->distance_m(p);
+      return mesh->inside(p) ? -d : d;
+    }
   }
   return 0.0;
 }
 
 bool ObstacleGeom::intersects_solid(const Eigen::AlignedBox3d& box_W, double tolerance_m) const {
   const Eigen::AlignedBox3d box = padded(box_W, kPad_m);
+  if (shape == ShapeType::mesh)
+    return mesh->meets_box(T_world_geom, box) || mesh->inside(T_world_geom.inverse() * box.center());
   if (shape == ShapeType::box) return aabb_meets_obb(box, T_world_geom, size_m);
   if (shape == ShapeType::sphere) {
     const Eigen::Vector3d c = T_world_geom.translation();
@@ -142,6 +306,10 @@ bool ObstacleGeom::intersects_solid(const Eigen::AlignedBox3d& box_W, double tol
 }
 
 bool ObstacleGeom::contains_box(const Eigen::AlignedBox3d& box_W) const {
+  if (shape == ShapeType::mesh) {
+    const Eigen::AlignedBox3d box = padded(box_W, kPad_m);
+    return mesh->closed() && !mesh->meets_box(T_world_geom, box) && mesh->inside(T_world_geom.inverse() * box.center());
+  }
   bool inside = true;
   for_each_corner(padded(box_W, kPad_m), [&](const Eigen::Vector3d& p) { inside = inside && signed_distance_m(p) <= 0.0; });
   return inside;
@@ -152,8 +320,7 @@ std::vector<ObstacleGeom> obstacle_geoms(const World& world, unsigned group_mask
   const mjData* d = world.data();
   std::vector<ObstacleGeom> out;
   for (int g = 0; g < m->ngeom; ++g) {
-    const int group = m->geom_group[g];
-    if (group < 0 || group >= mjNGROUP || !((group_mask >> group) & 1u)) continue;
+    if (!in_groups(m, g, group_mask)) continue;
     ObstacleGeom geom;
     geom.geom_id = g;
     geom.body_id = m->geom_bodyid[g];
@@ -169,25 +336,50 @@ std::vector<ObstacleGeom> obstacle_geoms(const World& world, unsigned group_mask
       case mjGEOM_CAPSULE: geom.shape = ShapeType::capsule; geom.size_m = size; break;
       case mjGEOM_CYLINDER: geom.shape = ShapeType::cylinder; geom.size_m = size; break;
       case mjGEOM_ELLIPSOID: geom.shape = ShapeType::ellipsoid; geom.size_m = size; break;
-      case mjGEOM_MESH: {
-        const int mesh = m->geom_dataid[g];
-        if (mesh < 0 || m->mesh_vertnum[mesh] <= 0) continue;
-        Eigen::AlignedBox3d bounds;
-        for (int v = 0; v < m->mesh_vertnum[mesh]; ++v) {
-          const float* p = m->mesh_vert + 3 * (m->mesh_vertadr[mesh] + v);
-          bounds.extend(Eigen::Vector3d(p[0], p[1], p[2]));
-        }
-        geom.shape = ShapeType::box;
-        geom.size_m = 0.5 * bounds.sizes();
-        geom.T_world_geom = geom.T_world_geom * Eigen::Translation3d(bounds.center());
-        geom.approximated = true;
+      case mjGEOM_MESH:
+        if (m->geom_dataid[g] < 0) continue;
+        geom.label = geom_label(world, g);
+        geom.mesh = model_mesh(m, m->geom_dataid[g], geom.label);
         break;
-      }
+      case mjGEOM_HFIELD:
+        if (m->geom_dataid[g] < 0) continue;
+        geom.label = geom_label(world, g);
+        geom.mesh = height_field_mesh(m, m->geom_dataid[g], geom.label);
+        break;
+      case mjGEOM_PLANE:
+        if (is_floor(d, g) || !(size.x() > 0 && size.y() > 0)) continue;  // the floor; infinite: truth_notes()
+        geom.label = geom_label(world, g);
+        geom.mesh = rectangle_mesh(size.x(), size.y(), geom.label);
+        break;
       default:
-        continue;  // planes, height fields
+        continue;
+    }
+    if (geom.mesh) {
+      geom.shape = ShapeType::mesh;
+      geom.size_m = 0.5 * geom.mesh->aabb_G().sizes();
+    } else {
+      geom.label = geom_label(world, g);
     }
     out.push_back(std::move(geom));
   }
+  return out;
+}
+
+std::vector<TruthNote> truth_notes(const World& world, unsigned group_mask) {
+  const mjModel* m = world.model();
+  const mjData* d = world.data();
+  std::vector<TruthNote> out;
+  for (const ObstacleGeom& geom : obstacle_geoms(world, group_mask))
+    if (m->geom_type[geom.geom_id] == mjGEOM_MESH && !geom.mesh->closed())
+      out.push_back({geom.geom_id, geom.label,
+                     geom.label + " is not closed (" + std::to_string(geom.mesh->open_edges()) +
+                         " edges without a partner face): its solid is taken as its surface (footprint cells, solid voxels)"});
+  for (int g = 0; g < m->ngeom; ++g)
+    if (in_groups(m, g, group_mask) && m->geom_type[g] == mjGEOM_PLANE && !is_floor(d, g) &&
+        !(m->geom_size[3 * g] > 0 && m->geom_size[3 * g + 1] > 0)) {
+      const std::string label = geom_label(world, g);
+      out.push_back({g, label, label + " is an infinite plane that is not the floor: left out of the truth"});
+    }
   return out;
 }
 
@@ -199,6 +391,9 @@ std::vector<VoxelKey> voxelize(const ObstacleGeom& geom, const VoxelizeOptions& 
   const Eigen::AlignedBox3d region = geom.aabb_W().intersection(options.bounds_W);
   std::vector<VoxelKey> out;
   if (region.isEmpty()) return out;
+  if (geom.shape == ShapeType::mesh)
+    return detail::voxelize_triangles(triangles_W(geom), geom.mesh->closed(), s, options.solid, region,
+                                      "voxelize: " + geom.label);
   const IndexRange r = index_range(region, s);
   check_count(r, "voxelize");
   const double tolerance = options.tolerance_fraction * s;
@@ -258,6 +453,12 @@ std::vector<BodyFootprint> footprints(const std::vector<ObstacleGeom>& geoms, do
   for (const auto& geom : geoms) {
     auto [it, inserted] = index_of_body.emplace(geom.body_id, out.size());
     if (inserted) out.push_back({geom.body_id, geom.body_name, {}});
+    if (geom.shape == ShapeType::mesh) {
+      const auto cells = detail::footprint_triangles(triangles_W(geom), geom.mesh->closed(), s, min_z_m, max_z_m,
+                                                     "footprints: " + geom.label);
+      out[it->second].cells.insert(out[it->second].cells.end(), cells.begin(), cells.end());
+      continue;
+    }
     const Eigen::AlignedBox3d aabb = geom.aabb_W();
     const double z0 = std::max(min_z_m, aabb.min().z()), z1 = std::min(max_z_m, aabb.max().z());
     if (z0 > z1) continue;

@@ -169,6 +169,42 @@ TEST(Truth, ChangesVersionOnlyWhenAMovingBodyMoves) {
   EXPECT_FALSE(tolerant.near_static({18, 0, 4}));
 }
 
+// An open bin (a box without its top, inline mesh faces) on a mocap body: x 1.01..1.59, y 0.01..0.39, z 0.01..0.49.
+constexpr const char* kOpenBinWorld = R"(
+<mujoco>
+  <asset><mesh name="bin" vertex="0.01 0.01 0.01  0.59 0.01 0.01  0.01 0.39 0.01  0.59 0.39 0.01
+                                  0.01 0.01 0.49  0.59 0.01 0.49  0.01 0.39 0.49  0.59 0.39 0.49"
+               face="0 4 6  0 6 2  1 3 7  1 7 5  0 1 5  0 5 4  2 6 7  2 7 3  0 2 3  0 3 1"/></asset>
+  <worldbody><body name="bin" mocap="true" pos="1 0 0"><geom name="bin_geom" type="mesh" mesh="bin"/></body></worldbody>
+</mujoco>)";
+
+TEST(Truth, MeshesAreTheirTrianglesAndAnOpenOneIsNoted) {
+  sim::World world = sim::World::from_string(kOpenBinWorld);
+  EvaluationConfig c = config();
+  c.min_obstacle_height_m = 0.1;  // above the bin's bottom
+  Truth truth(world, c);
+  EXPECT_EQ(truth.geom_count(), 1u);
+  EXPECT_EQ(truth.mesh_geom_count(), 1u);
+  EXPECT_EQ(truth.mesh_triangle_count(), 10u);
+  ASSERT_EQ(truth.notes().size(), 1u);
+  EXPECT_NE(truth.notes()[0].note.find("geom 'bin_geom' (mesh 'bin', body 'bin') is not closed"), std::string::npos)
+      << truth.notes()[0].note;
+  // Its footprint in the band is its four walls, cells x 10..15, y 0..3 less the inside (its bounding box: 24).
+  EXPECT_EQ(truth.footprint().size(), 24u - 8u);
+  EXPECT_FALSE(truth.footprint().contains({12, 1}));
+  EXPECT_TRUE(truth.footprint().contains({10, 1}));
+  EXPECT_TRUE(truth.contains({10, 1, 3}));   // the -x wall
+  EXPECT_FALSE(truth.contains({12, 1, 3}));  // inside the bin
+  ASSERT_TRUE(truth.distance_to_surface_m({1.3, 0.2, 0.3}).has_value());
+  EXPECT_NEAR(*truth.distance_to_surface_m({1.3, 0.2, 0.3}), 0.19, 1e-6);  // to the walls at y 0.01 and 0.39
+  world.data()->mocap_pos[0] = 3.0;  // moved: voxelized again where it is
+  world.forward();
+  truth.update(world);
+  EXPECT_TRUE(truth.contains({30, 1, 3}));
+  EXPECT_FALSE(truth.contains({10, 1, 3}));
+  EXPECT_TRUE(truth.footprint().contains({30, 1}));
+}
+
 TEST(Evaluator, BadConfigIsRejected) {
   const sim::World world = sim::World::from_string(kWorld);
   EvaluationConfig c = config();

@@ -267,6 +267,33 @@ EOF
     expect_no_results "$tmp"
     ;;
 
+  mesh_missing | mesh_absurd_size | mesh_not_finite)
+    # The mesh_room world with a mesh file that is not there (MuJoCo's error, naming the file), a scan read in the
+    # wrong units (x 1e5: refused before its voxels are allocated, naming the geom), a vertex beyond float range.
+    mkdir -p "$tmp/meshes"
+    cp "$src/worlds/robot.xml" "$tmp/"
+    cp "$src"/worlds/meshes/*.obj "$src"/worlds/meshes/*.stl "$tmp/meshes/"
+    sed "s#^world: .*#world: world.xml#" "$src/scenarios/mesh_room.yaml" >"$tmp/scan.yaml"
+    case $case_name in
+      mesh_missing) sed 's#file="mesh_room.obj"#file="no_such_scan.obj"#' "$src/worlds/mesh_room.xml" >"$tmp/world.xml" ;;
+      mesh_absurd_size) sed 's#file="mesh_room.obj"#file="mesh_room.obj" scale="1e5 1e5 1e5"#' "$src/worlds/mesh_room.xml" >"$tmp/world.xml" ;;
+      mesh_not_finite)
+        sed '0,/^v .*/s//v 1e39 0 0/' "$src/worlds/meshes/mesh_room.obj" >"$tmp/meshes/mesh_room.obj"
+        cp "$src/worlds/mesh_room.xml" "$tmp/world.xml" ;;
+    esac
+    start=$(date +%s)
+    run_bench run "$tmp/scan.yaml" --out "$tmp/out" --no-progress
+    expect_rc 2
+    case $case_name in
+      mesh_missing) expect_error_line "no_such_scan\.obj" ;;
+      mesh_absurd_size)
+        expect_error_line "geom 'room_scan' .*candidate voxels"
+        (( $(date +%s) - start < 30 )) || fail "took $(( $(date +%s) - start )) s to refuse" ;;
+      mesh_not_finite) expect_error_line "geom 'room_scan' .*vertex 0 is not finite" ;;
+    esac
+    expect_no_results "$tmp"
+    ;;
+
   scenario_malformed)
     printf 'name: x\nworld: [unclosed\n' >"$tmp/bad.yaml"
     run_bench run "$tmp/bad.yaml" --out "$tmp/out" --no-progress

@@ -409,6 +409,24 @@ TEST(ReportFiles, TheReportIsOneSelfContainedFile) {
   for (const auto& name : dir.names()) EXPECT_EQ(name.find(".tmp"), std::string::npos) << name;
 }
 
+TEST(ReportFiles, TruthNotesAreInMetricsAndTheReport) {
+  const test::TempDir dir("report_truth");
+  RunResult r = synthetic_result();
+  r.evaluation.truth = {3, 1, 364, {}};
+  nlohmann::json t = metrics_json(r)["evaluation"]["truth"];
+  EXPECT_EQ(t["exact"], true);
+  EXPECT_EQ(t["mesh_triangles"], 364);
+  EXPECT_TRUE(t["notes"].empty());
+  r.evaluation.truth.notes = {{4, "geom 'scan' (mesh 'scan', body 'room')", "geom 'scan' (mesh 'scan', body 'room') is not closed <here>"}};
+  t = metrics_json(r)["evaluation"]["truth"];
+  EXPECT_EQ(t["exact"], false);
+  EXPECT_EQ(t["notes"][0]["geom"], "geom 'scan' (mesh 'scan', body 'room')");
+  write_report(r, dir.path());
+  const std::string html = test::TempDir::read(dir.path() / "report.html");
+  EXPECT_THAT(html, HasSubstr("Truth: 3 obstacle geoms, 1 of them triangle meshes (364 triangles), voxelized exactly except:"));
+  EXPECT_THAT(html, HasSubstr("<li>geom 'scan' (mesh 'scan', body 'room') is not closed &lt;here&gt;</li>"));
+}
+
 TEST(ReportFiles, SoakSamplesGetATableInTheReport) {
   const test::TempDir dir("report_soak");
   RunResult r = synthetic_result();

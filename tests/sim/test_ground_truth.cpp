@@ -103,6 +103,8 @@ Sampler surface_sampler(const ObstacleGeom& g) {
       return [s](double d, const auto& emit) {
         sample_sphere_part(1.0, 0.0, 0, d / s.maxCoeff(), [&](const Eigen::Vector3d& p) { emit(p.cwiseProduct(s)); });
       };
+    case ShapeType::mesh:  // tests/sim/test_mesh_truth.cpp
+      break;
   }
   return {};
 }
@@ -269,7 +271,8 @@ TEST(GroundTruth, FootprintsInHeightBand) {
   EXPECT_FALSE(high[1].cells.empty());
 }
 
-TEST(GroundTruth, MeshIsApproximatedByItsBoundingBox) {
+TEST(GroundTruth, MeshIsItsTrianglesNotItsBoundingBox) {
+  // A wedge given by its vertices only: MuJoCo 2.2.2 draws (and keeps as faces) its convex hull.
   World world = World::from_string(R"(
 <mujoco>
   <asset><mesh name="wedge" vertex="0 0 0  0.4 0 0  0 0.3 0  0 0 0.2  0.4 0 0.2  0 0.3 0.2"/></asset>
@@ -277,14 +280,15 @@ TEST(GroundTruth, MeshIsApproximatedByItsBoundingBox) {
 </mujoco>)");
   const auto geoms = obstacle_geoms(world);
   ASSERT_EQ(geoms.size(), 1u);
-  EXPECT_TRUE(geoms[0].approximated);
-  EXPECT_EQ(geoms[0].shape, ShapeType::box);
-  // MuJoCo re-expresses meshes in their inertia frame: the box is oriented, tight in that frame.
+  EXPECT_EQ(geoms[0].shape, ShapeType::mesh);
+  EXPECT_TRUE(geoms[0].mesh->closed());
   const double vertices[6][3] = {{0, 0, 0}, {0.4, 0, 0}, {0, 0.3, 0}, {0, 0, 0.2}, {0.4, 0, 0.2}, {0, 0.3, 0.2}};
-  for (const auto& v : vertices) {
-    EXPECT_LE(geoms[0].signed_distance_m(Eigen::Vector3d(1 + v[0], 1 + v[1], v[2])), 1e-6);
+  for (const auto& v : vertices) {  // every vertex on the surface, where the model says
+    EXPECT_NEAR(geoms[0].signed_distance_m(Eigen::Vector3d(1 + v[0], 1 + v[1], v[2])), 0.0, 1e-6);
   }
-  EXPECT_LT(8 * geoms[0].size_m.prod(), 2 * 0.4 * 0.3 * 0.2);
+  EXPECT_LT(geoms[0].signed_distance_m({1.1, 1.05, 0.1}), -0.04);  // inside
+  // The corner (0.4, 0.3) of the bounding box is outside, 0.4 * 0.3 / 0.5 m from the slanted face.
+  EXPECT_NEAR(geoms[0].signed_distance_m({1.4, 1.3, 0.1}), 0.4 * 0.3 / 0.5, 1e-6);
 }
 
 TEST(GroundTruth, RayHitsKnownBox) {
