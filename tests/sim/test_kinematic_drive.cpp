@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "sim/kinematic_drive.hpp"
+#include "tests/sim/polyline.hpp"
 
 namespace stvl::sim {
 namespace {
@@ -11,15 +12,7 @@ namespace {
 constexpr double kOnPath_m = 0.001;
 constexpr double kStep_s = 0.002;
 
-double off_polyline(const std::vector<Eigen::Vector2d>& w, const Eigen::Vector2d& p) {
-  double best = INFINITY;
-  for (std::size_t i = 1; i < w.size(); ++i) {
-    const Eigen::Vector2d d = w[i] - w[i - 1];
-    const double t = std::clamp((p - w[i - 1]).dot(d) / d.squaredNorm(), 0.0, 1.0);
-    best = std::min(best, (w[i - 1] + t * d - p).norm());
-  }
-  return best;
-}
+using test::off_polyline;
 
 TEST(KinematicDrive, StaysOnThePathAndEndsAtItsEnd) {
   KinematicDrive drive;

@@ -6,6 +6,7 @@
 #include "sim/simulator.hpp"
 #include "sim/urdf_geometry.hpp"
 #include "sim/urdf_robot.hpp"
+#include "tests/sim/polyline.hpp"
 #include "tests/sim/urdf_texts.hpp"
 #include "tests/support/fixture.hpp"
 #include "tests/support/invalid_argument.hpp"
@@ -39,16 +40,7 @@ Simulator simulator(const TinyBot& bot, const UrdfRobot& robot) {
   return Simulator(load_world_with_robot(bot.world_path, robot), config);
 }
 
-// Distance from p to the polyline.
-double off_polyline(const std::vector<Eigen::Vector2d>& w, const Eigen::Vector2d& p) {
-  double best = INFINITY;
-  for (std::size_t i = 1; i < w.size(); ++i) {
-    const Eigen::Vector2d d = w[i] - w[i - 1];
-    const double t = std::clamp((p - w[i - 1]).dot(d) / d.squaredNorm(), 0.0, 1.0);
-    best = std::min(best, (w[i - 1] + t * d - p).norm());
-  }
-  return best;
-}
+using test::off_polyline;
 
 TEST(ConvexHull, CornersOnlyCounterClockwise) {
   // A square with points inside, repeated, on its edges and 0.05 mm off an edge: its four corners are left.

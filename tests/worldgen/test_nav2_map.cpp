@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/png.hpp"
+#include "tests/support/invalid_argument.hpp"
 #include "tests/worldgen/helpers.hpp"
 
 namespace stvl::worldgen {
@@ -138,19 +139,8 @@ TEST(Nav2Map, ModeDefaultsToTrinaryAndNegateMayBeABoolean) {
   EXPECT_EQ(parse_map_yaml(yes, "m.yaml", "/maps").image_path, "/abs/a.png");
 }
 
-// The message of the std::invalid_argument `f` throws ("" when it does not).
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(Nav2MapErrors, YamlKeysAndValuesNameTheFileLineAndFix) {
-  const auto parse = [](const std::string& text) { return error_of([&] { parse_map_yaml(text, "map.yaml", "/m"); }); };
+  const auto parse = [](const std::string& text) { return stvl::test::invalid_argument_of([&] { parse_map_yaml(text, "map.yaml", "/m"); }); };
   const std::string good = map_yaml("a.pgm");
   EXPECT_THAT(parse(good + "resolutoin: 0.05\n"), HasSubstr("map.yaml:8: resolutoin: unknown key; did you mean 'resolution'?"));
   EXPECT_THAT(parse(map_yaml("a.pgm", 0.0)), HasSubstr("map.yaml:2: resolution: must be a finite number in (0, 100]"));
@@ -171,7 +161,7 @@ TEST(Nav2MapErrors, YamlKeysAndValuesNameTheFileLineAndFix) {
 }
 
 TEST(Nav2MapErrors, ImagesNameTheFileAndWhatIsWrong) {
-  const auto decode = [](const std::string& bytes) { return error_of([&] { decode_map_image(bytes, "img.pgm"); }); };
+  const auto decode = [](const std::string& bytes) { return stvl::test::invalid_argument_of([&] { decode_map_image(bytes, "img.pgm"); }); };
   EXPECT_THAT(decode("GIF89a..."), HasSubstr("img.pgm: not a PGM (P5 or P2) or PNG image (it starts 'GI')"));
   EXPECT_THAT(decode("P6\n1 1\n255\nabc"), HasSubstr("not a PGM"));
   EXPECT_THAT(decode(pgm_p5(4, 4, std::vector<int>(16, 0)).substr(0, 40)), HasSubstr("the PGM ends after"));
@@ -185,18 +175,18 @@ TEST(Nav2MapErrors, ImagesNameTheFileAndWhatIsWrong) {
   EXPECT_THAT(decode("P5\n20000 20000\n255\n"), HasSubstr("20000 x 20000 pixels exceed the limit of 40000000 cells"));
   const std::string png_bytes = encode_png(4, 4, PngFormat::kGray8, std::vector<std::uint8_t>(16, 0).data());
   EXPECT_THAT(decode(png_bytes.substr(0, png_bytes.size() - 20)), HasSubstr("corrupt PNG"));
-  EXPECT_THAT(error_of([&] { decode_map_image(png_bytes, "big.png", 15); }), HasSubstr("4 x 4 pixels exceed the limit of 15"));
+  EXPECT_THAT(stvl::test::invalid_argument_of([&] { decode_map_image(png_bytes, "big.png", 15); }), HasSubstr("4 x 4 pixels exceed the limit of 15"));
 }
 
 TEST(Nav2MapErrors, LoadNamesTheMissingImageAndRefusesHugeOnesFromTheirHeader) {
   TempDir dir;
   const std::string yaml = dir.write("m.yaml", map_yaml("missing.pgm"));
-  EXPECT_THAT(error_of([&] { load_nav2_map(yaml); }),
+  EXPECT_THAT(stvl::test::invalid_argument_of([&] { load_nav2_map(yaml); }),
               HasSubstr(yaml + ": image: cannot read '" + (dir.path() / "missing.pgm").string() + "'"));
   dir.write("huge.pgm", "P5\n# a comment\n20000 20000\n255\n");  // the raster left out: only the header is read
   const std::string huge = dir.write("huge.yaml", map_yaml("huge.pgm"));
-  EXPECT_THAT(error_of([&] { load_nav2_map(huge); }), HasSubstr("20000 x 20000 pixels exceed the limit"));
-  EXPECT_THAT(error_of([&] { load_nav2_map((dir.path() / "nope.yaml").string()); }), HasSubstr("cannot read the map's YAML file"));
+  EXPECT_THAT(stvl::test::invalid_argument_of([&] { load_nav2_map(huge); }), HasSubstr("20000 x 20000 pixels exceed the limit"));
+  EXPECT_THAT(stvl::test::invalid_argument_of([&] { load_nav2_map((dir.path() / "nope.yaml").string()); }), HasSubstr("cannot read the map's YAML file"));
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/invalid_argument.hpp"
 #include "tests/worldgen/helpers.hpp"
 
 namespace stvl::worldgen {
@@ -103,16 +104,6 @@ TEST(Planner, LongestPathEndsAreTheEndsOfAnLCorridor) {
   EXPECT_GT(p.length_m, 7.5);
 }
 
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(PlannerErrors, StartsAndGoalsThatCannotBeDriven) {
   OccupancyGrid g = room_with_pillar();
   for (int r = 1; r < 79; ++r) g.cells[g.frame.index({90, r})] = Cell::kOccupied;  // a wall parts the room
@@ -120,7 +111,7 @@ TEST(PlannerErrors, StartsAndGoalsThatCannotBeDriven) {
     for (int c = 10; c < 30; ++c) g.cells[g.frame.index({c, r})] = Cell::kUnknown;
   const DriveGrid d = make_drive_grid(g, 0.34);
   const auto plan = [&](Eigen::Vector2d s, Eigen::Vector2d t) {
-    return error_of([&] { plan_path(d, g.cells, s, t, "--start", "--goal"); });
+    return stvl::test::invalid_argument_of([&] { plan_path(d, g.cells, s, t, "--start", "--goal"); });
   };
   EXPECT_THAT(plan({0.8, 2.0}, {5.2, 2.0}), HasSubstr("--goal (5.200, 2.000) m: unreachable from --start (0.800, 2.000) m"));
   EXPECT_THAT(plan({3.0, 2.0}, {1.0, 1.0}), HasSubstr("--start (3.000, 2.000) m: inside a wall"));
