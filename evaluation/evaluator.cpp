@@ -42,12 +42,16 @@ EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double 
     m.max_self_lethal = std::max(m.max_self_lethal, s.self_marking.total());
     if (s.path_block.cells > m.max_path_block.cells) m.max_path_block = s.path_block, m.max_path_block_time_s = s.time_s;
   }
-  std::size_t n = 0;
+  std::size_t n = 0, with_mapped = 0;
   double phantoms = 0;
   for (const auto& s : snapshots) {
     if (s.time_s < warm_up_end && snapshots.size() > 1) continue;
     ++n;
-    m.precision += s.precision, m.recall += s.recall, m.f1 += s.f1, m.iou += s.iou;
+    if (s.mapped_voxels > 0) m.precision += s.precision, ++with_mapped;
+    if (s.observed_truth_voxels > 0)
+      m.recall += s.recall, m.f1 += s.f1, m.iou += s.iou;
+    else
+      ++m.empty_snapshots;
     m.costmap_precision += s.costmap_precision, m.costmap_recall += s.costmap_recall;
     m.mapped_voxels += s.mapped_voxels, m.observed_truth_voxels += s.observed_truth_voxels;
     m.lethal_cells += s.lethal_cells;
@@ -57,7 +61,10 @@ EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double 
     m.max_phantom_obstacles = std::max(m.max_phantom_obstacles, s.phantom_obstacles);
   }
   if (n > 0) {
-    m.precision /= n, m.recall /= n, m.f1 /= n, m.iou /= n, m.costmap_precision /= n, m.costmap_recall /= n;
+    const std::size_t scored = n - m.empty_snapshots;
+    if (with_mapped > 0) m.precision /= with_mapped;
+    if (scored > 0) m.recall /= scored, m.f1 /= scored, m.iou /= scored;
+    m.costmap_precision /= n, m.costmap_recall /= n;
     m.mapped_voxels /= n, m.observed_truth_voxels /= n, m.lethal_cells /= n;
     m.phantom_obstacles = phantoms / n;
     for (double& recall : m.camera_recall) recall /= n;

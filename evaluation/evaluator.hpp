@@ -50,6 +50,10 @@ struct EvaluationSnapshot {
 struct EvaluationMean {
   double time_s = 0;          // the end of the run
   std::size_t snapshots = 0;  // how many were averaged
+  // Of those, how many had no observed truth voxel (the camera saw nothing within the recall window: open floor):
+  // left out of the means of recall, F1 and IoU, which are undefined there; precision leaves out those with no
+  // mapped voxel.
+  std::size_t empty_snapshots = 0;
   std::size_t mapped_voxels = 0, observed_truth_voxels = 0, lethal_cells = 0;  // means, rounded down
   double precision = 0, recall = 0, f1 = 0, iou = 0, costmap_precision = 0, costmap_recall = 0;
   double phantom_obstacles = 0;   // mean

@@ -68,6 +68,7 @@ nlohmann::json mean_json(const evaluation::EvaluationMean& m) {
 nlohmann::json mean_figures_json(const evaluation::EvaluationMean& m) {
   return {{"time_s", m.time_s},
           {"snapshots", m.snapshots},
+          {"empty_snapshots", m.empty_snapshots},
           {"mapped_voxels", m.mapped_voxels},
           {"observed_truth_voxels", m.observed_truth_voxels},
           {"precision", m.precision},

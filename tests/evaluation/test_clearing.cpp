@@ -53,6 +53,7 @@ TEST(EvaluationMean, PhantomsAreAveragedAndTheirMaximumKeptApart) {
     snapshots[i].phantom_obstacles = phantoms[i];
     snapshots[i].f1 = 0.1 * (i + 1);
     snapshots[i].mapped_voxels = 10 + i;
+    snapshots[i].observed_truth_voxels = 5;
   }
   const EvaluationMean m = mean_of(snapshots, 0.5);
   EXPECT_EQ(m.snapshots, 3u);
@@ -63,6 +64,26 @@ TEST(EvaluationMean, PhantomsAreAveragedAndTheirMaximumKeptApart) {
   EXPECT_DOUBLE_EQ(m.time_s, 4.0);
   // One snapshot only: it is the mean, even inside the warm-up.
   EXPECT_EQ(mean_of({snapshots[0]}, 10.0).max_phantom_obstacles, 7);
+}
+
+// Open floor: an evaluation whose recall window holds no observed truth voxel has no recall, F1 or IoU to give;
+// it is left out of their means (not counted as 0), and precision leaves out those without a mapped voxel.
+TEST(EvaluationMean, EvaluationsWithNothingToScoreAreLeftOut) {
+  std::vector<EvaluationSnapshot> snapshots(4);
+  for (int i = 0; i < 4; ++i) snapshots[i].time_s = 1.0 + i;
+  snapshots[0].observed_truth_voxels = 8, snapshots[0].mapped_voxels = 8;
+  snapshots[0].recall = 0.8, snapshots[0].f1 = 0.9, snapshots[0].iou = 0.7, snapshots[0].precision = 1.0;
+  snapshots[1].mapped_voxels = 8, snapshots[1].precision = 0.5;  // nothing seen, old voxels still mapped
+  snapshots[2].observed_truth_voxels = 4, snapshots[2].mapped_voxels = 4;
+  snapshots[2].recall = 0.6, snapshots[2].f1 = 0.7, snapshots[2].iou = 0.5, snapshots[2].precision = 0.8;
+  // snapshots[3]: nothing seen, nothing mapped
+  const EvaluationMean m = mean_of(snapshots, 0.0);
+  EXPECT_EQ(m.snapshots, 4u);
+  EXPECT_EQ(m.empty_snapshots, 2u);
+  EXPECT_DOUBLE_EQ(m.recall, 0.7);  // (0.8 + 0.6) / 2, not / 4
+  EXPECT_DOUBLE_EQ(m.f1, 0.8);
+  EXPECT_DOUBLE_EQ(m.iou, 0.6);
+  EXPECT_NEAR(m.precision, (1.0 + 0.5 + 0.8) / 3, 1e-12);
 }
 
 }  // namespace
