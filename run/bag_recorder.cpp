@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "common/serial_worker.hpp"
+#include "filter/passthrough.hpp"
 
 namespace stvl::run {
 namespace {
@@ -60,17 +61,7 @@ std::string source_cloud_topic(const std::vector<pipeline::CameraConfig>& camera
 
 Eigen::Matrix3Xf source_marking_cloud(const pipeline::SourceReading& reading, const mapping::ObservationSource& source) {
   if (!source.marking) return Eigen::Matrix3Xf(3, 0);
-  const Eigen::Matrix3Xf& points = reading.marking_W;
-  Eigen::Matrix3Xf kept(3, points.cols());
-  Eigen::Index n = 0;
-  for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    if (!points.col(i).allFinite()) continue;
-    const double z = points(2, i);
-    if (z > source.max_obstacle_height_m || z < source.min_obstacle_height_m) continue;
-    kept.col(n++) = points.col(i);
-  }
-  kept.conservativeResize(3, n);
-  return kept;
+  return filter::passthrough(reading.marking_W, {source.min_obstacle_height_m, source.max_obstacle_height_m});
 }
 
 void BagRecorder::record(const pipeline::FrameResult& f, const pipeline::Pipeline& pipeline, bool publish_map) {
