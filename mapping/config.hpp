@@ -101,9 +101,10 @@ struct StvlConfig {
   CostmapBand costmap_band = CostmapBand::kEveryVoxel;          // YAML map.costmap_band; marking_band is ours
   CostmapTiming costmap_timing = CostmapTiming::kStvl;          // YAML map.costmap_timing; after_mark is ours
   // nav2's costmap update_frequency (YAML map.update_frequency, or the costmap's own key in a ROS parameter file):
-  // STVL's layer updates at k / update_frequency_hz, the first camera frame at or after each such time, applying
-  // every source's buffer (persistence 0: its newest reading, marked again with the update's time); frames in
-  // between only fill the buffers. 0 (the default of native scenarios): an update at every instant with frames.
+  // STVL's layer updates at every tick k / update_frequency_hz, frames or not (the ticks since the last frame run
+  // when the next frame arrives, at their own times), applying every source's buffer (persistence 0: its newest
+  // reading, marked again with the update's time); frames in between only fill the buffers. 0 (the default of
+  // native scenarios): an update at every instant with frames.
   double update_frequency_hz = 0.0;
   // Bound on expiry work per update in bounded mode; a backlog larger than this is worked off over the next
   // updates (lag = ceil(backlog / expiry_leaves_per_update) updates).

@@ -121,16 +121,23 @@ struct FrameResult {
   // Readings of earlier frames this update applied again from the sources' buffers (observation_persistence, or
   // a stopped camera's buffer, as STVL applies every buffer at every update).
   std::size_t reapplied_readings = 0;
-  // With map_updated: every reading the update took, in the order STVL's layer takes them (cameras in order, each
-  // camera's sources in order, each buffer newest first), this instant's and earlier frames' alike; the bag
-  // writes them at the update (run/bag_recorder.hpp). Empty when the map was not updated.
+  // Every reading an update took, in the order STVL's layer takes them (cameras in order, each camera's sources
+  // in order, each buffer newest first), this instant's and earlier frames' alike; the bag writes them at the
+  // update (run/bag_recorder.hpp).
   struct AppliedReading {
     std::size_t camera_index = 0, source_index = 0;
     std::shared_ptr<const SourceReading> reading;
   };
-  std::vector<AppliedReading> applied_readings;
-  // False when this frame's reading only went into its sources' buffers: another camera takes a frame at the
-  // same time, and STVL's update of that instant (map.update_grouping: instant) runs at the last of them.
+  // The map updates this frame ran, in time order: with map.update_frequency the ticks since the last frame
+  // (earlier than time_s), then the one at time_s when it is a tick; otherwise at most one, at time_s.
+  struct MapUpdate {
+    double time_s = 0;
+    std::vector<AppliedReading> applied_readings;
+  };
+  std::vector<MapUpdate> updates;
+  // True when updates is not empty. False when this frame's reading only went into its sources' buffers:
+  // another camera takes a frame at the same time, and STVL's update of that instant (map.update_grouping:
+  // instant) runs at the last of them, or the costmap's next tick (map.update_frequency) is later.
   bool map_updated = true;
   StageTimes times;
 };

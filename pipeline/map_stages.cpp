@@ -135,6 +135,18 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
   if (camera.no_return_range_m > 0.0)
     no_return_points(f.depth, camera.config.intrinsics, f.T_world_camera, camera.no_return_range_m,
                      config_.map.voxel_size_m, f.no_return_W);
+  f.reapplied_readings = 0;
+  f.times.mark_ms = 0.0;
+  f.updates.clear();
+  f.cleared_keys.clear();
+  f.footprint_cleared = 0;
+  const double frequency_hz = config_.map.update_frequency_hz;
+  const auto tick_s = [&](std::size_t k) { return static_cast<double>(k) / frequency_hz; };
+  // STVL's layer updates at every tick of the costmap's clock, frames or not: the ticks since the last frame
+  // run now, at their own times, with the buffers as they were (this frame's reading has not arrived).
+  if (frequency_hz > 0.0)
+    for (; tick_s(next_update_) + 1e-9 < f.time_s; ++next_update_) run_update(tick_s(next_update_), f, now);
+
   auto reading = std::make_shared<SourceReading>();
   reading->time_s = f.time_s;
   reading->T_world_camera = f.T_world_camera;
@@ -148,26 +160,29 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
     buffer.receive(reading);
   }
   camera.last_frame_s = f.time_s;
-  f.reapplied_readings = 0;
-  f.applied_readings.clear();
-  f.cleared_keys.clear();
-  f.footprint_cleared = 0;
   const bool instant = config_.map.update_grouping == mapping::UpdateGrouping::kInstant;
-  const auto at_this_instant = [&](double time_s) { return std::abs(time_s - f.time_s) <= 1e-9; };
-  f.map_updated = true;
+  bool update_now = true;
   if (instant)  // another camera still takes a frame at this time: STVL's update of the instant runs at the last
     for (std::size_t index = 0; index < cameras_.size(); ++index)
-      if (index != f.camera_index && at_this_instant(now.next_frame_time_s(index))) f.map_updated = false;
-  const double frequency_hz = config_.map.update_frequency_hz;
-  if (frequency_hz > 0.0 && f.time_s + 1e-9 < static_cast<double>(next_update_) / frequency_hz)
-    f.map_updated = false;  // STVL's next update is later: the reading waits in the buffers
-  if (!f.map_updated) {
-    f.times.clear_ms = ms_since(start);
-    f.times.map_cpu_ms = process_cpu_ms() - cpu_start_ms;
-    return;
+      if (index != f.camera_index && std::abs(now.next_frame_time_s(index) - f.time_s) <= 1e-9) update_now = false;
+  if (frequency_hz > 0.0 && f.time_s + 1e-9 < tick_s(next_update_))
+    update_now = false;  // STVL's next update is later: the reading waits in the buffers
+  if (update_now) {
+    if (frequency_hz > 0.0) ++next_update_;
+    run_update(f.time_s, f, now);
   }
-  if (frequency_hz > 0.0)
-    while (static_cast<double>(next_update_) / frequency_hz <= f.time_s + 1e-9) ++next_update_;
+  f.map_updated = !f.updates.empty();
+  f.times.clear_ms = ms_since(start) - f.times.mark_ms;
+  f.times.map_cpu_ms = process_cpu_ms() - cpu_start_ms;
+}
+
+void MapStages::run_update(double time_s, FrameResult& f, const CamerasNow& now) {
+  FrameResult::MapUpdate& update = f.updates.emplace_back();
+  update.time_s = time_s;
+  const bool instant = config_.map.update_grouping == mapping::UpdateGrouping::kInstant;
+  const bool at_frequency = config_.map.update_frequency_hz > 0.0;
+  const auto at_this_instant = [&](double t_s) { return std::abs(t_s - time_s) <= 1e-9; };
+  Sources& camera = *cameras_.at(f.camera_index);
   // STVL's update: the readings of every buffer it applies, clearing first, then marking, all at this time.
   std::vector<mapping::ClearingObservation> clearing;
   std::vector<std::pair<const SourceReading*, const mapping::ObservationSource*>> marking;
@@ -176,44 +191,44 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
     // The cameras that took a frame at this instant (this one alone per camera frame), and once per update
     // time the buffers of cameras that have missed a frame.
     // At the update frequency every buffer applies, as STVL's layer reads them all at every update.
-    const bool took_frame = &c == &camera || (instant && at_this_instant(c.last_frame_s)) || frequency_hz > 0.0;
-    if (!took_frame && (!c.overdue(f.time_s, now.next_frame_time_s(index)) || c.last_reapplied_s >= f.time_s - 1e-9))
+    const bool took_frame = (&c == &camera && at_this_instant(c.last_frame_s)) ||
+                            (instant && at_this_instant(c.last_frame_s)) || at_frequency;
+    if (!took_frame && (!c.overdue(time_s, now.next_frame_time_s(index)) || c.last_reapplied_s >= time_s - 1e-9))
       continue;
-    if (!took_frame) c.last_reapplied_s = f.time_s;
+    if (!took_frame) c.last_reapplied_s = time_s;
     const Eigen::Vector3d centre_now = now.T_world_camera(index).translation();
     for (std::size_t s = 0; s < c.buffers.size(); ++s) {
       const auto& params = c.config.sources[s].params;
-      if (!took_frame && params.drop_when_not_current && !c.buffers[s].current(f.time_s)) continue;
+      if (!took_frame && params.drop_when_not_current && !c.buffers[s].current(time_s)) continue;
       for (const auto& r : c.buffers[s].readings()) {
-        if (params.clearing || params.marking) f.applied_readings.push_back({index, s, r});
+        if (params.clearing || params.marking) update.applied_readings.push_back({index, s, r});
         if (params.clearing) clearing.push_back({r->T_world_camera, params, &r->decimated_W, &r->no_return_W});
         if (params.marking) marking.emplace_back(r.get(), &params);
         if (at_this_instant(r->time_s)) continue;  // this instant's own reading
         ++f.reapplied_readings;
         SourceStatus& status = c.status[s];
         ++status.reapplied_readings;
-        status.max_reapplied_age_s = std::max(status.max_reapplied_age_s, f.time_s - r->time_s);
+        status.max_reapplied_age_s = std::max(status.max_reapplied_age_s, time_s - r->time_s);
         status.reapplied_max_distance_m = std::max(status.reapplied_max_distance_m,
                                                    (r->T_world_camera.translation() - centre_now).norm());
       }
     }
   }
-  map_.clear(clearing, f.time_s, &f.cleared_keys);
-  f.times.clear_ms = ms_since(start);
-  start = SteadyClock::now();
-  for (const auto& [r, params] : marking) map_.mark(r->marking_W, r->T_world_camera, *params, f.time_s);
+  map_.clear(clearing, time_s, &f.cleared_keys);
+  const auto start = SteadyClock::now();
+  for (const auto& [r, params] : marking) map_.mark(r->marking_W, r->T_world_camera, *params, time_s);
   if (config_.map.footprint_clearing_height_m > 0.0) {
-    // Ours: the robot's own voxels inside its footprint, from the floor up to the height given, after marking.
+    // Ours: the robot's own voxels inside its footprint, from the floor up to the height given, after marking
+    // (at the frame's pose: an update at an earlier tick uses the pose of the frame that ran it).
     const double s = config_.map.voxel_size_m;
     const auto polygon_W = mapping::footprint_in_world(config_.map.footprint_B, f.T_world_base);
     const int top = static_cast<int>(std::ceil(config_.map.footprint_clearing_height_m / s)) - 1;
     std::vector<VoxelKey> keys;
     for (const auto& [ix, iy] : mapping::footprint_cells(polygon_W, Eigen::Vector2d::Zero(), s))
       for (int iz = 0; iz <= top; ++iz) keys.push_back({ix, iy, iz});
-    f.footprint_cleared = map_.erase(keys, &f.cleared_keys);
+    f.footprint_cleared += map_.erase(keys, &f.cleared_keys);
   }
-  f.times.mark_ms = ms_since(start);
-  f.times.map_cpu_ms = process_cpu_ms() - cpu_start_ms;
+  f.times.mark_ms += ms_since(start);
 }
 
 mapping::CostmapOptions costmap_options(const PipelineConfig& config, const Eigen::Isometry3d& T_world_base) {

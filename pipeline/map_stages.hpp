@@ -40,10 +40,12 @@ class MapStages {
     std::function<double(std::size_t camera)> next_frame_time_s;
   };
   // Buffers the frame's reading (f.decimated_W, marking_W, T_world_camera; the no-return rays from f.depth) and
-  // runs STVL's update at f.time_s, with f.T_world_base for the footprint: fills f.no_return_W, map_updated,
-  // cleared_keys, footprint_cleared, reapplied_readings, times.clear_ms, mark_ms and map_cpu_ms. With
+  // runs STVL's update at f.time_s, with f.T_world_base for the footprint: fills f.no_return_W, updates,
+  // map_updated, cleared_keys, footprint_cleared, reapplied_readings, times.clear_ms, mark_ms and map_cpu_ms. With
   // map.update_grouping instant, a frame that another camera's frame at the same time follows only buffers
-  // (map_updated false); the last frame of the instant updates with every camera's reading of it.
+  // (map_updated false); the last frame of the instant updates with every camera's reading of it. With
+  // map.update_frequency STVL updates at every tick k / f: the ticks since the last frame run first, at their
+  // own times, from the buffers as they were; the frame's own time updates only when it is a tick.
   void update(FrameResult& f, const CamerasNow& now);
 
   const mapping::VoxelMap& map() const { return map_; }  // as the last update() left it
@@ -58,6 +60,8 @@ class MapStages {
   bool passthrough_ = false;
   mapping::VoxelMap map_;
   std::vector<std::unique_ptr<Sources>> cameras_;
+  // One STVL update at time_s from the buffers (appended to f.updates; counts into f's figures).
+  void run_update(double time_s, FrameResult& f, const CamerasNow& now);
   std::size_t next_update_ = 0;  // with map.update_frequency_hz: the index k of the next update time k / f
 };
 

@@ -78,18 +78,19 @@ void BagRecorder::record(const pipeline::FrameResult& f, const std::vector<pipel
   if (publish_map && !map.map->empty() && topics_.wants("/stvl/costmap")) costmap = map.costmap();
   const std::string& camera = f.camera;
   // The update's readings, as STVL's Mark and ClearFrustums would take them: topic, header stamp, cloud.
+  // Recorded at the update's time: an update at an earlier tick (map.update_frequency) goes before this frame.
   struct Reading {
     std::string topic;
-    double stamp_s;
+    double update_s, stamp_s;
     Eigen::Matrix3Xf points_W;
   };
   std::vector<Reading> readings;
-  if (f.map_updated)
-    for (const auto& applied : f.applied_readings) {
+  for (const auto& update : f.updates)
+    for (const auto& applied : update.applied_readings) {
       const std::string topic = source_cloud_topic(cameras, applied.camera_index, applied.source_index);
       if (!topics_.wants(topic)) continue;
       const auto& source = cameras.at(applied.camera_index).sources.at(applied.source_index).params;
-      readings.push_back({topic, applied.reading->time_s, source_marking_cloud(*applied.reading, source)});
+      readings.push_back({topic, update.time_s, applied.reading->time_s, source_marking_cloud(*applied.reading, source)});
     }
   // Cameras whose frames share a time share its robot messages (tf would warn of repeated data).
   const bool robot_messages = !last_robot_time_s_ || f.time_s > *last_robot_time_s_;
@@ -104,6 +105,8 @@ void BagRecorder::record(const pipeline::FrameResult& f, const std::vector<pipel
                    depth = f.depth, cloud_C = want[6] ? Eigen::Matrix3Xf(f.cloud_C()) : Eigen::Matrix3Xf(),
                    readings = std::move(readings), voxels = std::move(voxels), want_voxels, costmap = std::move(costmap), robot_messages,
                    ground_truth = ground_truth_] {
+    for (const auto& r : readings)
+      if (r.update_s < t) bag->write_points_stamped(r.topic, r.update_s, r.stamp_s, kMapFrame, r.points_W);
     if (robot_messages) {
       if (want[0]) bag->write_clock(t);
       if (want[1]) bag->write_tf(t, T_map_odom, T_odom_base);
@@ -113,7 +116,8 @@ void BagRecorder::record(const pipeline::FrameResult& f, const std::vector<pipel
     if (want[4]) bag->write_depth_image(t, intrinsics, sensors::depth_to_millimetres(depth), camera);
     if (want[5]) bag->write_camera_info(t, intrinsics, camera);
     if (want[6]) bag->write_points(camera_topic(camera, "depth/points"), t, camera_optical_frame(camera), cloud_C);
-    for (const auto& r : readings) bag->write_points_stamped(r.topic, t, r.stamp_s, kMapFrame, r.points_W);
+    for (const auto& r : readings)
+      if (r.update_s >= t) bag->write_points_stamped(r.topic, t, r.stamp_s, kMapFrame, r.points_W);
     if (want_voxels) bag->write_points("/stvl/voxel_grid", t, kMapFrame, voxels);
     if (costmap) bag->write_costmap(t, *costmap);
   });

@@ -99,6 +99,52 @@ TEST(MapStages, UpdatesAtTheCostmapsFrequencyTakeTheNewestReading) {
     EXPECT_LT(stages.map().center_of(key).x(), 2.5) << "a wall of a frame between updates was marked";
 }
 
+// STVL's layer updates at every tick of the costmap's clock, frames or not. A 10 Hz camera at 4 Hz: the tick at
+// 0.25 s runs when the frame at 0.3 s arrives, at its own time, with the newest reading then (the frame at 0.2 s);
+// a camera that stops is applied again at every tick (persistence 0 keeps its last reading).
+TEST(MapStages, UpdatesAtEveryTickBetweenFramesAtTheTicksTime) {
+  PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
+  config.map.update_frequency_hz = 4.0;
+  config.map.voxel_decay_s = 100.0;
+  MapStages stages(config);
+  const double walls_m[] = {2.0, 3.0, 4.0, 0.0};
+  std::vector<std::vector<double>> update_times;
+  for (int k = 0; k < 4; ++k) {
+    FrameResult f = wall_frame(config, walls_m[k], k / 10.0);
+    stages.sense(f);
+    stages.update(f, kOneCamera);
+    update_times.emplace_back();
+    for (const auto& u : f.updates) update_times.back().push_back(u.time_s);
+    EXPECT_EQ(f.map_updated, !f.updates.empty());
+    if (k == 3) {
+      ASSERT_EQ(f.updates.size(), 1u);
+      ASSERT_EQ(f.updates[0].applied_readings.size(), 1u);
+      EXPECT_DOUBLE_EQ(f.updates[0].applied_readings[0].reading->time_s, 0.2);
+      EXPECT_EQ(f.reapplied_readings, 1u);
+    }
+  }
+  EXPECT_EQ(update_times, (std::vector<std::vector<double>>{{0.0}, {}, {}, {0.25}}));
+  std::size_t at_tick = 0;
+  for (const VoxelKey& key : stages.map().voxel_keys()) {
+    const double x = stages.map().center_of(key).x(), t = *stages.map().lookup(stages.map().center_of(key));
+    EXPECT_FALSE(std::abs(x - 3.0) < 0.2) << "the frame at 0.1 s fell between ticks and was marked";
+    if (std::abs(t - 0.25) < 1e-12) {
+      ++at_tick;
+      EXPECT_NEAR(x, 4.0, 0.11) << "a voxel marked at the tick not from the newest reading";
+    }
+  }
+  EXPECT_GT(at_tick, 100u);
+
+  // The camera stops after 0.3 s and comes back at 1.3 s: ticks 0.5, 0.75, 1.0 and 1.25 apply its last reading.
+  FrameResult back = wall_frame(config, 2.0, 1.3);
+  stages.sense(back);
+  stages.update(back, kOneCamera);
+  std::vector<double> times;
+  for (const auto& u : back.updates) times.push_back(u.time_s);
+  EXPECT_EQ(times, (std::vector<double>{0.5, 0.75, 1.0, 1.25}));
+  EXPECT_EQ(back.reapplied_readings, 4u);
+}
+
 // STVL counts every voxel of a column toward its cell; the marking band on the voxel centres is ours.
 TEST(MapStages, CostmapBandIsOursAndOff) {
   PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);

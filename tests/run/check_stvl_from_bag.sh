@@ -3,7 +3,9 @@
 # must rebuild the run's map voxel for voxel (every time within 1 us) and its last costmap: the bag says what the
 # map took, and the map is STVL's. One case per argument: corridor (one camera), nav2 (the nav2 tutorial's
 # parameter file: separate marking and clearing sources, 5 Hz updates, footprint), cameras (three cameras at one
-# instant), persistence (observation_persistence 0.5 s, exponential decay, a person walking away).
+# instant), persistence (observation_persistence 0.5 s, exponential decay, a person walking away), ticks (a 15 Hz
+# camera at a 4 Hz costmap: updates at ticks between frames), outage (three cameras at 5 Hz, the front one stopped
+# from 5 to 8 s: every tick applies its last reading again).
 set -euo pipefail
 case=$1 bin=$2 src=$3 out=$4
 /usr/bin/python3 -c 'import rosbag' 2>/dev/null || { echo "SKIP: /usr/bin/python3 has no rosbag (python3-rosbag)"; exit 77; }
@@ -17,6 +19,8 @@ case $case in
                      --set map.observation.clear_on_no_return=false --set map.observation.decay_acceleration=5
                      --set map.observation.observation_persistence=0.5 --set map.decay_model=exponential
                      --set map.voxel_decay=4) ;;
+  ticks) args=("$src/scenarios/office_corridor.yaml" --duration 4 --set map.update_frequency=4) ;;
+  outage) args=("$src/scenarios/camera_outage.yaml" --duration 9 --set map.update_frequency=5) ;;
   *) echo "unknown case $case" >&2; exit 2 ;;
 esac
 # The run's own checks may fail on a cut-short run; only its outputs matter here.

@@ -154,6 +154,18 @@ def main():
             frame = parent
         return chain
 
+    # nav2's costmap calls STVL's updateBounds at every tick k / update_frequency, frames or not: the updates must
+    # be exactly those ticks, none missing between the first and the last.
+    frequency = params.get("update_frequency", 0.0)
+    if frequency > 0 and updates:
+        ticks = [round((t_ns * 1e-9 - 1.0) * frequency) for t_ns, _ in updates]
+        off = [t_ns for (t_ns, _), k in zip(updates, ticks) if abs((t_ns * 1e-9 - 1.0) - k / frequency) > 1e-6]
+        if off or ticks != list(range(ticks[0], ticks[-1] + 1)):
+            print("FAIL: updates not at every tick of %g Hz: %d off a tick, ticks %s .. %s for %d updates" %
+                  (frequency, len(off), ticks[0], ticks[-1], len(updates)))
+            return 1
+        print("updates at every tick of %g Hz: %d .. %d" % (frequency, ticks[0], ticks[-1]))
+
     grid = {}  # Coord -> time
     cost_columns = {}
     for t_ns, readings in updates:
