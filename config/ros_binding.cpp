@@ -1,6 +1,7 @@
 #include "config/ros_binding.hpp"
 
 #include "mapping/footprint.hpp"
+#include "recording/bag_writer.hpp"
 
 #include <algorithm>
 #include <stdexcept>
@@ -75,6 +76,11 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
                                   "; the bench decimates every frame with one filter");
     if (!first) first = &source;
     config.cameras[index].sources.push_back({source.name, source.stvl});
+    // STVL's buffer with filter none transforms the cloud and filters nothing: no height band.
+    config.cameras[index].sources.back().params.height_band = source.filter != RosSourceFilter::kNone;
+    // The clearing volume is built in sensor_frame: the camera's link when it names it, else the cloud's frame.
+    if (source.sensor_frame == recording::camera_link_frame(config.cameras[index].name))
+      config.cameras[index].sources.back().params.sensor_frame = mapping::SensorFrame::kLink;
   }
   for (const auto& c : config.cameras)
     if (c.sources.empty())

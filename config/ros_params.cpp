@@ -69,7 +69,6 @@ RosObservationSource read_source(const LayerNodes& nodes, YamlMap& layer, const 
   read_source_keys(m, s.stvl, ros1 ? kReadByNoetic : kReadByRos2, {"obstacle_range"});
   if (ros1) read_ros1_obstacle_range(nodes, m, layer, file, s.stvl.obstacle_range_m);
   else m.get("obstacle_range", s.stvl.obstacle_range_m);
-  m.get("vertical_fov_padding", s.vertical_fov_padding_m);
   m.get("model_type", s.model_type);
   m.get("voxel_min_points", s.voxel_min_points);
   m.get("clear_after_reading", s.clear_after_reading);
@@ -89,9 +88,9 @@ RosObservationSource read_source(const LayerNodes& nodes, YamlMap& layer, const 
     m.fail(YAML::Node(), "data_type", "LaserScan: only depth cameras (PointCloud2) are simulated");
   if (s.data_type != "PointCloud2")
     m.fail(YAML::Node(), "data_type", "'" + s.data_type + "': STVL reads only PointCloud2 or LaserScan");
-  if (s.model_type == 1) m.fail(YAML::Node(), "model_type", "1 (3D lidar): only depth cameras are simulated");
-  if (s.model_type != 0)
+  if (s.model_type != 0 && s.model_type != 1)
     m.fail(YAML::Node(), "model_type", std::to_string(s.model_type) + ": STVL knows 0 (depth camera) and 1 (3D lidar)");
+  s.stvl.model = static_cast<mapping::ClearingModel>(s.model_type);
   if (s.voxel_min_points < 0) m.fail(YAML::Node(), "voxel_min_points", "must be >= 0");
   validate_at(s.stvl, m);
   return s;

@@ -28,8 +28,7 @@ struct RosObservationSource {
   // obstacle_range defaults to 2.5 m in ROS 2, 3.0 m in ROS 1; expected_update_rate and observation_persistence
   // are read into it too (the pipeline's source buffers apply them)
   mapping::ObservationSource stvl;
-  double vertical_fov_padding_m = 0.0;  // 3D lidar frustum only
-  int model_type = 0;                   // 0 depth camera (1, the 3D lidar, is rejected)
+  int model_type = 0;                   // 0 depth camera, 1 STVL's 3D lidar model (stvl.model)
   RosSourceFilter filter = RosSourceFilter::kPassthrough;  // STVL's default in every version
   int voxel_min_points = 0;
   bool clear_after_reading = false, inf_is_valid = false, enabled = true;

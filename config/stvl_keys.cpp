@@ -45,7 +45,7 @@ const std::vector<StvlKey>& stvl_keys() {
       layer("obstacle_range", kReadByNoetic | kReadByMelodic, "m", "", "3.0"),  // ROS 1's searchParam()
 
       other("topic", kRos, "", "\"\"", "source name"),
-      other("sensor_frame", kRos, "", "\"\"", "\"\""),
+      other("sensor_frame", kAll, "", "\"\"", "\"\""),  // scenarios: optical | link
       number("observation_persistence", kAll, "s", "0.0", "0.0", &Src::observation_persistence_s),
       number("expected_update_rate", kAll, "s", "0.0", "0.0", &Src::expected_update_rate_s),
       other("data_type", kRos, "", "PointCloud2", "PointCloud2"),
@@ -58,7 +58,7 @@ const std::vector<StvlKey>& stvl_keys() {
       number("min_z", kAll, "m", "0.0", "0.0", &Src::min_z_m),
       number("max_z", kAll, "m", "10.0", "10.0", &Src::max_z_m),
       number("vertical_fov_angle", kAll, "rad", "0.7", "0.7", &Src::vertical_fov_rad),
-      other("vertical_fov_padding", kRos, "m", "0.0", "0.0"),
+      number("vertical_fov_padding", kAll, "m", "0.0", "0.0", &Src::vertical_fov_padding_m),
       number("horizontal_fov_angle", kAll, "rad", "1.04", "1.04", &Src::horizontal_fov_rad),
       number("decay_acceleration", kAll, "1/s^3", "0.0", "0.0", &Src::decay_acceleration_per_s3),
       other("filter", kReadByRos2 | kReadByNoetic, "", "passthrough", "passthrough"),
@@ -66,7 +66,7 @@ const std::vector<StvlKey>& stvl_keys() {
       other("voxel_min_points", kRos, "", "0", "0"),
       other("clear_after_reading", kRos, "", "false", "false"),
       other("enabled", kRos, "", "true", "true"),
-      other("model_type", kRos, "", "0", "0"),
+      other("model_type", kAll, "", "0", "0"),
       // Ours (no STVL branch reads them): scenario files only.
       flag("clear_on_no_return", kReadByScenario, "", "", &Src::clear_on_no_return),
       flag("drop_when_not_current", kReadByScenario, "", "", &Src::drop_when_not_current),

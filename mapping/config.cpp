@@ -42,7 +42,20 @@ constexpr EnumName<MarkRounding> kMarkRoundingNames[] = {{MarkRounding::kFloor, 
                                                          {MarkRounding::kStvl, "stvl"}};
 constexpr EnumName<FrustumGeometry> kFrustumGeometryNames[] = {{FrustumGeometry::kIdeal, "ideal"},
                                                                {FrustumGeometry::kStvl, "stvl"}};
+constexpr EnumName<SensorFrame> kSensorFrameNames[] = {{SensorFrame::kOptical, "optical"}, {SensorFrame::kLink, "link"}};
 }  // namespace
+
+SensorFrame parse_sensor_frame(const std::string& text) { return parse_enum(text, kSensorFrameNames, "sensor_frame"); }
+std::string to_string(SensorFrame frame) { return enum_name(frame, kSensorFrameNames); }
+
+Eigen::Isometry3d T_optical_sensor(SensorFrame frame) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  if (frame == SensorFrame::kLink)  // link x = optical z, link y = -optical x, link z = -optical y
+    T.linear() << 0, -1, 0,
+                  0, 0, -1,
+                  1, 0, 0;
+  return T;
+}
 
 ClearingMode parse_clearing_mode(const std::string& text) { return parse_enum(text, kClearingModeNames, "clearing_mode"); }
 std::string to_string(ClearingMode mode) { return enum_name(mode, kClearingModeNames); }
@@ -113,8 +126,16 @@ void ObservationSource::validate() const {
            "must be <= max_obstacle_height = " + std::to_string(max_obstacle_height_m));
   constexpr double kPi = 3.14159265358979323846;
   require_finite("horizontal_fov_angle", horizontal_fov_rad);
-  if (!(horizontal_fov_rad > 0.0 && horizontal_fov_rad < kPi))
+  if (model == ClearingModel::kLidar3D) {  // STVL's lidar model: more than 6.27 rad is the full circle
+    if (!(horizontal_fov_rad > 0.0 && horizontal_fov_rad <= 6.3))
+      reject("horizontal_fov_angle", horizontal_fov_rad, "must lie in (0, 6.3] rad with model_type 1");
+  } else if (!(horizontal_fov_rad > 0.0 && horizontal_fov_rad < kPi)) {
     reject("horizontal_fov_angle", horizontal_fov_rad, "must lie in (0, pi) rad");
+  }
+  if (model != ClearingModel::kDepthCamera && model != ClearingModel::kLidar3D)
+    reject("model_type", static_cast<double>(model), "STVL knows 0 (depth camera) and 1 (3D lidar)");
+  require_finite("vertical_fov_padding", vertical_fov_padding_m);
+  if (vertical_fov_padding_m < 0.0) reject("vertical_fov_padding", vertical_fov_padding_m, "must be >= 0 m");
   require_finite("vertical_fov_angle", vertical_fov_rad);
   if (!(vertical_fov_rad > 0.0 && vertical_fov_rad < kPi))
     reject("vertical_fov_angle", vertical_fov_rad, "must lie in (0, pi) rad");

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace stvl::mapping {
 
@@ -126,6 +127,17 @@ struct StvlConfig {
 
 // One observation source (STVL: a sensor topic). The clearing frustum is a depth camera's: apex at the
 // optical centre, z forward, x right, y down.
+// The clearing volume a source builds (model_type): STVL's DepthCameraFrustum (0) or ThreeDimensionalLidarFrustum
+// (1, mapping/lidar_frustum.hpp).
+enum class ClearingModel { kDepthCamera = 0, kLidar3D = 1 };
+// The frame STVL builds the clearing volume in (sensor_frame): the cloud's own (the camera's optical frame, z
+// forward; STVL's default, sensor_frame empty) or the camera's link (x forward, z up: <camera>_link).
+enum class SensorFrame { kOptical, kLink };
+SensorFrame parse_sensor_frame(const std::string& text);  // "optical" | "link"; throws std::invalid_argument
+std::string to_string(SensorFrame frame);
+// The rotation from the sensor frame to the optical frame (identity for kOptical).
+Eigen::Isometry3d T_optical_sensor(SensorFrame frame);
+
 struct ObservationSource {
   bool marking = true;
   bool clearing = false;
@@ -133,11 +145,17 @@ struct ObservationSource {
   double obstacle_range_m = 2.5;         // obstacle_range: points farther than this from the optical centre are not marked
   double min_obstacle_height_m = 0.0;    // min_obstacle_height: world z band for marking, inclusive
   double max_obstacle_height_m = 3.0;    // max_obstacle_height
+  // Whether the band above applies (no YAML key): STVL's buffer applies it through its passthrough or voxel
+  // filter; a ROS parameter file's `filter` none (any other string) applies none, and every height marks.
+  bool height_band = true;
   double horizontal_fov_rad = 1.04;      // horizontal_fov_angle: full angle, (0, pi)
   double vertical_fov_rad = 0.7;         // vertical_fov_angle: full angle, (0, pi)
   double min_z_m = 0.0;                  // min_z: frustum near plane along the optical axis, >= 0
   double max_z_m = 10.0;                 // max_z: frustum far plane (and the ray-cast clearing range)
   double decay_acceleration_per_s3 = 0.0;  // decay_acceleration: >= 0, 1/s^3
+  ClearingModel model = ClearingModel::kDepthCamera;  // model_type: 0 or 1; with 1, horizontal_fov_angle up to 2 pi
+  double vertical_fov_padding_m = 0.0;  // vertical_fov_padding: >= 0, model_type 1 only (shrinks the cone by metres)
+  SensorFrame sensor_frame = SensorFrame::kOptical;  // sensor_frame: optical | link (ROS files: the frame's name)
   // clear_on_no_return (ours; STVL clears nothing along a pixel that returns nothing): in ray-cast mode the rays
   // of pixels without a return are walked to max_z too. A camera cannot tell "too far" from a dropout or a
   // too-near obstacle, so this also clears what such pixels hide.

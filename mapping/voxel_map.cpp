@@ -86,7 +86,8 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
     const double dx = p_W.x() - origin_W.x(), dy = p_W.y() - origin_W.y(), dz = p_W.z() - origin_W.z();
     const float distance_sq_m2 = static_cast<float>(dx * dx + dy * dy + dz * dz);
     if (distance_sq_m2 > range_sq_m2 || distance_sq_m2 < kMinMarkDistanceSq_m2) continue;
-    if (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m) continue;
+    if (source.height_band && (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m))
+      continue;
     Coord key;
     if (!impl_->mark_key(p_W, key)) continue;
     if (track_created && !accessor.isValueOn(key)) {
@@ -124,9 +125,14 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
   ClearStats stats;
   std::vector<Frustum> frustums;
   if (impl_->config.clearing_mode == ClearingMode::kFrustum) {
-    for (const ClearingObservation& obs : clearing)
-      frustums.push_back({DepthCameraFrustum(obs.T_world_camera, obs.source, impl_->config.frustum_geometry),
-                          obs.source.decay_acceleration_per_s3});
+    for (const ClearingObservation& obs : clearing) {
+      const Eigen::Isometry3d T_world_sensor = obs.T_world_camera * T_optical_sensor(obs.source.sensor_frame);
+      if (obs.source.model == ClearingModel::kLidar3D)
+        frustums.push_back({LidarFrustum(T_world_sensor, obs.source), obs.source.decay_acceleration_per_s3});
+      else
+        frustums.push_back({DepthCameraFrustum(T_world_sensor, obs.source, impl_->config.frustum_geometry),
+                            obs.source.decay_acceleration_per_s3});
+    }
   } else {
     impl_->raycast_pass(clearing, stats, cleared_keys);
   }

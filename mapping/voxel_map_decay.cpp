@@ -89,7 +89,7 @@ inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& fr
   if (!frustums.empty()) {
     const Eigen::Vector3d centre = frustum_centre_W(it.getCoord());
     for (const Frustum& f : frustums) {
-      if (!f.shape.contains(centre)) continue;
+      if (!f.contains(centre)) continue;
       const double acceleration_s = 1. / 6. * f.decay_acceleration_per_s3 * (age_s * age_s * age_s);  // STVL's order
       if (time_left_s - acceleration_s < 0.0) {
         it.setValueOff();
@@ -134,7 +134,7 @@ void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double t
   auto meets_any = [&](const openvdb::CoordBBox& box) {
     const Eigen::AlignedBox3d box_W = box_of(box);
     for (const Frustum& f : frustums)
-      if (f.shape.may_intersect(box_W)) return true;
+      if (f.may_intersect(box_W)) return true;
     return false;
   };
   std::vector<LeafT*> leaves;

@@ -127,9 +127,12 @@ nlohmann::json camera_list_json(const Scenario& s) {
       const auto& p = c.sources[k].params;
       sources.push_back({{"name", c.sources[k].name}, {"marking", p.marking}, {"clearing", p.clearing},
                          {"topic", run::source_cloud_topic(s.pipeline.cameras, i, k)},
-                         {"sensor_frame", recording::camera_optical_frame(c.name)},
+                         {"sensor_frame", p.sensor_frame == mapping::SensorFrame::kLink
+                                              ? recording::camera_link_frame(c.name)
+                                              : recording::camera_optical_frame(c.name)},
+                         {"model_type", static_cast<int>(p.model)}, {"vertical_fov_padding", p.vertical_fov_padding_m},
                          {"obstacle_range", p.obstacle_range_m}, {"min_obstacle_height", p.min_obstacle_height_m},
-                         {"max_obstacle_height", p.max_obstacle_height_m}, {"min_z", p.min_z_m}, {"max_z", p.max_z_m},
+                         {"max_obstacle_height", p.max_obstacle_height_m}, {"height_band", p.height_band}, {"min_z", p.min_z_m}, {"max_z", p.max_z_m},
                          {"horizontal_fov_angle", p.horizontal_fov_rad}, {"vertical_fov_angle", p.vertical_fov_rad},
                          {"decay_acceleration", p.decay_acceleration_per_s3},
                          {"observation_persistence", p.observation_persistence_s},

@@ -61,6 +61,7 @@ std::string source_cloud_topic(const std::vector<pipeline::CameraConfig>& camera
 
 Eigen::Matrix3Xf source_marking_cloud(const pipeline::SourceReading& reading, const mapping::ObservationSource& source) {
   if (!source.marking) return Eigen::Matrix3Xf(3, 0);
+  if (!source.height_band) return reading.marking_W;
   return filter::passthrough(reading.marking_W, {source.min_obstacle_height_m, source.max_obstacle_height_m});
 }
 

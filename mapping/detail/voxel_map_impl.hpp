@@ -11,9 +11,11 @@
 #include <set>
 #include <unordered_map>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "mapping/frustum.hpp"
+#include "mapping/lidar_frustum.hpp"
 #include "mapping/voxel_map.hpp"
 
 namespace stvl::mapping {
@@ -32,10 +34,16 @@ constexpr const char* kGridName = "stvl_voxels";
 
 inline Coord leaf_origin(const Coord& c) { return Coord(c.x() & ~7, c.y() & ~7, c.z() & ~7); }
 
-// A clearing frustum with its source's decay acceleration.
+// A clearing volume (the depth camera's frustum or STVL's 3D lidar model) with its source's decay acceleration.
 struct Frustum {
-  DepthCameraFrustum shape;
+  std::variant<DepthCameraFrustum, LidarFrustum> shape;
   double decay_acceleration_per_s3;
+  bool contains(const Eigen::Vector3d& p_W) const {
+    return std::visit([&](const auto& s) { return s.contains(p_W); }, shape);
+  }
+  bool may_intersect(const Eigen::AlignedBox3d& box_W) const {
+    return std::visit([&](const auto& s) { return s.may_intersect(box_W); }, shape);
+  }
 };
 
 void ensure_openvdb_initialized();  // voxel_map.cpp

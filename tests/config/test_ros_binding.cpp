@@ -100,6 +100,7 @@ TEST(RosBinding, MarkingAndClearingSourcesOfOneCameraKeepTheirOwnValues) {
   // STVL's VoxelGrid takes the band as z limits before counting; Noetic's PCL 1.10 ignores voxel_min_points.
   EXPECT_TRUE(c.filter.band_before_decimation);
   EXPECT_EQ(c.filter.voxel.min_points_per_voxel, 1);
+  EXPECT_TRUE(sources[0].params.height_band);
   // The same layer read by ROS 2's rules (Humble and later, PCL >= 1.12) drops leaves of fewer than 4 points.
   pipeline::PipelineConfig ros2 = cameras({"front"});
   apply_ros_layer(load_ros_stvl_layer(write_file(dir, "bare.yaml", kMarkAndClear), ""), ros2, true);
@@ -110,6 +111,15 @@ TEST(RosBinding, MarkingAndClearingSourcesOfOneCameraKeepTheirOwnValues) {
   own.filter.type = filter::FilterType::kCsnb;
   apply_ros_layer(layer, own, false);
   EXPECT_EQ(own.filter.type, filter::FilterType::kCsnb);
+  // filter none: STVL's buffer filters nothing, so no band on the cloud and none at marking.
+  std::string none = kMarkAndClear;
+  for (std::size_t at = none.find("filter: voxel"); at != std::string::npos; at = none.find("filter: voxel"))
+    none.replace(at, 13, "filter: none");
+  pipeline::PipelineConfig unbanded = cameras({"front"});
+  apply_ros_layer(load_ros_stvl_layer(write_file(dir, "none.yaml", none), ""), unbanded, true);
+  EXPECT_FALSE(unbanded.filter.passthrough_enabled);
+  EXPECT_EQ(unbanded.filter.type, filter::FilterType::kNone);
+  EXPECT_FALSE(unbanded.cameras[0].sources[0].params.height_band);
 }
 
 std::string binding_error(const std::string& body, pipeline::PipelineConfig c) {

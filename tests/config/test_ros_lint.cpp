@@ -307,8 +307,8 @@ TEST_F(RosLint, NegativeVoxelDecayIsAFinding) {
 }
 
 TEST_F(RosLint, ErrorsStayErrors) {
-  EXPECT_THAT(test::invalid_argument_of([&] { lint(kClean + "  model_type: 1\n"); }),
-              HasSubstr(":8: cam.model_type: 1 (3D lidar): only depth cameras are simulated"));
+  EXPECT_THAT(test::invalid_argument_of([&] { lint(kClean + "  model_type: 2\n"); }),
+              HasSubstr(":8: cam.model_type: 2: STVL knows 0 (depth camera) and 1 (3D lidar)"));
 }
 
 TEST_F(RosLint, CommandExitCodes) {

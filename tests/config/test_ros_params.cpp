@@ -220,9 +220,18 @@ TEST_F(RosParams, SourceWithoutMappingNamesObservationSources) {
   EXPECT_EQ(message, "FILE:2: observation_sources: source 'other' has no mapping other");
 }
 
-TEST_F(RosParams, ModelTypeOneAndLaserScanAreNotSimulated) {
-  EXPECT_EQ(error(test::nav2_text("voxel_decay: 15.0\nobservation_sources: c\nc:\n  model_type: 1\n")),
-            "FILE:11: stvl_layer.c.model_type: 1 (3D lidar): only depth cameras are simulated");
+// model_type 1 is STVL's 3D lidar clearing model (on a camera's cloud, as STVL would build it); 2 is no model.
+TEST_F(RosParams, ModelTypeOneIsTheLidarModelTwoAndLaserScanAreErrors) {
+  const RosStvlLayer lidar = load("voxel_decay: 15.0\nobservation_sources: c\nc:\n  model_type: 1\n"
+                                  "  vertical_fov_padding: 0.05\n  horizontal_fov_angle: 6.2832\n");
+  ASSERT_EQ(lidar.sources.size(), 1u);
+  EXPECT_EQ(lidar.sources[0].stvl.model, mapping::ClearingModel::kLidar3D);
+  EXPECT_DOUBLE_EQ(lidar.sources[0].stvl.vertical_fov_padding_m, 0.05);
+  EXPECT_DOUBLE_EQ(lidar.sources[0].stvl.horizontal_fov_rad, 6.2832);
+  EXPECT_THAT(error("voxel_decay: 15.0\nobservation_sources: c\nc:\n  horizontal_fov_angle: 6.2832\n"),
+              HasSubstr("horizontal_fov_angle"));  // a depth camera's frustum stays below pi
+  EXPECT_EQ(error(test::nav2_text("voxel_decay: 15.0\nobservation_sources: c\nc:\n  model_type: 2\n")),
+            "FILE:11: stvl_layer.c.model_type: 2: STVL knows 0 (depth camera) and 1 (3D lidar)");
   EXPECT_THAT(error("voxel_decay: 15.0\nobservation_sources: c\nc:\n  data_type: LaserScan\n"),
               HasSubstr(":4: c.data_type: LaserScan: only depth cameras (PointCloud2) are simulated"));
 }

@@ -105,9 +105,13 @@ TEST(VoxelMapMark, SkipsOutOfRangeOutOfBandNonFiniteAndSensorOrigin) {
   EXPECT_EQ(map.size(), 2u);
   EXPECT_TRUE(map.lookup({1.0, 0.0, 0.5}).has_value());
   EXPECT_TRUE(map.lookup({1.0, 0.0, 1.0}).has_value());
+  // STVL's filter none: no band, every height marks (still within range).
+  source.height_band = false;
+  EXPECT_EQ(map.mark(cloud({{1.0f, 0.0f, -0.25f}, {1.0f, 0.0f, 1.25f}, {2.4f, 0.0f, 0.5f}}), camera, source, 3.0), 2u);
+  EXPECT_EQ(map.size(), 4u);
   source.marking = false;
   EXPECT_EQ(map.mark(cloud({{1.5f, 0.0f, 0.5f}}), camera, source, 3.0), 0u);
-  EXPECT_EQ(map.size(), 2u);
+  EXPECT_EQ(map.size(), 4u);
 }
 
 // One voxel at (x, 0, 0) marked at t = 0, cleared once at time_s by a camera at the origin looking along +x.

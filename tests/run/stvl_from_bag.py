@@ -81,7 +81,36 @@ def depth_camera_frustum(pose, hfov, vfov, min_z, max_z):
     return world
 
 
+def lidar_frustum(pose, hfov, vfov, min_z, max_z, padding):
+    """ThreeDimensionalLidarFrustum (model_type 1): the constructor's members and TransformModel's pose."""
+    return ("lidar", pose, hfov / 2.0, math.tan(vfov / 2.0) ** 2, min_z * min_z, max_z * max_z, padding, hfov > 6.27)
+
+
+def lidar_inside(model, c):
+    """ThreeDimensionalLidarFrustum::IsInside: horizontal range, padded vertical cone, bearing."""
+    _, (r, t), half_h, tan_sq, min_sq, max_sq, padding, full = model
+    d = sub(c, t)
+    x, y, z = [sum(r[k][i] * d[k] for k in range(3)) for i in range(3)]  # R^T (c - t)
+    r2 = x * x + y * y
+    if r2 > max_sq or r2 < min_sq:
+        return False
+    v = abs(z) + padding
+    if r2 == 0.0:
+        if v > 0.0:
+            return False  # +inf: outside; 0/0 is NaN, which compares false (inside)
+    elif v * v / r2 > tan_sq:
+        return False
+    if full:
+        return True
+    if x > 0.0:
+        return not abs(math.atan(y / x)) > half_h
+    bearing = math.pi / 2 if y == 0.0 else abs(math.atan(x / y))  # atan(+-inf)
+    return not bearing + math.pi / 2 > half_h
+
+
 def inside(planes, c):
+    if planes and planes[0] == "lidar":
+        return lidar_inside(planes, c)
     for n, a in planes:
         d = normalize(sub(c, a))
         if n[0] * d[0] + n[1] * d[1] + n[2] * d[2] > 0.0:
@@ -174,9 +203,14 @@ def main():
         for topic, stamp, _ in readings:
             s = sources[topic]
             if s.get("clearing", False):
-                frustums.append((depth_camera_frustum(pose_of(s["sensor_frame"], stamp), s["horizontal_fov_angle"],
-                                                      s["vertical_fov_angle"], s["min_z"], s["max_z"]),
-                                 s.get("decay_acceleration", 0.0)))
+                pose = pose_of(s["sensor_frame"], stamp)
+                if s.get("model_type", 0) == 1:
+                    shape = lidar_frustum(pose, s["horizontal_fov_angle"], s["vertical_fov_angle"], s["min_z"],
+                                          s["max_z"], s.get("vertical_fov_padding", 0.0))
+                else:
+                    shape = depth_camera_frustum(pose, s["horizontal_fov_angle"], s["vertical_fov_angle"], s["min_z"],
+                                                 s["max_z"])
+                frustums.append((shape, s.get("decay_acceleration", 0.0)))
         # ClearFrustums -> TemporalClearAndGenerateCostmap
         cost_columns = {}
         for c in list(grid):
