@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 
 #include "common/splitmix.hpp"
 
@@ -91,7 +92,7 @@ float pixel_plain(const Frame& f, int u, int v) {
 // A neighbour's depth makes pixel z an edge candidate (the plain code's jump > edge_jump, as an "any": the running
 // maximum exceeds edge_jump >= 0 exactly when one neighbour's jump does). A missing neighbour is passed as z
 // itself, which never qualifies (0, or NaN for infinite z, is not above edge_jump; z <= 0 and NaN fail zn > 0).
-inline bool edge_from(float zn, float z, float edge_jump) { return (zn > 0.0f) & (std::abs(zn - z) > edge_jump); }
+inline int edge_from(float zn, float z, float edge_jump) { return int(zn > 0.0f) & int(std::abs(zn - z) > edge_jump); }
 
 // Passes over pixels [u0, u0 + n) of row v (n <= kChunk); always inlined into each instruction set's copy.
 template <bool Stereo, bool Quantize, bool Dropout, bool Occlusion>
@@ -145,7 +146,7 @@ __attribute__((always_inline)) inline void chunk(const Frame& f, int v, int u0, 
       double disparity = fb / z + term[j];
       if (Quantize) {
         const double q = trunc_non_negative(disparity * inv_step + 0.5) * step;
-        disparity = (disparity > 0.0) & (disparity < 1e12) ? q : disparity;
+        disparity = ((disparity > 0.0) & (disparity < 1e12)) ? q : disparity;
       }
       const double z_noisy = fb / disparity;  // computed for every pixel, selected after: no branch
       z = disparity > 0.0 ? z_noisy : 0.0;
@@ -161,28 +162,38 @@ __attribute__((always_inline)) inline void chunk(const Frame& f, int v, int u0, 
     const float* up = v > 0 ? cur - f.W : cur;
     const float* down = v + 1 < f.H ? cur + f.W : cur;
     const float jump = f.edge_jump;
-    alignas(64) uint8_t candidate[kChunk];
+    alignas(64) uint8_t candidate[kChunk + 8];
     const int first = u0 == 0 ? 1 : 0, last = u0 + n == f.W ? n - 1 : n;  // interior: both row neighbours exist
     for (int j = first; j < last; ++j) {
       const float z = cur[j];
-      candidate[j] = (z > 0.0f) & (edge_from(cur[j - 1], z, jump) | edge_from(cur[j + 1], z, jump) |
-                                   edge_from(up[j], z, jump) | edge_from(down[j], z, jump));
+      candidate[j] = uint8_t(int(z > 0.0f) & (edge_from(cur[j - 1], z, jump) | edge_from(cur[j + 1], z, jump) |
+                                              edge_from(up[j], z, jump) | edge_from(down[j], z, jump)));
     }
     for (int j : {0, n - 1}) {
       if (j >= first && j < last) continue;
       const float z = cur[j];
       const float left = u0 + j > 0 ? cur[j - 1] : z, right = u0 + j + 1 < f.W ? cur[j + 1] : z;
-      candidate[j] = (z > 0.0f) & (edge_from(left, z, jump) | edge_from(right, z, jump) | edge_from(up[j], z, jump) |
-                                   edge_from(down[j], z, jump));
+      candidate[j] = uint8_t(int(z > 0.0f) & (edge_from(left, z, jump) | edge_from(right, z, jump) |
+                                              edge_from(up[j], z, jump) | edge_from(down[j], z, jump)));
     }
-    for (int j = 0; j < n; ++j)
-      if (candidate[j]) out[j] = pixel_plain(f, u0 + j, v);
+    for (int j = n; j < kChunk + 8 && j % 8 != 0; ++j) candidate[j] = 0;
+    // Eight flags at a time (mostly all zero); a candidate whose edge draw fails keeps the value above.
+    for (int j0 = 0; j0 < n; j0 += 8) {
+      uint64_t flags;
+      std::memcpy(&flags, candidate + j0, 8);
+      while (flags) {
+        const int j = j0 + __builtin_ctzll(flags) / 8;
+        flags &= flags - 1;
+        if (draw(f.key, i0 + uint64_t(j), kEdge) < f.edge_threshold) out[j] = pixel_plain(f, u0 + j, v);
+      }
+    }
   }
 }
 
 template <bool Stereo, bool Quantize, bool Dropout, bool Occlusion>
 __attribute__((always_inline)) inline void row(const Frame& f, int v) {
-  for (int u0 = 0; u0 < f.W; u0 += kChunk) chunk<Stereo, Quantize, Dropout, Occlusion>(f, v, u0, std::min(kChunk, f.W - u0));
+  for (int u0 = 0; u0 < f.W; u0 += kChunk)
+    chunk<Stereo, Quantize, Dropout, Occlusion>(f, v, u0, std::min(kChunk, f.W - u0));
 }
 
 // The variants of the row passes, for one instruction set.
@@ -201,20 +212,32 @@ __attribute__((always_inline)) inline void row_any(const Frame& f, int v) {
 }
 
 void row_baseline(const Frame& f, int v) { row_any(f, v); }
+
+#if defined(__x86_64__) || defined(__i386__)
+#define STVL_NOISE_X86 1
+#if defined(__clang__)
+#define STVL_NOISE_AVX512 "avx512f,avx512dq,avx512vl,avx512bw"
+#else
+#define STVL_NOISE_AVX512 "avx512f,avx512dq,avx512vl,avx512bw,prefer-vector-width=512"
+#endif
 __attribute__((target("avx2"))) void row_avx2(const Frame& f, int v) { row_any(f, v); }
-__attribute__((target("avx512f,avx512dq,avx512vl,avx512bw,prefer-vector-width=512"))) void row_avx512(const Frame& f,
-                                                                                                        int v) {
-  row_any(f, v);
-}
+__attribute__((target(STVL_NOISE_AVX512))) void row_avx512(const Frame& f, int v) { row_any(f, v); }
+#else
+#define STVL_NOISE_X86 0
+void row_avx2(const Frame& f, int v) { row_any(f, v); }
+void row_avx512(const Frame& f, int v) { row_any(f, v); }
+#endif
 
 }  // namespace
 
 Simd best_simd() {
-  __builtin_cpu_init();
+#if STVL_NOISE_X86
+  __builtin_cpu_init();  // the checks include the OS's support for the wider registers
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
       __builtin_cpu_supports("avx512bw"))
     return Simd::kAvx512;
   if (__builtin_cpu_supports("avx2")) return Simd::kAvx2;
+#endif
   return Simd::kBaseline;
 }
 
