@@ -94,6 +94,26 @@ float pixel_plain(const Frame& f, int u, int v) {
 // itself, which never qualifies (0, or NaN for infinite z, is not above edge_jump; z <= 0 and NaN fail zn > 0).
 inline int edge_from(float zn, float z, float edge_jump) { return int(zn > 0.0f) & int(std::abs(zn - z) > edge_jump); }
 
+// After the edge artefacts, branch-free: disparity noise (term = subpixel * normal), quantization, range, dropout
+// (drop_counter: the dropout draw's counter), as the plain code computes them; 0 where keep is false.
+template <bool Stereo, bool Quantize, bool Dropout>
+__attribute__((always_inline)) inline float finish(const Frame& f, double z, bool keep, double term,
+                                                   uint64_t drop_counter) {
+  if (Stereo) {
+    double disparity = f.fb / z + term;
+    if (Quantize) {
+      const double q = trunc_non_negative(disparity * f.inv_step + 0.5) * f.step;
+      disparity = ((disparity > 0.0) & (disparity < 1e12)) ? q : disparity;
+    }
+    const double z_noisy = f.fb / disparity;  // computed for every pixel, selected after: no branch
+    z = disparity > 0.0 ? z_noisy : 0.0;
+  }
+  keep &= (z >= f.min_m) & (z <= f.max_m);
+  if (Dropout) keep &= !(splitmix64_mix(drop_counter) < f.dropout_threshold);
+  const float z_out = float(z);
+  return keep ? z_out : 0.0f;
+}
+
 // Passes over pixels [u0, u0 + n) of row v (n <= kChunk); always inlined into each instruction set's copy.
 template <bool Stereo, bool Quantize, bool Dropout, bool Occlusion>
 __attribute__((always_inline)) inline void chunk(const Frame& f, int v, int u0, int n) {
@@ -134,59 +154,72 @@ __attribute__((always_inline)) inline void chunk(const Frame& f, int v, int u0, 
   }
 
   // Every pixel as if it were no edge: branch-free.
-  const double fb = f.fb, step = f.step, inv_step = f.inv_step, min_m = f.min_m, max_m = f.max_m;
-  const uint64_t drop_base = f.key + (i0 * kStreams + kDropout + 1) * kGolden;
-  const uint64_t drop_threshold = f.dropout_threshold;
+  const uint64_t drop_base = f.key + (i0 * kStreams + kDropout + 1) * kGolden, drop_stride = kStreams * kGolden;
   for (int j = 0; j < n; ++j) {
     const float z_true = cur[j];
     bool keep = z_true > 0.0f;
     if (Occlusion) keep &= occluded[j] == 0;
-    double z = z_true;
-    if (Stereo) {
-      double disparity = fb / z + term[j];
-      if (Quantize) {
-        const double q = trunc_non_negative(disparity * inv_step + 0.5) * step;
-        disparity = ((disparity > 0.0) & (disparity < 1e12)) ? q : disparity;
-      }
-      const double z_noisy = fb / disparity;  // computed for every pixel, selected after: no branch
-      z = disparity > 0.0 ? z_noisy : 0.0;
-    }
-    keep &= (z >= min_m) & (z <= max_m);
-    if (Dropout) keep &= !(splitmix64_mix(drop_base + uint64_t(j) * (kStreams * kGolden)) < drop_threshold);
-    const float z_out = float(z);
-    out[j] = keep ? z_out : 0.0f;
+    out[j] = finish<Stereo, Quantize, Dropout>(f, double(z_true), keep, Stereo ? term[j] : 0.0,
+                                               drop_base + uint64_t(j) * drop_stride);
+  }
+  if (!f.edges) return;
+
+  // Edge candidates: valid, visible pixels with a neighbour that jumps by more than edge_jump.
+  const float* up = v > 0 ? cur - f.W : cur;
+  const float* down = v + 1 < f.H ? cur + f.W : cur;
+  const float jump = f.edge_jump;
+  alignas(64) uint8_t candidate[kChunk + 8];
+  const int first = u0 == 0 ? 1 : 0, last = u0 + n == f.W ? n - 1 : n;  // interior: both row neighbours exist
+  for (int j = first; j < last; ++j) {
+    const float z = cur[j];
+    candidate[j] = uint8_t(int(z > 0.0f) & (edge_from(cur[j - 1], z, jump) | edge_from(cur[j + 1], z, jump) |
+                                            edge_from(up[j], z, jump) | edge_from(down[j], z, jump)));
+  }
+  for (int j : {0, n - 1}) {
+    if (j >= first && j < last) continue;
+    const float z = cur[j];
+    const float left = u0 + j > 0 ? cur[j - 1] : z, right = u0 + j + 1 < f.W ? cur[j + 1] : z;
+    candidate[j] = uint8_t(int(z > 0.0f) & (edge_from(left, z, jump) | edge_from(right, z, jump) |
+                                            edge_from(up[j], z, jump) | edge_from(down[j], z, jump)));
+  }
+  if (Occlusion)
+    for (int j = 0; j < n; ++j) candidate[j] &= uint8_t(occluded[j] == 0);
+  for (int j = n; j < kChunk + 8 && j % 8 != 0; ++j) candidate[j] = 0;
+
+  // Their positions (eight flags at a time, mostly all zero), then those whose edge draw passes (branch-free).
+  alignas(64) int list[kChunk];
+  int count = 0;
+  for (int j0 = 0; j0 < n; j0 += 8) {
+    uint64_t flags;
+    std::memcpy(&flags, candidate + j0, 8);
+    for (; flags; flags &= flags - 1) list[count++] = j0 + __builtin_ctzll(flags) / 8;
+  }
+  int affected = 0;
+  for (int c = 0; c < count; ++c) {
+    const int j = list[c];
+    list[affected] = j;
+    affected += draw(f.key, i0 + uint64_t(j), kEdge) < f.edge_threshold;
   }
 
-  // Edge candidates (a neighbour jumps by more than edge_jump) again, pixel by pixel: few per row.
-  if (f.edges) {
-    const float* up = v > 0 ? cur - f.W : cur;
-    const float* down = v + 1 < f.H ? cur + f.W : cur;
-    const float jump = f.edge_jump;
-    alignas(64) uint8_t candidate[kChunk + 8];
-    const int first = u0 == 0 ? 1 : 0, last = u0 + n == f.W ? n - 1 : n;  // interior: both row neighbours exist
-    for (int j = first; j < last; ++j) {
-      const float z = cur[j];
-      candidate[j] = uint8_t(int(z > 0.0f) & (edge_from(cur[j - 1], z, jump) | edge_from(cur[j + 1], z, jump) |
-                                              edge_from(up[j], z, jump) | edge_from(down[j], z, jump)));
+  // Those vanish or fly (a depth between their own and the neighbour's of the largest jump, the first of equal
+  // ones in the order left, right, up, down; a missing neighbour is the pixel itself, which never wins).
+  for (int c = 0; c < affected; ++c) {
+    const int j = list[c];
+    const float z_true = cur[j];
+    const float neighbours[4] = {cur[u0 + j > 0 ? j - 1 : j], cur[u0 + j + 1 < f.W ? j + 1 : j], up[j], down[j]};
+    float z_other = z_true, largest = 0.0f;
+    for (float zn : neighbours) {
+      const float d = std::abs(zn - z_true);
+      const bool wins = (zn > 0.0f) & (d > largest);
+      largest = wins ? d : largest;
+      z_other = wins ? zn : z_other;
     }
-    for (int j : {0, n - 1}) {
-      if (j >= first && j < last) continue;
-      const float z = cur[j];
-      const float left = u0 + j > 0 ? cur[j - 1] : z, right = u0 + j + 1 < f.W ? cur[j + 1] : z;
-      candidate[j] = uint8_t(int(z > 0.0f) & (edge_from(left, z, jump) | edge_from(right, z, jump) |
-                                              edge_from(up[j], z, jump) | edge_from(down[j], z, jump)));
-    }
-    for (int j = n; j < kChunk + 8 && j % 8 != 0; ++j) candidate[j] = 0;
-    // Eight flags at a time (mostly all zero); a candidate whose edge draw fails keeps the value above.
-    for (int j0 = 0; j0 < n; j0 += 8) {
-      uint64_t flags;
-      std::memcpy(&flags, candidate + j0, 8);
-      while (flags) {
-        const int j = j0 + __builtin_ctzll(flags) / 8;
-        flags &= flags - 1;
-        if (draw(f.key, i0 + uint64_t(j), kEdge) < f.edge_threshold) out[j] = pixel_plain(f, u0 + j, v);
-      }
-    }
+    const uint64_t i = i0 + uint64_t(j);
+    const bool vanish = uniform(f.key, i, kEdgeKind) < f.edge_invalid_fraction;
+    double z = z_true;
+    z += uniform(f.key, i, kEdgeBlend) * (double(z_other) - z);
+    out[j] = finish<Stereo, Quantize, Dropout>(f, z, !vanish, Stereo ? term[j] : 0.0,
+                                               drop_base + uint64_t(j) * drop_stride);
   }
 }
 
