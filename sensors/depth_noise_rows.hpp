@@ -1,7 +1,8 @@
 #pragma once
 // The noise model's row kernel (internal to sensors/: depth_noise.cpp drives it). One row at a time, in branch-free
-// passes the compiler vectorizes (hash draws, disparity noise, quantization, range, dropouts), then the rare edge
-// candidates pixel by pixel; compiled three times (x86-64 baseline, AVX2, AVX-512), all giving the same floats.
+// passes the compiler vectorizes (hash draws, disparity noise, quantization, range, dropouts), then the edge
+// candidates, compacted, in passes of their own; compiled three times (x86-64 baseline, AVX2, AVX-512), all giving
+// the plain per-pixel code's floats bit for bit.
 #include <cstdint>
 
 #include "sensors/depth_noise.hpp"
@@ -40,8 +41,8 @@ Simd best_simd();
 // Writes row v of f.out from f.truth, with the kernel compiled for `simd` (which the CPU must run).
 void noise_row(const Frame& f, int v, Simd simd);
 
-// The same row pixel by pixel, the model's plain per-pixel code (for the tests and any configuration the vector
-// passes do not cover exactly).
+// The same row pixel by pixel, the model's plain per-pixel code; noise_row falls back to it where the vector passes
+// would not be exact (disparity steps below 1e-6 px).
 void noise_row_plain(const Frame& f, int v);
 
 }  // namespace stvl::sensors::noise_rows
