@@ -231,8 +231,7 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   f.times.render_ms = ms_since(start);
 
   start = SteadyClock::now();
-  f.depth = f.clean_depth;
-  camera.noise.apply(f.depth, camera.noise_seed, f.frame_index);
+  camera.noise.apply(f.clean_depth, f.depth, camera.noise_seed, f.frame_index);  // clean -> noisy, no copy
   f.times.noise_ms = ms_since(start);
 
   stages_->sense(f);

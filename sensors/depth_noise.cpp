@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "common/splitmix.hpp"
+#include "sensors/depth_noise_rows.hpp"
 
 namespace stvl::sensors {
 namespace {
@@ -18,14 +19,18 @@ namespace {
 constexpr double kTwoPi = 6.28318530717958647692;
 
 
-enum Stream : uint64_t { kGauss = 0, kEdge, kEdgeKind, kEdgeBlend, kDropout, kHoleCount, kHole, kStreams };
+using noise_rows::Stream;
+using noise_rows::kGauss;
+using noise_rows::kHole;
+using noise_rows::kHoleCount;
+using noise_rows::kStreams;
 
 // Frame key, computed once per frame; draws then cost one mix each.
 inline uint64_t frame_key(uint64_t seed, uint64_t frame_index) {
   return splitmix64_mix(splitmix64(seed) ^ (frame_index * 0xD1B54A32D192ED03ULL + 0x632BE59BD9B4E019ULL));
 }
 
-// splitmix64 over the counter (index, stream): one mix per draw.
+// splitmix64 over the counter (index, stream): one mix per draw (as in depth_noise_rows.cpp).
 inline uint64_t draw(uint64_t key, uint64_t index, Stream stream) {
   return splitmix64_mix(key + (index * kStreams + stream + 1) * 0x9E3779B97F4A7C15ULL);
 }
@@ -128,7 +133,7 @@ void DepthNoiseConfig::validate() const {
 }
 
 DepthNoise::DepthNoise(const DepthNoiseConfig& config, const CameraIntrinsics& intrinsics)
-    : config_(config), intrinsics_(intrinsics) {
+    : config_(config), intrinsics_(intrinsics), simd_(noise_rows::best_simd()) {
   config_.validate();
   intrinsics_.validate();
 }
@@ -137,107 +142,96 @@ double DepthNoise::rms_error_m(double z_m) const {
   return z_m * z_m * config_.subpixel / (intrinsics_.fx * config_.baseline_m);
 }
 
+void DepthNoise::limit_simd(NoiseSimd widest) { simd_ = std::min(widest, noise_rows::best_simd()); }
+
+namespace {
+
+void require_size(const DepthImage& image, const CameraIntrinsics& k) {
+  if (image.width != k.width || image.height != k.height || image.depth_m.size() != size_t(k.width) * k.height) {
+    throw std::invalid_argument("DepthNoise::apply: image " + std::to_string(image.width) + "x" +
+                                std::to_string(image.height) + " does not match intrinsics " + std::to_string(k.width) +
+                                "x" + std::to_string(k.height));
+  }
+}
+
+}  // namespace
+
 void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, bool parallel) {
   if (!config_.enabled) return;
-  const int W = intrinsics_.width, H = intrinsics_.height;
-  if (image.width != W || image.height != H || image.depth_m.size() != size_t(W) * H) {
-    throw std::invalid_argument("DepthNoise::apply: image " + std::to_string(image.width) + "x" +
-                                std::to_string(image.height) + " does not match intrinsics " + std::to_string(W) +
-                                "x" + std::to_string(H));
-  }
+  require_size(image, intrinsics_);
   truth_.assign(image.depth_m.begin(), image.depth_m.end());
+  apply_rows(truth_.data(), image.depth_m.data(), seed, frame_index, parallel);
+}
+
+void DepthNoise::apply(const DepthImage& clean, DepthImage& noisy, uint64_t seed, uint64_t frame_index,
+                       bool parallel) {
+  if (&clean == &noisy) return apply(noisy, seed, frame_index, parallel);
+  require_size(clean, intrinsics_);
+  noisy.width = clean.width;
+  noisy.height = clean.height;
+  if (!config_.enabled) {
+    noisy.depth_m = clean.depth_m;
+    return;
+  }
+  noisy.depth_m.resize(clean.depth_m.size());
+  apply_rows(clean.depth_m.data(), noisy.depth_m.data(), seed, frame_index, parallel);
+}
+
+void DepthNoise::apply_rows(const float* truth_m, float* out_m, uint64_t seed, uint64_t frame_index, bool parallel) {
+  const int W = intrinsics_.width, H = intrinsics_.height;
   const uint64_t key = frame_key(seed, frame_index);
-  const double fb = intrinsics_.fx * config_.baseline_m;  // px * m
-  const double step = config_.disparity_step_px;
-  const double inv_step = step > 0.0 ? 1.0 / step : 0.0;
-  const double min_m = intrinsics_.min_range_m, max_m = intrinsics_.max_range_m;
-  const float edge_jump = float(config_.edge_jump_m);
-  const bool stereo = config_.subpixel > 0.0 || step > 0.0;
-  const uint64_t edge_threshold = threshold(config_.edge_probability);
-  const uint64_t dropout_threshold = threshold(config_.dropout_probability);
+  noise_rows::Frame f;
+  f.truth = truth_m;
+  f.out = out_m;
+  f.normal = normal_table().data();
+  f.W = W;
+  f.H = H;
+  f.key = key;
+  f.fb = intrinsics_.fx * config_.baseline_m;  // px * m
+  f.step = config_.disparity_step_px;
+  f.inv_step = f.step > 0.0 ? 1.0 / f.step : 0.0;
+  f.min_m = intrinsics_.min_range_m;
+  f.max_m = intrinsics_.max_range_m;
+  f.subpixel = config_.subpixel;
+  f.stereo = config_.subpixel > 0.0 || f.step > 0.0;
+  f.edges = config_.edge_probability > 0.0;
+  f.edge_jump = float(config_.edge_jump_m);
+  f.edge_threshold = threshold(config_.edge_probability);
+  f.edge_invalid_fraction = config_.edge_invalid_fraction;
+  f.dropout_threshold = threshold(config_.dropout_probability);
 
   const bool occlusion = config_.stereo_occlusion;
-  if (occlusion) occluded_.resize(truth_.size());
+  if (occlusion) occluded_.resize(size_t(W) * H);
+  f.occluded = occlusion ? occluded_.data() : nullptr;
   const uint64_t band_key = splitmix64_mix(key ^ 0x5BD1E9955BD1E995ULL);  // own draws: the others stay as they were
   const int shadow_margin = int(std::lround(config_.shadow_margin_px));
   // Correlated disparity error: a grid of normals every cell px (one beyond each edge), bilinearly interpolated and
   // renormalized to unit variance per pixel; drawn from a key of its own.
-  const bool correlated = config_.correlated_fraction > 0.0 && config_.subpixel > 0.0;
-  const int cell = std::max(1, int(std::lround(config_.correlated_cell_px)));
-  const int grid_w = W / cell + 2, grid_h = H / cell + 2;
-  const double white_scale = std::sqrt(1.0 - config_.correlated_fraction);
-  const double field_scale = std::sqrt(config_.correlated_fraction);
-  if (correlated) {
+  f.correlated = config_.correlated_fraction > 0.0 && config_.subpixel > 0.0;
+  f.cell = std::max(1, int(std::lround(config_.correlated_cell_px)));
+  f.grid_w = W / f.cell + 2;
+  const int grid_h = H / f.cell + 2;
+  f.white_scale = std::sqrt(1.0 - config_.correlated_fraction);
+  f.field_scale = std::sqrt(config_.correlated_fraction);
+  if (f.correlated) {
     const uint64_t field_key = splitmix64_mix(key ^ 0xC2B2AE3D27D4EB4FULL);
-    field_grid_.resize(size_t(grid_w) * grid_h);
-    for (size_t j = 0; j < field_grid_.size(); ++j) field_grid_[j] = normal_table()[draw(field_key, j, kGauss) & (kNormalBins - 1)];
+    field_grid_.resize(size_t(f.grid_w) * grid_h);
+    for (size_t j = 0; j < field_grid_.size(); ++j)
+      field_grid_[j] = normal_table()[draw(field_key, j, kGauss) & (kNormalBins - 1)];
+    f.field_grid = field_grid_.data();
   }
 
-  const std::array<float, kNormalBins>& normal = normal_table();
   // Every pixel is a function of the frame key, its index and the clean image, so rows run in parallel (TBB)
   // and give the same image as one thread does.
+  const NoiseSimd simd = simd_;
   const auto noise_rows = [&](const tbb::blocked_range<int>& rows) {
-    uint64_t normal_bits = 0;  // four 16-bit fields per draw, 12 bits used each: those of pixel group i / 4
     for (int v = rows.begin(); v < rows.end(); ++v) {
       if (occlusion) {
         const double band = config_.left_band_margin_px +
                              config_.left_band_jitter_px * (2.0 * uniform(band_key, uint64_t(v), kGauss) - 1.0);
-        occlusion_row(&truth_[size_t(v) * W], &occluded_[size_t(v) * W], W, fb, band, shadow_margin);
+        occlusion_row(truth_m + size_t(v) * W, &occluded_[size_t(v) * W], W, f.fb, band, shadow_margin);
       }
-      for (int u = 0; u < W; ++u) {
-        const size_t i = size_t(v) * W + u;
-        if ((i & 3) == 0 || u == 0) normal_bits = draw(key, i >> 2, kGauss);
-        const float z_true = truth_[i];
-        if (!(z_true > 0.0f) || (occlusion && occluded_[i])) {
-          image.depth_m[i] = 0.0f;
-          continue;
-        }
-        double z = z_true;
-
-        if (config_.edge_probability > 0.0) {
-          float z_other = z_true, jump = 0.0f;
-          auto consider = [&](int uu, int vv) {
-            if (uu < 0 || vv < 0 || uu >= W || vv >= H) return;
-            const float zn = truth_[size_t(vv) * W + uu];
-            if (zn > 0.0f && std::abs(zn - z_true) > jump) {
-              jump = std::abs(zn - z_true);
-              z_other = zn;
-            }
-          };
-          consider(u - 1, v);
-          consider(u + 1, v);
-          consider(u, v - 1);
-          consider(u, v + 1);
-          if (jump > edge_jump && draw(key, i, kEdge) < edge_threshold) {
-            if (uniform(key, i, kEdgeKind) < config_.edge_invalid_fraction) {
-              image.depth_m[i] = 0.0f;
-              continue;
-            }
-            z += uniform(key, i, kEdgeBlend) * (double(z_other) - z);
-          }
-        }
-
-        if (stereo && correlated) {
-          const double white = double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
-          const int gx = u / cell, gy = v / cell;
-          const double tx = (u - gx * cell + 0.5) / cell, ty = (v - gy * cell + 0.5) / cell;
-          const float* g0 = &field_grid_[size_t(gy) * grid_w + gx];
-          const float* g1 = g0 + grid_w;
-          const double w00 = (1 - tx) * (1 - ty), w10 = tx * (1 - ty), w01 = (1 - tx) * ty, w11 = tx * ty;
-          const double field = (w00 * g0[0] + w10 * g0[1] + w01 * g1[0] + w11 * g1[1]) /
-                               std::sqrt(w00 * w00 + w10 * w10 + w01 * w01 + w11 * w11);
-          double disparity = fb / z + config_.subpixel * (white_scale * white + field_scale * field);
-          if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
-          z = disparity > 0.0 ? fb / disparity : 0.0;
-        } else if (stereo) {
-          double disparity = fb / z + config_.subpixel * double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
-          if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
-          z = disparity > 0.0 ? fb / disparity : 0.0;
-        }
-        if (!(z >= min_m && z <= max_m)) z = 0.0;
-        if (dropout_threshold > 0 && draw(key, i, kDropout) < dropout_threshold) z = 0.0;
-        image.depth_m[i] = float(z);
-      }
+      noise_rows::noise_row(f, v, simd);
     }
   };
   if (parallel)
@@ -255,7 +249,7 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
     for (int v = v0; v <= v1; ++v) {
       for (int u = u0; u <= u1; ++u) {
         if ((u - hole_u) * (u - hole_u) + (v - hole_v) * (v - hole_v) <= radius * radius) {
-          image.depth_m[size_t(v) * W + u] = 0.0f;
+          out_m[size_t(v) * W + u] = 0.0f;
         }
       }
     }

@@ -58,6 +58,9 @@ struct DepthNoiseConfig {
   void validate() const;
 };
 
+// Instruction sets of the noise model's row kernel (x86-64's SSE2, AVX2, AVX-512): all give the same image.
+enum class NoiseSimd { kBaseline, kAvx2, kAvx512 };
+
 class DepthNoise {
  public:
   // intrinsics give f (fx, px) and the valid range [min_range_m, max_range_m]; results outside it become 0.
@@ -65,20 +68,29 @@ class DepthNoise {
 
   // In place; no allocation after the first call for a given image size. Identity when config.enabled is false.
   // Throws std::invalid_argument when the image size does not match the intrinsics.
-  // Rows run in parallel (TBB); parallel = false runs them in one pass on this thread, the plain reference the
-  // tests compare with (the images are equal).
+  // Rows run in parallel (TBB); parallel = false runs them in one pass on this thread (the images are equal).
   void apply(DepthImage& image, uint64_t seed, uint64_t frame_index, bool parallel = true);
+  // The same from `clean` into `noisy` (resized; a copy of clean when disabled), without the in-place call's copy
+  // of the clean image. clean and noisy may be the same image.
+  void apply(const DepthImage& clean, DepthImage& noisy, uint64_t seed, uint64_t frame_index, bool parallel = true);
+
+  // Caps the row kernel's instruction set (default: the widest this CPU runs; a cap above that is lowered to it).
+  void limit_simd(NoiseSimd widest);
+  NoiseSimd simd() const { return simd_; }  // the instruction set in use
 
   // Intel's RMS depth error at depth z (m): z^2 * subpixel / (fx * baseline).
   double rms_error_m(double z_m) const;
   const DepthNoiseConfig& config() const { return config_; }
 
  private:
+  void apply_rows(const float* truth_m, float* out_m, uint64_t seed, uint64_t frame_index, bool parallel);
+
   DepthNoiseConfig config_;
   CameraIntrinsics intrinsics_;
-  std::vector<float> truth_;  // the input image, read while the output is modified
-  std::vector<uint8_t> occluded_;
-  std::vector<float> field_grid_;  // correlated_fraction: this frame's grid of normals  // stereo_occlusion: 1 where the right imager cannot see the pixel
+  NoiseSimd simd_;
+  std::vector<float> truth_;  // in-place apply: the input image, read while the output is modified
+  std::vector<uint8_t> occluded_;  // stereo_occlusion: 1 where the right imager cannot see the pixel
+  std::vector<float> field_grid_;  // correlated_fraction: this frame's grid of normals
 };
 
 }  // namespace stvl::sensors
