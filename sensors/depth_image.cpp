@@ -2,9 +2,14 @@
 
 #include <tbb/parallel_for.h>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -48,37 +53,71 @@ int DepthImage::valid_count() const {
   return int(std::count_if(depth_m.begin(), depth_m.end(), [](float z) { return z > 0.0f && std::isfinite(z); }));
 }
 
+namespace {
+
+// A pixel with a return: finite depth > 0. Written without && so that loops over it vectorise.
+inline bool valid_depth(float z) { return (z > 0.0f) & (z < std::numeric_limits<float>::infinity()); }
+
+}  // namespace
+
+// Blocks of rows in parallel (TBB): each block's valid pixels counted, then each block's points written from its
+// offset, so that the points keep row-major pixel order whatever the threads. Within a row the arithmetic runs
+// over every pixel (vectorised, the same operations per pixel as one at a time), then the row is compacted.
 Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C) {
   check_matches(image, intrinsics);
   const Eigen::Index n_pixels = Eigen::Index(image.width) * image.height;
   if (points_C.cols() < n_pixels) points_C.resize(3, n_pixels);
   const float inv_fx = float(1.0 / intrinsics.fx), inv_fy = float(1.0 / intrinsics.fy);
   const float cx = float(intrinsics.cx), cy = float(intrinsics.cy);
+  const std::size_t width = std::size_t(image.width);
+  std::vector<float> x_over_z(width);  // (u - cx) / fx, rounded as the per-pixel expression rounds it
+  for (std::size_t u = 0; u < width; ++u) x_over_z[u] = (float(u) - cx) * inv_fx;
   float* out = points_C.data();
   const float* depth = image.depth_m.data();
-  const auto valid = [](float z) { return z > 0.0f && std::isfinite(z); };
-  // Two passes over blocks of rows in parallel (TBB): count each block's valid pixels, then write each block's
-  // points from its offset, so that the points keep row-major pixel order whatever the threads.
   constexpr int kRowsPerBlock = 16;
   const int blocks = (image.height + kRowsPerBlock - 1) / kRowsPerBlock;
+  auto block_end = [&](int b) { return std::size_t(std::min(image.height, (b + 1) * kRowsPerBlock)) * width; };
   std::vector<Eigen::Index> offset(size_t(blocks) + 1, 0);
   tbb::parallel_for(0, blocks, [&](int b) {
-    const float* row = depth + size_t(b) * kRowsPerBlock * image.width;
-    const float* end = depth + size_t(std::min(image.height, (b + 1) * kRowsPerBlock)) * image.width;
-    offset[size_t(b) + 1] = std::count_if(row, end, valid);
+    Eigen::Index count = 0;
+    for (std::size_t i = std::size_t(b) * kRowsPerBlock * width; i < block_end(b); ++i) count += valid_depth(depth[i]);
+    offset[size_t(b) + 1] = count;
   });
   for (int b = 0; b < blocks; ++b) offset[size_t(b) + 1] += offset[size_t(b)];
   tbb::parallel_for(0, blocks, [&](int b) {
     Eigen::Index n = offset[size_t(b)];
-    for (int v = b * kRowsPerBlock; v < std::min(image.height, (b + 1) * kRowsPerBlock); ++v) {
+    const Eigen::Index limit = offset[size_t(b) + 1];
+    if (n == limit) return;
+    // Pixels up to the block's last valid one are copied without a branch, an invalid one to the slot that the
+    // next valid pixel then overwrites: every write stays within the block's own slots.
+    std::size_t last = block_end(b) - 1;
+    while (!valid_depth(depth[last])) --last;
+    std::vector<float> row(2 * width);
+    float* __restrict xs = row.data();
+    float* __restrict ys = xs + width;
+    const float* __restrict ax = x_over_z.data();
+    for (std::size_t v = std::size_t(b) * kRowsPerBlock; v * width <= last; ++v) {
       const float y_over_z = (float(v) - cy) * inv_fy;
-      for (int u = 0; u < image.width; ++u) {
-        const float z = depth[size_t(v) * image.width + u];
-        if (!valid(z)) continue;
-        out[3 * n + 0] = (float(u) - cx) * inv_fx * z;
-        out[3 * n + 1] = y_over_z * z;
-        out[3 * n + 2] = z;
-        ++n;
+      const float* __restrict z = depth + v * width;
+      for (std::size_t u = 0; u < width; ++u) {
+        xs[u] = ax[u] * z[u];
+        ys[u] = y_over_z * z[u];
+      }
+      const std::size_t end = std::min(width, last + 1 - v * width);
+      // One 16-byte store per pixel (x, y, z, and a 4th float that the next point overwrites) while the slot
+      // after this one is the block's too, then three floats.
+      std::size_t u = 0;
+#ifdef __SSE2__
+      for (; u < end && n + 1 < limit; ++u) {
+        _mm_storeu_ps(out + 3 * n, _mm_setr_ps(xs[u], ys[u], z[u], 0.0f));
+        n += valid_depth(z[u]);
+      }
+#endif
+      for (; u < end; ++u) {
+        out[3 * n + 0] = xs[u];
+        out[3 * n + 1] = ys[u];
+        out[3 * n + 2] = z[u];
+        n += valid_depth(z[u]);
       }
     }
   });

@@ -5,7 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <tbb/task_arena.h>
+
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -135,6 +139,56 @@ TEST(DepthToCloud, SameAsAPlainLoopInPixelOrder) {
   const Eigen::Matrix3Xf expected = reference::depth_to_cloud(image, k);
   ASSERT_EQ(n, expected.cols());
   for (Eigen::Index i = 0; i < n; ++i) ASSERT_EQ(Eigen::Vector3f(points.col(i)), Eigen::Vector3f(expected.col(i))) << i;
+}
+
+// The vectorised, branch-free depth_to_cloud against its plain twin on images of every kind: odd and degenerate
+// sizes, no valid pixel at all, blocks of rows without one, invalid last pixels, and depths of 0, -0, negative,
+// NaN, +-Inf, subnormal, huge and FLT_MAX; on 1 to 3 threads, into fresh and reused (larger, dirty) buffers.
+TEST(DepthToCloud, SameAsAPlainLoopOnVariedImages) {
+  std::uint64_t state = 77;
+  auto next = [&] {  // splitmix64
+    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  };
+  auto uniform = [&] { return double(next() >> 11) * 0x1.0p-53; };
+  const float inf = std::numeric_limits<float>::infinity();
+  const float special[] = {0.0f, -0.0f, -1.0f, NAN, inf, -inf, 1e-40f, 1e30f, std::numeric_limits<float>::max()};
+  const int sizes[][2] = {{1, 1}, {1, 40}, {37, 1}, {2, 17}, {17, 33}, {97, 61}, {848, 480}, {641, 35}};
+  int trial = 0;
+  for (const auto& size : sizes) {
+    for (int kind = 0; kind < 6; ++kind, ++trial) {
+      const CameraIntrinsics k = CameraIntrinsics::from_hfov(size[0], size[1], 0.3 + uniform(), 0.1, 10.0, 30.0);
+      DepthImage image(k.width, k.height);
+      const double invalid = kind == 0 ? 0.0 : (kind == 1 ? 1.0 : uniform() * 0.5);
+      for (int v = 0; v < k.height; ++v)
+        for (int u = 0; u < k.width; ++u) {
+          float z = float(0.2 + 9.0 * uniform());
+          if (uniform() < invalid) z = special[next() % 6];
+          if (kind == 2 && uniform() < 0.1) z = special[next() % 9];        // the valid odd values too
+          if (kind == 3 && v >= 16 && v < 40) z = 0.0f;                      // blocks of rows without a point
+          if (kind == 4 && (u + 1 == k.width || v + 1 == k.height)) z = NAN;  // invalid last pixels and rows
+          image.at(u, v) = z;
+        }
+      const Eigen::Matrix3Xf expected = reference::depth_to_cloud(image, k);
+      for (int threads : {1, 2, 3}) {
+        tbb::task_arena arena(threads);
+        Eigen::Matrix3Xf fresh, reused = Eigen::Matrix3Xf::Constant(3, Eigen::Index(k.width) * k.height + 5, 7.0f);
+        Eigen::Index n_fresh = 0, n_reused = 0;
+        arena.execute([&] {
+          n_fresh = depth_to_cloud(image, k, fresh);
+          n_reused = depth_to_cloud(image, k, reused);
+        });
+        ASSERT_EQ(n_fresh, expected.cols()) << "trial " << trial;
+        ASSERT_EQ(n_reused, expected.cols()) << "trial " << trial;
+        EXPECT_EQ(reused.cols(), Eigen::Index(k.width) * k.height + 5);  // kept, not shrunk
+        const std::size_t bytes = sizeof(float) * 3 * std::size_t(expected.cols());
+        EXPECT_EQ(std::memcmp(fresh.data(), expected.data(), bytes), 0) << "trial " << trial << " threads " << threads;
+        EXPECT_EQ(std::memcmp(reused.data(), expected.data(), bytes), 0) << "trial " << trial << " threads " << threads;
+      }
+    }
+  }
 }
 
 TEST(DepthPng, MillimetreRoundTripAndColorized) {
