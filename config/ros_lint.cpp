@@ -156,8 +156,17 @@ class Linter {
       add(line_or(node, "decay_acceleration", s.line), dotted(prefix, "decay_acceleration"),
           "decay_acceleration = 0 on a clearing source: the frustum does not speed up decay, only voxel_decay clears",
           "decay_acceleration: 15.0 (STVL's example)");
+    const bool optical = s.sensor_frame.empty() || s.sensor_frame.find("optical") != std::string::npos;
+    if (v.clearing && v.model == mapping::ClearingModel::kLidar3D && optical)
+      add(line_or(node, "model_type", s.line), dotted(prefix, "model_type"),
+          "model_type = 1 builds STVL's 3D lidar model (x forward, z up) in " +
+              (s.sensor_frame.empty() ? std::string("the cloud's frame") : "'" + s.sensor_frame + "'") +
+              ": a depth camera's optical frame looks along z, so the model's horizontal plane is the image plane "
+              "and it clears beside the camera's view, not in it",
+          "sensor_frame: <camera>_link (x forward, z up), or model_type: 0");
     for (const auto& camera : cameras) {
-      if (camera.source != s.name || !v.clearing) continue;  // the FOV shapes the clearing frustum only
+      // The FOV shapes the depth camera's clearing frustum only (the lidar model's is its own).
+      if (camera.source != s.name || !v.clearing || v.model != mapping::ClearingModel::kDepthCamera) continue;
       fov(node, s, prefix, "horizontal_fov_angle", v.horizontal_fov_rad, camera.hfov_rad);
       fov(node, s, prefix, "vertical_fov_angle", v.vertical_fov_rad, camera.vfov_rad);
     }
@@ -169,8 +178,10 @@ class Linter {
     for (const auto& m : layer_.sources) {
       if (!m.enabled || !m.stvl.marking) continue;
       std::vector<const RosObservationSource*> clearing;
-      for (const auto& c : layer_.sources)
-        if (c.enabled && c.stvl.clearing && camera_key(c, cameras) == camera_key(m, cameras)) clearing.push_back(&c);
+      for (const auto& c : layer_.sources)  // the depth camera's frustum (the lidar model's geometry is its own)
+        if (c.enabled && c.stvl.clearing && c.stvl.model == mapping::ClearingModel::kDepthCamera &&
+            camera_key(c, cameras) == camera_key(m, cameras))
+          clearing.push_back(&c);
       if (clearing.empty()) continue;
       marks_past_far_plane(m, clearing);
       const BoundCamera* camera = bound(m, cameras);

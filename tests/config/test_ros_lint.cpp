@@ -299,6 +299,16 @@ TEST_F(RosLint, IntegerForADoubleInRos2) {
   EXPECT_TRUE(lint(test::ros1_text(replaced(kClean, "voxel_decay: 15.0", "voxel_decay: 15"))).empty());
 }
 
+// STVL's lidar model (x forward, z up) on a depth camera's cloud frame clears beside the view; in the camera's
+// link frame it is fine, and its FOV (a full circle here) is not held against the camera's.
+TEST_F(RosLint, LidarModelInAnOpticalFrameIsAFinding) {
+  const std::string lidar = kClean + "  model_type: 1\n  horizontal_fov_angle: 6.2832\n";
+  EXPECT_THAT(only(lidar, {fov_of("cam", 1.5, 1.0)}),
+              HasSubstr(at(8, "cam.model_type") + "model_type = 1 builds STVL's 3D lidar model"));
+  EXPECT_THAT(only(lidar + "  sensor_frame: front_depth_optical_frame\n"), HasSubstr("sensor_frame: <camera>_link"));
+  EXPECT_TRUE(lint(lidar + "  sensor_frame: front_link\n", {fov_of("cam", 1.5, 1.0)}).empty());
+}
+
 TEST_F(RosLint, NegativeVoxelDecayIsAFinding) {
   EXPECT_EQ(only(replaced(kClean, "voxel_decay: 15.0\n", "")),
             at(1, "voxel_decay") + "voxel_decay = -1 (STVL's default): every voxel is removed at the next update, "
