@@ -273,6 +273,7 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
                  {"update_frequency", &map, "update_frequency"}},
                 [&] { m.validate(); });
   read_footprint(map, s);
+  if (map.has("nav2_costmap")) read_nav2_costmap(map.map("nav2_costmap"), s);
   if (map.has("observation")) {
     observation.yaml = std::make_shared<YamlMap>(map.map("observation"));
     read_observation(*observation.yaml, observation.source, observation.hfov_rad, observation.vfov_rad);

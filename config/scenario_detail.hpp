@@ -100,6 +100,8 @@ void read_camera_frame(YamlMap& camera, const Scenario& s, pipeline::CameraConfi
 void complete_footprint(Scenario& s);
 // scenario_map.cpp: `nav2_map` (instead of `world`): the world built in memory from a nav2 map (worldgen/), and the
 // path planned on it when robot.waypoints is left out.
+// map.nav2_costmap (scenario_map.cpp): nav2's master costmap to model.
+void read_nav2_costmap(YamlMap costmap, Scenario& s);
 std::shared_ptr<const worldgen::MapWorld> read_nav2_map(YamlMap map, Scenario& s, const std::string& base_dir);
 // robot.waypoints planned on the map for the robot's footprint radius (a URDF robot's when robot.urdf was read, else
 // worlds/robot.xml's), from robot.start when the file gives one (read already), else along the map's longest path,

@@ -72,4 +72,21 @@ double planned_duration_s(YamlMap& robot, const Scenario& s) {
   return duration_s;
 }
 
+void read_nav2_costmap(YamlMap costmap, Scenario& s) {
+  mapping::Nav2CostmapConfig& c = s.pipeline.nav2_costmap;
+  costmap.require("width_m", c.width_m);
+  costmap.require("height_m", c.height_m);
+  costmap.get("resolution_m", c.resolution_m);
+  costmap.get("rolling_window", c.rolling_window);
+  costmap.get("combination_method", c.combination_method);
+  costmap.get("track_unknown_space", c.track_unknown_space);
+  costmap.get("touch_cleared_cells", c.touch_cleared_cells);
+  require_range(costmap, "width_m", c.width_m, c.width_m > 0.0, "must be > 0 m");
+  require_range(costmap, "height_m", c.height_m, c.height_m > 0.0, "must be > 0 m");
+  validate_keys({{"width_m", &costmap, "width_m"}, {"height_m", &costmap, "height_m"},
+                 {"resolution_m", &costmap, "resolution_m"}, {"combination_method", &costmap, "combination_method"}},
+                [&] { c.validate(); });
+  costmap.finish();
+}
+
 }  // namespace stvl::config::scenario_detail

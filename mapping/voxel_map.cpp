@@ -108,7 +108,7 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
 }
 
 ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations, double time_s,
-                           std::vector<VoxelKey>* cleared_keys) {
+                           std::vector<VoxelKey>* cleared_keys, std::vector<VoxelKey>* removed_keys) {
   std::vector<ClearingObservation> clearing;
   for (const ClearingObservation& obs : observations) {
     obs.source.validate();
@@ -134,8 +134,18 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
                             obs.source.decay_acceleration_per_s3});
     }
   } else {
-    impl_->raycast_pass(clearing, stats, cleared_keys);
+    std::vector<VoxelKey> by_rays;
+    impl_->raycast_pass(clearing, stats, removed_keys ? &by_rays : cleared_keys);
+    if (removed_keys) {
+      if (cleared_keys) cleared_keys->insert(cleared_keys->end(), by_rays.begin(), by_rays.end());
+      removed_keys->insert(removed_keys->end(), by_rays.begin(), by_rays.end());
+    }
   }
+  impl_->removed_keys = removed_keys;
+  struct Forget {  // the pointer lives only as long as this call
+    Impl* impl;
+    ~Forget() { impl->removed_keys = nullptr; }
+  } forget{impl_.get()};
   if (impl_->config.clearing_walk == ClearingWalk::kFullWalk) {
     impl_->full_walk(frustums, time_s, stats, cleared_keys);
   } else {

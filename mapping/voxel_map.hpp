@@ -80,9 +80,10 @@ class VoxelMap {
   // cleared_keys, when given, receives the voxels the clearing removed: those the rays removed (ray-cast mode)
   // or the frustums' decay_acceleration removed (frustum mode: voxels plain decay would have kept), never those
   // that expired by plain decay, in no particular order. Throws std::invalid_argument for clear_on_no_return in
-  // frustum mode.
+  // frustum mode. removed_keys, when given, receives every voxel the call removed, by the rays, the frustums or
+  // plain decay (STVL's cleared_cells).
   ClearStats clear(const std::vector<ClearingObservation>& observations, double time_s,
-                   std::vector<VoxelKey>* cleared_keys = nullptr);
+                   std::vector<VoxelKey>* cleared_keys = nullptr, std::vector<VoxelKey>* removed_keys = nullptr);
 
   std::size_t size() const;  // active voxels
   bool empty() const { return size() == 0; }

@@ -20,7 +20,7 @@ using detail::TreeT;
 
 namespace {
 
-// A voxel the frustums' acceleration removed, for clear()'s cleared_keys.
+// A voxel removed, for clear()'s cleared_keys or removed_keys (either may be null).
 void report(std::vector<VoxelKey>* cleared_keys, const Coord& c) {
   if (cleared_keys) cleared_keys->push_back({c.x(), c.y(), c.z()});
 }
@@ -118,6 +118,7 @@ void VoxelMap::Impl::full_walk(const std::vector<Frustum>& frustums, double time
     ++stats.voxels_visited;
     if (!decay_voxel(it, frustums, time_s, &unused, &by_frustum)) continue;
     ++stats.voxels_removed;
+    report(removed_keys, it.getCoord());
     if (by_frustum) report(cleared_keys, it.getCoord());
   }
   openvdb::tools::pruneInactive(grid->tree());
@@ -157,6 +158,7 @@ void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double t
       bool by_frustum = false;
       if (decay_voxel(it, frustums, time_s, &value_s, &by_frustum)) {
         ++stats.voxels_removed;
+        report(removed_keys, it.getCoord());
         if (by_frustum) report(cleared_keys, it.getCoord());
       } else {
         oldest_s = std::min(oldest_s, value_s);
@@ -193,6 +195,7 @@ void VoxelMap::Impl::expiry_pass(double time_s, ClearStats& stats) {
       if (time_s - *v > config.voxel_decay_s) {
         v.setValueOff();
         ++stats.voxels_removed;
+        report(removed_keys, v.getCoord());
       } else {
         oldest_s = std::min(oldest_s, *v);
       }

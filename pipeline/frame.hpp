@@ -13,6 +13,7 @@
 #include "filter/filter.hpp"
 #include "common/voxel_key.hpp"
 #include "mapping/config.hpp"
+#include "mapping/nav2_costmap.hpp"
 #include "pipeline/source_buffer.hpp"
 #include "sensors/camera.hpp"
 #include "sensors/depth_edge_filter.hpp"
@@ -72,6 +73,9 @@ struct PipelineConfig {
   std::vector<CameraConfig> cameras{CameraConfig{}};  // names unique; mounts outside the robot and above the floor
   filter::FilterConfig filter;
   mapping::StvlConfig map;
+  // nav2's master costmap with STVL as its layer (ours to model, mapping/nav2_costmap.hpp): YAML map.nav2_costmap;
+  // off unless its width and height are given.
+  mapping::Nav2CostmapConfig nav2_costmap;
   // Robot geoms the cameras see (sim::World::show_robot_geoms_to_cameras): drawn by the depth renderer, so
   // the map marks the robot's own body as STVL would; ground truth still skips them. Default: none.
   std::vector<std::string> robot_geoms_seen;
@@ -140,6 +144,13 @@ struct FrameResult {
   // instant) runs at the last of them, or the costmap's next tick (map.update_frequency) is later.
   bool map_updated = true;
   StageTimes times;
+};
+
+// nav2's master costmap against STVL's layer over a run (PipelineConfig::nav2_costmap): after each update, the
+// master cells lethal where the layer is not (ghosts, STVL #199).
+struct Nav2Ghosts {
+  std::size_t updates = 0, updates_with_ghosts = 0, max_cells = 0, last_cells = 0;
+  double max_at_s = 0.0;  // the first update with max_cells
 };
 
 // One observation source's record over the run: when it was not current (STVL's expected_update_rate) and

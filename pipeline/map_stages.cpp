@@ -81,6 +81,7 @@ MapStages::MapStages(const PipelineConfig& config)
       filter_(decimation_config(config_.filter)),
       passthrough_(config_.filter.passthrough_enabled || config_.filter.type == filter::FilterType::kPassthrough),
       map_(config_.map) {
+  if (config_.nav2_costmap.enabled()) nav2_ = std::make_unique<mapping::Nav2Costmap>(config_.nav2_costmap);
   for (std::size_t i = 0; i < config_.cameras.size(); ++i) {
     cameras_.push_back(std::make_unique<Sources>(config_.cameras[i]));
     for (auto& status : cameras_.back()->status) status.camera_index = i;
@@ -214,7 +215,8 @@ void MapStages::run_update(double time_s, FrameResult& f, const CamerasNow& now)
       }
     }
   }
-  map_.clear(clearing, time_s, &f.cleared_keys);
+  std::vector<VoxelKey> removed;
+  map_.clear(clearing, time_s, &f.cleared_keys, nav2_ ? &removed : nullptr);
   const auto start = SteadyClock::now();
   for (const auto& [r, params] : marking) map_.mark(r->marking_W, r->T_world_camera, *params, time_s);
   if (config_.map.footprint_clearing_height_m > 0.0) {
@@ -229,6 +231,31 @@ void MapStages::run_update(double time_s, FrameResult& f, const CamerasNow& now)
     f.footprint_cleared += map_.erase(keys, &f.cleared_keys);
   }
   f.times.mark_ms += ms_since(start);
+  if (nav2_) update_nav2(time_s, f.T_world_base, removed);
+}
+
+void MapStages::update_nav2(double time_s, const Eigen::Isometry3d& T_world_base, const std::vector<VoxelKey>& removed) {
+  const mapping::Costmap2D window = nav2_->window_at(T_world_base.translation().head<2>());
+  // STVL's layer: its _cost_map (every voxel of a column, before this update's marks), the footprint freed.
+  mapping::CostmapOptions options = costmap_options(config_, T_world_base);
+  options.resolution_m = window.resolution_m;
+  options.bounds_W = Eigen::AlignedBox2d(
+      window.origin_m, window.origin_m + window.resolution_m * Eigen::Vector2d(window.width, window.height));
+  mapping::Costmap2D layer = map_.project_costmap(options);
+  layer.origin_m = window.origin_m;  // the same corner, exactly
+  std::vector<Eigen::Vector2d> cleared_W;
+  cleared_W.reserve(removed.size());
+  const double s = config_.map.voxel_size_m;
+  for (const VoxelKey& k : removed) cleared_W.emplace_back((k.x + 0.5) * s, (k.y + 0.5) * s);
+  std::vector<Eigen::Vector2d> footprint_W;
+  if (config_.map.update_footprint_enabled) footprint_W = mapping::footprint_in_world(config_.map.footprint_B, T_world_base);
+  nav2_->update(layer, cleared_W, footprint_W);
+  const std::size_t ghosts = nav2_->ghost_cells(layer);
+  Nav2Ghosts& g = nav2_ghosts_;
+  ++g.updates;
+  g.updates_with_ghosts += ghosts > 0;
+  g.last_cells = ghosts;
+  if (ghosts > g.max_cells) g.max_cells = ghosts, g.max_at_s = time_s;
 }
 
 mapping::CostmapOptions costmap_options(const PipelineConfig& config, const Eigen::Isometry3d& T_world_base) {

@@ -52,6 +52,10 @@ class MapStages {
   // Every source's status (cameras in order, their sources in order), spans of staleness closed at until_s.
   std::vector<SourceStatus> source_status(double until_s) const;
   const char* filter_device() const { return filter_.device_used(); }  // "cpu" or "cuda"
+  // With config.nav2_costmap: nav2's master costmap as the last update left it, and its ghosts over the run
+  // (master cells lethal where STVL's layer is not, after each update); null / zeros otherwise.
+  const mapping::Nav2Costmap* nav2_costmap() const { return nav2_.get(); }
+  const Nav2Ghosts& nav2_ghosts() const { return nav2_ghosts_; }
 
  private:
   struct Sources;
@@ -62,7 +66,11 @@ class MapStages {
   std::vector<std::unique_ptr<Sources>> cameras_;
   // One STVL update at time_s from the buffers (appended to f.updates; counts into f's figures).
   void run_update(double time_s, FrameResult& f, const CamerasNow& now);
-  std::size_t next_update_ = 0;  // with map.update_frequency_hz: the index k of the next update time k / f
+  std::size_t next_update_ = 0;
+  std::unique_ptr<mapping::Nav2Costmap> nav2_;
+  Nav2Ghosts nav2_ghosts_;
+  // One nav2 cycle after an update at time_s: STVL's layer on the window at the robot, the voxels it removed.
+  void update_nav2(double time_s, const Eigen::Isometry3d& T_world_base, const std::vector<VoxelKey>& removed);  // with map.update_frequency_hz: the index k of the next update time k / f
 };
 
 // The costmap's options: with map.costmap_band marking_band (ours) the marking sources' height band (STVL's

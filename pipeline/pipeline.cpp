@@ -184,6 +184,8 @@ Pipeline::~Pipeline() = default;
 std::vector<SourceStatus> Pipeline::source_status(double until_s) const { return stages_->source_status(until_s); }
 
 const mapping::VoxelMap& Pipeline::map() const { return stages_->map(); }
+const mapping::Nav2Costmap* Pipeline::nav2_costmap() const { return stages_->nav2_costmap(); }
+const Nav2Ghosts& Pipeline::nav2_ghosts() const { return stages_->nav2_ghosts(); }
 
 std::size_t Pipeline::skipped_frames(std::size_t camera) const { return cameras_.at(camera)->skipped_frames; }
 

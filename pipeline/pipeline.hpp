@@ -55,6 +55,9 @@ class Pipeline {
   const PipelineConfig& config() const { return config_; }  // as given to the constructor
   const sim::Simulator& simulator() const { return *sim_; }  // the world and robot it steps
   const mapping::VoxelMap& map() const;  // as the last step() left it
+  // With config.nav2_costmap: nav2's master costmap after the last update (null otherwise), and its ghosts.
+  const mapping::Nav2Costmap* nav2_costmap() const;
+  const Nav2Ghosts& nav2_ghosts() const;
   // The map's costmap at its voxel size over the occupied extent (1 x 1 when empty), counting every voxel of a
   // column (STVL's) or, with map.costmap_band marking_band (ours), those inside the marking sources' height band;
   // with map.update_footprint_enabled, the footprint's cells at the robot's current pose are free (STVL's

@@ -132,6 +132,8 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   r.outages = std::move(verdict.outages);
   r.checks = std::move(verdict.checks);
   r.sources = pipeline.source_status(r.sim_time_s);
+  if (const mapping::Nav2Costmap* nav2 = pipeline.nav2_costmap()) r.nav2_master = nav2->master();
+  r.nav2_ghosts = pipeline.nav2_ghosts();
   for (std::size_t c = 0; c < s.pipeline.cameras.size(); ++c) r.skipped_frames.push_back(pipeline.skipped_frames(c));
   if (bag) {
     // The bag ends with the final map, the one map.vdb and costmap.pgm hold.
@@ -142,6 +144,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     pipeline.map().save_vdb((out / "map.vdb").string());
     pipeline.map().save_ply((out / "map.ply").string());  // deterministic bytes (a .vdb file carries a random UUID)
     if (!pipeline.map().empty()) mapping::write_costmap(pipeline.costmap(), (out / "costmap").string());
+    if (r.nav2_master) mapping::write_costmap(*r.nav2_master, (out / "nav2_costmap").string());
   }
   return r;
 }

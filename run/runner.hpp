@@ -1,6 +1,7 @@
 #pragma once
 // Runs one scenario end to end: builds the pipeline, steps it frame by frame, hands each frame to the run's
 // evaluation (evaluation/run_evaluation.hpp) and to the outputs (bag, sample depth frames), then writes the map.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,10 @@ struct RunResult {
   std::vector<pipeline::SourceStatus> sources;
   std::vector<std::size_t> skipped_frames;
   std::vector<evaluation::OutageResult> outages;
+
+  // With map.nav2_costmap: nav2's master costmap at the end and its ghosts over the run.
+  std::optional<mapping::Costmap2D> nav2_master;
+  pipeline::Nav2Ghosts nav2_ghosts;
 
   evaluation::SoakSeries soak;  // evaluation.soak_sample_every_s > 0 only
   // Every check passed and the run was not interrupted.

@@ -133,6 +133,7 @@ struct VoxelMap::Impl {
   void frustum_pass(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats,
                     std::vector<VoxelKey>* cleared_keys);
   void expiry_pass(double time_s, ClearStats& stats);
+  std::vector<VoxelKey>* removed_keys = nullptr;  // during clear(): every voxel removed (clear()'s removed_keys)
 
   // ---- ray-cast clearing (voxel_map_raycast.cpp)
   void raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats,

@@ -1,0 +1,56 @@
+#pragma once
+// nav2's master costmap with STVL as its layer, as nav2_costmap_2d and STVL compute it each cycle (ours to model;
+// STVL #199): LayeredCostmap::updateMap moves the rolling window to the robot (Costmap2D::updateOrigin: whole
+// cells, the overlap kept, new cells the default), collects the layer's bounds, resets the master only inside
+// them (resetMap) and combines the layer there (CostmapLayer::updateWithMax, combination_method 1, or
+// updateWithOverwrite, 0). STVL's layer rebuilds its own grid every cycle (resetMaps, then LETHAL where a column
+// counts >= mark_threshold, footprint freed) but touches the bounds only at its lethal columns, at the cells of
+// the voxels it removed this cycle (PR #200/#203 for #199, 2021-05; off: touch_cleared_cells false, STVL before)
+// and at the footprint's vertices. A master cell outside every bound keeps its old value: a ghost when STVL's
+// layer no longer has it.
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "mapping/costmap.hpp"
+
+namespace stvl::mapping {
+
+struct Nav2CostmapConfig {
+  double width_m = 0.0;   // YAML map.nav2_costmap.width_m (nav2's width); 0: not modelled
+  double height_m = 0.0;  // height_m
+  double resolution_m = 0.05;     // resolution_m
+  bool rolling_window = true;     // rolling_window
+  int combination_method = 1;     // combination_method: 1 max, 0 overwrite (STVL's key)
+  bool track_unknown_space = false;  // track_unknown_space: the default cell NO_INFORMATION instead of FREE
+  bool touch_cleared_cells = true;   // touch_cleared_cells: STVL since #200/#203; false models STVL before (#199)
+  bool enabled() const { return width_m > 0.0 && height_m > 0.0; }
+  void validate() const;  // throws std::invalid_argument naming the key
+};
+
+class Nav2Costmap {
+ public:
+  // The window starts at the origin; the first update() moves it to the robot (rolling) or leaves it there.
+  explicit Nav2Costmap(const Nav2CostmapConfig& config);
+
+  // Moves the window so that the robot at robot_W is in its middle (rolling window; nav2 first, then STVL's own
+  // grid, by the same whole cells) and returns the layer's empty grid there: origin, size, resolution.
+  Costmap2D window_at(const Eigen::Vector2d& robot_W);
+  // One cycle after window_at(): layer is STVL's grid on that window (kCostLethal where a column counts, the
+  // footprint freed, the rest free); cleared_W the x, y of every voxel the update removed; footprint_W the
+  // footprint's vertices (empty without update_footprint_enabled).
+  void update(const Costmap2D& layer, const std::vector<Eigen::Vector2d>& cleared_W,
+              const std::vector<Eigen::Vector2d>& footprint_W);
+  // The master costmap as the last update left it.
+  const Costmap2D& master() const { return master_; }
+  // Master cells lethal where the layer is not: cells nav2 keeps that STVL no longer has (ghosts).
+  std::size_t ghost_cells(const Costmap2D& layer) const;
+  const Nav2CostmapConfig& config() const { return config_; }
+
+ private:
+  Nav2CostmapConfig config_;
+  Costmap2D master_;
+  std::uint8_t default_value_;
+};
+
+}  // namespace stvl::mapping
