@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -159,6 +160,10 @@ struct Pipeline::Camera {
   std::size_t next_frame = 0;
   // k * period, not k / rate: the frame times the bench has always used (they differ in the last bit).
   double next_time_s() const { return static_cast<double>(next_frame) * (1.0 / config.intrinsics.rate_hz); }
+  // A draw() started by an earlier step() of the same instant, for this camera's next frame (at drawn_at_s).
+  // Last member: destroyed (waited for) before the renderer.
+  double drawn_at_s = 0;
+  std::future<void> drawing;
 };
 
 Pipeline::Pipeline(PipelineConfig config)
@@ -202,6 +207,23 @@ double Pipeline::next_time_s() const {
   return t;
 }
 
+void Pipeline::draw_ahead(std::size_t index, double time_s) {
+  if (!draw_ahead_) return;
+  for (std::size_t c = 0; c < cameras_.size(); ++c) {
+    Camera& other = *cameras_[c];
+    if (c == index || other.drawing.valid() || other.next_time_s() != time_s) continue;
+    // The same instant: the steps up to that camera's frame do not move the simulator, so its image now is the one
+    // it would render then. The scene is taken here (MuJoCo reads mjData on this thread), the GL work on its own.
+    other.renderer.prepare(sim_->world().model(), sim_->world().data(), sim_->T_world_camera(other.config.mount));
+    other.renderer.release_context();  // in case this thread holds it: another thread takes it now
+    other.drawn_at_s = time_s;
+    other.drawing = std::async(std::launch::async, [&renderer = other.renderer] {
+      renderer.draw();
+      renderer.release_context();
+    });
+  }
+}
+
 const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   std::size_t index = 0;
   for (std::size_t c = 1; c < cameras_.size(); ++c)
@@ -227,7 +249,14 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   if (!f.robot_upright) return f;
 
   auto start = SteadyClock::now();
-  f.clean_depth = camera.renderer.render(sim_->world().model(), sim_->world().data(), f.T_world_camera);
+  if (camera.drawing.valid()) {
+    if (camera.drawn_at_s != f.time_s) throw std::logic_error("Pipeline::step: a camera was drawn for another time");
+    camera.drawing.get();  // rethrows the draw's exception
+  } else {
+    draw_ahead(index, f.time_s);
+    camera.renderer.render(sim_->world().model(), sim_->world().data(), f.T_world_camera);
+  }
+  f.clean_depth = camera.renderer.image();
   f.times.render_ms = ms_since(start);
 
   start = SteadyClock::now();
