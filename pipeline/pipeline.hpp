@@ -82,7 +82,8 @@ class Pipeline {
   std::unique_ptr<MapStages> stages_;  // the filter, the sources' buffers and the map
   FrameResult frame_;
   bool draw_ahead_ = true;
-  void draw_ahead(std::size_t index, double time_s);  // starts the draws of the other cameras of this instant
+  // Renders camera `index`'s frame with the other cameras of this instant; false (nothing done) when none.
+  bool draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_camera);
 };
 
 // The config's world with its robot: the file world_path, or world_xml when set (a scenario's nav2_map); with
