@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -14,6 +15,9 @@
 
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
+#ifdef STVL_HAVE_SENSORS_REFERENCE
+#include "sensors/reference/gl_depth_renderer.hpp"
+#endif
 
 namespace stvl::bench {
 
@@ -40,7 +44,64 @@ const char* kCorridor = R"(
 struct Result {
   double render_fps = 0.0, full_fps = 0.0, valid_fraction = 0.0, points = 0.0, noise_ms = 0.0, cloud_ms = 0.0;
   double noise_one_pass_ms = 0.0;  // the noise model's plain one-pass reference on the same frames (its peer)
+  // The renderer before its readback was optimized (reference::FloatDepthRenderer), interleaved frame by frame;
+  // peer_ms < 0 when the reference library was not built (STVL_BUILD_TESTS off).
+  double render_ms = 0.0, peer_ms = -1.0;
+  long peer_differing_pixels = 0;
+  // Three cameras of one instant (yaw 0 and +-110 deg): render() one after another vs render_concurrently().
+  double three_apart_ms = 0.0, three_together_ms = 0.0;
 };
+
+// A walk down the corridor at 0.4 m height, swaying +-10 deg, turned by yaw_rad.
+Eigen::Isometry3d bench_pose(int i, double yaw_rad = 0.0) {
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
+  Eigen::Matrix3d optical_to_body;  // optical z forward = body x, x right = -y, y down = -z
+  optical_to_body << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  T_world_camera.linear() =
+      Eigen::AngleAxisd(0.17 * std::sin(0.05 * i) + yaw_rad, Eigen::Vector3d::UnitZ()) * optical_to_body;
+  T_world_camera.translation() = Eigen::Vector3d(0.01 * i, 0.0, 0.4);
+  return T_world_camera;
+}
+
+double ms_of(std::chrono::steady_clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+
+// The peer and the three-camera rows of `r`, on the same frames as the rest.
+void measure_peers(const mjModel* model, mjData* data, stvl::sensors::GlBackend backend,
+                   const stvl::sensors::CameraIntrinsics& intrinsics, int frames, Result& r) {
+  using namespace stvl::sensors;
+  using clock = std::chrono::steady_clock;
+  DepthRenderer renderer(model, intrinsics, backend);
+#ifdef STVL_HAVE_SENSORS_REFERENCE
+  reference::FloatDepthRenderer peer(model, intrinsics, backend);
+  double fast_ms = 0.0, peer_ms = 0.0;
+  for (int i = -10; i < frames; ++i) {  // 10 warm-up frames
+    const auto t0 = clock::now();
+    const DepthImage& before = peer.render(model, data, bench_pose(i));
+    const auto t1 = clock::now();
+    const DepthImage& now = renderer.render(model, data, bench_pose(i));
+    const auto t2 = clock::now();
+    if (i < 0) continue;
+    peer_ms += ms_of(t1 - t0), fast_ms += ms_of(t2 - t1);
+    for (std::size_t p = 0; p < now.depth_m.size(); ++p)
+      r.peer_differing_pixels += std::memcmp(&now.depth_m[p], &before.depth_m[p], sizeof(float)) != 0;
+  }
+  r.render_ms = fast_ms / frames, r.peer_ms = peer_ms / frames;
+#endif
+  DepthRenderer left(model, intrinsics, backend), right(model, intrinsics, backend);
+  const std::vector<DepthRenderer*> three{&renderer, &left, &right};
+  const double yaw[3] = {0.0, 1.92, -1.92};
+  double apart_ms = 0.0, together_ms = 0.0;
+  for (int i = -10; i < frames; ++i) {
+    const std::vector<Eigen::Isometry3d> poses{bench_pose(i, yaw[0]), bench_pose(i, yaw[1]), bench_pose(i, yaw[2])};
+    const auto t0 = clock::now();
+    for (int c = 0; c < 3; ++c) three[c]->render(model, data, poses[c]);
+    const auto t1 = clock::now();
+    render_concurrently(three, model, data, poses);
+    const auto t2 = clock::now();
+    if (i >= 0) apart_ms += ms_of(t1 - t0), together_ms += ms_of(t2 - t1);
+  }
+  r.three_apart_ms = apart_ms / frames, r.three_together_ms = together_ms / frames;
+}
 
 Result measure(const std::string& world_path, stvl::sensors::GlBackend backend,
                const stvl::sensors::CameraIntrinsics& intrinsics, int frames, std::string& name) {
@@ -57,14 +118,7 @@ Result measure(const std::string& world_path, stvl::sensors::GlBackend backend,
     DepthNoise noise(DepthNoiseConfig{}, intrinsics);
     DepthImage noisy;
     Eigen::Matrix3Xf points_C;
-    auto pose = [](int i) {  // walk down the corridor at 0.4 m height, swaying +-10 deg
-      Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
-      Eigen::Matrix3d optical_to_body;  // optical z forward = body x, x right = -y, y down = -z
-      optical_to_body << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-      T_world_camera.linear() = Eigen::AngleAxisd(0.17 * std::sin(0.05 * i), Eigen::Vector3d::UnitZ()) * optical_to_body;
-      T_world_camera.translation() = Eigen::Vector3d(0.01 * i, 0.0, 0.4);
-      return T_world_camera;
-    };
+    const auto pose = [](int i) { return bench_pose(i); };
     for (int i = 0; i < 10; ++i) renderer.render(model, data, pose(i));  // warm-up
     using clock = std::chrono::steady_clock;
     auto t0 = clock::now();
@@ -94,6 +148,7 @@ Result measure(const std::string& world_path, stvl::sensors::GlBackend backend,
     result.cloud_ms = 1e3 * cloud_s / frames;
     result.points = points / frames;
   }
+  measure_peers(model, data, backend, intrinsics, frames, result);
   mj_deleteData(data);
   mj_deleteModel(model);
   return result;
@@ -132,6 +187,12 @@ void run_sensors_bench(const SensorsBenchOptions& options) {
           std::printf("%-7s %4dx%-3d %11.1f %19.1f %9.2f %17.2f %9.2f %6.1f%% %8.0f\n", name.c_str(), k.width,
                       k.height, r.render_fps, r.full_fps, r.noise_ms, r.noise_one_pass_ms, r.cloud_ms,
                       100.0 * r.valid_fraction, r.points);
+          if (r.peer_ms >= 0.0) {
+            std::printf("        render %.2f ms vs the old readback (colour writes, float depth) %.2f ms, ratio %.3f, "
+                        "pixels differing %ld\n", r.render_ms, r.peer_ms, r.render_ms / r.peer_ms, r.peer_differing_pixels);
+          }
+          std::printf("        3 cameras of one instant: one after another %.2f ms, concurrently %.2f ms, ratio %.3f\n",
+                      r.three_apart_ms, r.three_together_ms, r.three_together_ms / r.three_apart_ms);
         } catch (const std::exception& e) {
           std::printf("%-7s %4dx%-3d unavailable: %s\n", backend_arg.c_str(), k.width, k.height, e.what());
           status = 2;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -159,6 +160,11 @@ struct Pipeline::Camera {
   std::size_t next_frame = 0;
   // k * period, not k / rate: the frame times the bench has always used (they differ in the last bit).
   double next_time_s() const { return static_cast<double>(next_frame) * (1.0 / config.intrinsics.rate_hz); }
+  // The renderer holds (or, with `drawing`, is drawing) the image of this camera's next frame, at drawn_at_s:
+  // drawn by an earlier step() of the same instant. `drawing` is the last member: waited for before the renderer goes.
+  bool drawn = false;
+  double drawn_at_s = 0;
+  std::future<void> drawing;
 };
 
 Pipeline::Pipeline(PipelineConfig config)
@@ -204,6 +210,32 @@ double Pipeline::next_time_s() const {
   return t;
 }
 
+bool Pipeline::draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_camera) {
+  if (!draw_ahead_) return false;
+  Camera& camera = *cameras_[index];
+  std::vector<std::size_t> others;
+  const double now_s = frame_.time_s;
+  for (std::size_t c = 0; c < cameras_.size(); ++c)
+    if (c != index && !cameras_[c]->drawn && cameras_[c]->next_time_s() == now_s) others.push_back(c);
+  if (others.empty()) return false;
+  // The same instant: the steps up to those cameras' frames do not move the simulator, so their images now are
+  // the ones they would render then. Scenes are taken here (MuJoCo reads mjData on this thread), GL work on threads.
+  const mjModel* model = sim_->world().model();
+  mjData* data = sim_->world().data();
+  for (std::size_t c : others) {
+    Camera& other = *cameras_[c];
+    other.renderer.prepare(model, data, sim_->T_world_camera(other.config.mount));
+    other.renderer.release_context();  // in case this thread holds it: another thread takes it now
+    other.drawn = true, other.drawn_at_s = now_s;
+    other.drawing = std::async(std::launch::async, [&renderer = other.renderer] {
+      renderer.draw();
+      renderer.release_context();
+    });
+  }
+  camera.renderer.render(model, data, T_world_camera);  // here, while the others draw
+  return true;
+}
+
 const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   std::size_t index = 0;
   for (std::size_t c = 1; c < cameras_.size(); ++c)
@@ -229,7 +261,14 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   if (!f.robot_upright) return f;
 
   auto start = SteadyClock::now();
-  f.clean_depth = camera.renderer.render(sim_->world().model(), sim_->world().data(), f.T_world_camera);
+  if (camera.drawn) {
+    camera.drawn = false;
+    if (camera.drawn_at_s != f.time_s) throw std::logic_error("Pipeline::step: a camera was drawn for another time");
+    if (camera.drawing.valid()) camera.drawing.get();  // rethrows the draw's exception
+  } else if (!draw_ahead(index, f.T_world_camera)) {
+    camera.renderer.render(sim_->world().model(), sim_->world().data(), f.T_world_camera);
+  }
+  f.clean_depth = camera.renderer.image();
   f.times.render_ms = ms_since(start);
 
   start = SteadyClock::now();

@@ -69,6 +69,11 @@ class Pipeline {
   std::vector<SourceStatus> source_status(double until_s) const;
   // Frames of camera `camera` not taken because they fell in one of its outages.
   std::size_t skipped_frames(std::size_t camera) const;
+  // Cameras that take a frame at the same instant (same simulated state) render together (default on): the first
+  // step() of that instant starts the others' GL drawing on threads of their own, which runs beside this frame's
+  // noise, cloud, filter and map; their own step() then waits for it (its render_ms is that wait). The images are
+  // those of rendering each at its own step() (tests/pipeline checks it); off: one after another.
+  void set_draw_ahead(bool on) { draw_ahead_ = on; }
   const char* gl_backend() const;     // "egl" or "osmesa" (the first camera's)
   const char* filter_device() const;  // "cpu" or "cuda"
 
@@ -79,6 +84,9 @@ class Pipeline {
   std::vector<std::unique_ptr<Camera>> cameras_;
   std::unique_ptr<MapStages> stages_;  // the filter, the sources' buffers and the map
   FrameResult frame_;
+  bool draw_ahead_ = true;
+  // Renders camera `index`'s frame with the other cameras of this instant; false (nothing done) when none.
+  bool draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_camera);
 };
 
 // The config's world with its robot: the file world_path, or world_xml when set (a scenario's nav2_map); with

@@ -9,7 +9,9 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace stvl::sensors {
 
@@ -32,6 +34,15 @@ class DepthRenderer {
   // [min_range_m, max_range_m]. The returned image is owned by the renderer and overwritten by the next call.
   const DepthImage& render(const mjModel* model, mjData* data, const Eigen::Isometry3d& T_world_camera);
 
+  // render() in two halves, for render_concurrently(): prepare() checks the input and updates the scene from
+  // model and data (MuJoCo's side; one renderer at a time); draw() renders the prepared scene and converts it, on
+  // any thread, concurrently with other renderers' draw(); release_context() leaves the calling thread without
+  // this renderer's GL context (so that another thread may take it). Throws as render().
+  void prepare(const mjModel* model, mjData* data, const Eigen::Isometry3d& T_world_camera);
+  const DepthImage& draw();
+  void release_context();
+  const DepthImage& image() const;  // the last image drawn (render(), draw() or render_concurrently())
+
   const CameraIntrinsics& intrinsics() const;
   GlBackend backend() const;
   const char* backend_name() const;  // "egl" or "osmesa"
@@ -41,5 +52,19 @@ class DepthRenderer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// One image row from glReadPixels(GL_DEPTH_STENCIL, GL_UNSIGNED_INT_24_8) words (24-bit depth << 8 | stencil) to
+// metres along the optical axis for a GL frustum near_m .. far_m (as floats GL was given): Mesa's float depth
+// (z24 / 0xffffff in double, rounded to float), then z = near / (1 - d (1 - near / far)) in double; 0 where d = 1
+// or z lies outside [min_m, max_m] (or is not finite). count values each; what the renderer runs on every row.
+void depth_m_from_z24s8(const std::uint32_t* z24s8, float* depth_m, int count, double near_m, double far_m, float min_m,
+                        float max_m);
+
+// renderers[i]->render(model, data, T_world_camera[i]) for every i, the images the same as one after another:
+// the scenes are updated in turn on the calling thread, then each renderer draws on its own thread (the first on
+// the calling one). The renderers must be distinct; the sizes must match (std::invalid_argument). The first
+// exception of any renderer is rethrown once all have finished.
+void render_concurrently(const std::vector<DepthRenderer*>& renderers, const mjModel* model, mjData* data,
+                         const std::vector<Eigen::Isometry3d>& T_world_camera);
 
 }  // namespace stvl::sensors

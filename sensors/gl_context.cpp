@@ -48,7 +48,8 @@ class EglContext final : public GlContext {
     const char* opened = nullptr;
     library_ = open_library({"libEGL.so.1", "libEGL.so"}, why, opened);
     if (!library_) throw std::runtime_error("cannot load libEGL (" + why + ")");
-    auto get_proc = symbol<PFNEGLGETPROCADDRESSPROC>(library_, "eglGetProcAddress");
+    get_proc_ = symbol<PFNEGLGETPROCADDRESSPROC>(library_, "eglGetProcAddress");
+    auto get_proc = get_proc_;
     get_error_ = symbol<PFNEGLGETERRORPROC>(library_, "eglGetError");
     make_current_ = symbol<PFNEGLMAKECURRENTPROC>(library_, "eglMakeCurrent");
     auto initialize = symbol<PFNEGLINITIALIZEPROC>(library_, "eglInitialize");
@@ -98,10 +99,17 @@ class EglContext final : public GlContext {
       throw std::runtime_error("eglMakeCurrent failed, error " + hex(get_error_()));
     }
   }
+  void release() override {
+    if (!make_current_(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT)) {
+      throw std::runtime_error("eglMakeCurrent(EGL_NO_CONTEXT) failed, error " + hex(get_error_()));
+    }
+  }
+  void* proc_address(const char* name) const override { return reinterpret_cast<void*>(get_proc_(name)); }
   GlBackend backend() const override { return GlBackend::kEgl; }
 
  private:
   void* library_ = nullptr;
+  PFNEGLGETPROCADDRESSPROC get_proc_ = nullptr;
   PFNEGLGETERRORPROC get_error_ = nullptr;
   PFNEGLMAKECURRENTPROC make_current_ = nullptr;
   PFNEGLDESTROYCONTEXTPROC destroy_context_ = nullptr;
@@ -120,7 +128,8 @@ class OsmesaContext final : public GlContext {
                                                                                          "OSMesaCreateContextExt");
     make_current_ = symbol<decltype(make_current_)>(library_, "OSMesaMakeCurrent");
     destroy_ = symbol<decltype(destroy_)>(library_, "OSMesaDestroyContext");
-    if (!create || !make_current_ || !destroy_) throw std::runtime_error("libOSMesa lacks OSMesaCreateContextExt");
+    get_proc_ = symbol<decltype(get_proc_)>(library_, "OSMesaGetProcAddress");
+    if (!create || !make_current_ || !destroy_ || !get_proc_) throw std::runtime_error("libOSMesa lacks OSMesaCreateContextExt");
     context_ = create(OSMESA_RGBA, 24, 8, 8, nullptr);
     if (!context_) throw std::runtime_error("OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 8) failed");
     make_current();
@@ -135,11 +144,16 @@ class OsmesaContext final : public GlContext {
       throw std::runtime_error("OSMesaMakeCurrent failed");
     }
   }
+  void release() override {
+    if (!make_current_(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0)) throw std::runtime_error("OSMesaMakeCurrent(NULL) failed");
+  }
+  void* proc_address(const char* name) const override { return reinterpret_cast<void*>(get_proc_(name)); }
   GlBackend backend() const override { return GlBackend::kOsmesa; }
 
  private:
   static constexpr int kSide = 4;
   void* library_ = nullptr;
+  OSMESAproc (*get_proc_)(const char*) = nullptr;
   GLboolean (*make_current_)(OSMesaContext, void*, GLenum, GLsizei, GLsizei) = nullptr;
   void (*destroy_)(OSMesaContext) = nullptr;
   OSMesaContext context_ = nullptr;

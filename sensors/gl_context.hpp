@@ -23,6 +23,11 @@ class GlContext {
   static std::unique_ptr<GlContext> create(GlBackend backend);
   virtual ~GlContext() = default;
   virtual void make_current() = 0;
+  // Leaves the calling thread with no context of this backend current (so that another thread may make one of
+  // them current). Throws std::runtime_error when the backend refuses.
+  virtual void release() = 0;
+  // The address of a GL entry point (eglGetProcAddress / OSMesaGetProcAddress), null when unknown.
+  virtual void* proc_address(const char* name) const = 0;
   virtual GlBackend backend() const = 0;
 };
 

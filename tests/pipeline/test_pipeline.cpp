@@ -196,6 +196,33 @@ TEST_F(PipelineTest, CamerasAtTheirOwnRatesInterleaveInSimulatedTime) {
   EXPECT_GT(back, 10);
 }
 
+// Cameras of one instant: the first step() starts the others' drawing on threads; the frames (clean and noisy
+// images, poses) and the map must be those of drawing each at its own step().
+TEST_F(PipelineTest, CamerasOfOneInstantDrawnTogetherGiveTheFramesOfOneAfterAnother) {
+  PipelineConfig c = config();
+  c.cameras.front().noise.enabled = true;
+  c.cameras.push_back(looking_back(c.cameras.front()));
+  CameraConfig side = c.cameras.front();
+  side.name = side.sources.front().name = "side";
+  side.mount.yaw_rad = 0.6;
+  c.cameras.push_back(side);
+  Pipeline together(c), apart(c);
+  apart.set_draw_ahead(false);
+  for (int k = 0; k < 12; ++k) {
+    const FrameResult& a = together.step();
+    const FrameResult& b = apart.step();
+    ASSERT_EQ(a.camera, b.camera);
+    ASSERT_EQ(a.time_s, b.time_s);
+    EXPECT_TRUE(a.T_world_camera.isApprox(b.T_world_camera, 0.0));
+    ASSERT_GT(a.clean_depth.valid_count(), 1000);
+    EXPECT_EQ(a.clean_depth.depth_m, b.clean_depth.depth_m) << "frame " << k << " of " << a.camera;
+    EXPECT_EQ(a.depth.depth_m, b.depth.depth_m) << "frame " << k << " of " << a.camera;
+  }
+  EXPECT_EQ(together.map().voxel_keys(), apart.map().voxel_keys());
+  Pipeline stopped(c);
+  stopped.step();  // two draws still under way when it goes: its destructor waits for them
+}
+
 TEST_F(PipelineTest, MarkingAndClearingSourcesOnOneCameraKeepTheirOwnParameters) {
   Pipeline both(config());
   PipelineConfig split = config();

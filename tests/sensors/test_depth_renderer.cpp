@@ -1,6 +1,7 @@
 #include "sensors/depth_renderer.hpp"
 
 #include "sensors/reference/depth_renderer.hpp"
+#include "sensors/reference/gl_depth_renderer.hpp"
 #include "tests/support/fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -253,6 +255,78 @@ TEST_P(Renderer, BadInputThrows) {
   EXPECT_THROW(renderer->render(world.model(), nullptr, looking_along_x({0, 0, 1})), std::invalid_argument);
 }
 
+// Pixels whose float bits differ (0 when a and b are the same image).
+std::size_t differing_pixels(const DepthImage& a, const DepthImage& b) {
+  if (a.depth_m.size() != b.depth_m.size()) return std::max(a.depth_m.size(), b.depth_m.size());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < a.depth_m.size(); ++i) n += std::memcmp(&a.depth_m[i], &b.depth_m[i], sizeof(float)) != 0;
+  return n;
+}
+
+// A view from position_W, yawed about the world's z and pitched down (optical x axis).
+Eigen::Isometry3d view(const Eigen::Vector3d& position_W, double yaw_rad, double pitch_rad) {
+  Eigen::Isometry3d T = looking_along_x(position_W, Eigen::AngleAxisd(-pitch_rad, Eigen::Vector3d::UnitX()).toRotationMatrix());
+  T.linear() = Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() * T.linear();
+  return T;
+}
+
+// The renderer as it was (colour writes on, mjr_readPixels of float depth) on every pixel: the shipped worlds
+// (boxes, cylinders, capsules, spheres, meshes, planes) from several poses, both D435 streams.
+TEST_P(Renderer, EveryPixelAsTheFloatReadbackGaveIt) {
+  for (const char* name : {"office_corridor.xml", "cart_crossing.xml", "l_corridor.xml", "mesh_room.xml"}) {
+    char error[1000] = "";
+    test::MjModelPtr model(mj_loadXML((test::worlds_dir() + "/" + name).c_str(), nullptr, error, sizeof(error)));
+    ASSERT_TRUE(model) << name << ": " << error;
+    test::MjDataPtr data(mj_makeData(model.get()));
+    mj_forward(model.get(), data.get());
+    for (const CameraIntrinsics& k : {CameraIntrinsics::d435_848x480(), CameraIntrinsics::d435_640x480()}) {
+      std::unique_ptr<DepthRenderer> fast;
+      try {
+        fast = std::make_unique<DepthRenderer>(model.get(), k, GetParam());
+      } catch (const std::runtime_error& e) {
+        GTEST_SKIP() << to_string(GetParam()) << " unavailable: " << e.what();
+      }
+      reference::FloatDepthRenderer plain(model.get(), k, GetParam());
+      long valid = 0;
+      for (int pose = 0; pose < 6; ++pose) {
+        const Eigen::Isometry3d T = view({1.5 * pose, 0.4 * (pose % 3) - 0.4, 0.3 + 0.2 * pose}, 1.1 * pose, 0.1 * pose);
+        const DepthImage& before = plain.render(model.get(), data.get(), T);
+        const DepthImage& now = fast->render(model.get(), data.get(), T);
+        EXPECT_EQ(differing_pixels(now, before), 0u) << name << " " << k.width << "x" << k.height << " pose " << pose;
+        valid += before.valid_count();
+      }
+      EXPECT_GT(valid, 6L * k.width * k.height / 4) << name;  // the poses see something
+    }
+  }
+}
+
+TEST_P(Renderer, ConcurrentDrawsGiveTheImagesOfOneAfterAnother) {
+  World world(kShapes);
+  std::string why;
+  auto first = try_renderer(world, CameraIntrinsics::d435_848x480(), GetParam(), why);
+  if (!first) GTEST_SKIP() << why;
+  DepthRenderer second(world.model(), CameraIntrinsics::d435_640x480(), GetParam());
+  DepthRenderer third(world.model(), CameraIntrinsics::d435_848x480(), GetParam());
+  const std::vector<DepthRenderer*> all{first.get(), &second, &third};
+  for (int round = 0; round < 3; ++round) {
+    const std::vector<Eigen::Isometry3d> poses{view({0.1 * round, 0.0, 1.0}, 0.0, 0.1),
+                                               view({0.5, 0.2, 0.8}, 0.4 - 0.1 * round, 0.0),
+                                               view({1.0, -0.5, 1.2}, -0.3, 0.2)};
+    std::vector<DepthImage> alone;
+    for (std::size_t i = 0; i < all.size(); ++i) alone.push_back(all[i]->render(world.model(), world.data(), poses[i]));
+    render_concurrently(all, world.model(), world.data(), poses);  // takes the contexts this thread holds
+    for (std::size_t i = 0; i < all.size(); ++i) {
+      EXPECT_EQ(differing_pixels(all[i]->image(), alone[i]), 0u) << "round " << round << ", renderer " << i;
+      EXPECT_GT(alone[i].valid_count(), 1000);
+    }
+  }
+  EXPECT_THROW(render_concurrently({first.get(), first.get()}, world.model(), world.data(),
+                                   {view({0, 0, 1}, 0, 0), view({0, 0, 1}, 0, 0)}),
+               std::invalid_argument);
+  EXPECT_THROW(render_concurrently({first.get()}, world.model(), world.data(), {}), std::invalid_argument);
+  EXPECT_THROW(second.draw(), std::logic_error);  // nothing prepared
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, Renderer, ::testing::Values(GlBackend::kOsmesa, GlBackend::kEgl),
                          [](const auto& info) { return std::string(to_string(info.param)); });
 
@@ -287,6 +361,38 @@ TEST(RendererBackends, AutoHonoursEnvironmentOverride) {
   EXPECT_THROW(DepthRenderer(world.model(), CameraIntrinsics::d435_640x480(), GlBackend::kAuto), std::invalid_argument);
   ::unsetenv("STVL_GL");
   if (!renderer) GTEST_SKIP() << why;
+}
+
+// Every 24-bit depth value (with stencil bits set): Mesa's float, then the old conversion, bit for bit, for the
+// renderer's planes and odd ones; chunks of an odd length run the vectorized loop's tail.
+TEST(DepthFromZ24, EveryDepthValueAsMesasFloatThenTheOldConversion) {
+  struct Planes {
+    float near_m, far_m, min_m, max_m;
+  };
+  const CameraIntrinsics k = CameraIntrinsics::d435_848x480();
+  const Planes cases[] = {{0.05f, float(2.0 * k.max_range_m + 1.0), float(k.min_range_m), float(k.max_range_m)},
+                          {0.01f, 3.0f, 0.02f, 1.0f},
+                          {0.05f, 21.0f, 0.0f, 1e30f},
+                          {0.2f, 5.0f, 4.9f, 5.0f}};
+  std::vector<std::uint32_t> words(std::size_t(1) << 24);
+  for (std::uint32_t z = 0; z < words.size(); ++z) words[z] = z << 8 | ((z * 37u) & 0xffu);
+  std::vector<float> fast(words.size());
+  for (const Planes& p : cases) {
+    for (std::size_t at = 0; at < words.size(); at += 4099) {
+      const int count = int(std::min<std::size_t>(4099, words.size() - at));
+      depth_m_from_z24s8(words.data() + at, fast.data() + at, count, p.near_m, p.far_m, p.min_m, p.max_m);
+    }
+    std::size_t mismatched = 0, valid = 0;
+    for (std::size_t i = 0; i < words.size(); ++i) {
+      const float before = reference::depth_m_from_gl_depth(reference::mesa_float_depth(words[i]), p.near_m,
+                                                            p.far_m, p.min_m, p.max_m);
+      mismatched += std::memcmp(&before, &fast[i], sizeof(float)) != 0;
+      valid += before > 0.0f;
+    }
+    EXPECT_EQ(mismatched, 0u) << "near " << p.near_m << " far " << p.far_m;
+    EXPECT_GT(valid, 1000u);
+    EXPECT_EQ(fast.back(), 0.0f);  // d = 1: nothing hit
+  }
 }
 
 }  // namespace
