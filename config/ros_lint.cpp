@@ -164,6 +164,12 @@ class Linter {
               ": a depth camera's optical frame looks along z, so the model's horizontal plane is the image plane "
               "and it clears beside the camera's view, not in it",
           "sensor_frame: <camera>_link (x forward, z up), or model_type: 0");
+    if (v.clearing && v.model == mapping::ClearingModel::kDepthCamera && !optical)
+      add(line_or(node, "sensor_frame", s.line), dotted(prefix, "sensor_frame"),
+          "sensor_frame = '" + s.sensor_frame + "': STVL builds the depth camera's frustum along that frame's z axis, "
+              "and by its name it is not an optical frame (z forward): with x forward and z up (a camera link) "
+              "the frustum looks at the ceiling",
+          "sensor_frame: <camera>_depth_optical_frame, or leave it empty (the cloud's frame)");
     for (const auto& camera : cameras) {
       // The FOV shapes the depth camera's clearing frustum only (the lidar model's is its own).
       if (camera.source != s.name || !v.clearing || v.model != mapping::ClearingModel::kDepthCamera) continue;

@@ -82,7 +82,9 @@ struct PipelineConfig {
 };
 
 // Wall-clock milliseconds of one frame's stages (the only part of a run that is not deterministic). cloud_ms
-// holds the camera's edge filter when it is enabled, then depth to cloud and the transform to the world.
+// holds the camera's edge filter when it is enabled, then depth to cloud and the transform to the world. With
+// several cameras at one instant the others draw ahead on their own threads (pipeline.hpp): their render_ms is
+// the wait for that draw, and the drawing threads' time shows up in the stages the main thread ran meanwhile.
 struct StageTimes {
   double render_ms = 0, noise_ms = 0, cloud_ms = 0, filter_ms = 0, clear_ms = 0, mark_ms = 0;
   double map_cpu_ms = 0;  // CPU time of the process (all threads) over clear + mark: blind to other processes

@@ -307,6 +307,9 @@ TEST_F(RosLint, LidarModelInAnOpticalFrameIsAFinding) {
               HasSubstr(at(8, "cam.model_type") + "model_type = 1 builds STVL's 3D lidar model"));
   EXPECT_THAT(only(lidar + "  sensor_frame: front_depth_optical_frame\n"), HasSubstr("sensor_frame: <camera>_link"));
   EXPECT_TRUE(lint(lidar + "  sensor_frame: front_link\n", {fov_of("cam", 1.5, 1.0)}).empty());
+  // The depth camera's frustum in a frame that is not optical by its name looks along that frame's z.
+  EXPECT_THAT(only(kClean + "  sensor_frame: front_link\n"), HasSubstr("the frustum looks at the ceiling"));
+  EXPECT_TRUE(lint(kClean + "  sensor_frame: front_depth_optical_frame\n").empty());
 }
 
 TEST_F(RosLint, NegativeVoxelDecayIsAFinding) {
