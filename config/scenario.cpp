@@ -124,21 +124,7 @@ void read_moving_bodies(YamlMap& root, Scenario& s) {
 // `src`; the FOV angles stay unset (the camera's) unless given.
 void read_observation(YamlMap& o, mapping::ObservationSource& src, std::optional<double>& hfov, std::optional<double>& vfov) {
   read_source_keys(o, src, kReadByScenario, {"horizontal_fov_angle", "vertical_fov_angle"});
-  if (o.has("model_type")) {
-    int model = 0;
-    o.get("model_type", model);
-    if (model != 0 && model != 1) o.fail(o.raw("model_type"), "model_type", "STVL knows 0 (depth camera) and 1 (3D lidar)");
-    src.model = static_cast<mapping::ClearingModel>(model);
-  }
-  if (o.has("sensor_frame")) {
-    std::string frame;
-    o.get("sensor_frame", frame);
-    try {
-      src.sensor_frame = mapping::parse_sensor_frame(frame);
-    } catch (const std::invalid_argument& e) {
-      o.fail(o.raw("sensor_frame"), "sensor_frame", e.what());
-    }
-  }
+  read_clearing_model(o, src);
   get_optional(o, "horizontal_fov_angle", hfov);
   get_optional(o, "vertical_fov_angle", vfov);
   o.finish();

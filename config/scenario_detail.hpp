@@ -91,6 +91,8 @@ void read_outages(YamlMap& camera, pipeline::CameraConfig& c, double duration_s)
 void read_camera(YamlMap camera, Scenario& s);
 void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides);
 void read_filter(YamlMap filter, Scenario& s);
+// An observation's model_type and sensor_frame (STVL's clearing model and the frame it is built in).
+void read_clearing_model(YamlMap& observation, mapping::ObservationSource& src);
 
 // scenario_robot.cpp: robot.urdf with package_path, wheels and drive (the robot built, sim.robot and sim.drive set
 // from it; without urdf those keys are errors); a camera's `frame` (a URDF link) as its mount; the URDF's

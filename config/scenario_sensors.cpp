@@ -214,6 +214,23 @@ void read_filter(YamlMap filter, Scenario& s) {
   filter.finish();
 }
 
-// map.observation (the defaults of every camera's source) or a camera's own observation overrides, read over
+// An observation's model_type (0 or 1) and sensor_frame (optical | link), each only when given.
+void read_clearing_model(YamlMap& o, mapping::ObservationSource& src) {
+  if (o.has("model_type")) {
+    int model = 0;
+    o.get("model_type", model);
+    if (model != 0 && model != 1) o.fail(o.raw("model_type"), "model_type", "STVL knows 0 (depth camera) and 1 (3D lidar)");
+    src.model = static_cast<mapping::ClearingModel>(model);
+  }
+  if (o.has("sensor_frame")) {
+    std::string frame;
+    o.get("sensor_frame", frame);
+    try {
+      src.sensor_frame = mapping::parse_sensor_frame(frame);
+    } catch (const std::invalid_argument& e) {
+      o.fail(o.raw("sensor_frame"), "sensor_frame", e.what());
+    }
+  }
+}
 
 }  // namespace stvl::config::scenario_detail

@@ -157,21 +157,6 @@ nlohmann::json map_json(const mapping::StvlConfig& m) {
           {"update_footprint_enabled", m.update_footprint_enabled}, {"footprint", footprint}};
 }
 
-// nav2's master costmap (ours to model; null when not modelled): its settings, ghosts against STVL's layer after
-// each update, its lethal cells at the end.
-nlohmann::json nav2_json(const run::RunResult& r) {
-  if (!r.nav2_master) return nullptr;
-  const mapping::Nav2CostmapConfig& c = r.scenario.pipeline.nav2_costmap;
-  const pipeline::Nav2Ghosts& g = r.nav2_ghosts;
-  std::size_t lethal = 0;
-  for (auto cell : r.nav2_master->cells) lethal += cell == mapping::kCostLethal;
-  return {{"width_m", c.width_m}, {"height_m", c.height_m}, {"resolution_m", c.resolution_m},
-          {"rolling_window", c.rolling_window}, {"combination_method", c.combination_method},
-          {"track_unknown_space", c.track_unknown_space}, {"touch_cleared_cells", c.touch_cleared_cells},
-          {"updates", g.updates}, {"updates_with_ghosts", g.updates_with_ghosts}, {"max_ghost_cells", g.max_cells},
-          {"max_ghost_at_s", g.max_at_s}, {"final_ghost_cells", g.last_cells}, {"final_lethal_cells", lethal}};
-}
-
 // evaluation.failure_modes.occlusion: occluded obstacles erased (STVL #134); null times: never.
 nlohmann::json occlusion_json(const evaluation::OcclusionResult& o) {
   const auto time = [](const std::optional<double>& t) { return t ? nlohmann::json(*t) : nlohmann::json(); };

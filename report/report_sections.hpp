@@ -38,5 +38,8 @@ std::string failure_modes_html(const nlohmann::json& metrics);
 
 // A number to 4 significant digits ("22.07", "1284", "0.0003"); integers as they are.
 std::string significant(double value);
+// metrics.json nav2_costmap: the model's settings, its ghosts over the run, its lethal cells at the end (null
+// when map.nav2_costmap is off).
+nlohmann::json nav2_json(const run::RunResult& r);
 
 }  // namespace stvl::report
