@@ -75,6 +75,20 @@ TEST(ScenarioParse, TyposOfKeysAndNamesSuggestTheNearestKnownOne) {
   EXPECT_THAT(error_of(far.yaml), Not(HasSubstr("did you mean")));
 }
 
+// map.nav2_costmap and an observation's clearing model: bad values name the key, the file and the line.
+TEST(ScenarioParse, Nav2CostmapAndClearingModelErrors) {
+  const Edited window = replace_line(kFull, "  voxel_size:", "  nav2_costmap: {width_m: 5, height_m: 0}");
+  EXPECT_THAT(error_of(window.yaml), HasSubstr(at(window.line, "map.nav2_costmap.height_m") + "must be > 0 m"));
+  const Edited typo = replace_line(kFull, "  voxel_size:", "  nav2_costmap: {width_m: 5, height_m: 5, rolling_windw: false}");
+  EXPECT_THAT(error_of(typo.yaml), HasSubstr("did you mean 'rolling_window'?"));
+  const Edited method = replace_line(kFull, "  voxel_size:", "  nav2_costmap: {width_m: 5, height_m: 5, combination_method: 2}");
+  EXPECT_THAT(error_of(method.yaml), HasSubstr("map.nav2_costmap.combination_method"));
+  const Edited model = replace_line(kFull, "    min_z:", "    model_type: 2");
+  EXPECT_THAT(error_of(model.yaml), HasSubstr(at(model.line, "map.observation.model_type") + "STVL knows 0"));
+  const Edited frame = replace_line(kFull, "    min_z:", "    sensor_frame: base_link");
+  EXPECT_THAT(error_of(frame.yaml), HasSubstr(at(frame.line, "map.observation.sensor_frame")));
+}
+
 TEST(ScenarioParse, IntrinsicsWithAPresetAreRejected) {
   const Edited e = insert_after(kMinimal, "  speed_mps:", "camera:\n  preset: d435_640x480\n  intrinsics: {fx: 1}");
   EXPECT_THAT(error_of(e.yaml), HasSubstr(at(e.line + 2, "camera.intrinsics") + "only used with preset: custom"));
