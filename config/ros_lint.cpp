@@ -147,6 +147,12 @@ class Linter {
     const std::string prefix = dotted(nodes_.layer_path, s.name);
     const auto& v = s.stvl;
     integer_doubles(node, prefix, stvl_double_key_names(StvlScope::kSource, kReadByRos2));
+    if (s.filter == RosSourceFilter::kNone && !s.filter_text.empty() && s.filter_text != "none")
+      add(line_or(node, "filter", s.line), dotted(prefix, "filter"),
+          "filter = '" + s.filter_text + "': STVL (ros2 403d9ed, noetic-devel 5e06daf) knows passthrough and voxel; any "
+              "other string applies no filter, so no height band and every height marks (passthrough_relative and "
+              "voxel_relative exist only in STVL's unmerged PR #304 and are not simulated)",
+          "filter: passthrough (or voxel)");
     if (v.marking && v.min_obstacle_height_m <= 0.0)
       add(line_or(node, "min_obstacle_height", s.line), dotted(prefix, "min_obstacle_height"),
           "min_obstacle_height = " + number(v.min_obstacle_height_m) +

@@ -78,6 +78,7 @@ RosObservationSource read_source(const LayerNodes& nodes, YamlMap& layer, const 
   if (!ros1 || m.has("filter")) {
     m.get("filter", filter);  // ROS 2 and noetic-devel
     s.filter = filter_of(filter);
+    s.filter_text = filter;
   } else {
     bool voxel_filter = false;  // melodic-devel: false is the passthrough filter
     m.get("voxel_filter", voxel_filter);

@@ -30,6 +30,7 @@ struct RosObservationSource {
   mapping::ObservationSource stvl;
   int model_type = 0;                   // 0 depth camera, 1 STVL's 3D lidar model (stvl.model)
   RosSourceFilter filter = RosSourceFilter::kPassthrough;  // STVL's default in every version
+  std::string filter_text = "passthrough";  // `filter` as written (lint names a string STVL does not know)
   int voxel_min_points = 0;
   bool clear_after_reading = false, inf_is_valid = false, enabled = true;
 };

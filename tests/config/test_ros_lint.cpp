@@ -312,6 +312,14 @@ TEST_F(RosLint, LidarModelInAnOpticalFrameIsAFinding) {
   EXPECT_TRUE(lint(kClean + "  sensor_frame: front_depth_optical_frame\n").empty());
 }
 
+// A filter string STVL does not know means no filter at all; "none" and "" say so on purpose.
+TEST_F(RosLint, AnUnknownFilterStringIsAFinding) {
+  EXPECT_THAT(only(kClean + "  filter: passthrough_relative\n"),
+              HasSubstr(at(8, "cam.filter") + "filter = 'passthrough_relative': STVL"));
+  EXPECT_TRUE(lint(kClean + "  filter: none\n").empty());
+  EXPECT_TRUE(lint(kClean + "  filter: voxel\n").empty());
+}
+
 TEST_F(RosLint, NegativeVoxelDecayIsAFinding) {
   EXPECT_EQ(only(replaced(kClean, "voxel_decay: 15.0\n", "")),
             at(1, "voxel_decay") + "voxel_decay = -1 (STVL's default): every voxel is removed at the next update, "
