@@ -58,6 +58,19 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
   config.map.footprint_B.clear();
   if (layer.footprint && !layer.footprint->empty()) config.map.footprint_B = *layer.footprint;
   else if (layer.robot_radius_m) config.map.footprint_B = mapping::footprint_from_radius(*layer.robot_radius_m);
+  // nav2's master costmap around the layer, when the file gives the costmap's size (nav2's defaults otherwise:
+  // resolution 0.05, rolling_window false); a combination STVL does not do leaves it unmodelled.
+  if (layer.width_m && layer.height_m && *layer.width_m > 0.0 && *layer.height_m > 0.0 &&
+      (layer.combination_method == 0 || layer.combination_method == 1)) {
+    mapping::Nav2CostmapConfig& n = config.nav2_costmap;
+    n.width_m = *layer.width_m;
+    n.height_m = *layer.height_m;
+    n.resolution_m = layer.resolution_m.value_or(0.05);
+    n.rolling_window = layer.rolling_window.value_or(false);
+    n.combination_method = layer.combination_method;
+    n.track_unknown_space = layer.costmap_track_unknown_space;
+    n.validate();
+  }
   std::string names;
   for (const auto& c : config.cameras) names += (names.empty() ? "" : ", ") + c.name;
   for (auto& c : config.cameras) c.sources.clear();

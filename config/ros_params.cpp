@@ -159,6 +159,7 @@ void read_costmap(const LayerNodes& nodes, const std::string& file, RosStvlLayer
   std::optional<bool> tracking;
   optional_of("track_unknown_space", tracking);
   out.track_unknown_space = tracking.value_or(false);  // STVL's default follows the costmap's (false)
+  out.costmap_track_unknown_space = out.track_unknown_space;
   for (auto& scope : scopes)
     if (scope.has("footprint")) {
       out.footprint = read_footprint(scope);

@@ -48,6 +48,7 @@ struct RosStvlLayer {
   // The enclosing costmap's keys; absent when the file does not write them.
   std::optional<double> resolution_m, robot_radius_m, width_m, height_m;
   std::optional<bool> rolling_window;
+  bool costmap_track_unknown_space = false;   // the costmap's own (nav2's master default: NO_INFORMATION or FREE)
   std::optional<double> update_frequency_hz;  // nav2's / costmap_2d's update_frequency (STVL updates at it)
   std::optional<std::vector<Eigen::Vector2d>> footprint;  // "[[x, y], ...]" or a YAML list, in base_link
   std::vector<RosObservationSource> sources;

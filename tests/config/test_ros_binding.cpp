@@ -176,6 +176,12 @@ TEST(RosBinding, AScenarioTakesItsMapFromRosParams) {
   EXPECT_EQ(s.pipeline.filter.type, filter::FilterType::kNone);  // passthrough: ROS 2's default filter
   EXPECT_TRUE(s.pipeline.filter.passthrough_enabled);
   EXPECT_DOUBLE_EQ(s.pipeline.map.voxel_decay_s, 15.0);
+  // The local costmap's 3 x 3 m rolling window at 0.05 m: nav2's master costmap around the layer.
+  EXPECT_DOUBLE_EQ(s.pipeline.nav2_costmap.width_m, 3.0);
+  EXPECT_DOUBLE_EQ(s.pipeline.nav2_costmap.height_m, 3.0);
+  EXPECT_DOUBLE_EQ(s.pipeline.nav2_costmap.resolution_m, 0.05);
+  EXPECT_TRUE(s.pipeline.nav2_costmap.rolling_window);
+  EXPECT_FALSE(s.pipeline.nav2_costmap.track_unknown_space);  // the costmap's; the layer's own is true
   // The tutorial's robot_radius 0.22 and update_footprint_enabled true: STVL's footprint clearing.
   EXPECT_TRUE(s.pipeline.map.update_footprint_enabled);
   ASSERT_EQ(s.pipeline.map.footprint_B.size(), 16u);
