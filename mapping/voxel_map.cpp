@@ -134,23 +134,16 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
                             obs.source.decay_acceleration_per_s3});
     }
   } else {
-    std::vector<VoxelKey> by_rays;
-    impl_->raycast_pass(clearing, stats, removed_keys ? &by_rays : cleared_keys);
-    if (removed_keys) {
-      if (cleared_keys) cleared_keys->insert(cleared_keys->end(), by_rays.begin(), by_rays.end());
-      removed_keys->insert(removed_keys->end(), by_rays.begin(), by_rays.end());
-    }
+    std::vector<VoxelKey> by_rays;  // what the rays removed is cleared and removed alike
+    impl_->raycast_pass(clearing, stats, cleared_keys || removed_keys ? &by_rays : nullptr);
+    for (std::vector<VoxelKey>* out : {cleared_keys, removed_keys})
+      if (out) out->insert(out->end(), by_rays.begin(), by_rays.end());
   }
-  impl_->removed_keys = removed_keys;
-  struct Forget {  // the pointer lives only as long as this call
-    Impl* impl;
-    ~Forget() { impl->removed_keys = nullptr; }
-  } forget{impl_.get()};
   if (impl_->config.clearing_walk == ClearingWalk::kFullWalk) {
-    impl_->full_walk(frustums, time_s, stats, cleared_keys);
+    impl_->full_walk(frustums, time_s, stats, cleared_keys, removed_keys);
   } else {
-    impl_->frustum_pass(frustums, time_s, stats, cleared_keys);
-    impl_->expiry_pass(time_s, stats);
+    impl_->frustum_pass(frustums, time_s, stats, cleared_keys, removed_keys);
+    impl_->expiry_pass(time_s, stats, removed_keys);
   }
   return stats;
 }

@@ -111,7 +111,7 @@ inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& fr
 }
 
 void VoxelMap::Impl::full_walk(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats,
-                               std::vector<VoxelKey>* cleared_keys) {
+                               std::vector<VoxelKey>* cleared_keys, std::vector<VoxelKey>* removed_keys) {
   double unused = 0.0;
   bool by_frustum = false;
   for (auto it = grid->beginValueOn(); it; ++it) {
@@ -126,7 +126,7 @@ void VoxelMap::Impl::full_walk(const std::vector<Frustum>& frustums, double time
 }
 
 void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double time_s, ClearStats& stats,
-                                  std::vector<VoxelKey>* cleared_keys) {
+                                  std::vector<VoxelKey>* cleared_keys, std::vector<VoxelKey>* removed_keys) {
   if (frustums.empty()) return;
   // World box spanned by the centres (as the frustum test takes them) of an index box's voxels.
   auto box_of = [this](const openvdb::CoordBBox& box) {
@@ -172,7 +172,7 @@ void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double t
   delete_empty_leaves(emptied);
 }
 
-void VoxelMap::Impl::expiry_pass(double time_s, ClearStats& stats) {
+void VoxelMap::Impl::expiry_pass(double time_s, ClearStats& stats, std::vector<VoxelKey>* removed_keys) {
   if (!uses_expiry_index()) return;
   // Slack so that rounding in value + voxel_decay never hides a voxel the full walk would remove.
   const double due_limit_s = time_s + 1e-9 * (1.0 + std::abs(time_s) + config.voxel_decay_s);

@@ -247,9 +247,7 @@ void MapStages::update_nav2(double time_s, const Eigen::Isometry3d& T_world_base
   cleared_W.reserve(removed.size());
   const double s = config_.map.voxel_size_m;
   for (const VoxelKey& k : removed) cleared_W.emplace_back((k.x + 0.5) * s, (k.y + 0.5) * s);
-  std::vector<Eigen::Vector2d> footprint_W;
-  if (config_.map.update_footprint_enabled) footprint_W = mapping::footprint_in_world(config_.map.footprint_B, T_world_base);
-  nav2_->update(layer, cleared_W, footprint_W);
+  nav2_->update(layer, cleared_W, options.free_polygon_W);  // the footprint, when STVL frees it (its vertices touch)
   const std::size_t ghosts = nav2_->ghost_cells(layer);
   Nav2Ghosts& g = nav2_ghosts_;
   ++g.updates;

@@ -127,13 +127,13 @@ struct VoxelMap::Impl {
   template <typename Iter>
   bool decay_voxel(Iter& it, const std::vector<detail::Frustum>& frustums, double time_s, double* new_value_s,
                    bool* by_frustum) const;
-  // cleared_keys (may be null) receives the voxels the frustums' acceleration removed.
+  // cleared_keys (may be null) receives the voxels the frustums' acceleration removed, removed_keys (may be null)
+  // every voxel removed.
   void full_walk(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats,
-                 std::vector<VoxelKey>* cleared_keys);
+                 std::vector<VoxelKey>* cleared_keys, std::vector<VoxelKey>* removed_keys);
   void frustum_pass(const std::vector<detail::Frustum>& frustums, double time_s, ClearStats& stats,
-                    std::vector<VoxelKey>* cleared_keys);
-  void expiry_pass(double time_s, ClearStats& stats);
-  std::vector<VoxelKey>* removed_keys = nullptr;  // during clear(): every voxel removed (clear()'s removed_keys)
+                    std::vector<VoxelKey>* cleared_keys, std::vector<VoxelKey>* removed_keys);
+  void expiry_pass(double time_s, ClearStats& stats, std::vector<VoxelKey>* removed_keys);
 
   // ---- ray-cast clearing (voxel_map_raycast.cpp)
   void raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats,
