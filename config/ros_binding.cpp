@@ -23,13 +23,25 @@ bool frame_names(const std::string& frame, const std::string& camera) {
   return frame == camera || frame.rfind(camera + "_", 0) == 0;
 }
 
-const char* filter_name(RosSourceFilter filter) {
-  switch (filter) {
+std::string filter_name(const RosObservationSource& source) {
+  const char* relative = source.filter_relative ? "_relative" : "";
+  switch (source.filter) {
     case RosSourceFilter::kNone: return "none";
-    case RosSourceFilter::kPassthrough: return "passthrough";
-    case RosSourceFilter::kVoxel: return "voxel";
+    case RosSourceFilter::kPassthrough: return std::string("passthrough") + relative;
+    case RosSourceFilter::kVoxel: return std::string("voxel") + relative;
   }
   return "?";
+}
+
+// The frame a relative filter's band is in: STVL's default (empty here) and the global frames are the world's
+// z; base_link the robot's. Other frames are not simulated.
+mapping::ZReference z_reference_of(const RosStvlLayer& layer, const RosObservationSource& source) {
+  const std::string& frame = source.z_reference_frame;
+  if (frame.empty() || frame == "map" || frame == "odom" || frame == "world") return mapping::ZReference::kGlobal;
+  if (frame == recording::kBaseFrame) return mapping::ZReference::kBaseLink;
+  throw std::invalid_argument(where(layer, source) + "z_reference_frame '" + frame + "': the bench's frames for a " +
+                              "height band are the global frame (map, odom) and " + recording::kBaseFrame +
+                              " (the robot's base on the floor); write one of them");
 }
 
 }  // namespace
@@ -83,14 +95,16 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
                                   "' and sensor_frame '" + source.sensor_frame + "' name none of the cameras (" +
                                   names + "); write the topic as /<camera>/depth/points or the frame as " +
                                   "<camera>_depth_optical_frame");
-    if (first && source.filter != first->filter)
-      throw std::invalid_argument(where(layer, source) + "filter " + filter_name(source.filter) + " differs from " +
-                                  first->name + "'s " + filter_name(first->filter) +
+    if (first && (source.filter != first->filter || source.filter_relative != first->filter_relative))
+      throw std::invalid_argument(where(layer, source) + "filter " + filter_name(source) + " differs from " +
+                                  first->name + "'s " + filter_name(*first) +
                                   "; the bench decimates every frame with one filter");
     if (!first) first = &source;
     config.cameras[index].sources.push_back({source.name, source.stvl});
     // STVL's buffer with filter none transforms the cloud and filters nothing: no height band.
     config.cameras[index].sources.back().params.height_band = source.filter != RosSourceFilter::kNone;
+    // The ros2 branch's relative filters band (and decimate) in z_reference_frame.
+    if (source.filter_relative) config.cameras[index].sources.back().params.z_reference = z_reference_of(layer, source);
     // The clearing volume is built in sensor_frame: the camera's link when it names it, else the cloud's frame.
     if (source.sensor_frame == recording::camera_link_frame(config.cameras[index].name))
       config.cameras[index].sources.back().params.sensor_frame = mapping::SensorFrame::kLink;

@@ -151,8 +151,13 @@ class Linter {
       add(line_or(node, "filter", s.line), dotted(prefix, "filter"),
           "filter = '" + s.filter_text + "': STVL (ros2 403d9ed, noetic-devel 5e06daf) knows passthrough and voxel; any "
               "other string applies no filter, so no height band and every height marks (passthrough_relative and "
-              "voxel_relative exist only in STVL's unmerged PR #304 and are not simulated)",
+              "voxel_relative are the ros2 branch's, PR #304; noetic-devel does not know them)",
           "filter: passthrough (or voxel)");
+    if (!s.filter_relative && node && node.IsMap() && node["z_reference_frame"])
+      add(line_or(node, "z_reference_frame", s.line), dotted(prefix, "z_reference_frame"),
+          "z_reference_frame = '" + s.z_reference_frame + "' has no effect with filter '" + s.filter_text +
+              "': only passthrough_relative and voxel_relative read it (the band stays in the global frame's z)",
+          "filter: passthrough_relative (or voxel_relative), or drop z_reference_frame");
     if (v.marking && v.min_obstacle_height_m <= 0.0)
       add(line_or(node, "min_obstacle_height", s.line), dotted(prefix, "min_obstacle_height"),
           "min_obstacle_height = " + number(v.min_obstacle_height_m) +

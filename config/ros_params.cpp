@@ -31,9 +31,11 @@ void validate_at(const Config& config, YamlMap& map) {
   }
 }
 
-RosSourceFilter filter_of(const std::string& text) {
-  if (text == "passthrough") return RosSourceFilter::kPassthrough;
-  if (text == "voxel") return RosSourceFilter::kVoxel;
+// STVL's filter string; relative: the ros2 branch's *_relative variants (PR #304, 22f7927), which noetic lacks.
+RosSourceFilter filter_of(const std::string& text, bool ros2, bool& relative) {
+  relative = ros2 && (text == "passthrough_relative" || text == "voxel_relative");
+  if (text == "passthrough" || (relative && text == "passthrough_relative")) return RosSourceFilter::kPassthrough;
+  if (text == "voxel" || (relative && text == "voxel_relative")) return RosSourceFilter::kVoxel;
   return RosSourceFilter::kNone;  // STVL: "No filters activated." for anything else
 }
 
@@ -77,8 +79,9 @@ RosObservationSource read_source(const LayerNodes& nodes, YamlMap& layer, const 
   std::string filter = "passthrough";
   if (!ros1 || m.has("filter")) {
     m.get("filter", filter);  // ROS 2 and noetic-devel
-    s.filter = filter_of(filter);
+    s.filter = filter_of(filter, !ros1, s.filter_relative);
     s.filter_text = filter;
+    if (!ros1) m.get("z_reference_frame", s.z_reference_frame);
   } else {
     bool voxel_filter = false;  // melodic-devel: false is the passthrough filter
     m.get("voxel_filter", voxel_filter);

@@ -17,7 +17,8 @@ namespace stvl::config {
 // kRos2: `ros__parameters` above the layer; kRos1: `plugins: [{name, type}]`; kBare: the layer mapping alone
 // (read by ROS 2's rules).
 enum class RosFlavour { kRos2, kRos1, kBare };
-// STVL's `filter` ("passthrough", "voxel", anything else none); ROS 1 melodic's `voxel_filter: true` is kVoxel.
+// STVL's `filter` ("passthrough", "voxel", anything else none); ROS 1 melodic's `voxel_filter: true` is kVoxel;
+// a ROS 2 file's "passthrough_relative" and "voxel_relative" are kPassthrough and kVoxel with filter_relative.
 enum class RosSourceFilter { kNone, kPassthrough, kVoxel };
 
 // One entry of observation_sources.
@@ -31,6 +32,10 @@ struct RosObservationSource {
   int model_type = 0;                   // 0 depth camera, 1 STVL's 3D lidar model (stvl.model)
   RosSourceFilter filter = RosSourceFilter::kPassthrough;  // STVL's default in every version
   std::string filter_text = "passthrough";  // `filter` as written (lint names a string STVL does not know)
+  // passthrough_relative / voxel_relative (ROS 2 files: the ros2 branch's relative filters, PR #304 as 22f7927):
+  // filter is kPassthrough / kVoxel, applied in z_reference_frame (STVL's default: the costmap's global frame).
+  bool filter_relative = false;
+  std::string z_reference_frame;
   int voxel_min_points = 0;
   bool clear_after_reading = false, inf_is_valid = false, enabled = true;
 };

@@ -214,7 +214,8 @@ void read_filter(YamlMap filter, Scenario& s) {
   filter.finish();
 }
 
-// An observation's model_type (0 or 1) and sensor_frame (optical | link), each only when given.
+// An observation's model_type (0 or 1), sensor_frame (optical | link) and z_reference_frame (global | base_link),
+// each only when given.
 void read_clearing_model(YamlMap& o, mapping::ObservationSource& src) {
   if (o.has("model_type")) {
     int model = 0;
@@ -229,6 +230,15 @@ void read_clearing_model(YamlMap& o, mapping::ObservationSource& src) {
       src.sensor_frame = mapping::parse_sensor_frame(frame);
     } catch (const std::invalid_argument& e) {
       o.fail(o.raw("sensor_frame"), "sensor_frame", e.what());
+    }
+  }
+  if (o.has("z_reference_frame")) {  // STVL's relative filters: the band's z in base_link
+    std::string frame;
+    o.get("z_reference_frame", frame);
+    try {
+      src.z_reference = mapping::parse_z_reference(frame);
+    } catch (const std::invalid_argument& e) {
+      o.fail(o.raw("z_reference_frame"), "z_reference_frame", e.what());
     }
   }
 }

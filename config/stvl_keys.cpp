@@ -63,6 +63,8 @@ const std::vector<StvlKey>& stvl_keys() {
       number("decay_acceleration", kAll, "1/s^3", "0.0", "0.0", &Src::decay_acceleration_per_s3),
       other("filter", kReadByRos2 | kReadByNoetic, "", "passthrough", "passthrough"),
       other("voxel_filter", kReadByMelodic, "", "", "false"),
+      // The ros2 branch's relative filters (PR #304 as 22f7927); scenarios: global | base_link.
+      other("z_reference_frame", kReadByRos2 | kReadByScenario, "", "global frame", ""),
       other("voxel_min_points", kRos, "", "0", "0"),
       other("clear_after_reading", kRos, "", "false", "false"),
       other("enabled", kRos, "", "true", "true"),

@@ -48,6 +48,10 @@ constexpr EnumName<SensorFrame> kSensorFrameNames[] = {{SensorFrame::kOptical, "
 SensorFrame parse_sensor_frame(const std::string& text) { return parse_enum(text, kSensorFrameNames, "sensor_frame"); }
 std::string to_string(SensorFrame frame) { return enum_name(frame, kSensorFrameNames); }
 
+constexpr EnumName<ZReference> kZReferenceNames[] = {{ZReference::kGlobal, "global"}, {ZReference::kBaseLink, "base_link"}};
+ZReference parse_z_reference(const std::string& text) { return parse_enum(text, kZReferenceNames, "z_reference_frame"); }
+std::string to_string(ZReference frame) { return enum_name(frame, kZReferenceNames); }
+
 Eigen::Isometry3d T_optical_sensor(SensorFrame frame) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   if (frame == SensorFrame::kLink)  // link x = optical z, link y = -optical x, link z = -optical y

@@ -135,6 +135,13 @@ enum class ClearingModel { kDepthCamera = 0, kLidar3D = 1 };
 enum class SensorFrame { kOptical, kLink };
 SensorFrame parse_sensor_frame(const std::string& text);  // "optical" | "link"; throws std::invalid_argument
 std::string to_string(SensorFrame frame);
+// The frame whose z the height band is measured in (z_reference_frame, STVL's passthrough_relative and
+// voxel_relative filters, PR #304 / 22f7927): the map's (global, STVL's passthrough and voxel) or the robot's
+// base_link. Relative: STVL's buffer takes the cloud into base_link (float), filters there (band, and the voxel
+// leaves for voxel_relative) and takes what is left to the global frame (float again): pipeline/map_stages.
+enum class ZReference { kGlobal, kBaseLink };
+ZReference parse_z_reference(const std::string& text);  // "global" | "base_link"; throws std::invalid_argument
+std::string to_string(ZReference frame);
 // The rotation from the sensor frame to the optical frame (identity for kOptical).
 Eigen::Isometry3d T_optical_sensor(SensorFrame frame);
 
@@ -148,6 +155,9 @@ struct ObservationSource {
   // Whether the band above applies (no YAML key): STVL's buffer applies it through its passthrough or voxel
   // filter; a ROS parameter file's `filter` none (any other string) applies none, and every height marks.
   bool height_band = true;
+  // z_reference_frame: the frame the band's z is in. With base_link, mark() applies no band itself: the source's
+  // buffer cloud (pipeline::source_marking_W) was banded in base_link before.
+  ZReference z_reference = ZReference::kGlobal;
   double horizontal_fov_rad = 1.04;      // horizontal_fov_angle: full angle, (0, pi)
   double vertical_fov_rad = 0.7;         // vertical_fov_angle: full angle, (0, pi)
   double min_z_m = 0.0;                  // min_z: frustum near plane along the optical axis, >= 0

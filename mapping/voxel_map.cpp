@@ -86,7 +86,7 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
     const double dx = p_W.x() - origin_W.x(), dy = p_W.y() - origin_W.y(), dz = p_W.z() - origin_W.z();
     const float distance_sq_m2 = static_cast<float>(dx * dx + dy * dy + dz * dz);
     if (distance_sq_m2 > range_sq_m2 || distance_sq_m2 < kMinMarkDistanceSq_m2) continue;
-    if (source.height_band && (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m))
+    if (source.height_band && source.z_reference == ZReference::kGlobal && (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m))
       continue;
     Coord key;
     if (!impl_->mark_key(p_W, key)) continue;

@@ -70,7 +70,8 @@ class VoxelMap {
   double voxel_size_m() const;
 
   // Marks points_W at time_s (no-op when !source.marking). Skips non-finite points, points farther than
-  // obstacle_range (or closer than 1 cm) from the optical centre, and points outside the height band.
+  // obstacle_range (or closer than 1 cm) from the optical centre, and points outside the height band (world z;
+  // a source whose band is in base_link, z_reference, gets none here: its buffer cloud was banded there).
   // Returns the number of points marked. Throws std::invalid_argument for a bad source, pose or time
   // (time_s must be finite and not earlier than any time already given to the map).
   std::size_t mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isometry3d& T_world_camera,

@@ -116,6 +116,9 @@ struct FrameResult {
   Eigen::Matrix3Xf cloud_W;      // the same points in the world frame
   Eigen::Matrix3Xf decimated_W;  // after the voxel grid or CSNB: clears
   Eigen::Matrix3Xf marking_W;    // decimated and inside the passthrough band: marks
+  // With a band in base_link (band_frame()): marking_W's points in base_link, column for column (the points STVL's
+  // relative filters band, before they go to the global frame); empty otherwise.
+  Eigen::Matrix3Xf marking_B;
   // With a clear_on_no_return source: one point per map voxel reached, at the source's max_z, by the rays of
   // the noisy image's pixels without a return (empty otherwise).
   Eigen::Matrix3Xf no_return_W;
@@ -174,10 +177,14 @@ struct HeightBand {
 };
 // The config's band as HeightBand says (metres).
 HeightBand marking_band(const PipelineConfig& config);
+// The frame the banded marking sources measure their band's z in (their z_reference, which validate_cameras()
+// requires them to share; global when none is banded): the frame the pipeline filters each cloud in.
+mapping::ZReference band_frame(const PipelineConfig& config);
 
 // Throws std::invalid_argument naming the camera (and source) for: no camera, an empty or repeated camera
 // name, a camera without sources, a source name used twice, bad intrinsics, noise, edge filter or source
-// parameters, a mount that is not finite, below the floor, or farther than 2 m from base_link. (A mount inside
+// parameters, banded marking sources with different z_reference frames, a mount that is not finite, below the
+// floor, or farther than 2 m from base_link. (A mount inside
 // the robot's body needs the world: the Pipeline checks that.)
 void validate_cameras(const PipelineConfig& config);
 

@@ -80,6 +80,7 @@ MapStages::MapStages(const PipelineConfig& config)
     : config_(config),
       filter_(decimation_config(config_.filter)),
       passthrough_(config_.filter.passthrough_enabled || config_.filter.type == filter::FilterType::kPassthrough),
+      band_frame_(band_frame(config_)),
       map_(config_.map) {
   if (config_.nav2_costmap.enabled()) nav2_ = std::make_unique<mapping::Nav2Costmap>(config_.nav2_costmap);
   for (std::size_t i = 0; i < config_.cameras.size(); ++i) {
@@ -118,14 +119,29 @@ void MapStages::sense(FrameResult& f) {
   f.times.cloud_ms = ms_since(start);
 
   start = SteadyClock::now();
-  if (passthrough_ && config_.filter.band_before_decimation) {  // STVL's buffer: the band, then the voxel grid
-    f.marking_W = filter_.apply(filter::passthrough(f.cloud_W, config_.filter.passthrough));
-    f.decimated_W = f.marking_W;
+  if (band_frame_ == mapping::ZReference::kBaseLink) {
+    // STVL's relative filters: the cloud into base_link (tf's base_link <- camera, in float), filtered there,
+    // then what is left into the global frame (tf's global <- base_link, in float again).
+    Eigen::Matrix3Xf cloud_B, decimated_B;
+    transform(f.T_world_base.inverse() * f.T_world_camera, f.points_C, f.point_count, cloud_B);
+    filter_cloud(cloud_B, decimated_B, f.marking_B);
+    transform(f.T_world_base, decimated_B, decimated_B.cols(), f.decimated_W);
+    transform(f.T_world_base, f.marking_B, f.marking_B.cols(), f.marking_W);
   } else {
-    f.decimated_W = filter_.apply(f.cloud_W);
-    f.marking_W = passthrough_ ? filter::passthrough(f.decimated_W, config_.filter.passthrough) : f.decimated_W;
+    f.marking_B.resize(3, 0);
+    filter_cloud(f.cloud_W, f.decimated_W, f.marking_W);
   }
   f.times.filter_ms = ms_since(start);
+}
+
+void MapStages::filter_cloud(const Eigen::Matrix3Xf& cloud, Eigen::Matrix3Xf& decimated, Eigen::Matrix3Xf& marking) {
+  if (passthrough_ && config_.filter.band_before_decimation) {  // STVL's buffer: the band, then the voxel grid
+    marking = filter_.apply(filter::passthrough(cloud, config_.filter.passthrough));
+    decimated = marking;
+  } else {
+    decimated = filter_.apply(cloud);
+    marking = passthrough_ ? filter::passthrough(decimated, config_.filter.passthrough) : decimated;
+  }
 }
 
 void MapStages::update(FrameResult& f, const CamerasNow& now) {
@@ -153,6 +169,7 @@ void MapStages::update(FrameResult& f, const CamerasNow& now) {
   reading->T_world_camera = f.T_world_camera;
   reading->decimated_W = f.decimated_W;
   reading->marking_W = f.marking_W;
+  reading->marking_B = f.marking_B;
   reading->no_return_W = f.no_return_W;
   for (std::size_t s = 0; s < camera.buffers.size(); ++s) {
     SourceBuffer& buffer = camera.buffers[s];
@@ -218,7 +235,14 @@ void MapStages::run_update(double time_s, FrameResult& f, const CamerasNow& now)
   std::vector<VoxelKey> removed;
   map_.clear(clearing, time_s, &f.cleared_keys, nav2_ ? &removed : nullptr);
   const auto start = SteadyClock::now();
-  for (const auto& [r, params] : marking) map_.mark(r->marking_W, r->T_world_camera, *params, time_s);
+  for (const auto& [r, params] : marking) {
+    if (params->height_band && params->z_reference != mapping::ZReference::kGlobal) {
+      // STVL's relative filters band in base_link; mark() bands in the world only.
+      map_.mark(source_marking_W(*r, *params), r->T_world_camera, *params, time_s);
+    } else {
+      map_.mark(r->marking_W, r->T_world_camera, *params, time_s);
+    }
+  }
   if (config_.map.footprint_clearing_height_m > 0.0) {
     // Ours: the robot's own voxels inside its footprint, from the floor up to the height given, after marking
     // (at the frame's pose: an update at an earlier tick uses the pose of the frame that ran it).

@@ -29,7 +29,9 @@ class MapStages {
   MapStages& operator=(const MapStages&) = delete;
 
   // From f.depth, f.camera_index and f.T_world_camera: f.edge_filtered_depth, edge_dropped_pixels, points_C,
-  // point_count, cloud_W, decimated_W, marking_W, times.cloud_ms and times.filter_ms.
+  // point_count, cloud_W, decimated_W, marking_W, times.cloud_ms and times.filter_ms. With the marking band in
+  // base_link (band_frame(), STVL's relative filters) the filter runs on the cloud in base_link (f.T_world_base)
+  // and what it keeps goes to the world frame (both transforms in float, as tf2's doTransform), with marking_B.
   void sense(FrameResult& f);
 
   // Where every camera's optical frame is at an update, and when its next frame is due: a camera that has
@@ -62,15 +64,18 @@ class MapStages {
   PipelineConfig config_;
   filter::Filter filter_;
   bool passthrough_ = false;
+  mapping::ZReference band_frame_ = mapping::ZReference::kGlobal;
+  // The filter stage on cloud (any frame): decimated and marking points in that frame.
+  void filter_cloud(const Eigen::Matrix3Xf& cloud, Eigen::Matrix3Xf& decimated, Eigen::Matrix3Xf& marking);
   mapping::VoxelMap map_;
   std::vector<std::unique_ptr<Sources>> cameras_;
   // One STVL update at time_s from the buffers (appended to f.updates; counts into f's figures).
   void run_update(double time_s, FrameResult& f, const CamerasNow& now);
-  std::size_t next_update_ = 0;
+  std::size_t next_update_ = 0;  // with map.update_frequency_hz: the index k of the next update time k / f
   std::unique_ptr<mapping::Nav2Costmap> nav2_;
   Nav2Ghosts nav2_ghosts_;
   // One nav2 cycle after an update at time_s: STVL's layer on the window at the robot, the voxels it removed.
-  void update_nav2(double time_s, const Eigen::Isometry3d& T_world_base, const std::vector<VoxelKey>& removed);  // with map.update_frequency_hz: the index k of the next update time k / f
+  void update_nav2(double time_s, const Eigen::Isometry3d& T_world_base, const std::vector<VoxelKey>& removed);
 };
 
 // The costmap's options: with map.costmap_band marking_band (ours) the marking sources' height band (STVL's

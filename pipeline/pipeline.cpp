@@ -90,6 +90,13 @@ HeightBand marking_band(const PipelineConfig& config) {
   return {first.min_obstacle_height_m, first.max_obstacle_height_m};
 }
 
+mapping::ZReference band_frame(const PipelineConfig& config) {
+  for (const auto& camera : config.cameras)
+    for (const auto& source : camera.sources)
+      if (source.params.marking && source.params.height_band) return source.params.z_reference;
+  return mapping::ZReference::kGlobal;
+}
+
 void validate_cameras(const PipelineConfig& config) {
   if (config.cameras.empty()) throw std::invalid_argument("pipeline: no camera");
   std::set<std::string> cameras, sources;
@@ -128,6 +135,12 @@ void validate_cameras(const PipelineConfig& config) {
       if (!sources.insert(source.name).second)
         throw std::invalid_argument("observation source '" + source.name + "': the name is used twice");
       rethrow(who + ", source '" + source.name + "'", [&] { source.params.validate(); });
+      const auto& p = source.params;
+      if (p.marking && p.height_band && p.z_reference != band_frame(config))
+        throw std::invalid_argument(who + ", source '" + source.name + "': z_reference_frame " +
+                                    mapping::to_string(p.z_reference) + " differs from the other marking sources' " +
+                                    mapping::to_string(band_frame(config)) +
+                                    "; the bench filters each cloud in one frame");
     }
   }
 }

@@ -17,6 +17,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "mapping/config.hpp"
+
 namespace stvl::pipeline {
 
 // One camera frame as its sources keep it: the pose and clouds the map update used.
@@ -24,7 +26,13 @@ struct SourceReading {
   double time_s = 0;
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
   Eigen::Matrix3Xf decimated_W, marking_W, no_return_W;
+  Eigen::Matrix3Xf marking_B;  // marking_W in base_link, with a band there (FrameResult::marking_B); else empty
 };
+
+// What STVL's buffer of `source` hands Mark from the reading: nothing for a source that does not mark, the
+// marking cloud without a band (filter none), or the points inside the source's band (inclusive), its z in the
+// world or, with z_reference base_link, in base_link (reading.marking_B, which must then match marking_W).
+Eigen::Matrix3Xf source_marking_W(const SourceReading& reading, const mapping::ObservationSource& source);
 
 class SourceBuffer {
  public:

@@ -3,7 +3,6 @@
 #include <optional>
 
 #include "common/serial_worker.hpp"
-#include "filter/passthrough.hpp"
 
 namespace stvl::run {
 namespace {
@@ -59,11 +58,6 @@ std::string source_cloud_topic(const std::vector<pipeline::CameraConfig>& camera
   return "/stvl/" + cameras.at(camera_index).sources.at(source_index).name + "/filtered_points";
 }
 
-Eigen::Matrix3Xf source_marking_cloud(const pipeline::SourceReading& reading, const mapping::ObservationSource& source) {
-  if (!source.marking) return Eigen::Matrix3Xf(3, 0);
-  if (!source.height_band) return reading.marking_W;
-  return filter::passthrough(reading.marking_W, {source.min_obstacle_height_m, source.max_obstacle_height_m});
-}
 
 void BagRecorder::record(const pipeline::FrameResult& f, const pipeline::Pipeline& pipeline, bool publish_map) {
   record(f, pipeline.config().cameras, map_state(pipeline), publish_map);
@@ -91,7 +85,7 @@ void BagRecorder::record(const pipeline::FrameResult& f, const std::vector<pipel
       const std::string topic = source_cloud_topic(cameras, applied.camera_index, applied.source_index);
       if (!topics_.wants(topic)) continue;
       const auto& source = cameras.at(applied.camera_index).sources.at(applied.source_index).params;
-      readings.push_back({topic, update.time_s, applied.reading->time_s, source_marking_cloud(*applied.reading, source)});
+      readings.push_back({topic, update.time_s, applied.reading->time_s, pipeline::source_marking_W(*applied.reading, source)});
     }
   // Cameras whose frames share a time share its robot messages (tf would warn of repeated data).
   const bool robot_messages = !last_robot_time_s_ || f.time_s > *last_robot_time_s_;

@@ -35,10 +35,6 @@ BagSettings bag_settings(const std::string& path, const std::string& format, con
 // /stvl/<source>/filtered_points (a native camera's one source is named after the camera).
 std::string source_cloud_topic(const std::vector<pipeline::CameraConfig>& cameras, std::size_t camera_index,
                                std::size_t source_index);
-// What STVL's measurement buffer hands Mark for a source: with a marking source, the reading's marking points whose
-// z lies in [min_obstacle_height, max_obstacle_height] (PCL's PassThrough on the world z, inclusive, float z
-// against double limits); nothing for a clearing-only source (STVL buffers no cloud for it).
-Eigen::Matrix3Xf source_marking_cloud(const pipeline::SourceReading& reading, const mapping::ObservationSource& source);
 
 class BagRecorder {
  public:

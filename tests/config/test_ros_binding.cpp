@@ -122,6 +122,42 @@ TEST(RosBinding, MarkingAndClearingSourcesOfOneCameraKeepTheirOwnValues) {
   EXPECT_FALSE(unbanded.cameras[0].sources[0].params.height_band);
 }
 
+// The ros2 branch's relative filters (PR #304 as 22f7927): the band (and for voxel_relative the leaves) in
+// z_reference_frame, which defaults to the global frame; ROS 1 (noetic) knows neither and applies no filter.
+TEST(RosBinding, RelativeFiltersBandInZReferenceFrame) {
+  const stvl::test::TempDir dir("ros_binding_relative");
+  const auto bind = [&](const std::string& filter, const std::string& extra, bool ros1 = false) {
+    std::string text = kMarkAndClear;
+    for (std::size_t at = text.find("filter: voxel"); at != std::string::npos; at = text.find("filter: voxel", at + 1))
+      text.replace(at, 13, "filter: " + filter + extra);
+    pipeline::PipelineConfig c = cameras({"front"});
+    apply_ros_layer(load_ros_stvl_layer(write_file(dir, "r.yaml", ros1 ? ros1_text(text) : text), ""), c, true);
+    return c;
+  };
+  const std::string base = "\n  z_reference_frame: base_link";
+  pipeline::PipelineConfig c = bind("passthrough_relative", base);
+  EXPECT_EQ(c.cameras[0].sources[0].params.z_reference, mapping::ZReference::kBaseLink);
+  EXPECT_TRUE(c.cameras[0].sources[0].params.height_band);
+  EXPECT_EQ(c.filter.type, filter::FilterType::kNone);
+  EXPECT_FALSE(c.filter.band_before_decimation);
+  EXPECT_EQ(pipeline::band_frame(c), mapping::ZReference::kBaseLink);
+  c = bind("voxel_relative", base);
+  EXPECT_EQ(c.filter.type, filter::FilterType::kVoxel);
+  EXPECT_TRUE(c.filter.band_before_decimation);
+  EXPECT_EQ(pipeline::band_frame(c), mapping::ZReference::kBaseLink);
+  // STVL's default z_reference_frame is the global frame: the same as passthrough.
+  c = bind("passthrough_relative", "");
+  EXPECT_EQ(c.cameras[0].sources[0].params.z_reference, mapping::ZReference::kGlobal);
+  c = bind("passthrough_relative", "\n  z_reference_frame: odom");
+  EXPECT_EQ(c.cameras[0].sources[0].params.z_reference, mapping::ZReference::kGlobal);
+  // z_reference_frame is read by the relative filters only.
+  c = bind("passthrough", base);
+  EXPECT_EQ(c.cameras[0].sources[0].params.z_reference, mapping::ZReference::kGlobal);
+  // A frame the bench does not simulate is an error naming the source and the frames it has.
+  EXPECT_THAT(invalid_argument_of([&] { bind("voxel_relative", "\n  z_reference_frame: imu_link"); }),
+              HasSubstr("z_reference_frame 'imu_link': the bench's frames for a height band are the global frame"));
+}
+
 std::string binding_error(const std::string& body, pipeline::PipelineConfig c) {
   const stvl::test::TempDir dir("ros_binding_errors");
   const std::string path = write_file(dir, "p.yaml", ros1_text(body));

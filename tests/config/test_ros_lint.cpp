@@ -314,8 +314,16 @@ TEST_F(RosLint, LidarModelInAnOpticalFrameIsAFinding) {
 
 // A filter string STVL does not know means no filter at all; "none" and "" say so on purpose.
 TEST_F(RosLint, AnUnknownFilterStringIsAFinding) {
-  EXPECT_THAT(only(kClean + "  filter: passthrough_relative\n"),
-              HasSubstr(at(8, "cam.filter") + "filter = 'passthrough_relative': STVL"));
+  EXPECT_THAT(only(kClean + "  filter: passthrough_relativ\n"),
+              HasSubstr(at(8, "cam.filter") + "filter = 'passthrough_relativ': STVL"));
+  // The relative filters are the ros2 branch's (PR #304); noetic-devel applies no filter for them.
+  EXPECT_TRUE(lint(kClean + "  filter: passthrough_relative\n").empty());
+  EXPECT_TRUE(lint(kClean + "  filter: voxel_relative\n  z_reference_frame: base_link\n").empty());
+  EXPECT_THAT(only(test::ros1_text(kClean + "  filter: voxel_relative\n")), HasSubstr("noetic-devel does not know them"));
+  // z_reference_frame does nothing for the other filters.
+  EXPECT_THAT(only(kClean + "  filter: passthrough\n  z_reference_frame: base_link\n"),
+              HasSubstr(at(9, "cam.z_reference_frame") + "z_reference_frame = 'base_link' has no effect with filter "
+                        "'passthrough'"));
   EXPECT_TRUE(lint(kClean + "  filter: none\n").empty());
   EXPECT_TRUE(lint(kClean + "  filter: voxel\n").empty());
 }

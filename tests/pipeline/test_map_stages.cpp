@@ -244,5 +244,90 @@ TEST(MapStages, StvlVoxelFilterBandsBeforeTheLeaves) {
   EXPECT_GT(marking[1], marking[0]);  // the leaf row at 1.2..1.6 m marks only in STVL's order
 }
 
+// STVL's relative filters (z_reference_frame base_link): the band's z is base_link's. The wall at 2 m spans world
+// z 1 +- 0.802 m; with the robot's base 0.5 m up (on a platform) the band 0.9..1.3 m in base_link is world z
+// 1.4..1.8, in the world's z it is 0.9..1.3.
+TEST(MapStages, RelativeBandIsInBaseLinksZ) {
+  for (const auto frame : {mapping::ZReference::kGlobal, mapping::ZReference::kBaseLink}) {
+    PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
+    auto& source = config.cameras.front().sources.front().params;
+    source.min_obstacle_height_m = 0.9;
+    source.max_obstacle_height_m = 1.3;
+    source.z_reference = frame;
+    MapStages stages(config);
+    FrameResult f = wall_frame(config, 2.0, 0.0);
+    f.T_world_base = Eigen::Translation3d(0.0, 0.0, 0.5) * Eigen::Isometry3d::Identity();
+    stages.sense(f);
+    stages.update(f, kOneCamera);
+    const double lo = frame == mapping::ZReference::kGlobal ? 0.9 : 1.4, hi = lo + 0.4;
+    ASSERT_FALSE(stages.map().empty());
+    double top = -1.0, bottom = 9.0;
+    for (const VoxelKey& key : stages.map().voxel_keys()) {
+      top = std::max(top, stages.map().center_of(key).z());
+      bottom = std::min(bottom, stages.map().center_of(key).z());
+    }
+    EXPECT_NEAR(bottom, lo + 0.05, 0.051) << mapping::to_string(frame);  // voxels of 0.1 m
+    EXPECT_NEAR(top, hi - 0.05, 0.051) << mapping::to_string(frame);
+    if (frame == mapping::ZReference::kGlobal) {
+      EXPECT_EQ(f.marking_B.cols(), 0);
+      continue;
+    }
+    // What marks went into base_link and back, each in float as tf2's doTransform does.
+    ASSERT_EQ(f.marking_B.cols(), f.marking_W.cols());
+    const Eigen::Matrix3f R = f.T_world_base.linear().cast<float>();
+    const Eigen::Vector3f t = f.T_world_base.translation().cast<float>();
+    for (Eigen::Index i = 0; i < f.marking_W.cols(); ++i)
+      ASSERT_EQ(Eigen::Vector3f(R * f.marking_B.col(i) + t), Eigen::Vector3f(f.marking_W.col(i))) << i;
+    // The buffer cloud of the source: the band on base_link's z, then as marked.
+    SourceReading reading;
+    reading.marking_W = f.marking_W;
+    reading.marking_B = f.marking_B;
+    const Eigen::Matrix3Xf banded = source_marking_W(reading, source);
+    ASSERT_GT(banded.cols(), 0);
+    for (Eigen::Index i = 0; i < banded.cols(); ++i) {
+      EXPECT_GE(banded(2, i), 1.4f - 1e-6f);
+      EXPECT_LE(banded(2, i), 1.8f + 1e-6f);
+    }
+    reading.marking_B.resize(3, 0);
+    EXPECT_THROW(source_marking_W(reading, source), std::logic_error);
+  }
+}
+
+// voxel_relative: PCL's leaves (and its z limits 0..3 m) are laid in base_link. The wall's points (world y within
+// +-1.076, z 0.198..1.802 m) fill 6 x 5 leaves of 0.4 m in the world; with base_link 0.25 m up, z - 0.25 is
+// -0.052..1.552 and the points at or above 0 fill 6 x 4.
+TEST(MapStages, RelativeVoxelFilterLaysItsLeavesInBaseLink) {
+  Eigen::Index centroids[2] = {0, 0};
+  for (const auto frame : {mapping::ZReference::kGlobal, mapping::ZReference::kBaseLink}) {
+    PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
+    config.filter.type = filter::FilterType::kVoxel;
+    config.filter.voxel.voxel_size_m = 0.4;
+    config.filter.passthrough_enabled = true;
+    config.filter.passthrough = {0.0, 3.0};
+    config.filter.band_before_decimation = true;
+    config.cameras.front().sources.front().params.z_reference = frame;
+    MapStages stages(config);
+    FrameResult f = wall_frame(config, 2.0, 0.0);
+    f.T_world_base = Eigen::Translation3d(0.0, 0.0, 0.25) * Eigen::Isometry3d::Identity();
+    stages.sense(f);
+    centroids[frame == mapping::ZReference::kBaseLink] = f.decimated_W.cols();
+  }
+  EXPECT_EQ(centroids[0], 6 * 5);
+  EXPECT_EQ(centroids[1], 6 * 4);
+}
+
+// Banded marking sources must share one z_reference_frame: the bench filters each cloud once.
+TEST(MapStages, MarkingSourcesWithDifferentBandFramesAreRefused) {
+  PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
+  auto& sources = config.cameras.front().sources;
+  sources.push_back(sources.front());
+  sources.back().name = "second";
+  sources.back().params.z_reference = mapping::ZReference::kBaseLink;
+  EXPECT_THROW(validate_cameras(config), std::invalid_argument);
+  sources.back().params.height_band = false;  // filter none: no band, no frame
+  EXPECT_NO_THROW(validate_cameras(config));
+  EXPECT_EQ(band_frame(config), mapping::ZReference::kGlobal);
+}
+
 }  // namespace
 }  // namespace stvl::pipeline

@@ -10,7 +10,8 @@ bench's map is STVL's.
 Usage: /usr/bin/python3 stvl_from_bag.py BAG METRICS.json MAP.ply [--min-agreement 0.999]
 METRICS.json is the run's: its "map" (voxel_size, voxel_decay, decay_model, mark_threshold) and each camera's
 "sources" (topic, sensor_frame, marking, clearing, obstacle_range, min_z, max_z, horizontal_fov_angle,
-vertical_fov_angle, decay_acceleration) are STVL's parameters as the run used them.
+vertical_fov_angle, decay_acceleration, min/max_obstacle_height, height_band, z_reference_frame) are STVL's
+parameters as the run used them.
 Prints the voxel and costmap agreement (Jaccard) and exits 0 when both reach --min-agreement and every voxel
 time agrees within 1e-6 s, 1 when not, 2 on bad input.
 """
@@ -182,6 +183,25 @@ def main():
             chain = compose(tf, chain)
             frame = parent
         return chain
+
+    # STVL's buffer hands Mark only the points inside the source's band, its z measured in z_reference_frame (the
+    # ros2 branch's relative filters, PR #304; the global frame otherwise): every recorded point must lie in it.
+    checked = outside = 0
+    for _, readings in updates:
+        for topic, stamp, points in readings:
+            s = sources[topic]
+            if not s.get("marking", True) or not s.get("height_band", True):
+                continue
+            r, t = pose_of(s.get("z_reference_frame", "map"), stamp)
+            low, high = s["min_obstacle_height"] - 1e-5, s["max_obstacle_height"] + 1e-5
+            for p in points:
+                z = r[0][2] * (p[0] - t[0]) + r[1][2] * (p[1] - t[1]) + r[2][2] * (p[2] - t[2])
+                checked += 1
+                outside += not low <= z <= high
+    if outside:
+        print("FAIL: %d of %d marking points outside their source's band" % (outside, checked))
+        return 1
+    print("marking points inside their source's band: %d" % checked)
 
     # nav2's costmap calls STVL's updateBounds at every tick k / update_frequency, frames or not: the updates must
     # be exactly those ticks, none missing between the first and the last.
