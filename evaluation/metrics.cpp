@@ -191,6 +191,37 @@ std::vector<Phantom> find_phantoms(const CellGrid& lethal, const CellGrid& footp
   return phantoms;
 }
 
+LethalVsTruth lethal_against_truth(const mapping::Costmap2D& costmap, const CellGrid& footprint, double cell_m, int tol,
+                                   double clearance_m, int min_cells) {
+  LethalVsTruth out;
+  std::vector<CellKey> covered;
+  const double res = costmap.resolution_m;
+  // The cells of cell_m whose centres (k + 0.5) cell_m lie in [lo, lo + res); the one holding the cell's centre
+  // when none does (a costmap finer than cell_m).
+  const auto span = [&](double lo) {
+    std::int32_t first = static_cast<std::int32_t>(std::ceil(lo / cell_m - 0.5));
+    std::int32_t last = static_cast<std::int32_t>(std::ceil((lo + res) / cell_m - 0.5)) - 1;
+    if (last < first) first = last = static_cast<std::int32_t>(std::floor((lo + 0.5 * res) / cell_m));
+    return std::make_pair(first, last);
+  };
+  for (int iy = 0; iy < costmap.height; ++iy)
+    for (int ix = 0; ix < costmap.width; ++ix) {
+      if (costmap.at(ix, iy) != mapping::kCostLethal) continue;
+      ++out.lethal;
+      const auto [x0, x1] = span(costmap.origin_m.x() + ix * res);
+      const auto [y0, y1] = span(costmap.origin_m.y() + iy * res);
+      bool near = false;
+      for (std::int32_t kx = x0; kx <= x1; ++kx)
+        for (std::int32_t ky = y0; ky <= y1; ++ky) {
+          covered.push_back({kx, ky});
+          near = near || footprint.near({kx, ky}, tol);
+        }
+      out.false_lethal += !near;
+    }
+  if (!covered.empty()) out.phantoms = find_phantoms(CellGrid::of(covered), footprint, cell_m, clearance_m, min_cells);
+  return out;
+}
+
 DistanceStats distance_stats(std::vector<double> d) {
   DistanceStats stats;
   stats.count = d.size();

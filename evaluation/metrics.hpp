@@ -107,6 +107,17 @@ struct Phantom {
 std::vector<Phantom> find_phantoms(const CellGrid& lethal, const CellGrid& footprint, double cell_m, double clearance_m,
                                    int min_cells);
 
+// Another costmap's lethal cells (nav2's master costmap, any resolution and origin) against the true footprint
+// (cells of cell_m): each lethal cell stands for the cell_m cells its square covers (their centres inside it). A
+// lethal cell is false when none of them has a true footprint cell within tol cells; phantoms as find_phantoms()
+// over the covered cells.
+struct LethalVsTruth {
+  std::size_t lethal = 0, false_lethal = 0;
+  std::vector<Phantom> phantoms;
+};
+LethalVsTruth lethal_against_truth(const mapping::Costmap2D& costmap, const CellGrid& footprint, double cell_m, int tol,
+                                   double clearance_m, int min_cells);
+
 // Lethal cells where the robot must drive (issue 31): of `free_lethal` (lethal cells with no true footprint cell
 // within tolerance: match_costmap's false positives), those whose centre lies within corridor_m of the polyline
 // path_W. first_*: the one nearest the path's start along the path (its arc length), for messages.

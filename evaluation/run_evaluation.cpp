@@ -84,4 +84,9 @@ RunVerdict RunEvaluation::finish(const RunEnd& end, const sim::World& world, con
   return v;
 }
 
+LethalVsTruth RunEvaluation::against_truth(const mapping::Costmap2D& costmap) const {
+  return lethal_against_truth(costmap, evaluator_.truth().footprint(), config_.voxel_size_m, config_.tolerance_voxels,
+                              config_.phantom_clearance_m, config_.phantom_min_cells);
+}
+
 }  // namespace stvl::evaluation

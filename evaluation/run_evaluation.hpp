@@ -62,6 +62,9 @@ class RunEvaluation {
 
   // The Evaluator's ground truth, at the world's state of the last update.
   const Truth& truth() const { return evaluator_.truth(); }
+  // Another costmap's lethal cells (nav2's master) against that truth's footprint, with the evaluation's
+  // tolerance and phantom rules (lethal_against_truth()).
+  LethalVsTruth against_truth(const mapping::Costmap2D& costmap) const;
 
  private:
   CameraView view_of(const pipeline::FrameResult& frame) const;

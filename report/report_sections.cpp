@@ -299,7 +299,8 @@ std::string failure_modes_html(const nlohmann::json& metrics) {
 }
 
 // nav2's master costmap (ours to model; null when not modelled): its settings, ghosts against STVL's layer after
-// each update, its lethal cells at the end.
+// each update, its lethal cells at the end and those against the final truth (false: no true obstacle within the
+// evaluation's tolerance; phantoms as the evaluation's).
 nlohmann::json nav2_json(const run::RunResult& r) {
   if (!r.nav2_master) return nullptr;
   const mapping::Nav2CostmapConfig& c = r.scenario.pipeline.nav2_costmap;
@@ -310,7 +311,8 @@ nlohmann::json nav2_json(const run::RunResult& r) {
           {"rolling_window", c.rolling_window}, {"combination_method", c.combination_method},
           {"track_unknown_space", c.track_unknown_space}, {"touch_cleared_cells", c.touch_cleared_cells},
           {"updates", g.updates}, {"updates_with_ghosts", g.updates_with_ghosts}, {"max_ghost_cells", g.max_cells},
-          {"max_ghost_at_s", g.max_at_s}, {"final_ghost_cells", g.last_cells}, {"final_lethal_cells", lethal}};
+          {"max_ghost_at_s", g.max_at_s}, {"final_ghost_cells", g.last_cells}, {"final_lethal_cells", lethal},
+          {"final_false_lethal_cells", r.nav2_truth.false_lethal}, {"final_phantom_obstacles", r.nav2_truth.phantoms.size()}};
 }
 
 }  // namespace stvl::report

@@ -132,7 +132,10 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   r.outages = std::move(verdict.outages);
   r.checks = std::move(verdict.checks);
   r.sources = pipeline.source_status(r.sim_time_s);
-  if (const mapping::Nav2Costmap* nav2 = pipeline.nav2_costmap()) r.nav2_master = nav2->master();
+  if (const mapping::Nav2Costmap* nav2 = pipeline.nav2_costmap()) {
+    r.nav2_master = nav2->master();
+    r.nav2_truth = evaluation.against_truth(*r.nav2_master);
+  }
   r.nav2_ghosts = pipeline.nav2_ghosts();
   for (std::size_t c = 0; c < s.pipeline.cameras.size(); ++c) r.skipped_frames.push_back(pipeline.skipped_frames(c));
   if (bag) {

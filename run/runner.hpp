@@ -38,6 +38,7 @@ struct RunResult {
   // With map.nav2_costmap: nav2's master costmap at the end and its ghosts over the run.
   std::optional<mapping::Costmap2D> nav2_master;
   pipeline::Nav2Ghosts nav2_ghosts;
+  evaluation::LethalVsTruth nav2_truth;  // nav2_master's lethal cells against the final truth
 
   evaluation::SoakSeries soak;  // evaluation.soak_sample_every_s > 0 only
   // Every check passed and the run was not interrupted.

@@ -103,6 +103,42 @@ TEST(Phantoms, ALethalGroupBeyondTheClearanceIsAPhantomAndOneWithinIsNot) {
   EXPECT_TRUE(find_phantoms(at_9cm, footprint, cell_m, clearance_m, 2).empty());
 }
 
+// nav2's master costmap against the truth: its window's origin is not on the truth's grid and its resolution may
+// differ; each lethal cell stands for the truth cells whose centres it holds.
+TEST(Phantoms, AnotherCostmapsLethalCellsAgainstTheTruth) {
+  const CellGrid footprint = cells({{0, 0}, {1, 0}});  // true cells of 0.05 m: x 0..0.1, y 0..0.05
+  mapping::Costmap2D master;
+  master.width = 20, master.height = 20, master.resolution_m = 0.05, master.origin_m = {-0.01, -0.01};
+  master.cells.assign(400, mapping::kCostFree);
+  const auto lethal = [&](int ix, int iy) { master.cells[static_cast<std::size_t>(iy * 20 + ix)] = mapping::kCostLethal; };
+  lethal(0, 0);    // [-0.01, 0.04)^2 holds the centre (0.025, 0.025): true cell (0, 0)
+  lethal(12, 12);  // [0.59, 0.64)^2 holds (0.625, 0.625): cell (12, 12), far from the truth
+  lethal(13, 12);  // its neighbour: with it a phantom of 2 cells
+  lethal(3, 0);    // holds cell (3, 0): within tolerance 1 of (1, 0)? no (2 cells away); with tolerance 2 yes
+  LethalVsTruth r = lethal_against_truth(master, footprint, 0.05, 1, 0.10, 2);
+  EXPECT_EQ(r.lethal, 4u);
+  EXPECT_EQ(r.false_lethal, 3u);
+  ASSERT_EQ(r.phantoms.size(), 1u);
+  EXPECT_EQ(r.phantoms[0].cells, 2u);
+  EXPECT_NEAR(r.phantoms[0].x_m, 0.65, 1e-12);  // centres 0.625 and 0.675
+  EXPECT_EQ(lethal_against_truth(master, footprint, 0.05, 2, 0.10, 2).false_lethal, 2u);
+  // A coarser master (0.1 m) from -0.01: its cell (0, 0) holds the truth cells (0, 0), (1, 0), (0, 1), (1, 1).
+  master.resolution_m = 0.1;
+  master.cells.assign(400, mapping::kCostFree);
+  lethal(0, 0);
+  lethal(5, 5);  // [0.49, 0.59)^2: cells 10, 11 each way, one cell of 4 truth cells: a phantom
+  r = lethal_against_truth(master, footprint, 0.05, 0, 0.10, 2);
+  EXPECT_EQ(r.lethal, 2u);
+  EXPECT_EQ(r.false_lethal, 1u);
+  ASSERT_EQ(r.phantoms.size(), 1u);
+  EXPECT_EQ(r.phantoms[0].cells, 4u);
+  EXPECT_NEAR(r.phantoms[0].x_m, 0.55, 1e-12);
+  // Nothing lethal: nothing false.
+  master.cells.assign(400, mapping::kCostFree);
+  r = lethal_against_truth(master, footprint, 0.05, 1, 0.10, 2);
+  EXPECT_EQ(r.lethal + r.false_lethal + r.phantoms.size(), 0u);
+}
+
 TEST(Phantoms, GroupsAreEightConnectedSortedAndAtLeastMinCells) {
   const CellGrid footprint = cells({{-100, -100}});
   // One diagonal group of 3 cells, one single cell, one pair; min_cells 2 drops the single one.
