@@ -307,12 +307,14 @@ nlohmann::json nav2_json(const run::RunResult& r) {
   const pipeline::Nav2Ghosts& g = r.nav2_ghosts;
   std::size_t lethal = 0;
   for (auto cell : r.nav2_master->cells) lethal += cell == mapping::kCostLethal;
+  nlohmann::json phantoms = nlohmann::json::array();
+  for (const evaluation::Phantom& p : r.nav2_truth.phantoms) phantoms.push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
   return {{"width_m", c.width_m}, {"height_m", c.height_m}, {"resolution_m", c.resolution_m},
           {"rolling_window", c.rolling_window}, {"combination_method", c.combination_method},
           {"track_unknown_space", c.track_unknown_space}, {"touch_cleared_cells", c.touch_cleared_cells},
           {"updates", g.updates}, {"updates_with_ghosts", g.updates_with_ghosts}, {"max_ghost_cells", g.max_cells},
           {"max_ghost_at_s", g.max_at_s}, {"final_ghost_cells", g.last_cells}, {"final_lethal_cells", lethal},
-          {"final_false_lethal_cells", r.nav2_truth.false_lethal}, {"final_phantom_obstacles", r.nav2_truth.phantoms.size()}};
+          {"final_false_lethal_cells", r.nav2_truth.false_lethal}, {"final_phantom_obstacles", r.nav2_truth.phantoms.size()}, {"final_phantoms", phantoms}};
 }
 
 }  // namespace stvl::report
