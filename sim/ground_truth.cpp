@@ -219,6 +219,11 @@ bool in_groups(const mjModel* m, int g, unsigned group_mask) {
 bool is_floor(const mjData* d, int g) {
   return std::abs(d->geom_xmat[9 * g + 8]) > 1 - 1e-9 && d->geom_xpos[3 * g + 2] <= 0.01;
 }
+// Drivable ground (a ramp, a raised floor): a geom whose name starts with "floor", left out like the floor.
+bool is_ground(const mjModel* m, int g) {
+  const char* name = mj_id2name(m, mjOBJ_GEOM, g);
+  return name != nullptr && std::strncmp(name, "floor", 5) == 0;
+}
 
 std::vector<detail::Triangle> triangles_W(const ObstacleGeom& geom) {
   std::vector<detail::Triangle> out(geom.mesh->faces().size());
@@ -320,7 +325,7 @@ std::vector<ObstacleGeom> obstacle_geoms(const World& world, unsigned group_mask
   const mjData* d = world.data();
   std::vector<ObstacleGeom> out;
   for (int g = 0; g < m->ngeom; ++g) {
-    if (!in_groups(m, g, group_mask)) continue;
+    if (!in_groups(m, g, group_mask) || is_ground(m, g)) continue;
     ObstacleGeom geom;
     geom.geom_id = g;
     geom.body_id = m->geom_bodyid[g];

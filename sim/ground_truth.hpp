@@ -24,7 +24,8 @@
 //    against every triangle; sim/reference/ holds the brute-force twin the tests compare.
 //  - planes: a horizontal plane at or below z = 0.01 m is the floor and is left out on purpose
 //    (the marking band excludes it); other finite planes are their rectangle (a surface); an
-//    infinite one that is not the floor is left out, and truth_notes() says so.
+//    infinite one that is not the floor is left out, and truth_notes() says so. Geoms named floor*
+//    (a ramp, a raised floor: drivable ground) are left out like the floor.
 // Cost (primitives): one test per voxel of each geom's bounding box (clipped to bounds_W), single-threaded.
 // The whole office corridor, z 0..2 m: 0.16 s at 0.05 m; 1.0 s at 0.02 m (1.36 M surface voxels).
 // Meshes: per triangle. A closed 100k-triangle mesh (a bumpy sphere of radius 2.5 m, test

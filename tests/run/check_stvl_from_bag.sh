@@ -6,7 +6,7 @@
 # instant), persistence (observation_persistence 0.5 s, exponential decay, a person walking away), ticks (a 15 Hz
 # camera at a 4 Hz costmap: updates at ticks between frames), outage (three cameras at 5 Hz, the front one stopped
 # from 5 to 8 s: every tick applies its last reading again), lidar (STVL's 3D lidar model, model_type 1, in the
-# camera's link frame, full circle, padded), relative (the band and the voxel leaves in base_link: STVL's voxel_relative).
+# camera's link frame, full circle, padded), relative (the band and the voxel leaves in base_link, STVL's voxel_relative, up a ramp).
 set -euo pipefail
 case=$1 bin=$2 src=$3 out=$4
 /usr/bin/python3 -c 'import rosbag' 2>/dev/null || { echo "SKIP: /usr/bin/python3 has no rosbag (python3-rosbag)"; exit 77; }
@@ -28,7 +28,7 @@ case $case in
                 --set map.observation.sensor_frame=link --set map.observation.horizontal_fov_angle=6.2832
                 --set map.observation.vertical_fov_angle=0.6 --set map.observation.vertical_fov_padding=0.05
                 --set map.observation.decay_acceleration=5) ;;
-  relative) args=("$src/scenarios/office_corridor.yaml" --duration 4 --set map.observation.z_reference_frame=base_link) ;;
+  relative) args=("$src/scenarios/ramp_platform.yaml" --duration 10) ;;
   *) echo "unknown case $case" >&2; exit 2 ;;
 esac
 # The run's own checks may fail on a cut-short run; only its outputs matter here.
