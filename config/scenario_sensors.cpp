@@ -214,8 +214,23 @@ void read_filter(YamlMap filter, Scenario& s) {
   filter.finish();
 }
 
-// An observation's model_type (0 or 1), sensor_frame (optical | link) and z_reference_frame (global | base_link),
-// each only when given.
+namespace {
+// The key's text parsed into out when the key is given; the parser's message at the key otherwise.
+template <class E>
+void read_named(YamlMap& o, const char* key, E (*parse)(const std::string&), E& out) {
+  if (!o.has(key)) return;
+  std::string text;
+  o.get(key, text);
+  try {
+    out = parse(text);
+  } catch (const std::invalid_argument& e) {
+    o.fail(o.raw(key), key, e.what());
+  }
+}
+}  // namespace
+
+// An observation's model_type (0 or 1), sensor_frame (optical | link) and z_reference_frame (global | base_link,
+// STVL's relative filters), each only when given.
 void read_clearing_model(YamlMap& o, mapping::ObservationSource& src) {
   if (o.has("model_type")) {
     int model = 0;
@@ -223,24 +238,8 @@ void read_clearing_model(YamlMap& o, mapping::ObservationSource& src) {
     if (model != 0 && model != 1) o.fail(o.raw("model_type"), "model_type", "STVL knows 0 (depth camera) and 1 (3D lidar)");
     src.model = static_cast<mapping::ClearingModel>(model);
   }
-  if (o.has("sensor_frame")) {
-    std::string frame;
-    o.get("sensor_frame", frame);
-    try {
-      src.sensor_frame = mapping::parse_sensor_frame(frame);
-    } catch (const std::invalid_argument& e) {
-      o.fail(o.raw("sensor_frame"), "sensor_frame", e.what());
-    }
-  }
-  if (o.has("z_reference_frame")) {  // STVL's relative filters: the band's z in base_link
-    std::string frame;
-    o.get("z_reference_frame", frame);
-    try {
-      src.z_reference = mapping::parse_z_reference(frame);
-    } catch (const std::invalid_argument& e) {
-      o.fail(o.raw("z_reference_frame"), "z_reference_frame", e.what());
-    }
-  }
+  read_named(o, "sensor_frame", &mapping::parse_sensor_frame, src.sensor_frame);
+  read_named(o, "z_reference_frame", &mapping::parse_z_reference, src.z_reference);
 }
 
 }  // namespace stvl::config::scenario_detail

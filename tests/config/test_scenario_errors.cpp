@@ -87,6 +87,9 @@ TEST(ScenarioParse, Nav2CostmapAndClearingModelErrors) {
   EXPECT_THAT(error_of(model.yaml), HasSubstr(at(model.line, "map.observation.model_type") + "STVL knows 0"));
   const Edited frame = replace_line(kFull, "    min_z:", "    sensor_frame: base_link");
   EXPECT_THAT(error_of(frame.yaml), HasSubstr(at(frame.line, "map.observation.sensor_frame")));
+  const Edited band = replace_line(kFull, "    min_z:", "    z_reference_frame: base_footprint");
+  EXPECT_THAT(error_of(band.yaml), HasSubstr(at(band.line, "map.observation.z_reference_frame")));
+  EXPECT_THAT(error_of(band.yaml), HasSubstr("base_link"));  // names what it knows
 }
 
 TEST(ScenarioParse, IntrinsicsWithAPresetAreRejected) {
