@@ -116,36 +116,6 @@ nlohmann::json filter_json(const filter::FilterConfig& f, const std::string& dev
   return j;
 }
 
-// Each camera and its sources with the STVL parameters the run used, under STVL's key names (angles in radians,
-// lengths in metres), the sensor frame and the topic of its clouds in the bag: enough to feed STVL's own code the bag.
-nlohmann::json camera_list_json(const Scenario& s) {
-  nlohmann::json list = nlohmann::json::array();
-  for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i) {
-    const auto& c = s.pipeline.cameras[i];
-    nlohmann::json sources = nlohmann::json::array();
-    for (std::size_t k = 0; k < c.sources.size(); ++k) {
-      const auto& p = c.sources[k].params;
-      sources.push_back({{"name", c.sources[k].name}, {"marking", p.marking}, {"clearing", p.clearing},
-                         {"topic", run::source_cloud_topic(s.pipeline.cameras, i, k)},
-                         {"sensor_frame", p.sensor_frame == mapping::SensorFrame::kLink
-                                              ? recording::camera_link_frame(c.name)
-                                              : recording::camera_optical_frame(c.name)},
-                         {"model_type", static_cast<int>(p.model)}, {"vertical_fov_padding", p.vertical_fov_padding_m},
-                         {"obstacle_range", p.obstacle_range_m}, {"min_obstacle_height", p.min_obstacle_height_m},
-                         {"max_obstacle_height", p.max_obstacle_height_m}, {"height_band", p.height_band},
-                         {"z_reference_frame", p.z_reference == mapping::ZReference::kBaseLink ? recording::kBaseFrame : recording::kMapFrame},
-                         {"min_z", p.min_z_m}, {"max_z", p.max_z_m},
-                         {"horizontal_fov_angle", p.horizontal_fov_rad}, {"vertical_fov_angle", p.vertical_fov_rad},
-                         {"decay_acceleration", p.decay_acceleration_per_s3},
-                         {"observation_persistence", p.observation_persistence_s},
-                         {"expected_update_rate", p.expected_update_rate_s}});
-    }
-    list.push_back({{"name", c.name}, {"width", c.intrinsics.width}, {"height", c.intrinsics.height},
-                    {"rate_hz", c.intrinsics.rate_hz}, {"noise", c.noise.enabled}, {"sources", sources}});
-  }
-  return list;
-}
-
 // The map's STVL parameters (STVL's key names; decay_model as STVL's integer code) and which of our options ran.
 nlohmann::json map_json(const mapping::StvlConfig& m) {
   nlohmann::json footprint = nlohmann::json::array();

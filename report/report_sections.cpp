@@ -10,6 +10,7 @@
 
 #include "common/markup.hpp"
 #include "evaluation/checks.hpp"
+#include "run/bag_recorder.hpp"
 
 namespace stvl::report {
 namespace {
@@ -315,6 +316,34 @@ nlohmann::json nav2_json(const run::RunResult& r) {
           {"updates", g.updates}, {"updates_with_ghosts", g.updates_with_ghosts}, {"max_ghost_cells", g.max_cells},
           {"max_ghost_at_s", g.max_at_s}, {"final_ghost_cells", g.last_cells}, {"final_lethal_cells", lethal},
           {"final_false_lethal_cells", r.nav2_truth.false_lethal}, {"final_phantom_obstacles", r.nav2_truth.phantoms.size()}, {"final_phantoms", phantoms}};
+}
+
+nlohmann::json camera_list_json(const config::Scenario& s) {
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i) {
+    const auto& c = s.pipeline.cameras[i];
+    nlohmann::json sources = nlohmann::json::array();
+    for (std::size_t k = 0; k < c.sources.size(); ++k) {
+      const auto& p = c.sources[k].params;
+      sources.push_back({{"name", c.sources[k].name}, {"marking", p.marking}, {"clearing", p.clearing},
+                         {"topic", run::source_cloud_topic(s.pipeline.cameras, i, k)},
+                         {"sensor_frame", p.sensor_frame == mapping::SensorFrame::kLink
+                                              ? recording::camera_link_frame(c.name)
+                                              : recording::camera_optical_frame(c.name)},
+                         {"model_type", static_cast<int>(p.model)}, {"vertical_fov_padding", p.vertical_fov_padding_m},
+                         {"obstacle_range", p.obstacle_range_m}, {"min_obstacle_height", p.min_obstacle_height_m},
+                         {"max_obstacle_height", p.max_obstacle_height_m}, {"height_band", p.height_band},
+                         {"z_reference_frame", p.z_reference == mapping::ZReference::kBaseLink ? recording::kBaseFrame : recording::kMapFrame},
+                         {"min_z", p.min_z_m}, {"max_z", p.max_z_m},
+                         {"horizontal_fov_angle", p.horizontal_fov_rad}, {"vertical_fov_angle", p.vertical_fov_rad},
+                         {"decay_acceleration", p.decay_acceleration_per_s3},
+                         {"observation_persistence", p.observation_persistence_s},
+                         {"expected_update_rate", p.expected_update_rate_s}});
+    }
+    list.push_back({{"name", c.name}, {"width", c.intrinsics.width}, {"height", c.intrinsics.height},
+                    {"rate_hz", c.intrinsics.rate_hz}, {"noise", c.noise.enabled}, {"sources", sources}});
+  }
+  return list;
 }
 
 }  // namespace stvl::report

@@ -41,5 +41,9 @@ std::string significant(double value);
 // metrics.json nav2_costmap: the model's settings, its ghosts over the run, its lethal cells at the end (null
 // when map.nav2_costmap is off).
 nlohmann::json nav2_json(const run::RunResult& r);
+// metrics.json cameras: each camera and its sources with the STVL parameters the run used, under STVL's key names
+// (angles in radians, lengths in metres), the sensor frame, the band's frame and the topic of its clouds in the
+// bag: enough to feed STVL's own code the bag.
+nlohmann::json camera_list_json(const config::Scenario& s);
 
 }  // namespace stvl::report

@@ -246,6 +246,24 @@ TEST(GroundTruth, EnumeratesObstaclesOnly) {
   EXPECT_EQ(obstacle_geoms(world, 0b1000).size(), 1u);
 }
 
+// Drivable ground (geoms named floor*: a ramp, a raised floor) is left out like the floor plane; a geom merely
+// containing "floor" in its name is not.
+TEST(GroundTruth, GeomsNamedFloorAreDrivableGround) {
+  World world = World::from_string(R"(
+<mujoco>
+  <include file="robot.xml"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="10 10 0.1"/>
+    <geom name="floor_ramp" type="box" pos="4 0 0.1" euler="0 -0.1 0" size="1.5 1 0.05"/>
+    <geom name="floor_platform" type="box" pos="7 0 0.15" size="1.5 1 0.15"/>
+    <geom name="subfloor_crate" type="box" pos="2 2 0.2" size="0.2 0.2 0.2"/>
+  </worldbody>
+</mujoco>)", test::worlds_dir());
+  const auto geoms = obstacle_geoms(world);
+  ASSERT_EQ(geoms.size(), 1u);
+  EXPECT_DOUBLE_EQ(geoms[0].aabb_W().center().x(), 2.0);
+}
+
 TEST(GroundTruth, VoxelsAreAttributedToBodies) {
   World world = World::from_string(kTwoObstacles, test::worlds_dir());
   VoxelizeOptions options;
