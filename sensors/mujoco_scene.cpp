@@ -125,8 +125,7 @@ void MujocoScene::update(const mjModel* model, mjData* data, const Eigen::Isomet
       (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 || R.determinant() < 0.0) {
     throw std::invalid_argument(owner + "::render: T_world_camera is not a finite rigid transform");
   }
-  gl->make_current();
-  ThrowOnMujocoError guard;
+  ThrowOnMujocoError guard;  // no GL here: the scene is CPU work, the context may be drawing on another thread
   mjv_updateScene(model, data, &option, nullptr, &camera, mjCAT_STATIC | mjCAT_DYNAMIC, &scene);
 
   // Override the GL camera: OpenGL eye looks along -z_eye = +z optical, with y_eye up = -y optical.

@@ -38,8 +38,9 @@ struct MujocoScene {
   MujocoScene& operator=(const MujocoScene&) = delete;
 
   // Checks model (the geoms and meshes it was made for), data and T_world_camera (a finite rigid transform; the
-  // optical frame in the world), makes the GL context current and updates the scene, its camera the intrinsics'
-  // frustum at that pose. Throws std::invalid_argument (naming owner::render), std::runtime_error from MuJoCo.
+  // optical frame in the world) and updates the scene, its camera the intrinsics' frustum at that pose. Makes no
+  // GL call, so it may run on any thread while the context is current on another (DepthRenderer::prepare).
+  // Throws std::invalid_argument (naming owner::render), std::runtime_error from MuJoCo.
   void update(const mjModel* model, mjData* data, const Eigen::Isometry3d& T_world_camera);
 
   std::string owner;

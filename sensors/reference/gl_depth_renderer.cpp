@@ -30,6 +30,7 @@ FloatDepthRenderer::~FloatDepthRenderer() = default;
 const DepthImage& FloatDepthRenderer::render(const mjModel* model, mjData* data, const Eigen::Isometry3d& T_world_camera) {
   Impl& s = *impl_;
   s.mj.update(model, data, T_world_camera);
+  s.mj.gl->make_current();
   ThrowOnMujocoError guard;
   const CameraIntrinsics& k = s.mj.intrinsics;
   const mjvGLCamera& gl_camera = s.mj.scene.camera[0];
