@@ -127,7 +127,7 @@ int replay(const ReplayCommandOptions& o) {
   const auto& k = result.pipeline.cameras.front().intrinsics;
   std::printf("replay: %s (%s, %s, poses: %s): %zu frames %dx%d, %.2f s recorded, real-time factor %.2f\n",
               o.recording.c_str(), result.recording.format.c_str(), result.recording.encoding.c_str(),
-              recording::to_string(result.recording.pose_source), result.frames, k.width, k.height, result.recorded_s,
+              recording::to_string(result.recording.pose_source), result.frames, k.width, k.height, result.sim_time_s,
               result.real_time_factor);
   std::printf("replay: map %zu voxels at %.3f m, %zu lethal cells; no ground truth, so no checks; outputs in %s\n",
               result.final_voxels, result.pipeline.map.voxel_size_m, result.lethal_cells, options.out_dir.c_str());

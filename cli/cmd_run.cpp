@@ -10,6 +10,7 @@
 #include "recording/bag_writer.hpp"
 #include "report/report.hpp"
 #include "run/runner.hpp"
+#include "sim/urdf_robot.hpp"
 
 namespace stvl::cli {
 using namespace stvl::config;

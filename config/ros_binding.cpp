@@ -74,7 +74,7 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
   // resolution 0.05, rolling_window false); a combination STVL does not do leaves it unmodelled.
   if (layer.width_m && layer.height_m && *layer.width_m > 0.0 && *layer.height_m > 0.0 &&
       (layer.combination_method == 0 || layer.combination_method == 1)) {
-    mapping::Nav2CostmapConfig& n = config.nav2_costmap;
+    layer::Nav2CostmapConfig& n = config.nav2_costmap;
     n.width_m = *layer.width_m;
     n.height_m = *layer.height_m;
     n.resolution_m = layer.resolution_m.value_or(0.05);
@@ -115,7 +115,7 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
                                   c.name + "' (bind one through its topic /" + c.name + "/... or its sensor_frame)");
   if (!derive_filter || !first) return;
   filter::FilterConfig& f = config.filter;
-  const pipeline::HeightBand band = pipeline::marking_band(config);
+  const layer::HeightBand band = pipeline::marking_band(config);
   f.passthrough = {band.min_m, band.max_m};
   f.passthrough_enabled = first->filter != RosSourceFilter::kNone;
   f.type = first->filter == RosSourceFilter::kVoxel ? filter::FilterType::kVoxel : filter::FilterType::kNone;

@@ -186,10 +186,10 @@ void read_ros_params(YamlMap& map, Scenario& s, const std::string& base_dir) {
 void read_footprint(YamlMap& map, Scenario& s) {
   mapping::StvlConfig& m = s.pipeline.map;
   map.get("update_footprint_enabled", m.update_footprint_enabled);
-  map.get("clear_footprint_voxels_below", m.footprint_clearing_height_m);
-  require_range(map, "clear_footprint_voxels_below", m.footprint_clearing_height_m,
-                std::isfinite(m.footprint_clearing_height_m) && m.footprint_clearing_height_m >= 0.0 &&
-                    m.footprint_clearing_height_m <= 3.0,
+  map.get("clear_footprint_voxels_below", m.clear_footprint_voxels_below_m);
+  require_range(map, "clear_footprint_voxels_below", m.clear_footprint_voxels_below_m,
+                std::isfinite(m.clear_footprint_voxels_below_m) && m.clear_footprint_voxels_below_m >= 0.0 &&
+                    m.clear_footprint_voxels_below_m <= 3.0,
                 "must lie in [0, 3] m");
   if (map.has("robot_radius") && map.has("footprint"))
     map.fail(map.raw("footprint"), "footprint", "give either footprint or robot_radius, not both");
@@ -212,7 +212,7 @@ void read_footprint(YamlMap& map, Scenario& s) {
     }
     s.footprint_source = "map.footprint";
   }
-  if (m.footprint_clearing_height_m > 0.0 && m.footprint_B.empty() && !map.has("ros_params") && !s.pipeline.urdf_robot)
+  if (m.clear_footprint_voxels_below_m > 0.0 && m.footprint_B.empty() && !map.has("ros_params") && !s.pipeline.urdf_robot)
     map.fail(map.raw("clear_footprint_voxels_below"), "clear_footprint_voxels_below",
              "needs the robot's footprint (map.robot_radius or map.footprint)");
 }
@@ -485,7 +485,7 @@ void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
 evaluation::EvaluationConfig evaluation_config(const Scenario& s) {
   evaluation::EvaluationConfig e = s.evaluation;
   e.voxel_size_m = s.pipeline.map.voxel_size_m;
-  const pipeline::HeightBand band = pipeline::marking_band(s.pipeline);
+  const layer::HeightBand band = pipeline::marking_band(s.pipeline);
   e.min_obstacle_height_m = band.min_m;
   e.max_obstacle_height_m = band.max_m;
   e.costmap_every_voxel = s.pipeline.map.costmap_band == mapping::CostmapBand::kEveryVoxel;

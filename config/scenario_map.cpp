@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "config/scenario_detail.hpp"
+#include "sim/urdf_robot.hpp"
 #include "worldgen/map_world.hpp"
 #include "worldgen/scenario_writer.hpp"
 
@@ -73,7 +74,7 @@ double planned_duration_s(YamlMap& robot, const Scenario& s) {
 }
 
 void read_nav2_costmap(YamlMap costmap, Scenario& s) {
-  mapping::Nav2CostmapConfig& c = s.pipeline.nav2_costmap;
+  layer::Nav2CostmapConfig& c = s.pipeline.nav2_costmap;
   costmap.require("width_m", c.width_m);
   costmap.require("height_m", c.height_m);
   costmap.get("resolution_m", c.resolution_m);

@@ -135,7 +135,7 @@ class Evaluator {
   void observe(double time_s, const CameraView& view);
   // Before the map's update: moved bodies' stale voxels the view now sees through (clearing latency starts).
   void observe_clearing(double time_s, const sim::World& world, const CameraView& view, const mapping::VoxelMap& map);
-  // cleared_keys: the voxels the update's clearing removed (pipeline::FrameResult::cleared_keys); false_clears
+  // cleared_keys: the voxels the update's clearing removed (layer::UpdateReport::cleared_keys); false_clears
   // counts them in ray-cast mode only.
   void after_update(double time_s, const mapping::VoxelMap& map, const std::vector<VoxelKey>& cleared_keys = {});
   // After after_update(): the true voxels the update's clearing removed unseen by view's noise-free camera

@@ -35,28 +35,29 @@ RunEvaluation::RunEvaluation(const sim::World& world, const EvaluationConfig& co
   }
 }
 
-CameraView RunEvaluation::view_of(const pipeline::FrameResult& f) const {
+CameraView RunEvaluation::view_of(const pipeline::Frame& f) const {
   return CameraView{&f.clean_depth, intrinsics_[f.camera_index], f.T_world_camera, marking_range_m_[f.camera_index],
                     f.camera_index};
 }
 
-void RunEvaluation::before_update(const pipeline::FrameResult& f, const sim::World& world, const mapping::VoxelMap& map) {
+void RunEvaluation::before_update(const pipeline::Frame& f, const sim::World& world, const mapping::VoxelMap& map) {
   const auto start = SteadyClock::now();
   evaluator_.observe_clearing(f.time_s, world, view_of(f), map);
   outages_.before_update(f.time_s, map);
   before_ms_ = ms_since(start);
 }
 
-void RunEvaluation::after_update(const pipeline::FrameResult& f, const sim::World& world, const mapping::VoxelMap& map) {
+void RunEvaluation::after_update(const pipeline::Frame& f, const layer::UpdateReport& report, const sim::World& world,
+                                 const mapping::VoxelMap& map) {
   const auto start = SteadyClock::now();
   const CameraView view = view_of(f);
   evaluator_.set_robot_pose(f.T_world_base);
-  evaluator_.after_update(f.time_s, map, f.cleared_keys);
-  evaluator_.observe_hidden_clears(f.time_s, view, map, f.cleared_keys);
+  evaluator_.after_update(f.time_s, map, report.cleared_keys);
+  evaluator_.observe_hidden_clears(f.time_s, view, map, report.cleared_keys);
   evaluator_.observe(f.time_s, view);
   outages_.after_update(f.time_s, map);
   outages_.observe(f.camera_index, f.time_s, evaluator_.frame_keys(), evaluator_.truth(),
-                   static_cast<std::size_t>(f.marking_W.cols()));
+                   static_cast<std::size_t>(f.observation->marking_W.cols()));
   if (f.time_s + 1e-9 >= next_evaluation_s_) {
     evaluator_.evaluate(f.time_s, world, map);
     next_evaluation_s_ += config_.evaluate_every_s;

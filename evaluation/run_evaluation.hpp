@@ -1,8 +1,8 @@
 #pragma once
 // The evaluation's side of a run, frame by frame, in one object: the Evaluator (map against truth), the
 // OutageMonitor (cameras that stop) and, at the end, the scenario's checks. The run loop calls
-//   before_update(frame, world, map)   from inside Pipeline::step(), with the map before the frame's update;
-//   after_update(frame, world, map)    once the frame's update is in the map;
+//   before_update(frame, world, map)          with the frame sensed and the map before the layer's update;
+//   after_update(frame, report, world, map)   once the layer's update (report) is in the map;
 //   finish(end, world, map)            once, after the last frame: every figure and every check.
 #include <string>
 #include <vector>
@@ -12,6 +12,8 @@
 #include "evaluation/map_view.hpp"
 #include "evaluation/outage.hpp"
 #include "evaluation/soak.hpp"
+#include "layer/layer.hpp"
+#include "pipeline/config.hpp"
 #include "pipeline/frame.hpp"
 
 namespace stvl::evaluation {
@@ -50,10 +52,11 @@ class RunEvaluation {
                 const std::vector<pipeline::CameraConfig>& cameras);
 
   // Before the frame's map update, with the map as the frame before left it (clearing latency, outages).
-  void before_update(const pipeline::FrameResult& frame, const sim::World& world, const mapping::VoxelMap& map);
+  void before_update(const pipeline::Frame& frame, const sim::World& world, const mapping::VoxelMap& map);
   // After the update: the robot's pose, what the update cleared, what the noise-free camera saw, the outages,
   // and a snapshot when one is due (every evaluate_every_s).
-  void after_update(const pipeline::FrameResult& frame, const sim::World& world, const mapping::VoxelMap& map);
+  void after_update(const pipeline::Frame& frame, const layer::UpdateReport& report, const sim::World& world,
+                    const mapping::VoxelMap& map);
   // Wall-clock milliseconds of the last frame's before_update() and after_update() together.
   double last_frame_ms() const { return frame_ms_; }
 
@@ -67,7 +70,7 @@ class RunEvaluation {
   LethalVsTruth against_truth(const mapping::Costmap2D& costmap) const;
 
  private:
-  CameraView view_of(const pipeline::FrameResult& frame) const;
+  CameraView view_of(const pipeline::Frame& frame) const;
 
   EvaluationConfig config_;
   ChecksConfig checks_;

@@ -17,7 +17,7 @@ struct SoakSample {
   std::size_t leaves = 0;  // the map's 8^3 leaf nodes (its memory, but for the tree above them)
   double rss_mb = 0.0;  // resident memory, MiB
   double map_ms = 0.0;  // mean clear + mark ms per frame since the previous sample
-  double map_cpu_ms = 0.0;  // the same in CPU time (pipeline::StageTimes::map_cpu_ms)
+  double map_cpu_ms = 0.0;  // the same in CPU time (layer::UpdateReport::cpu_ms)
 };
 
 struct SoakSeries {

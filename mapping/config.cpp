@@ -113,11 +113,11 @@ void StvlConfig::validate() const {
     reject("footprint", static_cast<double>(footprint_B.size()), "needs at least three points (or none)");
   for (const auto& p : footprint_B)
     if (!p.allFinite()) reject("footprint", p.x() + p.y(), "points must be finite");
-  require_finite("clear_footprint_voxels_below", footprint_clearing_height_m);
-  if (footprint_clearing_height_m < 0.0 || footprint_clearing_height_m > 3.0)
-    reject("clear_footprint_voxels_below", footprint_clearing_height_m, "must lie in [0, 3] m");
-  if (footprint_clearing_height_m > 0.0 && footprint_B.empty())
-    reject("clear_footprint_voxels_below", footprint_clearing_height_m, "needs the robot's footprint (robot_radius or footprint)");
+  require_finite("clear_footprint_voxels_below", clear_footprint_voxels_below_m);
+  if (clear_footprint_voxels_below_m < 0.0 || clear_footprint_voxels_below_m > 3.0)
+    reject("clear_footprint_voxels_below", clear_footprint_voxels_below_m, "must lie in [0, 3] m");
+  if (clear_footprint_voxels_below_m > 0.0 && footprint_B.empty())
+    reject("clear_footprint_voxels_below", clear_footprint_voxels_below_m, "needs the robot's footprint (robot_radius or footprint)");
 }
 
 void ObservationSource::validate() const {

@@ -120,7 +120,7 @@ struct StvlConfig {
   // the footprint's convex fill at the robot's pose from the floor up to this height are removed from the map,
   // so that the robot's own body (a bumper, a mast in view) leaves no voxels behind when it drives on. Voxels
   // above it (a desk top the robot passes under) stay. Needs footprint_B.
-  double footprint_clearing_height_m = 0.0;
+  double clear_footprint_voxels_below_m = 0.0;
 
   void validate() const;  // throws std::invalid_argument naming the offending field and value
 };

@@ -11,7 +11,8 @@
 
 #include "common/stopwatch.hpp"
 #include "common/splitmix.hpp"
-#include "pipeline/map_stages.hpp"
+#include "pipeline/sensing.hpp"
+#include "sim/urdf_robot.hpp"
 #include "sensors/depth_renderer.hpp"
 
 namespace stvl::pipeline {
@@ -75,21 +76,6 @@ std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& c) {
   return sim;
 }
 
-HeightBand marking_band(const PipelineConfig& config) {
-  std::optional<HeightBand> band;
-  for (const auto& camera : config.cameras)
-    for (const auto& source : camera.sources) {
-      if (!source.params.marking) continue;
-      if (!band) band = HeightBand{source.params.min_obstacle_height_m, source.params.max_obstacle_height_m};
-      band->min_m = std::min(band->min_m, source.params.min_obstacle_height_m);
-      band->max_m = std::max(band->max_m, source.params.max_obstacle_height_m);
-    }
-  if (band) return *band;
-  if (config.cameras.empty() || config.cameras.front().sources.empty()) return {};
-  const auto& first = config.cameras.front().sources.front().params;
-  return {first.min_obstacle_height_m, first.max_obstacle_height_m};
-}
-
 mapping::ZReference band_frame(const PipelineConfig& config) {
   for (const auto& camera : config.cameras)
     for (const auto& source : camera.sources)
@@ -151,6 +137,14 @@ bool in_outage(const CameraConfig& camera, double time_s) {
   return false;
 }
 
+layer::StvlLayerConfig layer_config(const PipelineConfig& config) {
+  layer::StvlLayerConfig layer{config.map, config.nav2_costmap, {}};
+  for (const auto& c : config.cameras) layer.sensors.push_back({c.name, c.intrinsics.rate_hz, c.sources});
+  return layer;
+}
+
+layer::HeightBand marking_band(const PipelineConfig& config) { return layer::marking_band(layer_config(config).sensors); }
+
 filter::FilterConfig decimation_config(filter::FilterConfig config) {
   config.passthrough_enabled = false;
   if (config.type == filter::FilterType::kPassthrough) config.type = filter::FilterType::kNone;
@@ -195,27 +189,15 @@ Pipeline::Pipeline(PipelineConfig config)
       throw std::invalid_argument("camera '" + c.name + "': mounted inside the robot's body (geom '" + geom + "')");
     cameras_.push_back(std::make_unique<Camera>(sim_->world().model(), c, camera_noise_seed(config_.seed, i)));
   }
-  stages_ = std::make_unique<MapStages>(config_);
+  sensing_ = std::make_unique<Sensing>(config_);
 }
 
 Pipeline::~Pipeline() = default;
 
-std::vector<SourceStatus> Pipeline::source_status(double until_s) const { return stages_->source_status(until_s); }
-
-const mapping::VoxelMap& Pipeline::map() const { return stages_->map(); }
-const mapping::Nav2Costmap* Pipeline::nav2_costmap() const { return stages_->nav2_costmap(); }
-const Nav2Ghosts& Pipeline::nav2_ghosts() const { return stages_->nav2_ghosts(); }
-
 std::size_t Pipeline::skipped_frames(std::size_t camera) const { return cameras_.at(camera)->skipped_frames; }
 
 const char* Pipeline::gl_backend() const { return cameras_.front()->renderer.backend_name(); }
-const char* Pipeline::filter_device() const { return stages_->filter_device(); }
-
-mapping::CostmapOptions Pipeline::costmap_options() const {
-  return pipeline::costmap_options(config_, sim_->T_world_base());
-}
-
-mapping::Costmap2D Pipeline::costmap() const { return map().project_costmap(costmap_options()); }
+const char* Pipeline::filter_device() const { return sensing_->filter_device(); }
 
 double Pipeline::next_time_s() const {
   double t = cameras_.front()->next_time_s();
@@ -249,12 +231,12 @@ bool Pipeline::draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_ca
   return true;
 }
 
-const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
+const Frame& Pipeline::step() {
   std::size_t index = 0;
   for (std::size_t c = 1; c < cameras_.size(); ++c)
     if (cameras_[c]->next_time_s() < cameras_[index]->next_time_s()) index = c;
   Camera& camera = *cameras_[index];
-  FrameResult& f = frame_;
+  Frame& f = frame_;
   f.camera_index = index;
   f.camera = camera.config.name;
   f.frame_index = camera.next_frame;
@@ -288,11 +270,10 @@ const FrameResult& Pipeline::step(const BeforeMapUpdate& before_map_update) {
   camera.noise.apply(f.clean_depth, f.depth, camera.noise_seed, f.frame_index);  // clean -> noisy, no copy
   f.times.noise_ms = ms_since(start);
 
-  stages_->sense(f);
-  if (before_map_update) before_map_update(f, map());
-  const MapStages::CamerasNow now{[&](std::size_t c) { return sim_->T_world_camera(cameras_[c]->config.mount); },
-                                  [&](std::size_t c) { return cameras_[c]->next_time_s(); }};
-  stages_->update(f, now);
+  sensing_->sense(f);
+  f.cameras_now.resize(cameras_.size());
+  for (std::size_t c = 0; c < cameras_.size(); ++c)
+    f.cameras_now[c] = {sim_->T_world_camera(cameras_[c]->config.mount), cameras_[c]->next_time_s()};
   return f;
 }
 

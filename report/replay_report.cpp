@@ -77,7 +77,7 @@ nlohmann::json replay_metrics_json(const ReplayResult& r) {
             {"cy", k.cy}}},
           {"frames", r.frames},
           {"sampled_frames", r.sampled_frames},
-          {"recorded_s", r.recorded_s},
+          {"recorded_s", r.sim_time_s},
           {"wall_time_s", r.wall_time_s},
           {"real_time_factor", r.real_time_factor},
           {"machine", machine_json()},
@@ -127,7 +127,7 @@ void write_replay_report(const ReplayResult& r, const std::filesystem::path& out
   row("poses", std::string(recording::to_string(info.pose_source)) + ", fixed frame '" + info.fixed_frame +
                    "', camera frame '" + info.camera_frame + "'");
   row("frames", std::to_string(r.frames) + " replayed of " + std::to_string(info.frame_count) + ", " +
-                    std::to_string(r.recorded_s) + " s recorded, replayed in " + std::to_string(r.wall_time_s) +
+                    std::to_string(r.sim_time_s) + " s recorded, replayed in " + std::to_string(r.wall_time_s) +
                     " s (real-time factor " + std::to_string(r.real_time_factor) + ")");
   row("pipeline", "voxel " + std::to_string(r.pipeline.map.voxel_size_m) + " m, filter " +
                       filter::to_string(r.pipeline.filter.type) + " on " + r.filter_device + ", edge filter " +

@@ -12,6 +12,7 @@
 #include "report/report_sections.hpp"
 #include "run/bag_recorder.hpp"
 #include "report/report_page.hpp"
+#include "sim/urdf_robot.hpp"
 
 namespace stvl::report {
 
@@ -152,7 +153,7 @@ nlohmann::json self_marking_json(const RunResult& r) {
           {"max_self_lethal_cells", e.mean.max_self_lethal},
           {"final_inside", e.final.self_marking.inside},
           {"final_ring", e.final.self_marking.ring},
-          {"clear_footprint_voxels_below_m", map.footprint_clearing_height_m},
+          {"clear_footprint_voxels_below_m", map.clear_footprint_voxels_below_m},
           {"footprint_voxels_cleared", r.footprint_voxels_cleared}};
 }
 

@@ -304,8 +304,8 @@ std::string failure_modes_html(const nlohmann::json& metrics) {
 // evaluation's tolerance; phantoms as the evaluation's).
 nlohmann::json nav2_json(const run::RunResult& r) {
   if (!r.nav2_master) return nullptr;
-  const mapping::Nav2CostmapConfig& c = r.scenario.pipeline.nav2_costmap;
-  const pipeline::Nav2Ghosts& g = r.nav2_ghosts;
+  const layer::Nav2CostmapConfig& c = r.scenario.pipeline.nav2_costmap;
+  const layer::Nav2Ghosts& g = r.nav2_ghosts;
   std::size_t lethal = 0;
   for (auto cell : r.nav2_master->cells) lethal += cell == mapping::kCostLethal;
   nlohmann::json phantoms = nlohmann::json::array();

@@ -11,17 +11,6 @@ using recording::camera_optical_frame;
 using recording::camera_topic;
 using recording::kMapFrame;
 
-std::vector<BagSink::CameraFrames> camera_frames(const pipeline::Pipeline& pipeline) {
-  std::vector<BagSink::CameraFrames> frames;
-  for (const auto& c : pipeline.config().cameras)
-    frames.push_back({c.name, sim::T_base_camera_link(c.mount), sim::DiffDriveRobot::T_camera_link_optical()});
-  return frames;
-}
-
-BagRecorder::MapState map_state(const pipeline::Pipeline& pipeline) {
-  return {&pipeline.map(), [&pipeline] { return pipeline.costmap(); }};
-}
-
 }  // namespace
 
 BagSettings bag_settings(const std::string& path, const std::string& format, const std::string& compression,
@@ -44,9 +33,12 @@ BagRecorder::BagRecorder(const std::string& path, const BagSettings& settings,
     bag_->write_points("/ground_truth/occupancy", 0.0, kMapFrame, *truth_voxel_centers_W, true);
 }
 
-BagRecorder::BagRecorder(const std::string& path, const BagSettings& settings, const pipeline::Pipeline& pipeline,
-                         const Eigen::Matrix3Xf& truth_voxel_centers_W)
-    : BagRecorder(path, settings, camera_frames(pipeline), &truth_voxel_centers_W) {}
+std::vector<BagSink::CameraFrames> camera_frames(const std::vector<pipeline::CameraConfig>& cameras) {
+  std::vector<BagSink::CameraFrames> frames;
+  for (const auto& c : cameras)
+    frames.push_back({c.name, sim::T_base_camera_link(c.mount), sim::DiffDriveRobot::T_camera_link_optical()});
+  return frames;
+}
 
 BagRecorder::~BagRecorder() = default;
 
@@ -58,13 +50,8 @@ std::string source_cloud_topic(const std::vector<pipeline::CameraConfig>& camera
   return "/stvl/" + cameras.at(camera_index).sources.at(source_index).name + "/filtered_points";
 }
 
-
-void BagRecorder::record(const pipeline::FrameResult& f, const pipeline::Pipeline& pipeline, bool publish_map) {
-  record(f, pipeline.config().cameras, map_state(pipeline), publish_map);
-}
-
-void BagRecorder::record(const pipeline::FrameResult& f, const std::vector<pipeline::CameraConfig>& cameras,
-                         const MapState& map, bool publish_map) {
+void BagRecorder::record(const pipeline::Frame& f, const layer::UpdateReport& report,
+                         const std::vector<pipeline::CameraConfig>& cameras, const MapState& map, bool publish_map) {
   const sensors::CameraIntrinsics& intrinsics = cameras.at(f.camera_index).intrinsics;
   std::optional<mapping::Costmap2D> costmap;
   Eigen::Matrix3Xf voxels;
@@ -80,12 +67,12 @@ void BagRecorder::record(const pipeline::FrameResult& f, const std::vector<pipel
     Eigen::Matrix3Xf points_W;
   };
   std::vector<Reading> readings;
-  for (const auto& update : f.updates)
+  for (const auto& update : report.updates)
     for (const auto& applied : update.applied_readings) {
-      const std::string topic = source_cloud_topic(cameras, applied.camera_index, applied.source_index);
+      const std::string topic = source_cloud_topic(cameras, applied.sensor_index, applied.source_index);
       if (!topics_.wants(topic)) continue;
-      const auto& source = cameras.at(applied.camera_index).sources.at(applied.source_index).params;
-      readings.push_back({topic, update.time_s, applied.reading->time_s, pipeline::source_marking_W(*applied.reading, source)});
+      const auto& source = cameras.at(applied.sensor_index).sources.at(applied.source_index).params;
+      readings.push_back({topic, update.time_s, applied.reading->time_s, layer::source_marking_W(*applied.reading, source)});
     }
   // Cameras whose frames share a time share its robot messages (tf would warn of repeated data).
   const bool robot_messages = !last_robot_time_s_ || f.time_s > *last_robot_time_s_;
@@ -117,8 +104,6 @@ void BagRecorder::record(const pipeline::FrameResult& f, const std::vector<pipel
     if (costmap) bag->write_costmap(t, *costmap);
   });
 }
-
-void BagRecorder::record_map(double time_s, const pipeline::Pipeline& pipeline) { record_map(time_s, map_state(pipeline)); }
 
 void BagRecorder::record_map(double time_s, const MapState& map) {
   std::optional<mapping::Costmap2D> costmap;

@@ -7,7 +7,9 @@
 #include <optional>
 #include <string>
 
-#include "pipeline/pipeline.hpp"
+#include "layer/layer.hpp"
+#include "pipeline/config.hpp"
+#include "pipeline/frame.hpp"
 #include "recording/bag_writer.hpp"
 
 namespace stvl {
@@ -36,15 +38,15 @@ BagSettings bag_settings(const std::string& path, const std::string& format, con
 std::string source_cloud_topic(const std::vector<pipeline::CameraConfig>& cameras, std::size_t camera_index,
                                std::size_t source_index);
 
+// The cameras' frames on base_link as the simulated robot mounts them (camera_link, then its optical frame).
+std::vector<BagSink::CameraFrames> camera_frames(const std::vector<pipeline::CameraConfig>& cameras);
+
 class BagRecorder {
  public:
   // Opens path (as path.active until close()) and writes /tf_static for the cameras and, with ground truth, its
   // latched occupancy; without (truth == nullptr) no /ground_truth topic is written.
   BagRecorder(const std::string& path, const BagSettings& settings, const std::vector<BagSink::CameraFrames>& cameras,
               const Eigen::Matrix3Xf* truth_voxel_centers_W);
-  // A simulated run: the pipeline's cameras and the truth.
-  BagRecorder(const std::string& path, const BagSettings& settings, const pipeline::Pipeline& pipeline,
-              const Eigen::Matrix3Xf& truth_voxel_centers_W);
   ~BagRecorder();  // without close(): the bag stays as path.active
   BagRecorder(const BagRecorder&) = delete;
   BagRecorder& operator=(const BagRecorder&) = delete;
@@ -55,15 +57,13 @@ class BagRecorder {
     std::function<mapping::Costmap2D()> costmap;
   };
   // The frame's messages (its camera's intrinsics, from cameras[frame.camera_index]; topics per camera when there
-  // are several); when the frame updated the map, the readings the update took (source_cloud_topic(), stamped with
-  // the reading's time, recorded at the update's: only those, each as often as an update applied it); the map
-  // and costmap too when publish_map.
-  void record(const pipeline::FrameResult& frame, const std::vector<pipeline::CameraConfig>& cameras,
-              const MapState& map, bool publish_map);
-  void record(const pipeline::FrameResult& frame, const pipeline::Pipeline& pipeline, bool publish_map);
+  // are several); for the layer's updates of the frame (report), the readings they took (source_cloud_topic(),
+  // stamped with the reading's time, recorded at the update's: only those, each as often as an update applied it);
+  // the map and costmap too when publish_map.
+  void record(const pipeline::Frame& frame, const layer::UpdateReport& report,
+              const std::vector<pipeline::CameraConfig>& cameras, const MapState& map, bool publish_map);
   // The map and costmap once more at time_s (the end of the run).
   void record_map(double time_s, const MapState& map);
-  void record_map(double time_s, const pipeline::Pipeline& pipeline);
   // Waits for the writer thread, writes the index and renames path.active to path.
   void close();
   // The export's final path (a rosbag2 folder for ROS 2) and its size so far in bytes.

@@ -7,13 +7,13 @@
 
 namespace stvl::run {
 
-void StageSeries::append(const pipeline::StageTimes& t) {
+void StageSeries::append(const pipeline::SensingTimes& t, const layer::UpdateReport& update) {
   render.push_back(t.render_ms);
   noise.push_back(t.noise_ms);
   cloud.push_back(t.cloud_ms);
   filter.push_back(t.filter_ms);
-  clear.push_back(t.clear_ms);
-  mark.push_back(t.mark_ms);
+  clear.push_back(update.clear_ms);
+  mark.push_back(update.mark_ms);
 }
 
 Progress::Progress(bool enabled, double duration_s)
@@ -52,7 +52,7 @@ FrameSampler::FrameSampler(const std::filesystem::path& frames_dir, int count, d
   every_ = count > 0 && !frames_dir.empty() ? std::max<std::size_t>(1, expected / (count + 1)) : 0;
 }
 
-void FrameSampler::offer(const pipeline::FrameResult& f, double min_range_m) const {
+void FrameSampler::offer(const pipeline::Frame& f, double min_range_m) const {
   if (!every_ || f.frame_index == 0 || f.frame_index % every_ != 0) return;
   write_sample_depth_frame(dir_, prefix_, f.frame_index, f.depth, min_range_m);
 }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "layer/layer.hpp"
 #include "pipeline/frame.hpp"
 #include "sensors/depth_image.hpp"
 
@@ -26,12 +27,12 @@ struct RunOptions {
   bool require_path = false;
 };
 
-// Wall-clock milliseconds per frame, one series per stage (a frame's pipeline::StageTimes appended, plus what
+// Wall-clock milliseconds per frame, one series per stage (a frame's sensing and the layer's update, plus what
 // the loop adds); timings are the only part of a run that is not deterministic.
 struct StageSeries {
   std::vector<double> render, noise, cloud, filter, clear, mark, evaluation, bag, frame;
-  // The pipeline's stages of one frame (render .. mark).
-  void append(const pipeline::StageTimes& frame_times);
+  // One frame's sensing (render .. filter) and the layer's update (clear, mark).
+  void append(const pipeline::SensingTimes& sensing, const layer::UpdateReport& update);
 };
 
 // A progress bar on a terminal, a line per 10 % otherwise; nothing when disabled.
@@ -56,7 +57,7 @@ void write_sample_depth_frame(const std::filesystem::path& frames_dir, const std
 class FrameSampler {
  public:
   FrameSampler(const std::filesystem::path& frames_dir, int count, double duration_s, double rate_hz, std::string prefix);
-  void offer(const pipeline::FrameResult& frame, double min_range_m) const;
+  void offer(const pipeline::Frame& frame, double min_range_m) const;
 
  private:
   std::filesystem::path dir_;

@@ -1,18 +1,16 @@
 #include "run/replay.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 #include <memory>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
-#include "common/stopwatch.hpp"
 #include "common/atomic_file.hpp"
-#include "pipeline/map_stages.hpp"
-#include "run/bag_recorder.hpp"
+#include "layer/stvl_layer.hpp"
+#include "pipeline/sensing.hpp"
 
 namespace stvl::run {
 namespace {
@@ -50,111 +48,117 @@ std::set<std::size_t> sample_indices(std::size_t total, int count) {
   return out;
 }
 
+// A recording's frames, checked (one camera model, stamps in order) and sensed; the bag opened at the first frame,
+// whose poses give base_link -> camera.
+class RecordedFrames : public FrameSource {
+ public:
+  RecordedFrames(recording::Recording& recording, const pipeline::PipelineConfig& config, std::size_t total)
+      : recording_(recording), config_(config), sensing_(config), total_(total) {
+    f_.camera_index = 0;
+    f_.camera = config.cameras.front().name;
+  }
+  const pipeline::Frame* next() override {
+    if (taken_ >= total_ || !recording_.next(frame_)) return nullptr;
+    const std::string& path = recording_.info().path;
+    if (!same_model(frame_.intrinsics, config_.cameras.front().intrinsics))
+      throw std::invalid_argument(path + ": frame " + std::to_string(frame_.index) +
+                                  ": its camera model differs from the first frame's; a replay takes one camera model");
+    if (taken_ > 0 && frame_.time_s < f_.time_s)
+      throw std::invalid_argument(path + ": frame " + std::to_string(frame_.index) + " is stamped " +
+                                  std::to_string(f_.time_s - frame_.time_s) + " s before the frame before it");
+    ++taken_;
+    f_.frame_index = frame_.index;
+    f_.time_s = frame_.time_s;
+    f_.T_world_camera = frame_.T_fixed_camera;
+    f_.T_world_base = frame_.T_fixed_base;
+    f_.T_odom_base = frame_.T_fixed_base;
+    f_.T_map_odom = Eigen::Isometry3d::Identity();
+    std::swap(f_.depth, frame_.depth);
+    f_.times = {};
+    sensing_.sense(f_);
+    f_.cameras_now = {{f_.T_world_camera, std::numeric_limits<double>::infinity()}};
+    return &f_;
+  }
+  const std::vector<pipeline::CameraConfig>& cameras() const override { return config_.cameras; }
+  std::unique_ptr<BagRecorder> open_bag(const std::string& path, const BagSettings& settings,
+                                        const pipeline::Frame* first) override {
+    if (!first) return nullptr;
+    // The camera's optical frame on base_link; camera_link is the optical frame turned back.
+    const Eigen::Isometry3d T_link_optical = sim::DiffDriveRobot::T_camera_link_optical();
+    const Eigen::Isometry3d T_base_optical = first->T_world_base.inverse() * first->T_world_camera;
+    return std::make_unique<BagRecorder>(
+        path, settings,
+        std::vector<BagSink::CameraFrames>{{first->camera, T_base_optical * T_link_optical.inverse(), T_link_optical}},
+        nullptr);
+  }
+  const char* filter_device() const { return sensing_.filter_device(); }
+
+ private:
+  recording::Recording& recording_;
+  const pipeline::PipelineConfig& config_;
+  pipeline::Sensing sensing_;
+  std::size_t total_, taken_ = 0;
+  recording::RecordedFrame frame_;
+  pipeline::Frame f_;
+};
+
+// The replay's side of each frame: the valid pixels, the sampled depth frames, a progress line every 100 frames.
+class ReplayHooks : public FrameHooks {
+ public:
+  ReplayHooks(ReplayResult& r, const RunOptions& options, std::set<std::size_t> samples, std::size_t total)
+      : r_(r), options_(options), samples_(std::move(samples)), total_(total) {}
+  void after_update(const pipeline::Frame& f, const layer::UpdateReport&, const layer::Layer&) override {
+    r_.valid_fraction.push_back(double(f.depth.valid_count()) / double(std::max<std::size_t>(1, f.depth.depth_m.size())));
+    if (samples_.count(r_.valid_fraction.size() - 1)) {
+      write_sample_depth_frame(std::filesystem::path(options_.out_dir) / "frames", "", f.frame_index, f.depth,
+                               r_.pipeline.cameras.front().intrinsics.min_range_m);
+      r_.sampled_frames.push_back(f.frame_index);
+    }
+  }
+  bool done(const pipeline::Frame& f, const layer::UpdateReport&, std::size_t frames) override {
+    if (options_.progress && (frames % 100 == 0 || frames == total_))
+      std::printf("replay: frame %zu of %zu, t=%.2f s\n", frames, total_, f.time_s);
+    return false;
+  }
+
+ private:
+  ReplayResult& r_;
+  const RunOptions& options_;
+  std::set<std::size_t> samples_;
+  std::size_t total_;
+};
+
 }  // namespace
 
 ReplayResult replay_recording(recording::Recording& recording, const ReplaySettings& settings, const RunOptions& options) {
   ReplayResult r;
   r.recording = recording.info();
-  const std::string& recording_path = r.recording.path;
   r.pipeline = replay_config(settings, r.recording);
-  const pipeline::CameraConfig& camera = r.pipeline.cameras.front();
-  pipeline::MapStages stages(r.pipeline);
-  r.filter_device = stages.filter_device();
-
-  const std::filesystem::path out = options.out_dir;
-  if (!options.out_dir.empty()) ensure_writable_directory(out / "frames");
+  layer::StvlLayer layer(pipeline::layer_config(r.pipeline));
+  if (!options.out_dir.empty()) ensure_writable_directory(std::filesystem::path(options.out_dir) / "frames");
   const std::size_t total = settings.max_frames > 0 ? std::min(settings.max_frames, r.recording.frame_count)
                                                     : r.recording.frame_count;
-  const std::set<std::size_t> samples = options.out_dir.empty() ? std::set<std::size_t>{}
-                                                                : sample_indices(total, settings.sample_depth_frames);
-  const BagSettings bag_settings = run::bag_settings(options.bag_path, options.bag_format, options.bag_compression, options.bag_topics);
-  std::unique_ptr<BagRecorder> bag;  // opened at the first frame, whose poses give base_link -> camera
-
-  pipeline::FrameResult f;
-  f.camera_index = 0;
-  f.camera = camera.name;
-  // STVL frees the footprint at the pose of the last update: the last frame's base.
-  const BagRecorder::MapState map_state{&stages.map(), [&] {
-    return stages.map().project_costmap(pipeline::costmap_options(r.pipeline, f.T_world_base));
-  }};
-  recording::RecordedFrame frame;
-  const pipeline::MapStages::CamerasNow now{[&](std::size_t) { return f.T_world_camera; },
-                                            [](std::size_t) { return std::numeric_limits<double>::infinity(); }};
-  MapPublishClock publish(settings.publish_period_s, MapPublishClock::Grid::kAfterLast);
-  const auto wall_start = SteadyClock::now();
-  while (r.frames < total && recording.next(frame)) {
-    if (options.stop_requested && options.stop_requested->load()) {
-      r.interrupted = true;
-      break;
-    }
-    const auto frame_start = SteadyClock::now();
-    if (!same_model(frame.intrinsics, camera.intrinsics))
-      throw std::invalid_argument(recording_path + ": frame " + std::to_string(frame.index) +
-                                  ": its camera model differs from the first frame's; a replay takes one camera model");
-    if (r.frames > 0 && frame.time_s < f.time_s)
-      throw std::invalid_argument(recording_path + ": frame " + std::to_string(frame.index) + " is stamped " +
-                                  std::to_string(f.time_s - frame.time_s) + " s before the frame before it");
-    f.frame_index = frame.index;
-    f.time_s = frame.time_s;
-    f.T_world_camera = frame.T_fixed_camera;
-    f.T_world_base = frame.T_fixed_base;
-    f.T_odom_base = frame.T_fixed_base;
-    f.T_map_odom = Eigen::Isometry3d::Identity();
-    std::swap(f.depth, frame.depth);
-    f.times = {};
-    stages.sense(f);
-    stages.update(f, now);
-
-    r.times.cloud.push_back(f.times.cloud_ms);  // a recording has no render or noise stage
-    r.times.filter.push_back(f.times.filter_ms);
-    r.times.clear.push_back(f.times.clear_ms);
-    r.times.mark.push_back(f.times.mark_ms);
-    r.path_W.emplace_back(f.T_world_base.translation().head<2>());
-    r.points_raw.push_back(static_cast<std::size_t>(f.point_count));
-    r.points_filtered.push_back(static_cast<std::size_t>(f.marking_W.cols()));
-    r.map_voxels.push_back(stages.map().size());
-    r.valid_fraction.push_back(double(f.depth.valid_count()) / double(std::max<std::size_t>(1, f.depth.depth_m.size())));
-    if (samples.count(r.frames)) {
-      write_sample_depth_frame(out / "frames", "", f.frame_index, f.depth, camera.intrinsics.min_range_m);
-      r.sampled_frames.push_back(f.frame_index);
-    }
-    const auto bag_start = SteadyClock::now();
-    if (!options.bag_path.empty() && !bag) {
-      // The camera's optical frame on base_link; camera_link is the optical frame turned back.
-      const Eigen::Isometry3d T_link_optical = sim::DiffDriveRobot::T_camera_link_optical();
-      const Eigen::Isometry3d T_base_optical = f.T_world_base.inverse() * f.T_world_camera;
-      bag = std::make_unique<BagRecorder>(
-          options.bag_path, bag_settings,
-          std::vector<BagSink::CameraFrames>{{camera.name, T_base_optical * T_link_optical.inverse(), T_link_optical}},
-          nullptr);
-    }
-    if (bag) bag->record(f, r.pipeline.cameras, map_state, publish.due(f.time_s));
-    r.times.bag.push_back(ms_since(bag_start));
-    r.times.frame.push_back(ms_since(frame_start));
-    r.frames += 1;
-    r.recorded_s = f.time_s;
-    if (options.progress && (r.frames % 100 == 0 || r.frames == total))
-      std::printf("replay: frame %zu of %zu, t=%.2f s\n", r.frames, total, f.time_s);
-  }
-  r.wall_time_s = std::chrono::duration<double>(SteadyClock::now() - wall_start).count();
-  r.real_time_factor = r.wall_time_s > 0 ? r.recorded_s / r.wall_time_s : 0;
+  FrameLoopSettings loop;
+  loop.bag_path = options.bag_path;
+  loop.bag = bag_settings(options.bag_path, options.bag_format, options.bag_compression, options.bag_topics);
+  loop.publish_period_s = settings.publish_period_s;
+  loop.publish_grid = MapPublishClock::Grid::kAfterLast;
+  loop.publish_after_updates_only = false;
+  loop.stop_requested = options.stop_requested;
+  RecordedFrames frames(recording, r.pipeline, total);
+  r.filter_device = frames.filter_device();
+  ReplayHooks hooks(r, options,
+                    options.out_dir.empty() ? std::set<std::size_t>{} : sample_indices(total, settings.sample_depth_frames),
+                    total);
+  static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, loop);
   if (r.interrupted) return r;
-  if (r.frames == 0) throw std::invalid_argument(recording_path + ": no depth frame could be read");
+  if (r.frames == 0) throw std::invalid_argument(r.recording.path + ": no depth frame could be read");
 
-  r.costmap = map_state.costmap();
+  r.costmap = layer.costmap();
   for (std::uint8_t c : r.costmap.cells) r.lethal_cells += c == mapping::kCostLethal;
-  r.final_voxels = stages.map().size();
-  r.map_view = evaluation::make_map_view(stages.map());
-  r.sources = stages.source_status(r.recorded_s);
-  if (bag) {
-    if (publish.final_due(r.recorded_s)) bag->record_map(r.recorded_s, map_state);
-    bag->close();
-  }
-  if (!options.out_dir.empty()) {
-    stages.map().save_vdb((out / "map.vdb").string());
-    stages.map().save_ply((out / "map.ply").string());
-    if (!stages.map().empty()) mapping::write_costmap(r.costmap, (out / "costmap").string());
-  }
+  r.final_voxels = layer.voxels().size();
+  r.map_view = evaluation::make_map_view(layer.voxels());
+  write_layer_outputs(layer, options.out_dir);
   return r;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// Recorded depth (recording/) through the same stages as a simulated camera's frames (pipeline/map_stages.hpp):
-// edge filter, depth to cloud, decimation, STVL's clear and mark, in recorded time. A replay has no ground
+// Recorded depth (recording/) through the same frame loop as a simulated run (frame_loop.hpp): the same sensing
+// (pipeline/sensing.hpp: edge filter, depth to cloud, decimation) and STVL's layer, in recorded time. A replay has no ground
 // truth: it writes what a run writes but the truth's figures and checks (report/report.hpp).
 #include <atomic>
 #include <filesystem>
@@ -9,8 +9,8 @@
 
 #include "recording/recording.hpp"
 #include "evaluation/map_view.hpp"
-#include "pipeline/frame.hpp"
-#include "run/frame_outputs.hpp"
+#include "pipeline/config.hpp"
+#include "run/frame_loop.hpp"
 
 namespace stvl::run {
 
@@ -25,21 +25,18 @@ struct ReplaySettings {
   double publish_period_s = 1.0;  // the bag's map and costmap
 };
 
-struct ReplayResult {
+// The frame loop's series (times: cloud, filter, clear, mark, bag and frame; render, noise and evaluation are 0;
+// path_W: base_link per frame in the recording's fixed frame; sim_time_s: the last frame's recorded stamp), and
+// what only a replay has.
+struct ReplayResult : FrameLoopResult {
   recording::RecordingInfo recording;
   pipeline::PipelineConfig pipeline;  // as replayed: one camera with the recording's intrinsics
-  StageSeries times;                  // cloud, filter, clear, mark, bag and frame (no render, noise, evaluation)
-  std::vector<std::size_t> points_raw, points_filtered, map_voxels;  // per frame
   std::vector<double> valid_fraction;  // per frame: pixels with depth
-  std::vector<Eigen::Vector2d> path_W;  // base_link per frame, in the recording's fixed frame
   std::vector<std::size_t> sampled_frames;  // indices of the depth frames saved under frames/
-  evaluation::MapView map_view;                    // every voxel unjudged (no truth)
-  mapping::Costmap2D costmap;           // the final map's, footprint freed at the last base pose
-  std::size_t frames = 0, final_voxels = 0, lethal_cells = 0;
-  double recorded_s = 0, wall_time_s = 0, real_time_factor = 0;
+  evaluation::MapView map_view;             // every voxel unjudged (no truth)
+  mapping::Costmap2D costmap;               // the final map's, footprint freed at the last base pose
+  std::size_t final_voxels = 0, lethal_cells = 0;
   std::string filter_device;
-  std::vector<pipeline::SourceStatus> sources;
-  bool interrupted = false;
 };
 
 // Replays an opened recording (recording::open_recording) from its next frame. The camera's observation sources

@@ -1,43 +1,34 @@
 #pragma once
-// Runs one scenario end to end: builds the pipeline, steps it frame by frame, hands each frame to the run's
-// evaluation (evaluation/run_evaluation.hpp) and to the outputs (bag, sample depth frames), then writes the map.
+// Runs one scenario end to end: the pipeline's simulated frames through STVL's layer in the frame loop
+// (frame_loop.hpp), each frame judged by the run's evaluation (evaluation/run_evaluation.hpp) against the truth;
+// then the verdict, the map and the costmaps.
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "config/scenario.hpp"
 #include "evaluation/run_evaluation.hpp"
-#include "run/frame_outputs.hpp"
+#include "run/frame_loop.hpp"
 
 namespace stvl::run {
 
-struct RunResult {
+// The frame loop's series (path_W: the robot's true position at each frame; sources: each source's staleness and
+// re-applied readings, evaluation.failure_modes.outage), and what the evaluation concluded.
+struct RunResult : FrameLoopResult {
   config::Scenario scenario;
   evaluation::MapView map_view;
   evaluation::EvaluationSummary evaluation;
   evaluation::TopDown top_down;
-  StageSeries times;
-  std::vector<StageSeries> camera_times;  // per camera index: its frames' render .. mark
   evaluation::PhaseTimes evaluation_phases;  // totals over the run
   std::vector<evaluation::CheckResult> checks;
-  std::vector<Eigen::Vector2d> path_W;  // the robot's true position at each frame
-  std::vector<std::size_t> points_raw, points_filtered, map_voxels;  // per frame
-  std::size_t frames = 0;
-  std::size_t footprint_voxels_cleared = 0;  // map.clear_footprint_voxels_below (ours), summed over the updates
-  double sim_time_s = 0;
-  double wall_time_s = 0;
-  double real_time_factor = 0;  // simulated seconds per wall-clock second
-  bool interrupted = false;
   std::string gl_backend, filter_device;
-  // Camera outages and STVL's source buffers (evaluation.failure_modes.outage): each source's staleness and
-  // re-applied readings, each camera's frames not taken (outages), each outage's result.
-  std::vector<pipeline::SourceStatus> sources;
+  // Camera outages: each camera's frames not taken, each outage's result.
   std::vector<std::size_t> skipped_frames;
   std::vector<evaluation::OutageResult> outages;
 
   // With map.nav2_costmap: nav2's master costmap at the end and its ghosts over the run.
   std::optional<mapping::Costmap2D> nav2_master;
-  pipeline::Nav2Ghosts nav2_ghosts;
+  layer::Nav2Ghosts nav2_ghosts;
   evaluation::LethalVsTruth nav2_truth;  // nav2_master's lethal cells against the final truth
 
   evaluation::SoakSeries soak;  // evaluation.soak_sample_every_s > 0 only

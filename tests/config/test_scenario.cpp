@@ -245,8 +245,8 @@ TEST(ScenarioParse, FootprintClearingKeys) {
   EXPECT_THAT(error_of(base + "  robot_radius: 0.2\nchecks:\n  self_lethal_cells_max: -1\n"),
               HasSubstr("must be >= 0"));
   // Ours: the voxels inside the footprint up to a height.
-  EXPECT_DOUBLE_EQ(plain.pipeline.map.footprint_clearing_height_m, 0.0);  // off
-  EXPECT_DOUBLE_EQ(parse(base + "  robot_radius: 0.2\n  clear_footprint_voxels_below: 0.3\n").pipeline.map.footprint_clearing_height_m, 0.3);
+  EXPECT_DOUBLE_EQ(plain.pipeline.map.clear_footprint_voxels_below_m, 0.0);  // off
+  EXPECT_DOUBLE_EQ(parse(base + "  robot_radius: 0.2\n  clear_footprint_voxels_below: 0.3\n").pipeline.map.clear_footprint_voxels_below_m, 0.3);
   EXPECT_THAT(error_of(base + "  robot_radius: 0.2\n  clear_footprint_voxels_below: -0.3\n"),
               HasSubstr(at(8, "map.clear_footprint_voxels_below") + "must lie in [0, 3] m"));
   EXPECT_THAT(error_of(base + "  clear_footprint_voxels_below: 0.3\n"),

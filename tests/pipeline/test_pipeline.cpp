@@ -1,4 +1,5 @@
-// The pipeline on the fixture's tiny world: the shipped robot on a floor, facing a wall 2.5 m ahead.
+// The pipeline on the fixture's tiny world: the shipped robot on a floor, facing a wall 2.5 m ahead; its frames
+// fed to STVL's layer as the frame loop (run/) does.
 #include "pipeline/pipeline.hpp"
 
 #include <gmock/gmock.h>
@@ -6,12 +7,39 @@
 
 #include <cmath>
 
+#include "layer/stvl_layer.hpp"
 #include "tests/support/fixture.hpp"
 
 namespace stvl::pipeline {
 namespace {
 
 using ::testing::HasSubstr;
+
+// The pipeline's frames into STVL's layer, one observation per step, as the frame loop feeds it.
+class Driven {
+ public:
+  explicit Driven(const PipelineConfig& config) : pipeline_(config), layer_(layer_config(config)) {}
+  const Frame& step() {
+    const Frame& f = pipeline_.step();
+    layer_.update(f.observation, f.cameras_now, report_);
+    return f;
+  }
+  // A step, then the readings its update applied again.
+  std::size_t step_reapplied() {
+    step();
+    return report_.reapplied_readings;
+  }
+  const layer::UpdateReport& report() const { return report_; }
+  const mapping::VoxelMap& map() const { return layer_.voxels(); }
+  mapping::Costmap2D costmap() const { return layer_.costmap(); }
+  std::vector<layer::SourceStatus> source_status(double until_s) const { return layer_.source_status(until_s); }
+  Pipeline& pipeline() { return pipeline_; }
+
+ private:
+  Pipeline pipeline_;
+  layer::StvlLayer layer_;
+  layer::UpdateReport report_;
+};
 
 // The shared world of the shipped robot between two walls (tests/support/fixture.hpp): wall x 2.5..2.7,
 // y -2..2, z 0..1.5; back_wall x -2.7..-2.5 (behind the robot).
@@ -46,10 +74,11 @@ class PipelineTest : public test::MujocoTest {
 };
 
 TEST_F(PipelineTest, FramesAtTheCameraRateThroughEveryStage) {
-  Pipeline pipeline(config());
+  Driven driven(config());
+  Pipeline& pipeline = driven.pipeline();
   EXPECT_EQ(pipeline.next_time_s(), 0.0);
   for (int k = 0; k < 4; ++k) {
-    const FrameResult& f = pipeline.step();
+    const Frame& f = driven.step();
     EXPECT_EQ(f.frame_index, static_cast<std::size_t>(k));
     EXPECT_DOUBLE_EQ(f.time_s, k * (1.0 / 10.0));
     EXPECT_EQ(f.camera, "camera");
@@ -58,18 +87,25 @@ TEST_F(PipelineTest, FramesAtTheCameraRateThroughEveryStage) {
     ASSERT_GT(f.point_count, 160 * 120 / 2);
     EXPECT_EQ(f.cloud_W.cols(), f.point_count);
     EXPECT_NEAR(f.cloud_W.row(0).maxCoeff(), 2.5, 0.02);
-    EXPECT_GT(f.decimated_W.cols(), 0);
-    EXPECT_LT(f.decimated_W.cols(), f.point_count);
+    const layer::Observation& o = *f.observation;
+    EXPECT_EQ(o.time_s, f.time_s);
+    EXPECT_TRUE(o.T_world_camera.isApprox(f.T_world_camera, 0.0));
+    EXPECT_GT(o.decimated_W.cols(), 0);
+    EXPECT_LT(o.decimated_W.cols(), f.point_count);
     // The marking cloud is the decimated one inside the passthrough band.
-    EXPECT_LT(f.marking_W.cols(), f.decimated_W.cols());
-    EXPECT_GE(f.marking_W.row(2).minCoeff(), 0.1);
-    EXPECT_LE(f.marking_W.row(2).maxCoeff(), 1.2);
+    EXPECT_LT(o.marking_W.cols(), o.decimated_W.cols());
+    EXPECT_GE(o.marking_W.row(2).minCoeff(), 0.1);
+    EXPECT_LE(o.marking_W.row(2).maxCoeff(), 1.2);
     EXPECT_GT(f.times.render_ms, 0.0);
+    // The layer took this frame's observation, once.
+    ASSERT_EQ(driven.report().updates.size(), 1u);
+    ASSERT_EQ(driven.report().updates[0].applied_readings.size(), 1u);
+    EXPECT_EQ(driven.report().updates[0].applied_readings[0].reading, f.observation);
   }
   EXPECT_DOUBLE_EQ(pipeline.next_time_s(), 4 * (1.0 / 10.0));
-  EXPECT_GT(pipeline.map().size(), 100u);
+  EXPECT_GT(driven.map().size(), 100u);
   // The costmap is lethal along the wall's face only (cells of x 2.45..2.55).
-  const mapping::Costmap2D costmap = pipeline.costmap();
+  const mapping::Costmap2D costmap = driven.costmap();
   int lethal = 0;
   for (int iy = 0; iy < costmap.height; ++iy)
     for (int ix = 0; ix < costmap.width; ++ix)
@@ -80,23 +116,28 @@ TEST_F(PipelineTest, FramesAtTheCameraRateThroughEveryStage) {
   EXPECT_GT(lethal, 10);
 }
 
-TEST_F(PipelineTest, TheHookSeesTheMapBeforeTheFramesUpdate) {
-  Pipeline pipeline(config());
-  std::vector<std::size_t> before;
-  for (int k = 0; k < 3; ++k) {
-    pipeline.step([&](const FrameResult& f, const mapping::VoxelMap& map) {
-      EXPECT_EQ(f.frame_index, static_cast<std::size_t>(k));
-      before.push_back(map.size());
-    });
-  }
-  EXPECT_EQ(before[0], 0u);  // nothing marked before the first frame
-  EXPECT_GT(before[1], 0u);
+// The frame gives every camera's state at that moment: its optical frame now and when its next frame is due.
+TEST_F(PipelineTest, EachFrameSaysWhereEveryCameraStandsAndWhenItsNextFrameIsDue) {
+  PipelineConfig c = config();
+  c.cameras.push_back(c.cameras.front());
+  c.cameras.back().name = c.cameras.back().sources.front().name = "slow";
+  c.cameras.back().intrinsics.rate_hz = 5.0;
+  Pipeline pipeline(c);
+  const Frame& first = pipeline.step();  // camera 0 at 0: next 0.1; camera 1 still due at 0
+  ASSERT_EQ(first.cameras_now.size(), 2u);
+  EXPECT_NEAR(first.cameras_now[0].next_frame_time_s, 0.1, 1e-12);
+  EXPECT_EQ(first.cameras_now[1].next_frame_time_s, 0.0);
+  EXPECT_TRUE(first.cameras_now[0].T_world_camera.isApprox(first.T_world_camera, 0.0));
+  const Frame& second = pipeline.step();  // camera 1 at 0: next 0.2
+  EXPECT_EQ(second.camera_index, 1u);
+  EXPECT_NEAR(second.cameras_now[1].next_frame_time_s, 0.2, 1e-12);
+  EXPECT_TRUE(second.cameras_now[1].T_world_camera.isApprox(second.T_world_camera, 0.0));
 }
 
 TEST_F(PipelineTest, SameConfigSameMap) {
   PipelineConfig c = config();
   c.cameras.front().noise.enabled = true;
-  Pipeline a(c), b(c);
+  Driven a(c), b(c);
   for (int k = 0; k < 3; ++k) {
     a.step();
     b.step();
@@ -169,12 +210,12 @@ TEST_F(PipelineTest, CamerasAtTheirOwnRatesInterleaveInSimulatedTime) {
   PipelineConfig c = config();
   c.cameras.push_back(looking_back(c.cameras.front()));
   c.cameras.back().intrinsics.rate_hz = 5.0;
-  Pipeline pipeline(c);
+  Driven pipeline(c);
   // Ties go to the lower index: front 0, back 0, front 0.1, front 0.2, back 0.2, front 0.3.
   const std::vector<std::pair<std::string, double>> expected{{"camera", 0.0}, {"back", 0.0}, {"camera", 0.1},
                                                              {"camera", 0.2}, {"back", 0.2}, {"camera", 0.3}};
   for (const auto& [name, time_s] : expected) {
-    const FrameResult& f = pipeline.step();
+    const Frame& f = pipeline.step();
     EXPECT_EQ(f.camera, name);
     EXPECT_NEAR(f.time_s, time_s, 1e-12);
     ASSERT_GT(f.point_count, 0);
@@ -206,11 +247,11 @@ TEST_F(PipelineTest, CamerasOfOneInstantDrawnTogetherGiveTheFramesOfOneAfterAnot
   side.name = side.sources.front().name = "side";
   side.mount.yaw_rad = 0.6;
   c.cameras.push_back(side);
-  Pipeline together(c), apart(c);
-  apart.set_draw_ahead(false);
+  Driven together(c), apart(c);
+  apart.pipeline().set_draw_ahead(false);
   for (int k = 0; k < 12; ++k) {
-    const FrameResult& a = together.step();
-    const FrameResult& b = apart.step();
+    const Frame& a = together.step();
+    const Frame& b = apart.step();
     ASSERT_EQ(a.camera, b.camera);
     ASSERT_EQ(a.time_s, b.time_s);
     EXPECT_TRUE(a.T_world_camera.isApprox(b.T_world_camera, 0.0));
@@ -224,19 +265,19 @@ TEST_F(PipelineTest, CamerasOfOneInstantDrawnTogetherGiveTheFramesOfOneAfterAnot
 }
 
 TEST_F(PipelineTest, MarkingAndClearingSourcesOnOneCameraKeepTheirOwnParameters) {
-  Pipeline both(config());
+  Driven both(config());
   PipelineConfig split = config();
   SourceConfig mark = split.cameras.front().sources.front(), clear = mark;
   mark.name = "mark", mark.params.clearing = false;
   clear.name = "clear", clear.params.marking = false, clear.params.obstacle_range_m = 1.0;
   split.cameras.front().sources = {mark, clear};
-  Pipeline separate(split);
+  Driven separate(split);
   PipelineConfig clear_only = split;
   clear_only.cameras.front().sources = {clear};
-  Pipeline no_marks(clear_only);
+  Driven no_marks(clear_only);
   PipelineConfig short_range = split;
   short_range.cameras.front().sources.front().params.obstacle_range_m = 2.0;  // the wall is 2.4 m away
-  Pipeline too_short(short_range);
+  Driven too_short(short_range);
   for (int k = 0; k < 3; ++k) both.step(), separate.step(), no_marks.step(), too_short.step();
   // A static scene and no decay acceleration: the marking source alone decides the map.
   ASSERT_GT(both.map().size(), 100u);
@@ -252,10 +293,10 @@ TEST_F(PipelineTest, EachCameraHasItsOwnNoise) {
   twin.name = twin.sources.front().name = "twin";
   c.cameras.push_back(twin);
   Pipeline pipeline(c);
-  const FrameResult& a = pipeline.step();
+  const Frame& a = pipeline.step();
   const std::vector<float> clean_a(a.clean_depth.depth_m.begin(), a.clean_depth.depth_m.end());
   const std::vector<float> noisy_a(a.depth.depth_m.begin(), a.depth.depth_m.end());
-  const FrameResult& b = pipeline.step();
+  const Frame& b = pipeline.step();
   EXPECT_EQ(b.camera, "twin");
   EXPECT_EQ(std::vector<float>(b.clean_depth.depth_m.begin(), b.clean_depth.depth_m.end()), clean_a);  // same view
   EXPECT_NE(std::vector<float>(b.depth.depth_m.begin(), b.depth.depth_m.end()), noisy_a);              // other noise
@@ -263,7 +304,7 @@ TEST_F(PipelineTest, EachCameraHasItsOwnNoise) {
   PipelineConfig one = config();
   one.cameras.front().noise.enabled = true;
   Pipeline alone(one);
-  const FrameResult& solo = alone.step();
+  const Frame& solo = alone.step();
   EXPECT_EQ(std::vector<float>(solo.depth.depth_m.begin(), solo.depth.depth_m.end()), noisy_a);
 }
 
@@ -277,12 +318,12 @@ TEST_F(PipelineTest, TheEdgeFilterThinsTheCloudNotTheCamerasImage) {
   const auto& k = off.cameras.front().intrinsics;
   on.cameras.front().edge_filter.max_jump_at_1m_m = 8.0 * on.cameras.front().noise.subpixel / (k.fx * on.cameras.front().noise.baseline_m);
   Pipeline a(off), b(on);
-  const FrameResult& fa = a.step();
+  const Frame& fa = a.step();
   const std::vector<float> noisy(fa.depth.depth_m.begin(), fa.depth.depth_m.end());
   const Eigen::Index points_off = fa.point_count;
   EXPECT_TRUE(fa.edge_filtered_depth.depth_m.empty());
   EXPECT_EQ(fa.edge_dropped_pixels, 0u);
-  const FrameResult& fb = b.step();
+  const Frame& fb = b.step();
   // The camera's image is the same; the wall and the floor are planes far from the optical centre and the view
   // has no depth edge, so 8 sigma keep nearly every pixel of the noisy image.
   EXPECT_EQ(std::vector<float>(fb.depth.depth_m.begin(), fb.depth.depth_m.end()), noisy);
@@ -292,7 +333,7 @@ TEST_F(PipelineTest, TheEdgeFilterThinsTheCloudNotTheCamerasImage) {
   // A threshold far below the noise drops most pixels: the cloud comes from the filtered image.
   on.cameras.front().edge_filter.max_jump_at_1m_m = 1e-4;
   Pipeline c(on);
-  const FrameResult& fc = c.step();
+  const Frame& fc = c.step();
   EXPECT_EQ(std::vector<float>(fc.depth.depth_m.begin(), fc.depth.depth_m.end()), noisy);
   EXPECT_GT(double(fc.edge_dropped_pixels), 0.5 * double(points_off));
   EXPECT_EQ(fc.point_count + Eigen::Index(fc.edge_dropped_pixels), points_off);
@@ -311,14 +352,14 @@ TEST_F(PipelineTest, NoFrameOfACameraInsideItsOutage) {
   PipelineConfig c = config();  // 10 Hz
   c.cameras.front().outages = {{0.15, 0.45}};
   c.cameras.front().sources.front().params.expected_update_rate_s = 0.2;
-  Pipeline pipeline(c);
+  Driven pipeline(c);
   std::vector<double> taken;
   for (int k = 0; k < 4; ++k) taken.push_back(pipeline.step().time_s);
   EXPECT_NEAR(taken[0], 0.0, 1e-12);
   EXPECT_NEAR(taken[1], 0.1, 1e-12);
   EXPECT_NEAR(taken[2], 0.5, 1e-12);  // 0.2, 0.3, 0.4 fall in [0.15, 0.45)
   EXPECT_NEAR(taken[3], 0.6, 1e-12);
-  EXPECT_EQ(pipeline.skipped_frames(0), 3u);
+  EXPECT_EQ(pipeline.pipeline().skipped_frames(0), 3u);
   // expected_update_rate 0.2 s: not current from 0.1 + 0.2 until the frame at 0.5.
   const auto status = pipeline.source_status(0.6);
   ASSERT_EQ(status.size(), 1u);
@@ -339,11 +380,12 @@ TEST_F(PipelineTest, AStoppedCamerasLastReadingIsAppliedAgainAtEveryUpdate) {
   PipelineConfig c = config();
   c.cameras.push_back(looking_back(c.cameras.front()));
   c.cameras.front().outages = {{0.15, 0.45}};  // front: 0, 0.1, then 0.5; back: every 0.1 s
-  Pipeline pipeline(c);
+  Driven pipeline(c);
   std::vector<std::pair<std::string, std::size_t>> got;
   for (int k = 0; k < 8; ++k) {
-    const FrameResult& f = pipeline.step();
-    got.emplace_back(f.camera + "@" + std::to_string(static_cast<int>(std::lround(f.time_s * 10))), f.reapplied_readings);
+    const Frame& f = pipeline.step();
+    got.emplace_back(f.camera + "@" + std::to_string(static_cast<int>(std::lround(f.time_s * 10))),
+                     pipeline.report().reapplied_readings);
   }
   // STVL applies every buffer at every update: the back camera's updates at 0.2, 0.3, 0.4 apply the front's
   // reading of 0.1 again (its clouds and its frustum at the 0.1 s pose); none before the front missed a frame.
@@ -361,27 +403,27 @@ TEST_F(PipelineTest, AStoppedCamerasLastReadingIsAppliedAgainAtEveryUpdate) {
   three.cameras.push_back(looking_back(c.cameras.front()));
   three.cameras.back().name = three.cameras.back().sources.front().name = "back2";
   three.cameras.back().outages.clear();
-  Pipeline shared(three);
+  Driven shared(three);
   std::size_t reapplied = 0;
-  while (shared.next_time_s() < 0.45) reapplied += shared.step().reapplied_readings;
+  while (shared.pipeline().next_time_s() < 0.45) reapplied += shared.step_reapplied();
   EXPECT_EQ(reapplied, 3u);  // at 0.2, 0.3 and 0.4, not twice at each
-  // drop_when_not_current (ours): not applied once the source is not current.
+  // drop_when_not_current (the bench's): not applied once the source is not current.
   c.cameras.front().sources.front().params.expected_update_rate_s = 0.15;
   c.cameras.front().sources.front().params.drop_when_not_current = true;
-  Pipeline dropping(c);
+  Driven dropping(c);
   reapplied = 0;
-  while (dropping.next_time_s() < 0.45) reapplied += dropping.step().reapplied_readings;
+  while (dropping.pipeline().next_time_s() < 0.45) reapplied += dropping.step_reapplied();
   EXPECT_EQ(reapplied, 1u);  // at 0.2 (0.1 s old, current); at 0.3 and 0.4 it is not
 }
 
 TEST_F(PipelineTest, ObservationPersistenceAppliesTheLastReadingsAgain) {
   PipelineConfig c = config();
   c.cameras.front().sources.front().params.observation_persistence_s = 0.25;
-  Pipeline pipeline(c);
+  Driven pipeline(c);
   const std::vector<std::size_t> expected{0, 1, 2, 2, 2};  // readings within 0.25 s of the newest
-  for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_EQ(pipeline.step().reapplied_readings, expected[k]) << k;
-  Pipeline latest_only(config());
-  for (int k = 0; k < 5; ++k) EXPECT_EQ(latest_only.step().reapplied_readings, 0u);
+  for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_EQ(pipeline.step_reapplied(), expected[k]) << k;
+  Driven latest_only(config());
+  for (int k = 0; k < 5; ++k) EXPECT_EQ(latest_only.step_reapplied(), 0u);
 }
 
 }  // namespace

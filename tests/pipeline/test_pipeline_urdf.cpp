@@ -48,7 +48,7 @@ TEST_F(PipelineUrdfTest, TheCameraSitsAtItsUrdfLinkAndSeesTheWall) {
   Pipeline pipeline(c);
   const Eigen::Isometry3d T_base_optical = c.urdf_robot->urdf.T_root_link("camera_depth_optical_frame");
   for (int k = 0; k < 6; ++k) {
-    const FrameResult& f = pipeline.step();
+    const Frame& f = pipeline.step();
     ASSERT_TRUE(f.robot_upright);
     EXPECT_TRUE(f.T_world_camera.isApprox(f.T_world_base * T_base_optical, 1e-9)) << k;
     EXPECT_NEAR(f.T_world_base.translation().y(), 0.0, 1e-3);  // the kinematic drive keeps to the path

@@ -1,12 +1,17 @@
-#include "mapping/nav2_costmap.hpp"
+#include "layer/nav2_costmap.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-namespace stvl::mapping {
+namespace stvl::layer {
 namespace {
+
+using mapping::Costmap2D;
+using mapping::kCostFree;
+using mapping::kCostLethal;
+using mapping::kCostUnknown;
 
 void reject(const std::string& key, double value, const std::string& why) {
   throw std::invalid_argument("nav2_costmap." + key + " = " + std::to_string(value) + ": " + why);
@@ -123,4 +128,12 @@ std::size_t Nav2Costmap::ghost_cells(const Costmap2D& layer) const {
   return ghosts;
 }
 
-}  // namespace stvl::mapping
+void Nav2Costmap::count_ghosts(double time_s, const Costmap2D& layer) {
+  const std::size_t ghosts = ghost_cells(layer);
+  ++ghosts_.updates;
+  ghosts_.updates_with_ghosts += ghosts > 0;
+  ghosts_.last_cells = ghosts;
+  if (ghosts > ghosts_.max_cells) ghosts_.max_cells = ghosts, ghosts_.max_at_s = time_s;
+}
+
+}  // namespace stvl::layer

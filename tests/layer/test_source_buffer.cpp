@@ -1,15 +1,15 @@
 // STVL's measurement buffer on hand-made times: what an update applies, when a source is current.
-#include "pipeline/source_buffer.hpp"
+#include "layer/source_buffer.hpp"
 
 #include <gtest/gtest.h>
 
 #include <vector>
 
-namespace stvl::pipeline {
+namespace stvl::layer {
 namespace {
 
-std::shared_ptr<const SourceReading> at(double time_s) {
-  auto r = std::make_shared<SourceReading>();
+std::shared_ptr<const Observation> at(double time_s) {
+  auto r = std::make_shared<Observation>();
   r->time_s = time_s;
   return r;
 }
@@ -60,4 +60,4 @@ TEST(SourceBuffer, StaleSpanBetweenTwoReadings) {
 }
 
 }  // namespace
-}  // namespace stvl::pipeline
+}  // namespace stvl::layer

@@ -1,37 +1,15 @@
-#include "pipeline/source_buffer.hpp"
+#include "layer/observation.hpp"
 
+#include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "filter/passthrough.hpp"
 
-namespace stvl::pipeline {
+namespace stvl::layer {
 
-void SourceBuffer::receive(std::shared_ptr<const SourceReading> reading) {
-  last_updated_s_ = reading->time_s;
-  readings_.push_front(std::move(reading));
-  if (persistence_s_ <= 0.0) {
-    readings_.resize(1);
-    return;
-  }
-  // Ages from the last reading (STVL's _last_updated), newest first: drop from the first one too old.
-  while (readings_.size() > 1 && last_updated_s_ - readings_.back()->time_s > persistence_s_) readings_.pop_back();
-}
-
-bool source_current(double now_s, double last_updated_s, double expected_update_rate_s) {
-  return expected_update_rate_s <= 0.0 || now_s - last_updated_s <= expected_update_rate_s;
-}
-
-bool SourceBuffer::current(double now_s) const {
-  return source_current(now_s, last_updated_s_, expected_update_rate_s_);
-}
-
-std::optional<StaleSpan> stale_span(double last_s, double next_s, double expected_update_rate_s) {
-  if (expected_update_rate_s <= 0.0 || next_s - last_s <= expected_update_rate_s) return std::nullopt;
-  return StaleSpan{last_s + expected_update_rate_s, next_s};
-}
-
-Eigen::Matrix3Xf source_marking_W(const SourceReading& reading, const mapping::ObservationSource& source) {
+Eigen::Matrix3Xf source_marking_W(const Observation& reading, const mapping::ObservationSource& source) {
   if (!source.marking) return Eigen::Matrix3Xf(3, 0);
   if (!source.height_band) return reading.marking_W;
   const double min_m = source.min_obstacle_height_m, max_m = source.max_obstacle_height_m;
@@ -54,4 +32,19 @@ Eigen::Matrix3Xf source_marking_W(const SourceReading& reading, const mapping::O
   return out;
 }
 
-}  // namespace stvl::pipeline
+HeightBand marking_band(const std::vector<SensorConfig>& sensors) {
+  std::optional<HeightBand> band;
+  for (const auto& sensor : sensors)
+    for (const auto& source : sensor.sources) {
+      if (!source.params.marking) continue;
+      if (!band) band = HeightBand{source.params.min_obstacle_height_m, source.params.max_obstacle_height_m};
+      band->min_m = std::min(band->min_m, source.params.min_obstacle_height_m);
+      band->max_m = std::max(band->max_m, source.params.max_obstacle_height_m);
+    }
+  if (band) return *band;
+  if (sensors.empty() || sensors.front().sources.empty()) return {};
+  const auto& first = sensors.front().sources.front().params;
+  return {first.min_obstacle_height_m, first.max_obstacle_height_m};
+}
+
+}  // namespace stvl::layer

@@ -1,6 +1,6 @@
 #pragma once
-// nav2's master costmap with STVL as its layer, as nav2_costmap_2d and STVL compute it each cycle (ours to model;
-// STVL #199): LayeredCostmap::updateMap moves the rolling window to the robot (Costmap2D::updateOrigin: whole
+// nav2's master costmap fed by a layer (STVL's today), as nav2_costmap_2d and STVL compute it each cycle (STVL
+// #199): LayeredCostmap::updateMap moves the rolling window to the robot (Costmap2D::updateOrigin: whole
 // cells, the overlap kept, new cells the default), collects the layer's bounds, resets the master only inside
 // them (resetMap) and combines the layer there (CostmapLayer::updateWithMax, combination_method 1, or
 // updateWithOverwrite, 0). STVL's layer rebuilds its own grid every cycle (resetMaps, then LETHAL where a column
@@ -14,7 +14,8 @@
 
 #include "mapping/costmap.hpp"
 
-namespace stvl::mapping {
+namespace stvl::layer {
+
 
 struct Nav2CostmapConfig {
   double width_m = 0.0;   // YAML map.nav2_costmap.width_m (nav2's width); 0: not modelled
@@ -28,6 +29,13 @@ struct Nav2CostmapConfig {
   void validate() const;  // throws std::invalid_argument naming the key
 };
 
+// The master's ghosts over a run: after each update, the cells lethal in the master where the layer is not
+// (STVL #199).
+struct Nav2Ghosts {
+  std::size_t updates = 0, updates_with_ghosts = 0, max_cells = 0, last_cells = 0;
+  double max_at_s = 0.0;  // the first update with max_cells
+};
+
 class Nav2Costmap {
  public:
   // The window starts at the origin; the first update() moves it to the robot (rolling) or leaves it there.
@@ -35,22 +43,26 @@ class Nav2Costmap {
 
   // Moves the window so that the robot at robot_W is in its middle (rolling window; nav2 first, then STVL's own
   // grid, by the same whole cells) and returns the layer's empty grid there: origin, size, resolution.
-  Costmap2D window_at(const Eigen::Vector2d& robot_W);
+  mapping::Costmap2D window_at(const Eigen::Vector2d& robot_W);
   // One cycle after window_at(): layer is STVL's grid on that window (kCostLethal where a column counts, the
   // footprint freed, the rest free); cleared_W the x, y of every voxel the update removed; footprint_W the
   // footprint's vertices (empty without update_footprint_enabled).
-  void update(const Costmap2D& layer, const std::vector<Eigen::Vector2d>& cleared_W,
+  void update(const mapping::Costmap2D& layer, const std::vector<Eigen::Vector2d>& cleared_W,
               const std::vector<Eigen::Vector2d>& footprint_W);
   // The master costmap as the last update left it.
-  const Costmap2D& master() const { return master_; }
+  const mapping::Costmap2D& master() const { return master_; }
   // Master cells lethal where the layer is not: cells nav2 keeps that STVL no longer has (ghosts).
-  std::size_t ghost_cells(const Costmap2D& layer) const;
+  std::size_t ghost_cells(const mapping::Costmap2D& layer) const;
   const Nav2CostmapConfig& config() const { return config_; }
+  // After update(): counts the ghosts against the same layer at time_s into ghosts().
+  void count_ghosts(double time_s, const mapping::Costmap2D& layer);
+  const Nav2Ghosts& ghosts() const { return ghosts_; }
 
  private:
+  Nav2Ghosts ghosts_;
   Nav2CostmapConfig config_;
-  Costmap2D master_;
+  mapping::Costmap2D master_;
   std::uint8_t default_value_;
 };
 
-}  // namespace stvl::mapping
+}  // namespace stvl::layer

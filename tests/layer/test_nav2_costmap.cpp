@@ -1,12 +1,17 @@
-// nav2's master costmap with STVL as its layer (mapping/nav2_costmap.hpp) on hand-made layers: the master resets
+// nav2's master costmap with STVL as its layer (layer/nav2_costmap.hpp) on hand-made layers: the master resets
 // only inside the bounds STVL touches, so a cell STVL stops marking stays lethal unless its cleared voxel touches
 // it (STVL #199, fixed by #200/#203); the rolling window keeps what overlaps and starts new cells at the default.
-#include "mapping/nav2_costmap.hpp"
+#include "layer/nav2_costmap.hpp"
 
 #include <gtest/gtest.h>
 
-namespace stvl::mapping {
+namespace stvl::layer {
 namespace {
+
+using mapping::Costmap2D;
+using mapping::kCostFree;
+using mapping::kCostLethal;
+using mapping::kCostUnknown;
 
 Nav2CostmapConfig small(bool touch_cleared) {
   Nav2CostmapConfig c;
@@ -33,6 +38,14 @@ TEST(Nav2Costmap, AnObstacleThatLeavesStaysLethalUnlessItsCellIsTouched) {
     nav2.update(layer, {{0.25, 0.35}}, {});
     EXPECT_EQ(get(nav2.master(), 2, 3), touch ? kCostFree : kCostLethal) << touch;
     EXPECT_EQ(nav2.ghost_cells(layer), touch ? 0u : 1u);
+    // The run's record of ghosts: one update without, then this one.
+    nav2.count_ghosts(0.5, layer);
+    nav2.count_ghosts(1.0, layer);
+    EXPECT_EQ(nav2.ghosts().updates, 2u);
+    EXPECT_EQ(nav2.ghosts().updates_with_ghosts, touch ? 0u : 2u);
+    EXPECT_EQ(nav2.ghosts().max_cells, touch ? 0u : 1u);
+    EXPECT_EQ(nav2.ghosts().max_at_s, touch ? 0.0 : 0.5);  // the first update with the most
+    EXPECT_EQ(nav2.ghosts().last_cells, touch ? 0u : 1u);
   }
 }
 
@@ -105,4 +118,4 @@ TEST(Nav2Costmap, BadConfigNamesTheKey) {
 }
 
 }  // namespace
-}  // namespace stvl::mapping
+}  // namespace stvl::layer

@@ -17,22 +17,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "mapping/config.hpp"
+#include "layer/observation.hpp"
 
-namespace stvl::pipeline {
-
-// One camera frame as its sources keep it: the pose and clouds the map update used.
-struct SourceReading {
-  double time_s = 0;
-  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
-  Eigen::Matrix3Xf decimated_W, marking_W, no_return_W;
-  Eigen::Matrix3Xf marking_B;  // marking_W in base_link, with a band there (FrameResult::marking_B); else empty
-};
-
-// What STVL's buffer of `source` hands Mark from the reading: nothing for a source that does not mark, the
-// marking cloud without a band (filter none), or the points inside the source's band (inclusive), its z in the
-// world or, with z_reference base_link, in base_link (reading.marking_B, which must then match marking_W).
-Eigen::Matrix3Xf source_marking_W(const SourceReading& reading, const mapping::ObservationSource& source);
+namespace stvl::layer {
 
 class SourceBuffer {
  public:
@@ -42,9 +29,9 @@ class SourceBuffer {
         last_updated_s_(created_s) {}
 
   // A reading (not null) arrives at its time_s (its own time: the bench has no transport delay).
-  void receive(std::shared_ptr<const SourceReading> reading);
+  void receive(std::shared_ptr<const Observation> reading);
   // What an update applies: newest first.
-  const std::deque<std::shared_ptr<const SourceReading>>& readings() const { return readings_; }
+  const std::deque<std::shared_ptr<const Observation>>& readings() const { return readings_; }
   bool current(double now_s) const;  // source_current() at now_s with this buffer's times
   // The newest reading's time (created_s before any), and the expected update period (seconds; 0: always current).
   double last_updated_s() const { return last_updated_s_; }
@@ -52,7 +39,7 @@ class SourceBuffer {
 
  private:
   double persistence_s_, expected_update_rate_s_, last_updated_s_;
-  std::deque<std::shared_ptr<const SourceReading>> readings_;
+  std::deque<std::shared_ptr<const Observation>> readings_;
 };
 
 // STVL's check: current when now_s - last_updated_s <= expected_update_rate_s, or the rate is 0.
@@ -66,4 +53,4 @@ struct StaleSpan {
 // That span, or nullopt when it is empty or the rate is 0.
 std::optional<StaleSpan> stale_span(double last_s, double next_s, double expected_update_rate_s);
 
-}  // namespace stvl::pipeline
+}  // namespace stvl::layer

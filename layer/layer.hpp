@@ -1,0 +1,91 @@
+#pragma once
+// A costmap layer as nav2 sees one: fed the observations of its sensors, it keeps their buffers and its own update
+// clock, updates its voxels (or cells) at its ticks, and gives its costmap as it would publish it. The frame loop
+// (run/) calls update() once per observation; a layer calls nothing back.
+//
+//   layer::StvlLayer layer(config);
+//   layer::UpdateReport report;
+//   layer.update(observation, sensors_now, report);   // per observation, in stamp order
+//   layer.costmap();                                  // what it would publish now
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/voxel_key.hpp"
+#include "layer/nav2_costmap.hpp"
+#include "layer/observation.hpp"
+#include "layer/source_buffer.hpp"
+#include "mapping/costmap.hpp"
+#include "mapping/voxel_map.hpp"
+
+namespace stvl::layer {
+
+// One observation a layer update took: which sensor and source, and the buffered observation.
+struct AppliedReading {
+  std::size_t sensor_index = 0, source_index = 0;
+  std::shared_ptr<const Observation> reading;
+};
+
+// One update of the layer: its time and every reading it took, in the order STVL's layer takes them (sensors in
+// order, each sensor's sources in order, each buffer newest first).
+struct LayerUpdate {
+  double time_s = 0;
+  std::vector<AppliedReading> applied_readings;
+};
+
+// What one observation made the layer do.
+struct UpdateReport {
+  // The updates it ran, in time order: with update_frequency the ticks since the last observation (earlier than its
+  // stamp), then the one at its stamp when that is a tick; otherwise at most one, at its stamp. Empty when the
+  // observation only went into the buffers (another sensor's frame of the same instant follows, or the next tick
+  // is later).
+  std::vector<LayerUpdate> updates;
+  bool map_updated() const { return !updates.empty(); }
+  // Voxels the updates' clearing removed: the rays (ray-cast mode) or the frustum's acceleration (frustum mode), and
+  // those of the footprint voxel clearing; not those that expired by plain decay.
+  std::vector<VoxelKey> cleared_keys;
+  std::size_t footprint_voxels_cleared = 0;  // voxels removed inside the robot's footprint (clear_footprint_voxels_below)
+  // Readings of earlier frames the updates applied again from the buffers (observation_persistence, or a stopped
+  // sensor's buffer, as STVL applies every buffer at every update).
+  std::size_t reapplied_readings = 0;
+  // Wall-clock milliseconds of clearing (with the buffering) and marking (with the footprint voxel clearing), and
+  // the process's CPU milliseconds (all threads) over both.
+  double clear_ms = 0, mark_ms = 0, cpu_ms = 0;
+};
+
+// One observation source's record over the run: when it was not current (STVL's expected_update_rate) and what its
+// buffer applied again.
+struct SourceStatus {
+  std::string source;
+  std::size_t camera_index = 0;
+  double expected_update_rate_s = 0;
+  std::vector<StaleSpan> stale;        // in time order; the last one may end at the time asked for (still stale)
+  std::size_t reapplied_readings = 0;  // readings applied at a later update than their own frame's
+  double max_reapplied_age_s = 0;      // the oldest of those at the update that applied it
+  double reapplied_max_distance_m = 0;  // farthest a re-applied reading's optical centre lay from the camera's pose then
+};
+
+class Layer {
+ public:
+  virtual ~Layer() = default;
+
+  // Takes one observation (not null) at its stamp, with every sensor's state now (one per sensor): buffers it and
+  // runs the updates due by then; `report` is overwritten.
+  virtual void update(std::shared_ptr<const Observation> observation, const std::vector<SensorNow>& sensors,
+                      UpdateReport& report) = 0;
+  // The voxels the layer holds, as the last update left them.
+  virtual const mapping::VoxelMap& voxels() const = 0;
+  // The layer's costmap as it would publish it now: its projection, with its footprint freed at the robot's pose
+  // of the last observation.
+  virtual mapping::Costmap2D costmap() const = 0;
+  // Every source's status (sensors in order, their sources in order), spans of staleness closed at until_s.
+  virtual std::vector<SourceStatus> source_status(double until_s) const = 0;
+  // nav2's master costmap this layer feeds (map.nav2_costmap), as the last update left it; null when not modelled.
+  const Nav2Costmap* master() const { return master_.get(); }
+
+ protected:
+  std::unique_ptr<Nav2Costmap> master_;
+};
+
+}  // namespace stvl::layer
