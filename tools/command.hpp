@@ -1,7 +1,7 @@
 #pragma once
 // Subcommands of `stvl-bench` register themselves from their own cmd_*.cpp file:
 //
-//   const stvl::cli::CommandRegistration kRender{"render", [](CLI::App& app) {
+//   const stvl::tools::CommandRegistration kRender{"render", [](CLI::App& app) {
 //     auto* cmd = app.add_subcommand("render", "...");
 //     auto options = std::make_shared<RenderOptions>();
 //     cmd->add_option("--world", options->world_path)->required();
@@ -16,7 +16,7 @@
 #include <functional>
 #include <string>
 
-namespace stvl::cli {
+namespace stvl::tools {
 
 constexpr int kExitOk = 0;
 constexpr int kExitCheckFailed = 1;
@@ -38,4 +38,4 @@ struct CommandRegistration {
   CommandRegistration(std::string name, CommandSetup setup);
 };
 
-}  // namespace stvl::cli
+}  // namespace stvl::tools

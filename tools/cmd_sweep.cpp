@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "config/scenario.hpp"
 #include "analysis/sweep.hpp"
 #include "analysis/sweep_page.hpp"
 #include "common/atomic_file.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 using namespace stvl::analysis;
 namespace {
@@ -148,4 +148,4 @@ const CommandRegistration kSweep{"sweep", [](CLI::App& app) {
 }};
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -4,14 +4,14 @@
 #include <stdexcept>
 #include <string>
 
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "common/staged_directory.hpp"
 #include "config/ros_binding.hpp"
 #include "recording/bag_writer.hpp"
 #include "report/report.hpp"
 #include "run/runner.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 using namespace stvl::run;
 using namespace stvl::report;
@@ -146,4 +146,4 @@ const CommandRegistration kRun{"run", [](CLI::App& app) {
 }};
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -11,14 +11,14 @@
 #include <optional>
 #include <sstream>
 
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "common/atomic_file.hpp"
 #include "common/staged_directory.hpp"
 #include "sim/world.hpp"
 #include "worldgen/map_world.hpp"
 #include "worldgen/office_generator.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 namespace {
 
 namespace fs = std::filesystem;
@@ -111,4 +111,4 @@ const CommandRegistration kWorld{"world", [](CLI::App& app) {
 }};
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -6,10 +6,10 @@
 #include <vector>
 
 #include "common/atomic_file.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "analysis/compare.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::analysis;
 namespace {
 
@@ -54,4 +54,4 @@ const CommandRegistration kCompare{"compare", [](CLI::App& app) {
 }};
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

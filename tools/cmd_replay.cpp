@@ -1,5 +1,5 @@
 // stvl-bench replay RECORDING [--out DIR] [--scenario FILE | --params ROS.yaml] ...: recorded depth through the
-// same filter and map as a run (tools/replay.hpp).
+// same filter and map as a run (run/replay.hpp).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,14 +9,14 @@
 #include <string>
 
 #include "sim/diff_drive.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "report/report.hpp"
 #include "run/replay.hpp"
 #include "config/ros_binding.hpp"
 #include "config/ros_params.hpp"
 #include "config/scenario.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 using namespace stvl::run;
 using namespace stvl::report;
@@ -166,4 +166,4 @@ const CommandRegistration kReplay{"replay", [](CLI::App& app) {
 }};
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

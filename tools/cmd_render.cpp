@@ -8,10 +8,10 @@
 #include "sensors/depth_renderer.hpp"
 #include "sim/simulator.hpp"
 #include "common/atomic_file.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "config/scenario.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 namespace {
 
@@ -90,4 +90,4 @@ const CommandRegistration kRender{"render", [](CLI::App& app) {
 }};
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -3,11 +3,11 @@
 #include <cstdio>
 #include <memory>
 
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "config/ros_lint.hpp"
 #include "config/ros_params_detail.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 namespace {
 
@@ -47,4 +47,4 @@ const CommandRegistration kLint{"lint", [](CLI::App& app) {
 }};
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

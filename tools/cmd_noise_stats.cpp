@@ -15,12 +15,12 @@
 #include "recording/recording.hpp"
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "analysis/noise_stats.hpp"
 
 #include <unistd.h>
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::analysis;
 namespace {
 
@@ -174,4 +174,4 @@ const CommandRegistration kNoiseStats{"noise-stats", [](CLI::App& app) {
 }};
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools
