@@ -102,7 +102,7 @@ int filter_bench(const FilterBenchCli& o) {
   return tools::kExitOk;
 }
 
-const tools::CommandRegistration kFilterBench{"filter-bench", [](CLI::App& app) {
+const tools::CommandRegistration kFilterBench("filter-bench", [](CLI::App& app) {
   auto o = std::make_shared<FilterBenchCli>();
   auto* cmd = app.add_subcommand("filter-bench", "Benchmark the filters on clouds rendered from the corridor");
   cmd->add_option("--scenario", o->scenario, "Scenario whose world, path and camera make the clouds (default: the default scenario)");
@@ -116,7 +116,7 @@ const tools::CommandRegistration kFilterBench{"filter-bench", [](CLI::App& app) 
   cmd->add_option("--peer", o->peer, "pcl: also run PCL's VoxelGrid on the same clouds (needs libpcl-dev)");
   cmd->add_option("--save-clouds", o->save_clouds, "Also save the clouds as .stvlcld files in this directory");
   return [o] { return filter_bench(*o); };
-}};
+});
 
 }  // namespace
 }  // namespace stvl::bench

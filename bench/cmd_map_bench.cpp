@@ -13,7 +13,7 @@ struct MapBenchCli {
   bool no_octomap = false;
 };
 
-const tools::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) {
+const tools::CommandRegistration kMapBench("map-bench", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("map-bench", "per-frame mark/clear cost of the voxel map vs map size, with peers");
   auto cli = std::make_shared<MapBenchCli>();
   cmd->add_option("--voxel-size", cli->options.voxel_size_m, "voxel size in m");
@@ -27,7 +27,7 @@ const tools::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) {
     print_map_bench(run_map_bench(cli->options), std::cout);
     return tools::kExitOk;
   };
-}};
+});
 
 }  // namespace
 }  // namespace stvl::bench

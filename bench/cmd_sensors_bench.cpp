@@ -7,7 +7,7 @@
 namespace stvl::bench {
 namespace {
 
-const tools::CommandRegistration kSensorsBench{"sensors-bench", [](CLI::App& app) {
+const tools::CommandRegistration kSensorsBench("sensors-bench", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("sensors-bench", "Depth frames per second per GL backend, render only and with noise and cloud");
   auto o = std::make_shared<SensorsBenchOptions>();
   cmd->add_option("--world", o->world_path, "MJCF world to render (default: a built-in corridor)");
@@ -17,7 +17,7 @@ const tools::CommandRegistration kSensorsBench{"sensors-bench", [](CLI::App& app
     run_sensors_bench(*o);
     return tools::kExitOk;
   };
-}};
+});
 
 }  // namespace
 }  // namespace stvl::bench

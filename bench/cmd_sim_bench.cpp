@@ -8,7 +8,7 @@
 namespace stvl::bench {
 namespace {
 
-const tools::CommandRegistration kSimBench{"sim-bench", [](CLI::App& app) {
+const tools::CommandRegistration kSimBench("sim-bench", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("sim-bench", "Physics throughput: steps per second with the robot driving the corridor");
   auto o = std::make_shared<SimBenchOptions>();
   o->world_path = std::string(STVL_SOURCE_DIR) + "/worlds/office_corridor.xml";
@@ -18,7 +18,7 @@ const tools::CommandRegistration kSimBench{"sim-bench", [](CLI::App& app) {
     print_sim_bench(*o, run_sim_bench(*o));
     return tools::kExitOk;
   };
-}};
+});
 
 }  // namespace
 }  // namespace stvl::bench
