@@ -17,7 +17,7 @@
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
 #include "sim/simulator.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "config/scenario.hpp"
 
 namespace stvl::bench {
@@ -99,10 +99,10 @@ int filter_bench(const FilterBenchCli& o) {
     rows = run_filter_bench(clouds, config);
   }
   print_filter_bench_table(std::cout, rows, baseline);
-  return cli::kExitOk;
+  return tools::kExitOk;
 }
 
-const cli::CommandRegistration kFilterBench{"filter-bench", [](CLI::App& app) {
+const tools::CommandRegistration kFilterBench("filter-bench", [](CLI::App& app) {
   auto o = std::make_shared<FilterBenchCli>();
   auto* cmd = app.add_subcommand("filter-bench", "Benchmark the filters on clouds rendered from the corridor");
   cmd->add_option("--scenario", o->scenario, "Scenario whose world, path and camera make the clouds (default: the default scenario)");
@@ -116,7 +116,7 @@ const cli::CommandRegistration kFilterBench{"filter-bench", [](CLI::App& app) {
   cmd->add_option("--peer", o->peer, "pcl: also run PCL's VoxelGrid on the same clouds (needs libpcl-dev)");
   cmd->add_option("--save-clouds", o->save_clouds, "Also save the clouds as .stvlcld files in this directory");
   return [o] { return filter_bench(*o); };
-}};
+});
 
 }  // namespace
 }  // namespace stvl::bench

@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "bench/map_bench.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 
 namespace stvl::bench {
 namespace {
@@ -13,7 +13,7 @@ struct MapBenchCli {
   bool no_octomap = false;
 };
 
-const cli::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) {
+const tools::CommandRegistration kMapBench("map-bench", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("map-bench", "per-frame mark/clear cost of the voxel map vs map size, with peers");
   auto cli = std::make_shared<MapBenchCli>();
   cmd->add_option("--voxel-size", cli->options.voxel_size_m, "voxel size in m");
@@ -25,9 +25,9 @@ const cli::CommandRegistration kMapBench{"map-bench", [](CLI::App& app) {
   return [cli] {
     cli->options.octomap = !cli->no_octomap;
     print_map_bench(run_map_bench(cli->options), std::cout);
-    return cli::kExitOk;
+    return tools::kExitOk;
   };
-}};
+});
 
 }  // namespace
 }  // namespace stvl::bench

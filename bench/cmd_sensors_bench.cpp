@@ -2,12 +2,12 @@
 #include <memory>
 
 #include "bench/sensors_bench.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 
 namespace stvl::bench {
 namespace {
 
-const cli::CommandRegistration kSensorsBench{"sensors-bench", [](CLI::App& app) {
+const tools::CommandRegistration kSensorsBench("sensors-bench", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("sensors-bench", "Depth frames per second per GL backend, render only and with noise and cloud");
   auto o = std::make_shared<SensorsBenchOptions>();
   cmd->add_option("--world", o->world_path, "MJCF world to render (default: a built-in corridor)");
@@ -15,9 +15,9 @@ const cli::CommandRegistration kSensorsBench{"sensors-bench", [](CLI::App& app) 
   cmd->add_option("--frames", o->frames, "Timed frames per row")->capture_default_str();
   return [o] {
     run_sensors_bench(*o);
-    return cli::kExitOk;
+    return tools::kExitOk;
   };
-}};
+});
 
 }  // namespace
 }  // namespace stvl::bench

@@ -3,12 +3,12 @@
 #include <string>
 
 #include "bench/sim_bench.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 
 namespace stvl::bench {
 namespace {
 
-const cli::CommandRegistration kSimBench{"sim-bench", [](CLI::App& app) {
+const tools::CommandRegistration kSimBench("sim-bench", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("sim-bench", "Physics throughput: steps per second with the robot driving the corridor");
   auto o = std::make_shared<SimBenchOptions>();
   o->world_path = std::string(STVL_SOURCE_DIR) + "/worlds/office_corridor.xml";
@@ -16,9 +16,9 @@ const cli::CommandRegistration kSimBench{"sim-bench", [](CLI::App& app) {
   cmd->add_option("--duration", o->duration_s, "Simulated seconds")->capture_default_str();
   return [o] {
     print_sim_bench(*o, run_sim_bench(*o));
-    return cli::kExitOk;
+    return tools::kExitOk;
   };
-}};
+});
 
 }  // namespace
 }  // namespace stvl::bench

@@ -18,9 +18,9 @@ runtime=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev libtinyxml2-dev
   libjs-chart.js libjs-three
 )
-# The tests, the sanitizer and fuzz builds, the browser and RViz checks, the sweep engines, the benchmark peers.
+# The tests, the format check, the sanitizer and fuzz builds, the browser and RViz checks, the sweep engines, the benchmark peers.
 tests=(
-  libopenvdb-tools python3-rosbag
+  libopenvdb-tools python3-rosbag clang-format
   libgtest-dev libgmock-dev libbenchmark-dev liboctomap-dev
   clang libclang-rt-14-dev
   parallel chromium

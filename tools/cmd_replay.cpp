@@ -1,5 +1,5 @@
 // stvl-bench replay RECORDING [--out DIR] [--scenario FILE | --params ROS.yaml] ...: recorded depth through the
-// same filter and map as a run (tools/replay.hpp).
+// same filter and map as a run (run/replay.hpp).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,14 +9,14 @@
 #include <string>
 
 #include "sim/diff_drive.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "report/report.hpp"
 #include "run/replay.hpp"
 #include "config/ros_binding.hpp"
 #include "config/ros_params.hpp"
 #include "config/scenario.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 using namespace stvl::run;
 using namespace stvl::report;
@@ -69,9 +69,9 @@ std::string camera_name_of(const recording::RecordingInfo& info) {
   return name.empty() || name.rfind("device_", 0) == 0 ? "camera" : name;
 }
 
-int replay(const ReplayCommandOptions& o) {
-  Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario, o.sets);
-  apply_overrides(scenario, o.overrides);
+// The replay's settings from the options and the scenario: topics, rate, range, the camera's pose, samples and the
+// pipeline (the recording's camera is named once the recording is open).
+ReplaySettings replay_settings(const ReplayCommandOptions& o, const Scenario& scenario) {
   ReplaySettings settings;
   auto& r = settings.recording;
   r.depth_topic = o.depth_topic, r.info_topic = o.info_topic, r.odom_topic = o.odom_topic, r.fixed_frame = o.fixed_frame;
@@ -89,27 +89,30 @@ int replay(const ReplayCommandOptions& o) {
   settings.sample_depth_frames = scenario.outputs.sample_depth_frames;
   settings.publish_period_s = scenario.outputs.publish_period_s;
   settings.pipeline = scenario.pipeline;
-  const std::unique_ptr<recording::Recording> recording = recording::open_recording(o.recording, settings.recording);
-  settings.camera_name = o.camera_name.empty() ? camera_name_of(recording->info()) : o.camera_name;
-  settings.pipeline.cameras.resize(1);
-  settings.pipeline.cameras.front().name = settings.camera_name;
-  if (!o.params.empty()) {
-    const RosStvlLayer layer = load_ros_stvl_layer(o.params, o.layer, o.costmap);
-    try {
-      apply_ros_layer(layer, settings.pipeline, true);
-    } catch (const std::invalid_argument& e) {
-      // The recording's camera is named after its depth topic; the file may name it otherwise.
-      std::string hint;
-      for (const auto& source : layer.sources)
-        if (source.enabled && !first_segment(source.topic).empty()) {
-          hint = "; to bind the recording's camera to it, add --camera-name " + first_segment(source.topic);
-          break;
-        }
-      if (!o.camera_name.empty() || hint.empty()) throw;
-      throw std::invalid_argument(e.what() + hint);
-    }
-  }
+  return settings;
+}
 
+// --params: the file's STVL layer on the pipeline; when its sources name no camera the recording's, the error says
+// which --camera-name would bind it.
+void apply_ros_params(const ReplayCommandOptions& o, ReplaySettings& settings) {
+  const RosStvlLayer layer = load_ros_stvl_layer(o.params, o.layer, o.costmap);
+  try {
+    apply_ros_layer(layer, settings.pipeline, true);
+  } catch (const std::invalid_argument& e) {
+    // The recording's camera is named after its depth topic; the file may name it otherwise.
+    std::string hint;
+    for (const auto& source : layer.sources)
+      if (source.enabled && !first_segment(source.topic).empty()) {
+        hint = "; to bind the recording's camera to it, add --camera-name " + first_segment(source.topic);
+        break;
+      }
+    if (!o.camera_name.empty() || hint.empty()) throw;
+    throw std::invalid_argument(e.what() + hint);
+  }
+}
+
+// The outputs: --out (default out/replay-<recording name>), the bag; SIGINT and SIGTERM stop the replay from here on.
+RunOptions replay_run_options(const ReplayCommandOptions& o) {
   RunOptions options;
   options.out_dir = o.out_dir.empty() ? "out/replay-" + std::filesystem::path(o.recording).stem().string() : o.out_dir;
   options.bag_path = o.bag;
@@ -118,23 +121,41 @@ int replay(const ReplayCommandOptions& o) {
   options.bag_topics = o.bag_topics;
   options.progress = !o.no_progress;
   options.stop_requested = catch_stop_signals();
-  const ReplayResult result = replay_recording(*recording, settings, options);
-  if (result.interrupted) {
-    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written\n", caught_signal(), result.frames);
-    return 128 + caught_signal();
-  }
-  write_replay_report(result, options.out_dir);
+  return options;
+}
+
+void print_replay_summary(const ReplayCommandOptions& o, const ReplayResult& result, const std::string& out_dir) {
   const auto& k = result.pipeline.cameras.front().intrinsics;
   std::printf("replay: %s (%s, %s, poses: %s): %zu frames %dx%d, %.2f s recorded, real-time factor %.2f\n",
               o.recording.c_str(), result.recording.format.c_str(), result.recording.encoding.c_str(),
               recording::to_string(result.recording.pose_source), result.frames, k.width, k.height, result.sim_time_s,
               result.real_time_factor);
   std::printf("replay: map %zu voxels at %.3f m, %zu lethal cells; no ground truth, so no checks; outputs in %s\n",
-              result.final_voxels, result.pipeline.map.voxel_size_m, result.lethal_cells, options.out_dir.c_str());
+              result.final_voxels, result.pipeline.map.voxel_size_m, result.lethal_cells, out_dir.c_str());
+}
+
+int replay(const ReplayCommandOptions& o) {
+  Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario, o.sets);
+  apply_overrides(scenario, o.overrides);
+  ReplaySettings settings = replay_settings(o, scenario);
+  const std::unique_ptr<recording::Recording> recording = recording::open_recording(o.recording, settings.recording);
+  settings.camera_name = o.camera_name.empty() ? camera_name_of(recording->info()) : o.camera_name;
+  settings.pipeline.cameras.resize(1);
+  settings.pipeline.cameras.front().name = settings.camera_name;
+  if (!o.params.empty()) apply_ros_params(o, settings);
+
+  const RunOptions options = replay_run_options(o);
+  const ReplayResult result = replay_recording(*recording, settings, options);
+  if (result.interrupted) {
+    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written\n", caught_signal(), result.frames);
+    return 128 + caught_signal();
+  }
+  write_replay_report(result, options.out_dir);
+  print_replay_summary(o, result, options.out_dir);
   return kExitOk;
 }
 
-const CommandRegistration kReplay{"replay", [](CLI::App& app) {
+const CommandRegistration kReplay("replay", [](CLI::App& app) {
   auto o = std::make_shared<ReplayCommandOptions>();
   auto* cmd = app.add_subcommand("replay", "Replay recorded depth (a ROS 1 bag, a rosbag2 folder / .mcap / .db3, or a folder of 16-bit PNGs) through the filter and map");
   cmd->add_option("recording", o->recording, "A ROS 1 bag, a rosbag2 folder, .mcap or .db3, or a folder of 16-bit depth PNGs")->required();
@@ -163,7 +184,7 @@ const CommandRegistration kReplay{"replay", [](CLI::App& app) {
   add_bag_options(*cmd, o->bag_format, o->bag_compression, o->bag_topics);
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
   return [o] { return replay(*o); };
-}};
+});
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -1,4 +1,4 @@
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 
 #include <csignal>
 #include <cstdio>
@@ -6,7 +6,7 @@
 #include <map>
 #include <utility>
 
-namespace stvl::cli {
+namespace stvl::tools {
 namespace {
 std::atomic<bool> g_stop{false};
 std::atomic<int> g_signal{0};
@@ -42,10 +42,10 @@ void add_bag_options(CLI::App& cmd, std::string& format, std::string& compressio
 CommandRegistration::CommandRegistration(std::string name, CommandSetup setup) {
   registry().emplace(std::move(name), std::move(setup));
 }
-}  // namespace stvl::cli
+}  // namespace stvl::tools
 
 int main(int argc, char** argv) {
-  using namespace stvl::cli;
+  using namespace stvl::tools;
   CLI::App app{"stvl-bench: a headless test bench for depth-camera spatio-temporal voxel mapping"};
   app.require_subcommand(1);
   std::map<std::string, CommandRun> runs;

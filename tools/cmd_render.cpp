@@ -8,10 +8,10 @@
 #include "sensors/depth_renderer.hpp"
 #include "sim/simulator.hpp"
 #include "common/atomic_file.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "config/scenario.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 namespace {
 
@@ -73,7 +73,7 @@ int render(const RenderOptions& o) {
   return kExitOk;
 }
 
-const CommandRegistration kRender{"render", [](CLI::App& app) {
+const CommandRegistration kRender("render", [](CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   auto* cmd = app.add_subcommand("render", "Render depth frames from the robot's camera to 16-bit and colorized PNG");
   cmd->add_option("--world", o->world, "MJCF world (the robot drives straight along +x)");
@@ -87,7 +87,7 @@ const CommandRegistration kRender{"render", [](CLI::App& app) {
   cmd->add_option("--gl", o->gl, "auto | egl | osmesa (with --world)")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Noise seed (with --world)")->capture_default_str();
   return [o] { return render(*o); };
-}};
+});
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -6,10 +6,10 @@
 #include <vector>
 
 #include "common/atomic_file.hpp"
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "analysis/compare.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::analysis;
 namespace {
 
@@ -36,7 +36,7 @@ int compare(const CompareOptions& o) {
   return c.regressed() ? kExitCheckFailed : kExitOk;
 }
 
-const CommandRegistration kCompare{"compare", [](CLI::App& app) {
+const CommandRegistration kCompare("compare", [](CLI::App& app) {
   auto o = std::make_shared<CompareOptions>();
   auto* cmd = app.add_subcommand("compare", "Compare two runs (folders or metrics.json files); exit 1 on a regression");
   cmd->add_option("a", o->a, "The reference run: a run folder or its metrics.json")->required();
@@ -51,7 +51,7 @@ const CommandRegistration kCompare{"compare", [](CLI::App& app) {
   cmd->add_option("--html", o->html, "Also write an HTML page to this file");
   cmd->add_option("--junit", o->junit, "Also write JUnit XML (a testcase per rule and check; skipped: not judged)");
   return [o] { return compare(*o); };
-}};
+});
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -3,11 +3,11 @@
 #include <cstdio>
 #include <memory>
 
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "config/ros_lint.hpp"
 #include "config/ros_params_detail.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 namespace {
 
@@ -37,14 +37,14 @@ int lint(const LintOptions& o) {
   return findings.empty() ? kExitOk : kExitCheckFailed;
 }
 
-const CommandRegistration kLint{"lint", [](CLI::App& app) {
+const CommandRegistration kLint("lint", [](CLI::App& app) {
   auto o = std::make_shared<LintOptions>();
   auto* cmd = app.add_subcommand("lint", "Report what STVL does with an STVL layer's ROS parameters that users rarely mean");
   cmd->add_option("params", o->params, "ROS parameter file (nav2 params, move_base costmap, or a bare layer)")->required();
   cmd->add_option("--layer", o->layer, "Layer name (default: the only STVL layer)");
   cmd->add_option("--costmap", o->costmap, "Costmap name, e.g. local_costmap (default: the only one with the layer)");
   return [o] { return lint(*o); };
-}};
+});
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -11,14 +11,14 @@
 #include <optional>
 #include <sstream>
 
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "common/atomic_file.hpp"
 #include "common/staged_directory.hpp"
 #include "sim/world.hpp"
 #include "worldgen/map_world.hpp"
 #include "worldgen/office_generator.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 namespace {
 
 namespace fs = std::filesystem;
@@ -89,7 +89,7 @@ int generate(const WorldOptions& o) {
   return kExitOk;
 }
 
-const CommandRegistration kWorld{"world", [](CLI::App& app) {
+const CommandRegistration kWorld("world", [](CLI::App& app) {
   auto o = std::make_shared<WorldOptions>();
   auto* cmd = app.add_subcommand("world", "Build a world and a ready scenario: from a nav2 map, or a generated office");
   cmd->require_subcommand(1);
@@ -108,7 +108,7 @@ const CommandRegistration kWorld{"world", [](CLI::App& app) {
   gen->add_option("--out", o->out_dir, "Folder to write world.xml, robot.xml and scenario.yaml into (replaced whole)")->required();
   gen->add_option("--name", o->name, "The scenario's name (default: office_seed_N)");
   return [o, map] { return map->parsed() ? from_map(*o) : generate(*o); };
-}};
+});
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

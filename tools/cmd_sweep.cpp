@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "config/scenario.hpp"
 #include "analysis/sweep.hpp"
 #include "analysis/sweep_page.hpp"
 #include "common/atomic_file.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 using namespace stvl::analysis;
 namespace {
@@ -119,7 +119,7 @@ int sweep(const SweepOptions& o) {
   return worst;
 }
 
-const CommandRegistration kSweep{"sweep", [](CLI::App& app) {
+const CommandRegistration kSweep("sweep", [](CLI::App& app) {
   auto o = std::make_shared<SweepOptions>();
   auto* cmd = app.add_subcommand("sweep", "Run a scenario over a grid of settings and seeds, or write the grid for "
                                           "GNU parallel, CTest or Slurm; --collect merges the results");
@@ -145,7 +145,7 @@ const CommandRegistration kSweep{"sweep", [](CLI::App& app) {
   cmd->add_option("--collect", o->collect, "Merge the points' metrics.json of a sweep folder into one table");
   cmd->add_option("--junit", o->junit, "Also write JUnit XML, one testcase per point, to this file (with --jobs or --collect)");
   return [o] { return sweep(*o); };
-}};
+});
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "cli/command.hpp"
+#include "tools/command.hpp"
 #include "common/staged_directory.hpp"
 #include "config/ros_binding.hpp"
 #include "recording/bag_writer.hpp"
@@ -12,7 +12,7 @@
 #include "run/runner.hpp"
 #include "sim/urdf_robot.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 using namespace stvl::config;
 using namespace stvl::run;
 using namespace stvl::report;
@@ -43,6 +43,60 @@ struct RunCommandOptions {
   bool require_path = false;
 };
 
+// What the scenario's URDF robot gave: notices, the robot, its drive and footprint.
+void print_urdf_robot(const Scenario& scenario) {
+  const auto& robot = scenario.pipeline.urdf_robot;
+  if (!robot) return;
+  for (const auto& notice : robot->notices) std::printf("notice: %s\n", notice.c_str());
+  std::printf("robot: %s from %s (base %s, %.2f kg; wheels %s: %s and %s, radius %.3f m, track %.3f m)\n",
+              robot->urdf.name.c_str(), robot->config.urdf.c_str(), robot->urdf.root.c_str(), robot->mass_kg,
+              robot->wheels.named ? "named" : "found", robot->wheels.left_joint.c_str(), robot->wheels.right_joint.c_str(),
+              robot->wheels.radius_m, robot->wheels.track_width_m);
+  std::printf("drive: %s (%s)\n", sim::to_string(robot->drive).c_str(), robot->drive_reason.c_str());
+  std::printf("footprint: %s\n", scenario.footprint_source.empty() ? "none" : scenario.footprint_source.c_str());
+}
+
+// The linter's findings on the scenario's ROS parameter file, with the FOV of the camera each source is bound to.
+void print_lint_findings(const Scenario& scenario) {
+  const auto& ros = scenario.ros_params;
+  if (!ros) return;
+  const auto findings = lint_ros_stvl_layer(ros->path, ros->layer, ros->costmap, bound_cameras(scenario.pipeline));
+  for (const auto& f : findings) std::printf("lint: %s\n", format_finding(f).c_str());
+  if (!findings.empty())
+    std::printf("lint: %zu finding%s on %s (stvl-bench lint %s)\n", findings.size(), findings.size() == 1 ? "" : "s",
+                ros->path.c_str(), ros->path.c_str());
+}
+
+// An interrupted run leaves --out as it was and its partial outputs beside it; the exit code is 128 + signal.
+int abandon_interrupted_run(const RunCommandOptions& o, const RunOptions& options, const RunResult& result,
+                            StagedDirectory& staged) {
+  const std::string incomplete = staged.final_path().string() + ".incomplete";
+  staged.abandon("interrupted by signal " + std::to_string(caught_signal()) + " after " + std::to_string(result.frames) +
+                 " frames");
+  std::string bag = o.bag;
+  if (!bag.empty() && options.bag_path != o.bag)  // it moved with the partial outputs
+    bag = (incomplete / std::filesystem::path(options.bag_path).lexically_relative(staged.path())).string();
+  const bool ros2 = !bag.empty() && recording::parse_bag_format(o.bag_format, o.bag) == recording::BagFormat::kRos2;
+  const std::string active = bag.empty() ? "" : (ros2 ? recording::ros2_bag_folder(bag) : bag) + ".active";
+  std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written (%s left as it was, "
+               "the partial output in %s)%s\n", caught_signal(), result.frames, staged.final_path().c_str(),
+               incomplete.c_str(), active.empty() ? "" : (", the bag stays as " + active).c_str());
+  return 128 + caught_signal();
+}
+
+// The profile when asked for, each check, and one line of the run's figures.
+void print_run_summary(const RunCommandOptions& o, const Scenario& scenario, const RunResult& result,
+                       const std::string& out_dir) {
+  if (o.profile) std::printf("%s", profile_table(result).c_str());
+  for (const auto& c : result.checks)
+    std::printf("%s %-24s %s\n", !c.evaluated ? "SKIP" : c.passed ? "PASS" : "FAIL", c.name.c_str(), c.message.c_str());
+  const auto& m = result.evaluation.mean;
+  char quality[96] = "map quality not evaluated (no evaluation after the recall window)";
+  if (m.snapshots > 0) std::snprintf(quality, sizeof quality, "F1 %.3f (P %.3f R %.3f)", m.f1, m.precision, m.recall);
+  std::printf("%s: %zu frames, %.1f s simulated, real-time factor %.2f, %s, outputs in %s\n", scenario.name.c_str(),
+              result.frames, result.sim_time_s, result.real_time_factor, quality, out_dir.c_str());
+}
+
 int run(const RunCommandOptions& o) {
   Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario, o.sets);
   ScenarioOverrides overrides = o.overrides;
@@ -50,25 +104,11 @@ int run(const RunCommandOptions& o) {
     if (o.noise != "on" && o.noise != "off") throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
     overrides.noise = o.noise == "on";
   }
-  if (const auto& robot = scenario.pipeline.urdf_robot) {
-    for (const auto& notice : robot->notices) std::printf("notice: %s\n", notice.c_str());
-    std::printf("robot: %s from %s (base %s, %.2f kg; wheels %s: %s and %s, radius %.3f m, track %.3f m)\n",
-                robot->urdf.name.c_str(), robot->config.urdf.c_str(), robot->urdf.root.c_str(), robot->mass_kg,
-                robot->wheels.named ? "named" : "found", robot->wheels.left_joint.c_str(), robot->wheels.right_joint.c_str(),
-                robot->wheels.radius_m, robot->wheels.track_width_m);
-    std::printf("drive: %s (%s)\n", sim::to_string(robot->drive).c_str(), robot->drive_reason.c_str());
-    std::printf("footprint: %s\n", scenario.footprint_source.empty() ? "none" : scenario.footprint_source.c_str());
-  }
+  print_urdf_robot(scenario);
   const double scenario_duration_s = scenario.duration_s;
   apply_overrides(scenario, overrides);
-  if (const auto& ros = scenario.ros_params) {
-    // The linter's findings on the parameter file, with the FOV of the camera each source is bound to.
-    const auto findings = lint_ros_stvl_layer(ros->path, ros->layer, ros->costmap, bound_cameras(scenario.pipeline));
-    for (const auto& f : findings) std::printf("lint: %s\n", format_finding(f).c_str());
-    if (!findings.empty())
-      std::printf("lint: %zu finding%s on %s (stvl-bench lint %s)\n", findings.size(), findings.size() == 1 ? "" : "s",
-                  ros->path.c_str(), ros->path.c_str());
-  }
+  print_lint_findings(scenario);
+
   RunOptions options;
   // Every output goes into a fresh staging folder, moved over --out only once the run is complete
   // (common/staged_directory.hpp); a bag inside --out travels with it.
@@ -91,34 +131,13 @@ int run(const RunCommandOptions& o) {
     staged.abandon(std::string("stvl-bench: error: ") + e.what());
     throw;
   }
-  if (result.interrupted) {
-    const std::string incomplete = staged.final_path().string() + ".incomplete";
-    staged.abandon("interrupted by signal " + std::to_string(caught_signal()) + " after " + std::to_string(result.frames) +
-                   " frames");
-    std::string bag = o.bag;
-    if (!bag.empty() && options.bag_path != o.bag)  // it moved with the partial outputs
-      bag = (incomplete / std::filesystem::path(options.bag_path).lexically_relative(staged.path())).string();
-    const bool ros2 = !bag.empty() && recording::parse_bag_format(o.bag_format, o.bag) == recording::BagFormat::kRos2;
-    const std::string active = bag.empty() ? "" : (ros2 ? recording::ros2_bag_folder(bag) : bag) + ".active";
-    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written (%s left as it was, "
-                 "the partial output in %s)%s\n", caught_signal(), result.frames, staged.final_path().c_str(),
-                 incomplete.c_str(), active.empty() ? "" : (", the bag stays as " + active).c_str());
-    return 128 + caught_signal();
-  }
+  if (result.interrupted) return abandon_interrupted_run(o, options, result, staged);
   staged.commit();
-  options.out_dir = staged.final_path().string();
-  if (o.profile) std::printf("%s", profile_table(result).c_str());
-  for (const auto& c : result.checks)
-    std::printf("%s %-24s %s\n", !c.evaluated ? "SKIP" : c.passed ? "PASS" : "FAIL", c.name.c_str(), c.message.c_str());
-  const auto& m = result.evaluation.mean;
-  char quality[96] = "map quality not evaluated (no evaluation after the recall window)";
-  if (m.snapshots > 0) std::snprintf(quality, sizeof quality, "F1 %.3f (P %.3f R %.3f)", m.f1, m.precision, m.recall);
-  std::printf("%s: %zu frames, %.1f s simulated, real-time factor %.2f, %s, outputs in %s\n", scenario.name.c_str(),
-              result.frames, result.sim_time_s, result.real_time_factor, quality, options.out_dir.c_str());
+  print_run_summary(o, scenario, result, staged.final_path().string());
   return result.passed() ? kExitOk : kExitCheckFailed;
 }
 
-const CommandRegistration kRun{"run", [](CLI::App& app) {
+const CommandRegistration kRun("run", [](CLI::App& app) {
   auto o = std::make_shared<RunCommandOptions>();
   auto* cmd = app.add_subcommand("run", "Run a scenario (the default office corridor when none is given)");
   cmd->add_option("scenario", o->scenario, "Scenario YAML file (default: scenarios/office_corridor.yaml)");
@@ -144,7 +163,7 @@ const CommandRegistration kRun{"run", [](CLI::App& app) {
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
   cmd->add_flag("--profile", o->profile, "Print where the time went: per stage and per evaluation phase");
   return [o] { return run(*o); };
-}};
+});
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools

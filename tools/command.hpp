@@ -1,12 +1,12 @@
 #pragma once
 // Subcommands of `stvl-bench` register themselves from their own cmd_*.cpp file:
 //
-//   const stvl::cli::CommandRegistration kRender{"render", [](CLI::App& app) {
+//   const stvl::tools::CommandRegistration kRender("render", [](CLI::App& app) {
 //     auto* cmd = app.add_subcommand("render", "...");
 //     auto options = std::make_shared<RenderOptions>();
 //     cmd->add_option("--world", options->world_path)->required();
 //     return [options] { return run_render(*options); };
-//   }};
+//   });
 //
 // The returned function runs when the subcommand is chosen; its value is the process exit code
 // (kExitOk, kExitCheckFailed). Bad input is reported by throwing; main() prints it and exits with kExitBadInput.
@@ -16,7 +16,7 @@
 #include <functional>
 #include <string>
 
-namespace stvl::cli {
+namespace stvl::tools {
 
 constexpr int kExitOk = 0;
 constexpr int kExitCheckFailed = 1;
@@ -38,4 +38,4 @@ struct CommandRegistration {
   CommandRegistration(std::string name, CommandSetup setup);
 };
 
-}  // namespace stvl::cli
+}  // namespace stvl::tools

@@ -10,7 +10,7 @@
 
 #include "tests/support/command.hpp"
 
-namespace stvl::cli {
+namespace stvl::tools {
 namespace {
 
 namespace fs = std::filesystem;
@@ -27,7 +27,7 @@ class Cli : public ::testing::Test {
   void SetUp() override {
     binary_ = test::stvl_bench_binary();
     if (binary_.empty()) GTEST_SKIP() << "stvl-bench not built (build the stvl-bench target)";
-    dir_ = fs::temp_directory_path() / ("stvl_cli_" + std::to_string(::getpid()));
+    dir_ = fs::temp_directory_path() / ("stvl_tools_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
   }
   void TearDown() override {
@@ -46,7 +46,7 @@ class Cli : public ::testing::Test {
   }
 
   std::string scenario_for_world(const std::string& world) const {
-    return "name: cli\nworld: " + world + "\nrobot:\n  waypoints: [[0, 0], [1, 0]]\n  speed_mps: 0.5\n";
+    return "name: tools\nworld: " + world + "\nrobot:\n  waypoints: [[0, 0], [1, 0]]\n  speed_mps: 0.5\n";
   }
 
   std::string out_arg() const { return "--out " + quoted((dir_ / "out").string()); }
@@ -164,4 +164,4 @@ TEST_F(Cli, UnwritableOutExitsTwoNamingIt) {
 }
 
 }  // namespace
-}  // namespace stvl::cli
+}  // namespace stvl::tools
