@@ -28,8 +28,8 @@ std::unique_ptr<pipeline::Pipeline> build_pipeline(const config::Scenario& s) {
 // The pipeline's frames up to the scenario's duration; the bag with the cameras' mounts and the truth.
 class SimulatedFrames : public FrameSource {
  public:
-  SimulatedFrames(pipeline::Pipeline& pipeline, double duration_s, const Eigen::Matrix3Xf& truth_voxel_centers_W)
-      : pipeline_(pipeline), duration_s_(duration_s), truth_W_(truth_voxel_centers_W) {}
+  SimulatedFrames(pipeline::Pipeline& pipeline, double duration_s, const evaluation::Truth& truth)
+      : pipeline_(pipeline), duration_s_(duration_s), truth_(truth) {}
   const pipeline::Frame* next() override {
     if (pipeline_.next_time_s() > duration_s_ + 1e-9) return nullptr;
     return &pipeline_.step();
@@ -37,13 +37,14 @@ class SimulatedFrames : public FrameSource {
   const std::vector<pipeline::CameraConfig>& cameras() const override { return pipeline_.config().cameras; }
   std::unique_ptr<BagRecorder> open_bag(const std::string& path, const BagSettings& settings,
                                         const pipeline::Frame*) override {
-    return std::make_unique<BagRecorder>(path, settings, camera_frames(cameras()), &truth_W_);
+    const Eigen::Matrix3Xf truth_W = truth_.voxel_centers();  // latched in the bag
+    return std::make_unique<BagRecorder>(path, settings, camera_frames(cameras()), &truth_W);
   }
 
  private:
   pipeline::Pipeline& pipeline_;
   double duration_s_;
-  const Eigen::Matrix3Xf& truth_W_;
+  const evaluation::Truth& truth_;
 };
 
 // The run's side of each frame: the evaluation against the truth, sampled depth frames, the soak's samples, the
@@ -141,7 +142,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     settings.bag = bag_settings(options.bag_path, options.bag_format, options.bag_compression, options.bag_topics);
   settings.publish_period_s = s.outputs.publish_period_s;
   settings.stop_requested = options.stop_requested;
-  SimulatedFrames frames(*pipeline, s.duration_s, evaluation.truth().voxel_centers());
+  SimulatedFrames frames(*pipeline, s.duration_s, evaluation.truth());
   RunHooks hooks(s, options, *pipeline, evaluation);
   static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
   hooks.finish();
