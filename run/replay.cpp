@@ -136,7 +136,7 @@ ReplayResult replay_recording(recording::Recording& recording, const ReplaySetti
     if (options.progress && (r.frames % 100 == 0 || r.frames == total))
       std::printf("replay: frame %zu of %zu, t=%.2f s\n", r.frames, total, f.time_s);
   }
-  r.wall_time_s = std::chrono::duration<double>(SteadyClock::now() - wall_start).count();
+  r.wall_time_s = s_since(wall_start);
   r.real_time_factor = r.wall_time_s > 0 ? r.recorded_s / r.wall_time_s : 0;
   if (r.interrupted) return r;
   if (r.frames == 0) throw std::invalid_argument(recording_path + ": no depth frame could be read");

@@ -112,7 +112,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     }
   }
   progress.done();
-  r.wall_time_s = std::chrono::duration<double>(SteadyClock::now() - wall_start).count();
+  r.wall_time_s = s_since(wall_start);
   r.real_time_factor = r.wall_time_s > 0 ? r.sim_time_s / r.wall_time_s : 0;
   r.soak = soak.series();
   if (r.interrupted) return r;  // the bag stays as <bag>.active; no result file is written
