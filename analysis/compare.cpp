@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "common/enum_names.hpp"
+#include "common/format.hpp"
 #include "common/markup.hpp"
 
 namespace stvl::analysis {
@@ -41,13 +42,7 @@ void flatten(const nlohmann::json& j, const std::string& path, Figures& out) {
 
 std::map<std::string, double> as_map(const Figures& figures) { return {figures.begin(), figures.end()}; }
 
-std::string number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", v);
-  return text;
-}
-
-std::string signed_number(double v) { return (v > 0 ? "+" : "") + number(v); }
+std::string signed_number(double v) { return (v > 0 ? "+" : "") + general(v); }
 
 bool holds(double left, CompareRule::Op op, double threshold) {
   switch (op) {
@@ -99,7 +94,7 @@ struct Tables {
 Tables tables_of(const Comparison& c) {
   Tables t;
   const auto row = [](const MetricDelta& m) {
-    return std::array<std::string, 4>{m.path, number(m.a), number(m.b), signed_number(m.b - m.a)};
+    return std::array<std::string, 4>{m.path, general(m.a), general(m.b), signed_number(m.b - m.a)};
   };
   for (const char* path : kHeadline)
     for (const auto& m : c.metrics)
@@ -189,6 +184,59 @@ std::vector<CompareRule> default_compare_rules(bool ground_truth) {
 
 bool is_replay(const nlohmann::json& metrics) { return metrics.value("kind", std::string()) == "replay"; }
 
+namespace {
+
+using FigureMap = std::map<std::string, double>;
+
+// One rule on both runs: "not judged" (a timing rule across machines), "ok" or "regression" (also in regressions).
+void judge_rule(const CompareRule& rule, const FigureMap& ma, const FigureMap& mb, const nlohmann::json& a,
+                const nlohmann::json& b, Comparison& c) {
+  const double va = figure(ma, rule.path, rule, c.a_name), vb = figure(mb, rule.path, rule, c.b_name);
+  if (is_timing_rule(rule) && !c.same_machine) {
+    c.outcomes.push_back({rule.text, "not judged",
+                          fingerprint(a).empty() || fingerprint(b).empty()
+                              ? "a run carries no machine fingerprint"
+                              : "measured on different machines (" + fingerprint(a) + " vs " + fingerprint(b) + ")"});
+    return;
+  }
+  double left = vb;
+  if (rule.left == CompareRule::Left::kDelta) left = vb - va;
+  const bool ratio_of_zero = rule.left == CompareRule::Left::kRatio && va == 0.0;  // no ratio to a zero
+  if (rule.left == CompareRule::Left::kRatio && !ratio_of_zero) left = vb / va;
+  const std::string detail = rule.path + ": " + general(va) + " -> " + general(vb) + " (" +
+                             (rule.left == CompareRule::Left::kRatio ? (ratio_of_zero ? "no ratio to 0" : "x" + general(left))
+                                                                     : signed_number(vb - va)) + ")";
+  if (ratio_of_zero || !std::isfinite(left) || !holds(left, rule.op, rule.threshold)) {
+    c.outcomes.push_back({rule.text, "ok", detail});
+    return;
+  }
+  c.outcomes.push_back({rule.text, "regression", detail});
+  c.regressions.push_back({rule.text, detail});
+}
+
+// Checks that passed in A and fail in B; a check not evaluated (status "not_evaluated") is not judged.
+void judge_checks(const nlohmann::json& a, const nlohmann::json& b, Comparison& c) {
+  const auto judged = [](const nlohmann::json& check) {
+    return check.contains("name") && check.contains("passed") && check["passed"].is_boolean() &&
+           check.value("status", std::string()) != "not_evaluated";
+  };
+  std::map<std::string, bool> passed_in_a;
+  if (a.contains("checks") && a["checks"].is_array())
+    for (const auto& check : a["checks"])
+      if (judged(check)) passed_in_a[check["name"].get<std::string>()] = check["passed"].get<bool>();
+  if (b.contains("checks") && b["checks"].is_array())
+    for (const auto& check : b["checks"]) {
+      if (!judged(check) || check["passed"].get<bool>()) continue;
+      const auto it = passed_in_a.find(check["name"].get<std::string>());
+      if (it != passed_in_a.end() && it->second) {
+        c.regressions.push_back({"check " + it->first, check.value("message", std::string())});
+        c.outcomes.push_back({"check " + it->first, "regression", check.value("message", std::string())});
+      }
+    }
+}
+
+}  // namespace
+
 Comparison compare_metrics(const nlohmann::json& a, const nlohmann::json& b, const std::vector<CompareRule>& rules,
                            std::string a_name, std::string b_name) {
   Comparison c;
@@ -208,47 +256,8 @@ Comparison compare_metrics(const nlohmann::json& a, const nlohmann::json& b, con
 
   c.config_differences = config_differences(a, b);
   c.same_machine = !fingerprint(a).empty() && fingerprint(a) == fingerprint(b);
-  for (const auto& rule : rules) {
-    const double va = figure(ma, rule.path, rule, c.a_name), vb = figure(mb, rule.path, rule, c.b_name);
-    if (is_timing_rule(rule) && !c.same_machine) {
-      c.outcomes.push_back({rule.text, "not judged",
-                            fingerprint(a).empty() || fingerprint(b).empty()
-                                ? "a run carries no machine fingerprint"
-                                : "measured on different machines (" + fingerprint(a) + " vs " + fingerprint(b) + ")"});
-      continue;
-    }
-    double left = vb;
-    if (rule.left == CompareRule::Left::kDelta) left = vb - va;
-    const bool ratio_of_zero = rule.left == CompareRule::Left::kRatio && va == 0.0;  // no ratio to a zero
-    if (rule.left == CompareRule::Left::kRatio && !ratio_of_zero) left = vb / va;
-    const std::string detail = rule.path + ": " + number(va) + " -> " + number(vb) + " (" +
-                               (rule.left == CompareRule::Left::kRatio ? (ratio_of_zero ? "no ratio to 0" : "x" + number(left))
-                                                                       : signed_number(vb - va)) + ")";
-    if (ratio_of_zero || !std::isfinite(left) || !holds(left, rule.op, rule.threshold)) {
-      c.outcomes.push_back({rule.text, "ok", detail});
-      continue;
-    }
-    c.outcomes.push_back({rule.text, "regression", detail});
-    c.regressions.push_back({rule.text, detail});
-  }
-  // Checks that passed in A and fail in B; a check not evaluated (status "not_evaluated") is not judged.
-  const auto judged = [](const nlohmann::json& check) {
-    return check.contains("name") && check.contains("passed") && check["passed"].is_boolean() &&
-           check.value("status", std::string()) != "not_evaluated";
-  };
-  std::map<std::string, bool> passed_in_a;
-  if (a.contains("checks") && a["checks"].is_array())
-    for (const auto& check : a["checks"])
-      if (judged(check)) passed_in_a[check["name"].get<std::string>()] = check["passed"].get<bool>();
-  if (b.contains("checks") && b["checks"].is_array())
-    for (const auto& check : b["checks"]) {
-      if (!judged(check) || check["passed"].get<bool>()) continue;
-      const auto it = passed_in_a.find(check["name"].get<std::string>());
-      if (it != passed_in_a.end() && it->second) {
-        c.regressions.push_back({"check " + it->first, check.value("message", std::string())});
-        c.outcomes.push_back({"check " + it->first, "regression", check.value("message", std::string())});
-      }
-    }
+  for (const auto& rule : rules) judge_rule(rule, ma, mb, a, b, c);
+  judge_checks(a, b, c);
   return c;
 }
 

@@ -5,6 +5,8 @@
 #include <functional>
 #include <stdexcept>
 
+#include "common/units.hpp"
+
 namespace stvl::analysis {
 namespace {
 
@@ -80,69 +82,81 @@ nlohmann::json to_json(const NoiseStats& s, double fx_px, const NoiseStatsOption
           {"temporal_sigma", bins(s.temporal_sigma, fx_px, options)}};
 }
 
-std::string noise_stats_table(const std::vector<std::string>& names, const std::vector<NoiseStats>& stats,
-                              double fx_px, const NoiseStatsOptions& options) {
+namespace {
+
+// "| figure | a | b | Intel formula |" and its separator line.
+std::string noise_table_header(const std::vector<std::string>& names) {
   std::string out = "| figure |";
   for (const auto& n : names) out += " " + n + " |";
   out += " Intel formula |\n|---|";
   for (size_t k = 0; k <= names.size(); ++k) out += "---|";
-  out += "\n";
-  auto row = [&](const std::string& label, const std::function<double(const NoiseStats&)>& value, const char* format,
-                 double formula = NAN) {
-    out += "| " + label + " |";
-    for (const auto& s : stats) out += " " + cell(value(s), format) + " |";
-    out += " " + cell(formula, format) + " |\n";
-  };
-  // A depth bin: each camera's figure in mm, its ratio to Intel's formula (each sample at its own depth) and the
-  // samples' mean depth.
-  auto bin_row = [&](const std::string& label, std::vector<sensors::DepthBinStat> NoiseStats::*member, size_t k,
-                     bool mad = false) {
-    out += "| " + label + " |";
-    for (const auto& s : stats) {
-      const auto& bins = s.*member;
-      if (k >= bins.size() || !std::isfinite(bins[k].value_m)) {
-        out += " - |";
-        continue;
-      }
-      if (mad) {  // ratio at the samples' mean depth
-        const double value = bins[k].mad_sigma_m;
-        out += " " + cell(1e3 * value, "%.2f") + " (x" +
-               cell(value / intel_rms_m(bins[k].mean_depth_m, fx_px, options), "%.2f") + ") |";
-        continue;
-      }
-      out += " " + cell(1e3 * bins[k].value_m, "%.2f") + " (x" + cell(bins[k].ratio_to_z2_law, "%.2f") + ", " +
-             cell(bins[k].mean_depth_m, "%.2f") + " m) |";
-    }
-    out += " " + cell(1e3 * intel_rms_m(options.bin_centres_m[k], fx_px, options), "%.2f") + " |\n";
-  };
-  row("invalid pixels (%)", [](const NoiseStats& s) { return 100.0 * s.invalid_fraction; }, "%.1f");
-  row("left band (px)", [](const NoiseStats& s) { return s.bands.left_px; }, "%.0f");
-  row("left band, geometric fx*b/z (px)", [](const NoiseStats& s) { return s.left_band_geometric_px; }, "%.1f");
-  row("right / top / bottom band (px)",
-      [](const NoiseStats& s) { return s.bands.right_px + s.bands.top_px + s.bands.bottom_px; }, "%.0f");
-  row("invalid at discontinuities (% of inner invalid)",
-      [](const NoiseStats& s) { return 100.0 * s.holes.fraction_of_invalid; }, "%.1f");
-  row("of them background on the left (%)", [](const NoiseStats& s) {
+  return out + "\n";
+}
+
+std::string figure_row(const std::string& label, const std::vector<NoiseStats>& stats,
+                       const std::function<double(const NoiseStats&)>& value, const char* format, double formula = NAN) {
+  std::string out = "| " + label + " |";
+  for (const auto& s : stats) out += " " + cell(value(s), format) + " |";
+  return out + " " + cell(formula, format) + " |\n";
+}
+
+// The image's rows: invalid pixels, the edge bands, invalid pixels at discontinuities and the shadows.
+std::string band_and_shadow_rows(const std::vector<NoiseStats>& stats) {
+  std::string out;
+  out += figure_row("invalid pixels (%)", stats, [](const NoiseStats& s) { return 100.0 * s.invalid_fraction; }, "%.1f");
+  out += figure_row("left band (px)", stats, [](const NoiseStats& s) { return s.bands.left_px; }, "%.0f");
+  out += figure_row("left band, geometric fx*b/z (px)", stats, [](const NoiseStats& s) { return s.left_band_geometric_px; },
+                    "%.1f");
+  out += figure_row("right / top / bottom band (px)", stats,
+                    [](const NoiseStats& s) { return s.bands.right_px + s.bands.top_px + s.bands.bottom_px; }, "%.0f");
+  out += figure_row("invalid at discontinuities (% of inner invalid)", stats,
+                    [](const NoiseStats& s) { return 100.0 * s.holes.fraction_of_invalid; }, "%.1f");
+  out += figure_row("of them background on the left (%)", stats, [](const NoiseStats& s) {
     return 100.0 * double(s.holes.far_left_px) / double(s.holes.far_left_px + s.holes.far_right_px);
   }, "%.1f");
-  row("shadow run, median (px)", [](const NoiseStats& s) { return s.holes.median_run_px; }, "%.0f");
-  row("shadow, geometric median (px)", [](const NoiseStats& s) { return s.holes.median_geometric_px; }, "%.1f");
-  for (size_t k = 0; k < options.bin_centres_m.size(); ++k) {
-    char label[64];
-    std::snprintf(label, sizeof label, "plane-fit RMS, %.1f m bin (mm)", options.bin_centres_m[k]);
-    bin_row(label, &NoiseStats::plane_fit_rms, k);
-  }
-  for (size_t k = 0; k < options.bin_centres_m.size(); ++k) {
-    char label[64];
-    std::snprintf(label, sizeof label, "temporal sigma, %.1f m bin (mm)", options.bin_centres_m[k]);
-    bin_row(label, &NoiseStats::temporal_sigma, k);
-  }
-  for (size_t k = 0; k < options.bin_centres_m.size(); ++k) {
-    char label[64];
-    std::snprintf(label, sizeof label, "temporal 1.4826 MAD / sqrt 2, %.1f m bin (mm)", options.bin_centres_m[k]);
-    bin_row(label, &NoiseStats::temporal_sigma, k, true);
-  }
+  out += figure_row("shadow run, median (px)", stats, [](const NoiseStats& s) { return s.holes.median_run_px; }, "%.0f");
+  out += figure_row("shadow, geometric median (px)", stats, [](const NoiseStats& s) { return s.holes.median_geometric_px; },
+                    "%.1f");
   return out;
+}
+
+// One camera's cell of depth bin k: its figure in mm, its ratio to Intel's formula (each sample at its own depth;
+// `mad`: the MAD sigma, its ratio at the samples' mean depth) and the samples' mean depth; "-" without one.
+std::string depth_bin_cell(const std::vector<sensors::DepthBinStat>& bins, size_t k, bool mad, double fx_px,
+                           const NoiseStatsOptions& options) {
+  if (k >= bins.size() || !std::isfinite(bins[k].value_m)) return " - |";
+  if (mad) {
+    const double value = bins[k].mad_sigma_m;
+    return " " + cell(kMmPerMetre * value, "%.2f") + " (x" +
+           cell(value / intel_rms_m(bins[k].mean_depth_m, fx_px, options), "%.2f") + ") |";
+  }
+  return " " + cell(kMmPerMetre * bins[k].value_m, "%.2f") + " (x" + cell(bins[k].ratio_to_z2_law, "%.2f") + ", " +
+         cell(bins[k].mean_depth_m, "%.2f") + " m) |";
+}
+
+// One row per depth bin for each of plane-fit RMS, temporal sigma and temporal MAD sigma.
+std::string depth_bin_rows(const std::vector<NoiseStats>& stats, double fx_px, const NoiseStatsOptions& options) {
+  std::string out;
+  const auto bin_row = [&](const char* label_format, std::vector<sensors::DepthBinStat> NoiseStats::*member, bool mad) {
+    for (size_t k = 0; k < options.bin_centres_m.size(); ++k) {
+      char label[64];
+      std::snprintf(label, sizeof label, label_format, options.bin_centres_m[k]);
+      out += "| " + std::string(label) + " |";
+      for (const auto& s : stats) out += depth_bin_cell(s.*member, k, mad, fx_px, options);
+      out += " " + cell(kMmPerMetre * intel_rms_m(options.bin_centres_m[k], fx_px, options), "%.2f") + " |\n";
+    }
+  };
+  bin_row("plane-fit RMS, %.1f m bin (mm)", &NoiseStats::plane_fit_rms, false);
+  bin_row("temporal sigma, %.1f m bin (mm)", &NoiseStats::temporal_sigma, false);
+  bin_row("temporal 1.4826 MAD / sqrt 2, %.1f m bin (mm)", &NoiseStats::temporal_sigma, true);
+  return out;
+}
+
+}  // namespace
+
+std::string noise_stats_table(const std::vector<std::string>& names, const std::vector<NoiseStats>& stats,
+                              double fx_px, const NoiseStatsOptions& options) {
+  return noise_table_header(names) + band_and_shadow_rows(stats) + depth_bin_rows(stats, fx_px, options);
 }
 
 }  // namespace stvl::analysis

@@ -344,73 +344,102 @@ int run_sweep_locally(const std::string& binary, const std::string& scenario, co
   return worst;
 }
 
-nlohmann::json collect_sweep(const std::string& dir_text, const std::string& chart_js_path) {
-  const fs::path dir = dir_text;
-  const fs::path grid_path = dir / "sweep.json";
+namespace {
+
+nlohmann::json read_sweep_grid(const fs::path& grid_path, const std::string& dir_text) {
   std::error_code error;
   if (!fs::is_regular_file(grid_path, error)) throw std::invalid_argument(dir_text + ": no sweep.json (not a sweep folder)");
-  nlohmann::json grid;
   try {
     std::ifstream in(grid_path);
-    grid = nlohmann::json::parse(in);
+    return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument(grid_path.string() + ": malformed: " + e.what());
   }
-  nlohmann::json table = {{"scenario", grid.value("scenario", "")}, {"axes", nlohmann::json::array()}, {"rows", nlohmann::json::array()}};
-  const auto key_of = [](const std::string& set) {
-    const std::string key = set.substr(0, set.find('='));
-    return key.rfind("--", 0) == 0 ? key.substr(2) : key;
-  };
-  if (!grid["points"].empty())
-    for (const auto& set : grid["points"][0]["sets"]) table["axes"].push_back(key_of(set.get<std::string>()));
-  const bool worlds = !grid["points"].empty() && grid["points"][0].contains("world");
+}
+
+// The axis a "--key=value" (or "key=value") assignment sets.
+std::string sweep_key_of(const std::string& set) {
+  const std::string key = set.substr(0, set.find('='));
+  return key.rfind("--", 0) == 0 ? key.substr(2) : key;
+}
+
+// A point's metrics.json; null when it is missing or malformed.
+nlohmann::json read_point_metrics(const fs::path& file) {
+  nlohmann::json metrics;
+  try {
+    std::ifstream in(file);
+    if (in) metrics = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    metrics = nlohmann::json();
+  }
+  return metrics;
+}
+
+// One row of sweep_table.json: the point's name, assignments, seed, world, state, checks and headline figures.
+nlohmann::json sweep_row(const nlohmann::json& point, const fs::path& dir) {
+  const std::string name = point["name"].get<std::string>();
+  nlohmann::json row = {{"point", name}, {"sets", nlohmann::json::object()}};
+  for (const auto& set : point["sets"]) {
+    const std::string s = set.get<std::string>();
+    row["sets"][sweep_key_of(s)] = s.substr(s.find('=') + 1);
+  }
+  if (point.contains("seed")) row["seed"] = std::to_string(point["seed"].get<std::uint64_t>());
+  for (const char* key : {"world", "make_world", "command"})
+    if (point.contains(key)) row[key] = point[key];
+  nlohmann::json metrics = read_point_metrics(dir / name / "metrics.json");
+  row["state"] = metrics.is_object() ? (metrics.value("passed", false) ? "passed" : "failed") : "missing";
+  row["failed_checks"] = nlohmann::json::array();  // by name, with their messages (sweep.html, --junit)
+  row["checks"] = nlohmann::json::object();        // every check's status: pass, fail or skip
+  if (metrics.is_object() && metrics.contains("checks"))
+    for (const auto& c : metrics["checks"]) {
+      const std::string status = c.value("status", c.value("passed", false) ? "pass" : "fail");
+      row["checks"][c.value("name", "")] = status;
+      if (status == "fail")
+        row["failed_checks"].push_back({{"name", c.value("name", "")}, {"message", c.value("message", "")}});
+    }
+  if (metrics.is_object()) {
+    row["figures"] = nlohmann::json::object();
+    for (const auto& [figure, path] : headline()) {
+      const nlohmann::json* node = &metrics;
+      for (const auto& key : path) node = node && node->is_object() && node->contains(key) ? &(*node)[key] : nullptr;
+      if (node && node->is_number()) row["figures"][figure] = *node;
+    }
+  }
+  return row;
+}
+
+// sweep.csv's header: point[,world], the axes, seed, state, the headline figures.
+std::string sweep_csv_header(const nlohmann::json& axes, bool worlds) {
   std::string csv = worlds ? "point,world" : "point";
-  for (const auto& axis : table["axes"]) csv += "," + csv_field(axis.get<std::string>());
+  for (const auto& axis : axes) csv += "," + csv_field(axis.get<std::string>());
   csv += ",seed,state";
   for (const auto& [name, path] : headline()) csv += "," + name;
-  csv += "\n";
+  return csv + "\n";
+}
+
+std::string sweep_csv_line(nlohmann::json& row, const nlohmann::json& axes, bool worlds) {
+  std::string csv = csv_field(row["point"].get<std::string>());
+  if (worlds) csv += "," + csv_field(row.value("world", std::string()));
+  for (const auto& axis : axes) csv += "," + csv_field(row["sets"].value(axis.get<std::string>(), ""));
+  csv += "," + row.value("seed", std::string()) + "," + row["state"].get<std::string>();
+  for (const auto& [figure, path] : headline())
+    csv += "," + (row.contains("figures") && row["figures"].contains(figure) ? row["figures"][figure].dump() : std::string());
+  return csv + "\n";
+}
+
+}  // namespace
+
+nlohmann::json collect_sweep(const std::string& dir_text, const std::string& chart_js_path) {
+  const fs::path dir = dir_text;
+  nlohmann::json grid = read_sweep_grid(dir / "sweep.json", dir_text);
+  nlohmann::json table = {{"scenario", grid.value("scenario", "")}, {"axes", nlohmann::json::array()}, {"rows", nlohmann::json::array()}};
+  if (!grid["points"].empty())
+    for (const auto& set : grid["points"][0]["sets"]) table["axes"].push_back(sweep_key_of(set.get<std::string>()));
+  const bool worlds = !grid["points"].empty() && grid["points"][0].contains("world");
+  std::string csv = sweep_csv_header(table["axes"], worlds);
   for (const auto& point : grid["points"]) {
-    const std::string name = point["name"].get<std::string>();
-    nlohmann::json row = {{"point", name}, {"sets", nlohmann::json::object()}};
-    for (const auto& set : point["sets"]) {
-      const std::string s = set.get<std::string>();
-      row["sets"][key_of(s)] = s.substr(s.find('=') + 1);
-    }
-    if (point.contains("seed")) row["seed"] = std::to_string(point["seed"].get<std::uint64_t>());
-    for (const char* key : {"world", "make_world", "command"})
-      if (point.contains(key)) row[key] = point[key];
-    nlohmann::json metrics;
-    try {
-      std::ifstream in(dir / name / "metrics.json");
-      if (in) metrics = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception&) {
-      metrics = nlohmann::json();
-    }
-    row["state"] = metrics.is_object() ? (metrics.value("passed", false) ? "passed" : "failed") : "missing";
-    row["failed_checks"] = nlohmann::json::array();  // by name, with their messages (sweep.html, --junit)
-    row["checks"] = nlohmann::json::object();        // every check's status: pass, fail or skip
-    if (metrics.is_object() && metrics.contains("checks"))
-      for (const auto& c : metrics["checks"]) {
-        const std::string status = c.value("status", c.value("passed", false) ? "pass" : "fail");
-        row["checks"][c.value("name", "")] = status;
-        if (status == "fail")
-          row["failed_checks"].push_back({{"name", c.value("name", "")}, {"message", c.value("message", "")}});
-      }
-    if (metrics.is_object()) {
-      row["figures"] = nlohmann::json::object();
-      for (const auto& [figure, path] : headline()) {
-        const nlohmann::json* node = &metrics;
-        for (const auto& key : path) node = node && node->is_object() && node->contains(key) ? &(*node)[key] : nullptr;
-        if (node && node->is_number()) row["figures"][figure] = *node;
-      }
-    }
-    csv += csv_field(name);
-    if (worlds) csv += "," + csv_field(row.value("world", std::string()));
-    for (const auto& axis : table["axes"]) csv += "," + csv_field(row["sets"].value(axis.get<std::string>(), ""));
-    csv += "," + row.value("seed", std::string()) + "," + row["state"].get<std::string>();
-    for (const auto& [figure, path] : headline())
-      csv += "," + (row.contains("figures") && row["figures"].contains(figure) ? row["figures"][figure].dump() : std::string());
-    csv += "\n";
+    nlohmann::json row = sweep_row(point, dir);
+    csv += sweep_csv_line(row, table["axes"], worlds);
     table["rows"].push_back(row);
   }
   if (worlds) table["over_worlds"] = over_worlds(table);

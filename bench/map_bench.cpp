@@ -14,6 +14,7 @@
 #include "bench/octomap_peer.hpp"
 #include "bench/synthetic_corridor.hpp"
 #include "bench/timing.hpp"
+#include "common/statistics.hpp"
 #include "mapping/voxel_map.hpp"
 
 namespace stvl::bench {
@@ -112,7 +113,7 @@ MapBenchResult run_map_bench(const MapBenchOptions& options) {
       ray_mark.push_back(time_once_ms([&] { raycast.mark(frame.points_W, frame.T_world_camera, source, frame.time_s); }));
       if (octomap) octomap_insert.push_back(octomap->insert_ms(frame.points_W, frame.T_world_camera.translation(), kFrameMaxRangeM));
     }
-    row.octomap_insert_ms = median(octomap_insert);
+    row.octomap_insert_ms = median(octomap_insert, 0.0);  // 0 without OctoMap
     row.mark_ms = median(mark);
     row.clear_ms = median(clear);
     row.full_walk_clear_ms = median(full_clear);

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "common/stopwatch.hpp"
+#include "common/units.hpp"
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
 #ifdef STVL_HAVE_SENSORS_REFERENCE
@@ -63,13 +65,13 @@ Eigen::Isometry3d bench_pose(int i, double yaw_rad = 0.0) {
   return T_world_camera;
 }
 
-double ms_of(std::chrono::steady_clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
+double ms_of(SteadyClock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
 // The peer and the three-camera rows of `r`, on the same frames as the rest.
 void measure_peers(const mjModel* model, mjData* data, stvl::sensors::GlBackend backend,
                    const stvl::sensors::CameraIntrinsics& intrinsics, int frames, Result& r) {
   using namespace stvl::sensors;
-  using clock = std::chrono::steady_clock;
+  using clock = SteadyClock;
   DepthRenderer renderer(model, intrinsics, backend);
 #ifdef STVL_HAVE_SENSORS_REFERENCE
   reference::FloatDepthRenderer peer(model, intrinsics, backend);
@@ -120,11 +122,11 @@ Result measure(const std::string& world_path, stvl::sensors::GlBackend backend,
     Eigen::Matrix3Xf points_C;
     const auto pose = [](int i) { return bench_pose(i); };
     for (int i = 0; i < 10; ++i) renderer.render(model, data, pose(i));  // warm-up
-    using clock = std::chrono::steady_clock;
+    using clock = SteadyClock;
     auto t0 = clock::now();
     double valid = 0.0;
     for (int i = 0; i < frames; ++i) valid += renderer.render(model, data, pose(i)).valid_count();
-    result.render_fps = frames / std::chrono::duration<double>(clock::now() - t0).count();
+    result.render_fps = frames / s_since(t0);
     result.valid_fraction = valid / frames / (double(intrinsics.width) * intrinsics.height);
     t0 = clock::now();
     double points = 0.0, noise_s = 0.0, cloud_s = 0.0, one_pass_s = 0.0;
@@ -134,18 +136,18 @@ Result measure(const std::string& world_path, stvl::sensors::GlBackend backend,
       reference = noisy;
       const auto t0_ref = clock::now();
       noise.apply(reference, 7, uint64_t(i), /*parallel=*/false);
-      one_pass_s += std::chrono::duration<double>(clock::now() - t0_ref).count();
+      one_pass_s += s_since(t0_ref);
       const auto t1 = clock::now();
       noise.apply(noisy, 7, uint64_t(i));
       const auto t2 = clock::now();
       points += double(depth_to_cloud(noisy, intrinsics, points_C));
       noise_s += std::chrono::duration<double>(t2 - t1).count();
-      cloud_s += std::chrono::duration<double>(clock::now() - t2).count();
+      cloud_s += s_since(t2);
     }
-    result.full_fps = frames / (std::chrono::duration<double>(clock::now() - t0).count() - one_pass_s);
-    result.noise_one_pass_ms = 1e3 * one_pass_s / frames;
-    result.noise_ms = 1e3 * noise_s / frames;
-    result.cloud_ms = 1e3 * cloud_s / frames;
+    result.full_fps = frames / (s_since(t0) - one_pass_s);
+    result.noise_one_pass_ms = kMsPerSecond * one_pass_s / frames;
+    result.noise_ms = kMsPerSecond * noise_s / frames;
+    result.cloud_ms = kMsPerSecond * cloud_s / frames;
     result.points = points / frames;
   }
   measure_peers(model, data, backend, intrinsics, frames, result);

@@ -1,10 +1,10 @@
 #include "bench/sim_bench.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
+#include "common/stopwatch.hpp"
 #include "sim/simulator.hpp"
 
 namespace stvl::bench {
@@ -21,12 +21,12 @@ SimBenchResult run_sim_bench(const SimBenchOptions& options) {
   const bool l_turn = options.world_path.find("l_corridor") != std::string::npos;
   sim.set_path(l_turn ? sim::Path{{{0, 0}, {8, 0}, {8, 7}}, 0.8} : sim::Path{{{0, 0}, {20, 0}}, 0.8});
   SimBenchResult result;
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   while (sim.time_s() < options.duration_s) {
     sim.step();
     ++result.steps;
   }
-  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.wall_s = watch.elapsed_s();
   result.simulated_s = sim.time_s();
   const Eigen::Vector3d p = sim.T_world_base().translation();
   result.final_x_m = p.x();

@@ -1,19 +1,19 @@
 #pragma once
 // Wall-clock timing for the benchmarks (the only place in the project where the wall clock is read for a result).
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <utility>
-#include <vector>
+
+#include "common/stopwatch.hpp"
 
 namespace stvl::bench {
 
 // Time of one call of fn(), in ms.
 template <class Fn>
 double time_once_ms(Fn&& fn) {
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch watch;
   fn();
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return watch.elapsed_ms();
 }
 
 // Times fn() `repetitions` times (at least once) after `warmup` untimed calls; returns {mean, std} in ms.
@@ -29,14 +29,6 @@ std::pair<double, double> time_ms(Fn&& fn, int warmup, int repetitions) {
   }
   const double mean = sum / n;
   return {mean, std::sqrt(std::max(0.0, sum_sq / n - mean * mean))};
-}
-
-// Median of v (the mean of the two middle values for an even count); 0 when v is empty.
-inline double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 }  // namespace stvl::bench

@@ -1,5 +1,6 @@
 #pragma once
-// Wall-clock milliseconds for the frame loop's stage timings (the only part of a run that is not deterministic).
+// Wall-clock time on the steady clock: the frame loop's stage timings, the evaluation's phase times and the
+// benchmarks (the only parts of the project that read the wall clock; none of it reaches a deterministic output).
 #include <chrono>
 
 namespace stvl {
@@ -10,5 +11,36 @@ using SteadyClock = std::chrono::steady_clock;
 inline double ms_since(SteadyClock::time_point start) {
   return std::chrono::duration<double, std::milli>(SteadyClock::now() - start).count();
 }
+
+// Seconds since `start` on the steady clock.
+inline double s_since(SteadyClock::time_point start) {
+  return std::chrono::duration<double>(SteadyClock::now() - start).count();
+}
+
+// Started on construction; reads the time since then (or since the last restart()).
+class Stopwatch {
+ public:
+  Stopwatch() : start_(SteadyClock::now()) {}
+  void restart() { start_ = SteadyClock::now(); }
+  double elapsed_ms() const { return ms_since(start_); }
+  double elapsed_s() const { return s_since(start_); }
+  SteadyClock::time_point start() const { return start_; }
+
+ private:
+  SteadyClock::time_point start_;
+};
+
+// Adds the wall time of its scope, in ms, to `total_ms` when it ends.
+class ScopedMsTimer {
+ public:
+  explicit ScopedMsTimer(double& total_ms) : total_ms_(total_ms) {}
+  ~ScopedMsTimer() { total_ms_ += watch_.elapsed_ms(); }
+  ScopedMsTimer(const ScopedMsTimer&) = delete;
+  ScopedMsTimer& operator=(const ScopedMsTimer&) = delete;
+
+ private:
+  double& total_ms_;
+  Stopwatch watch_;
+};
 
 }  // namespace stvl

@@ -59,13 +59,16 @@ int bound_camera_index(const RosObservationSource& source, const std::vector<pip
   return by_topic >= 0 ? by_topic : longest(source.sensor_frame, frame_names);
 }
 
-void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config, bool derive_filter) {
+namespace {
+
+// The layer's map settings, STVL's footprint clearing with the costmap's footprint (nav2: a non-empty footprint
+// wins over robot_radius) and nav2's master costmap around the layer.
+void apply_map_settings(const RosStvlLayer& layer, pipeline::PipelineConfig& config) {
   config.map.voxel_size_m = layer.map.voxel_size_m;
   config.map.voxel_decay_s = layer.map.voxel_decay_s;
   config.map.decay_model = layer.map.decay_model;
   config.map.mark_threshold = layer.map.mark_threshold;
   if (layer.update_frequency_hz) config.map.update_frequency_hz = *layer.update_frequency_hz;
-  // STVL's footprint clearing with the costmap's footprint (nav2: a non-empty footprint wins over robot_radius).
   config.map.update_footprint_enabled = layer.update_footprint_enabled;
   config.map.footprint_B.clear();
   if (layer.footprint && !layer.footprint->empty()) config.map.footprint_B = *layer.footprint;
@@ -83,13 +86,18 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
     n.track_unknown_space = layer.costmap_track_unknown_space;
     n.validate();
   }
+}
+
+// Binds each enabled observation source to its camera (replacing the cameras' sources); every camera needs one
+// and all decimate with one filter. Returns the first enabled source (nullptr when none is).
+const RosObservationSource* bind_sources(const RosStvlLayer& layer, std::vector<pipeline::CameraConfig>& cameras) {
   std::string names;
-  for (const auto& c : config.cameras) names += (names.empty() ? "" : ", ") + c.name;
-  for (auto& c : config.cameras) c.sources.clear();
+  for (const auto& c : cameras) names += (names.empty() ? "" : ", ") + c.name;
+  for (auto& c : cameras) c.sources.clear();
   const RosObservationSource* first = nullptr;
   for (const auto& source : layer.sources) {
     if (!source.enabled) continue;  // STVL leaves a disabled source's buffer out of marking and clearing
-    const int index = bound_camera_index(source, config.cameras);
+    const int index = bound_camera_index(source, cameras);
     if (index < 0)
       throw std::invalid_argument(where(layer, source) + "bound to no camera: topic '" + source.topic +
                                   "' and sensor_frame '" + source.sensor_frame + "' name none of the cameras (" +
@@ -100,32 +108,44 @@ void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config
                                   first->name + "'s " + filter_name(*first) +
                                   "; the bench decimates every frame with one filter");
     if (!first) first = &source;
-    config.cameras[index].sources.push_back({source.name, source.stvl});
+    cameras[index].sources.push_back({source.name, source.stvl});
     // STVL's buffer with filter none transforms the cloud and filters nothing: no height band.
-    config.cameras[index].sources.back().params.height_band = source.filter != RosSourceFilter::kNone;
+    cameras[index].sources.back().params.height_band = source.filter != RosSourceFilter::kNone;
     // The ros2 branch's relative filters band (and decimate) in z_reference_frame.
-    if (source.filter_relative) config.cameras[index].sources.back().params.z_reference = z_reference_of(layer, source);
+    if (source.filter_relative) cameras[index].sources.back().params.z_reference = z_reference_of(layer, source);
     // The clearing volume is built in sensor_frame: the camera's link when it names it, else the cloud's frame.
-    if (source.sensor_frame == recording::camera_link_frame(config.cameras[index].name))
-      config.cameras[index].sources.back().params.sensor_frame = mapping::SensorFrame::kLink;
+    if (source.sensor_frame == recording::camera_link_frame(cameras[index].name))
+      cameras[index].sources.back().params.sensor_frame = mapping::SensorFrame::kLink;
   }
-  for (const auto& c : config.cameras)
+  for (const auto& c : cameras)
     if (c.sources.empty())
       throw std::invalid_argument(layer.file + ": " + layer.layer_name + ": no enabled observation source is bound to camera '" +
                                   c.name + "' (bind one through its topic /" + c.name + "/... or its sensor_frame)");
-  if (!derive_filter || !first) return;
+  return first;
+}
+
+// The bench's filter from the first source's: STVL's height band and, with filter voxel, its VoxelGrid.
+void derive_filter_from(const RosStvlLayer& layer, const RosObservationSource& first, pipeline::PipelineConfig& config) {
   filter::FilterConfig& f = config.filter;
   const layer::HeightBand band = pipeline::marking_band(config);
   f.passthrough = {band.min_m, band.max_m};
-  f.passthrough_enabled = first->filter != RosSourceFilter::kNone;
-  f.type = first->filter == RosSourceFilter::kVoxel ? filter::FilterType::kVoxel : filter::FilterType::kNone;
+  f.passthrough_enabled = first.filter != RosSourceFilter::kNone;
+  f.type = first.filter == RosSourceFilter::kVoxel ? filter::FilterType::kVoxel : filter::FilterType::kNone;
   f.voxel.voxel_size_m = layer.map.voxel_size_m;
   // STVL's VoxelGrid takes the band as its z filter limits, before the leaves are counted.
-  f.band_before_decimation = first->filter == RosSourceFilter::kVoxel;
+  f.band_before_decimation = first.filter == RosSourceFilter::kVoxel;
   // voxel_min_points (STVL #241): VoxelGrid<PCLPointCloud2> ignored it before PCL 1.12 (PCL commit 7a7210dd), so
   // on ROS 1 Noetic (Ubuntu 20.04, PCL 1.10) every leaf counts; ROS 2 Humble and later (PCL >= 1.12) drop leaves
   // with fewer points. A ROS 2 file is read as Humble or later (Foxy and Galactic, on PCL 1.10, behave like ROS 1).
-  f.voxel.min_points_per_voxel = layer.flavour == RosFlavour::kRos1 ? 1 : std::max(1, first->voxel_min_points);
+  f.voxel.min_points_per_voxel = layer.flavour == RosFlavour::kRos1 ? 1 : std::max(1, first.voxel_min_points);
+}
+
+}  // namespace
+
+void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config, bool derive_filter) {
+  apply_map_settings(layer, config);
+  const RosObservationSource* first = bind_sources(layer, config.cameras);
+  if (derive_filter && first) derive_filter_from(layer, *first, config);
 }
 
 std::vector<BoundCamera> bound_cameras(const pipeline::PipelineConfig& config) {

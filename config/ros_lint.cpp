@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <regex>
-#include <sstream>
 
 #include "common/enum_names.hpp"
+#include "common/format.hpp"
+#include "common/units.hpp"
 #include "config/ros_lint_geometry.hpp"
 #include "config/ros_params_detail.hpp"
 #include "config/stvl_keys.hpp"
@@ -19,16 +20,10 @@ namespace geo = lint_geometry;
 
 constexpr double kFovTolerance = 0.05;  // relative
 
-std::string number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
-
 // Rounded to the centimetre, down or up (a suggestion that is safe on its side).
 double cm_down(double m) { return std::floor(m * 100.0 + 1e-6) / 100.0; }
 double cm_up(double m) { return std::ceil(m * 100.0 - 1e-6) / 100.0; }
-std::string cm(double m) { return number(std::round(m * 100.0) / 100.0); }
+std::string cm(double m) { return general(std::round(m * 100.0) / 100.0); }
 
 bool contains(const std::vector<std::string>& keys, const std::string& key) {
   return std::find(keys.begin(), keys.end(), key) != keys.end();
@@ -126,14 +121,14 @@ class Linter {
           "persistence is meant");
     if (layer_.map.voxel_decay_s < 0.0)
       add(line_or(n, "voxel_decay", fallback), dotted(nodes_.layer_path, "voxel_decay"),
-          "voxel_decay = " + number(layer_.map.voxel_decay_s) + (n["voxel_decay"] ? "" : " (STVL's default)") +
+          "voxel_decay = " + general(layer_.map.voxel_decay_s) + (n["voxel_decay"] ? "" : " (STVL's default)") +
               ": every voxel is removed at the next update, before the costmap is built, so the layer never marks a cell",
           "voxel_decay: 15.0 (STVL's example)");
-    if (layer_.resolution_m && std::abs(*layer_.resolution_m - layer_.map.voxel_size_m) > 1e-9)
+    if (layer_.resolution_m && std::abs(*layer_.resolution_m - layer_.map.voxel_size_m) > kLengthEpsilon_m)
       add(line_or(n, "voxel_size", fallback), dotted(nodes_.layer_path, "voxel_size"),
-          "voxel_size = " + number(layer_.map.voxel_size_m) + " m differs from the costmap's resolution = " +
-              number(*layer_.resolution_m) + " m: STVL projects voxel columns onto cells of another size",
-          "voxel_size: " + number(*layer_.resolution_m));
+          "voxel_size = " + general(layer_.map.voxel_size_m) + " m differs from the costmap's resolution = " +
+              general(*layer_.resolution_m) + " m: STVL projects voxel columns onto cells of another size",
+          "voxel_size: " + general(*layer_.resolution_m));
     const bool any_clearing = std::any_of(layer_.sources.begin(), layer_.sources.end(),
                                           [](const RosObservationSource& s) { return s.stvl.clearing; });
     if (!any_clearing)
@@ -160,7 +155,7 @@ class Linter {
           "filter: passthrough_relative (or voxel_relative), or drop z_reference_frame");
     if (v.marking && v.min_obstacle_height_m <= 0.0)
       add(line_or(node, "min_obstacle_height", s.line), dotted(prefix, "min_obstacle_height"),
-          "min_obstacle_height = " + number(v.min_obstacle_height_m) +
+          "min_obstacle_height = " + general(v.min_obstacle_height_m) +
               " m: STVL marks points at floor level, so the depth camera's floor noise becomes obstacles",
           "min_obstacle_height: 0.05 (above the floor noise)");
     if (v.clearing && v.decay_acceleration_per_s3 == 0.0)
@@ -244,28 +239,28 @@ class Linter {
       if (!best || f > far + 1e-12 || (c == &m && f >= far - 1e-12)) best = c, far = f;
     }
     const double range = m.stvl.obstacle_range_m;
-    if (!(range > far + 1e-9)) return;
+    if (!(range > far + kLengthEpsilon_m)) return;
     const auto& b = best->stvl;
     const std::string plane =
-        "STVL's depth-camera frustum puts its far plane at max_z·cos(h/2)·cos(v/2) = " + number(b.max_z_m) +
-        " × cos(" + number(b.horizontal_fov_rad / 2.0) + ") × cos(" + number(b.vertical_fov_rad / 2.0) + ") = " +
+        "STVL's depth-camera frustum puts its far plane at max_z·cos(h/2)·cos(v/2) = " + general(b.max_z_m) +
+        " × cos(" + general(b.horizontal_fov_rad / 2.0) + ") × cos(" + general(b.vertical_fov_rad / 2.0) + ") = " +
         cm(far) + " m along the optical axis, not at max_z";
-    const std::string beyond = ": voxels marked between " + cm(far) + " and " + number(range) +
+    const std::string beyond = ": voxels marked between " + cm(far) + " and " + general(range) +
                                " m are never reached by frustum acceleration (decay_acceleration), only voxel_decay removes them";
-    const std::string raise = "max_z: " + number(cm_up(geo::stvl_radial_for_depth(range, b.horizontal_fov_rad,
+    const std::string raise = "max_z: " + general(cm_up(geo::stvl_radial_for_depth(range, b.horizontal_fov_rad,
                                                                                    b.vertical_fov_rad)));
     const YAML::Node node = nodes_.layer[m.name];
     const std::string prefix = dotted(nodes_.layer_path, m.name);
     if (best == &m)
       add(line_or(node, "max_z", m.line), dotted(prefix, "max_z"),
-          "max_z = " + number(b.max_z_m) + " m with obstacle_range = " + number(range) + " m: " + plane + beyond,
-          raise + " (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: " + number(cm_down(far)));
+          "max_z = " + general(b.max_z_m) + " m with obstacle_range = " + general(range) + " m: " + plane + beyond,
+          raise + " (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: " + general(cm_down(far)));
     else
       add(line_or(node, "obstacle_range", m.line), dotted(prefix, "obstacle_range"),
-          "obstacle_range = " + number(range) + " m marks past the clearing frustum of " + where(*best) +
+          "obstacle_range = " + general(range) + " m marks past the clearing frustum of " + where(*best) +
               ", the same camera's source reaching farthest: " + plane + beyond,
           raise + " on " + best->name + " (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: " +
-              number(cm_down(far)));
+              general(cm_down(far)));
   }
 
   // Heights (world z) the camera marks within obstacle_range that no clearing frustum of it contains at any
@@ -299,11 +294,11 @@ class Linter {
     for (const auto& r : left) heights += (heights.empty() ? "" : " and ") + cm(r.min_m) + ".." + cm(r.max_m);
     const bool above = left.back().max_m > top;
     const std::string k = above ? "max_obstacle_height" : "min_obstacle_height";
-    const std::string value = number(above ? cm_down(top) : cm_up(bottom));
+    const std::string value = general(above ? cm_down(top) : cm_up(bottom));
     add(line_or(nodes_.layer[m.name], k, m.line), dotted(dotted(nodes_.layer_path, m.name), k),
         "heights " + heights + " m (world z) are marked but never cleared: camera " + camera.camera + " (" +
-            cm(camera.height_m) + " m above the floor, pitch " + cm(camera.pitch_rad * 180.0 / M_PI) +
-            " deg) sees them within obstacle_range = " + number(m.stvl.obstacle_range_m) +
+            cm(camera.height_m) + " m above the floor, pitch " + cm(degrees(camera.pitch_rad)) +
+            " deg) sees them within obstacle_range = " + general(m.stvl.obstacle_range_m) +
             " m, and no clearing frustum of it (STVL's: " + names +
             ") contains them at any distance or robot pose: those voxels leave only by voxel_decay",
         (band ? "" : "filter: \"passthrough\" with ") + k + ": " + value + ", or widen the clearing source's " +
@@ -314,10 +309,10 @@ class Linter {
            double written_rad, double real_rad) {
     if (!(real_rad > 0.0) || std::abs(written_rad - real_rad) <= kFovTolerance * real_rad) return;
     add(line_or(node, k, s.line), dotted(prefix, k),
-        k + " = " + number(written_rad) + " rad is more than 5 % off the bound camera's " + number(real_rad) +
+        k + " = " + general(written_rad) + " rad is more than 5 % off the bound camera's " + general(real_rad) +
             " rad: STVL's clearing frustum " + (written_rad > real_rad ? "clears voxels the camera cannot see"
                                                                        : "leaves the edges of the view uncleared"),
-        k + ": " + number(real_rad));
+        k + ": " + general(real_rad));
   }
 
   const RosStvlLayer& layer_;

@@ -34,7 +34,7 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   robot.get("start", start);
   if (start.size() != 3) robot.fail(robot.raw("start"), "start", "expected [x_m, y_m, yaw_deg]");
   require_range(robot, "start", "non-finite values", std::isfinite(start[0] + start[1] + start[2]), "must be finite");
-  s.pipeline.start_pose = {start[0], start[1], start[2] * kDegToRad};
+  s.pipeline.start_pose = {start[0], start[1], start[2] * kRadPerDeg};
   std::vector<std::vector<double>> waypoints;
   const bool plan = map_world && !robot.has("waypoints");  // nav2_map without waypoints: planned for the robot below
   if (!plan) robot.require("waypoints", waypoints);
@@ -49,11 +49,11 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   if (robot.has("camera_mount")) {
     auto mount = robot.map("camera_mount");
     auto& m = s.pipeline.sim.camera_mount;
-    double pitch_deg = m.pitch_rad / kDegToRad;
+    double pitch_deg = m.pitch_rad / kRadPerDeg;
     mount.get("height_m", m.height_m);
     mount.get("pitch_deg", pitch_deg);
     mount.get("forward_offset_m", m.forward_offset_m);
-    m.pitch_rad = pitch_deg * kDegToRad;
+    m.pitch_rad = pitch_deg * kRadPerDeg;
     mount.finish();
     s.camera().mount = m;  // the model's camera site follows it too (the legacy range checks come from there)
   }
@@ -102,7 +102,7 @@ void read_moving_bodies(YamlMap& root, Scenario& s) {
       if (key.has("yaw_deg")) {
         double yaw_deg = 0.0;
         key.get("yaw_deg", yaw_deg);
-        frame.yaw_rad = yaw_deg * kDegToRad;
+        frame.yaw_rad = yaw_deg * kRadPerDeg;
       }
       key.finish();
       track.keyframes.push_back(frame);
@@ -113,7 +113,7 @@ void read_moving_bodies(YamlMap& root, Scenario& s) {
       body.get("repeat_s", repeat_s);
       const double span_s = track.keyframes.back().time_s - track.keyframes.front().time_s;
       require_range(body, "repeat_s", repeat_s, std::isfinite(repeat_s) && repeat_s > 0 && repeat_s >= span_s,
-                    "must be finite, > 0 and at least the keyframes' span " + fixed_text(span_s) + " s");
+                    "must be finite, > 0 and at least the keyframes' span " + general(span_s) + " s");
       track.repeat_s = repeat_s;
     }
     body.finish();
@@ -349,11 +349,8 @@ void read_checks(YamlMap c, Scenario& s) {
   c.finish();
 }
 
-Scenario parse_root(YamlMap root, const std::string& base_dir) {
-  Scenario s;
-  s.file = root.file();
-  root.require("name", s.name);
-  require_range(root, "name", "an empty name", !s.name.empty(), "must not be empty");
+// world (an MJCF file, relative to the scenario's folder) or nav2_map (a map to build the world from, returned).
+std::shared_ptr<const worldgen::MapWorld> read_world(YamlMap& root, Scenario& s, const std::string& base_dir) {
   std::string world;
   std::shared_ptr<const worldgen::MapWorld> map_world;  // nav2_map: the world built from a nav2 map instead
   if (root.has("nav2_map") && root.has("world"))
@@ -365,12 +362,17 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
     s.pipeline.world_path = std::filesystem::path(world).is_absolute()
                        ? world
                        : (std::filesystem::path(base_dir) / world).lexically_normal().string();
-  root.get("seed", s.pipeline.seed);
+  return map_world;
+}
+
+// duration_s, stop_at_path_end and the robot (its cameras' own observation keys into camera_overrides); a world
+// built from a nav2 map runs for the planned drive unless waypoints or duration_s are given.
+void read_run_and_robot(YamlMap& root, Scenario& s, std::vector<std::optional<YamlMap>>& camera_overrides,
+                        const std::string& base_dir, const worldgen::MapWorld* map_world) {
   root.get("duration_s", s.duration_s);
   require_range(root, "duration_s", s.duration_s, s.duration_s > 0 && s.duration_s <= 3600, "must lie in (0, 3600] s");
   root.get("stop_at_path_end", s.stop_at_path_end);
-  std::vector<std::optional<YamlMap>> camera_overrides{std::nullopt};
-  read_robot(root.map("robot"), s, camera_overrides, base_dir, map_world.get());
+  read_robot(root.map("robot"), s, camera_overrides, base_dir, map_world);
   if (YamlMap robot = root.map("robot"); map_world && !robot.has("waypoints") && !root.has("duration_s"))
     s.duration_s = planned_duration_s(robot, s);
   if (s.pipeline.path.loop) {  // a looping path has no end to stop at
@@ -378,7 +380,12 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
       root.fail(root.raw("stop_at_path_end"), "stop_at_path_end", "robot.loop never reaches an end; set it false or leave it out");
     s.stop_at_path_end = false;
   }
-  read_moving_bodies(root, s);
+}
+
+// The sensors and the map: the top-level camera, filter, map, each camera's observation sources, and the layer of
+// map.ros_params when it names one.
+void read_sensors_and_map(YamlMap& root, Scenario& s, const std::vector<std::optional<YamlMap>>& camera_overrides,
+                          const std::string& base_dir) {
   if (root.has("camera")) {
     if (root.map("robot").has("cameras"))
       root.fail(root.raw("camera"), "camera", "robot.cameras gives the cameras; move these keys into its entries");
@@ -400,6 +407,19 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
                              ? std::string("ros_params ") + (footprint ? "footprint" : "robot_radius") + " (" + s.ros_params->path + ")"
                              : "";
   }
+}
+
+Scenario parse_root(YamlMap root, const std::string& base_dir) {
+  Scenario s;
+  s.file = root.file();
+  root.require("name", s.name);
+  require_range(root, "name", "an empty name", !s.name.empty(), "must not be empty");
+  const std::shared_ptr<const worldgen::MapWorld> map_world = read_world(root, s, base_dir);
+  root.get("seed", s.pipeline.seed);
+  std::vector<std::optional<YamlMap>> camera_overrides{std::nullopt};
+  read_run_and_robot(root, s, camera_overrides, base_dir, map_world.get());
+  read_moving_bodies(root, s);
+  read_sensors_and_map(root, s, camera_overrides, base_dir);
   complete_footprint(s);
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "common/format.hpp"
+#include "common/units.hpp"
 #include "config/scenario.hpp"
 #include "config/yaml_reader.hpp"
 
@@ -18,8 +20,6 @@ struct MapWorld;
 }
 
 namespace stvl::config::scenario_detail {
-
-constexpr double kDegToRad = M_PI / 180.0;
 
 // A field a module's validate() may name in its message, and the YAML key (in `map`) that sets it.
 struct Blame {
@@ -76,12 +76,6 @@ void get_optional(YamlMap& map, const std::string& key, std::optional<T>& value)
 inline Eigen::Vector2d to_point2(const std::vector<double>& xy, YamlMap& map, const std::string& key) {
   if (xy.size() != 2) map.fail(map.raw(key), key, "expected [x, y] points");
   return {xy[0], xy[1]};
-}
-
-inline std::string fixed_text(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
 }
 
 // scenario_sensors.cpp: a camera's sensor keys (preset, intrinsics, range, rate, GL, noise, edge filter), its

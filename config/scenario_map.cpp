@@ -68,7 +68,7 @@ void plan_on_map(const worldgen::MapWorld& world, YamlMap& robot, Scenario& s) {
 double planned_duration_s(YamlMap& robot, const Scenario& s) {
   const auto& p = s.pipeline;
   const double duration_s = worldgen::drive_duration_s(p.path.waypoints_W, p.path.cruise_speed_mps, p.start_pose.yaw_rad);
-  require_range(robot, "waypoints", "a planned drive of " + fixed_text(duration_s) + " s", duration_s <= 3600,
+  require_range(robot, "waypoints", "a planned drive of " + general(duration_s) + " s", duration_s <= 3600,
                 "needs more than a scenario's 3600 s; give robot.waypoints or robot.start nearer the end");
   return duration_s;
 }

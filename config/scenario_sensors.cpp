@@ -6,8 +6,10 @@
 #include "config/scenario_detail.hpp"
 
 namespace stvl::config::scenario_detail {
-// The keys of a camera (top-level `camera` or an entry of robot.cameras) that describe the sensor itself.
-void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c) {
+namespace {
+
+// The camera model: preset (or custom intrinsics), range and rate, validated together.
+void read_camera_model(YamlMap& camera, pipeline::CameraConfig& c) {
   std::string preset = "d435_848x480";
   camera.get("preset", preset);
   std::optional<YamlMap> in;
@@ -39,49 +41,68 @@ void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c) {
                  {"cy", &k, in ? "cy" : "preset"}, {"min_range_m", &camera, "min_range_m"},
                  {"max_range_m", &camera, "max_range_m"}, {"rate_hz", &camera, "rate_hz"}},
                 [&] { c.intrinsics.validate(); });
+}
+
+void read_gl_backend(YamlMap& camera, pipeline::CameraConfig& c) {
   std::string backend = sensors::to_string(c.gl_backend);
   camera.get("gl_backend", backend);
   validate_keys({{"gl_backend", &camera, "gl_backend"}}, [&] { c.gl_backend = sensors::parse_gl_backend(backend); });
-  if (camera.has("noise")) {
-    auto noise = camera.map("noise");
-    auto& n = c.noise;
-    noise.get("enabled", n.enabled);
-    noise.get("baseline_m", n.baseline_m);
-    noise.get("subpixel", n.subpixel);
-    noise.get("disparity_step_px", n.disparity_step_px);
-    noise.get("edge_jump_m", n.edge_jump_m);
-    noise.get("edge_probability", n.edge_probability);
-    noise.get("edge_invalid_fraction", n.edge_invalid_fraction);
-    noise.get("dropout_probability", n.dropout_probability);
-    noise.get("holes_per_frame", n.holes_per_frame);
-    noise.get("hole_max_radius_px", n.hole_max_radius_px);
-    noise.get("stereo_occlusion", n.stereo_occlusion);  // ours (real D435 artifacts), off by default
-    noise.get("left_band_margin_px", n.left_band_margin_px);
-    noise.get("left_band_jitter_px", n.left_band_jitter_px);
-    noise.get("shadow_margin_px", n.shadow_margin_px);
-    noise.get("correlated_fraction", n.correlated_fraction);  // ours, 0 = off
-    noise.get("correlated_cell_px", n.correlated_cell_px);
-    noise.finish();
-    validate_keys({{"enabled", &noise, "enabled"}, {"baseline_m", &noise, "baseline_m"}, {"subpixel", &noise, "subpixel"},
-                   {"disparity_step_px", &noise, "disparity_step_px"}, {"edge_jump_m", &noise, "edge_jump_m"},
-                   {"edge_probability", &noise, "edge_probability"},
-                   {"edge_invalid_fraction", &noise, "edge_invalid_fraction"},
-                   {"dropout_probability", &noise, "dropout_probability"}, {"holes_per_frame", &noise, "holes_per_frame"},
-                   {"hole_max_radius_px", &noise, "hole_max_radius_px"},
-                   {"left_band_margin_px", &noise, "left_band_margin_px"},
-                   {"left_band_jitter_px", &noise, "left_band_jitter_px"},
-                   {"shadow_margin_px", &noise, "shadow_margin_px"},
-                   {"correlated_fraction", &noise, "correlated_fraction"},
-                   {"correlated_cell_px", &noise, "correlated_cell_px"}},
-                  [&] { n.validate(); });
-  }
-  if (camera.has("edge_filter")) {  // ours (sensors/depth_edge_filter.hpp); STVL has none
-    auto edge = camera.map("edge_filter");
-    edge.get("enabled", c.edge_filter.enabled);
-    edge.get("max_jump_at_1m_m", c.edge_filter.max_jump_at_1m_m);
-    edge.finish();
-    validate_keys({{"max_jump_at_1m_m", &edge, "max_jump_at_1m_m"}}, [&] { c.edge_filter.validate(); });
-  }
+}
+
+// camera.noise (sensors/depth_noise.hpp), when given.
+void read_noise(YamlMap& camera, pipeline::CameraConfig& c) {
+  if (!camera.has("noise")) return;
+  auto noise = camera.map("noise");
+  auto& n = c.noise;
+  noise.get("enabled", n.enabled);
+  noise.get("baseline_m", n.baseline_m);
+  noise.get("subpixel", n.subpixel);
+  noise.get("disparity_step_px", n.disparity_step_px);
+  noise.get("edge_jump_m", n.edge_jump_m);
+  noise.get("edge_probability", n.edge_probability);
+  noise.get("edge_invalid_fraction", n.edge_invalid_fraction);
+  noise.get("dropout_probability", n.dropout_probability);
+  noise.get("holes_per_frame", n.holes_per_frame);
+  noise.get("hole_max_radius_px", n.hole_max_radius_px);
+  noise.get("stereo_occlusion", n.stereo_occlusion);  // ours (real D435 artifacts), off by default
+  noise.get("left_band_margin_px", n.left_band_margin_px);
+  noise.get("left_band_jitter_px", n.left_band_jitter_px);
+  noise.get("shadow_margin_px", n.shadow_margin_px);
+  noise.get("correlated_fraction", n.correlated_fraction);  // ours, 0 = off
+  noise.get("correlated_cell_px", n.correlated_cell_px);
+  noise.finish();
+  validate_keys({{"enabled", &noise, "enabled"}, {"baseline_m", &noise, "baseline_m"}, {"subpixel", &noise, "subpixel"},
+                 {"disparity_step_px", &noise, "disparity_step_px"}, {"edge_jump_m", &noise, "edge_jump_m"},
+                 {"edge_probability", &noise, "edge_probability"},
+                 {"edge_invalid_fraction", &noise, "edge_invalid_fraction"},
+                 {"dropout_probability", &noise, "dropout_probability"}, {"holes_per_frame", &noise, "holes_per_frame"},
+                 {"hole_max_radius_px", &noise, "hole_max_radius_px"},
+                 {"left_band_margin_px", &noise, "left_band_margin_px"},
+                 {"left_band_jitter_px", &noise, "left_band_jitter_px"},
+                 {"shadow_margin_px", &noise, "shadow_margin_px"},
+                 {"correlated_fraction", &noise, "correlated_fraction"},
+                 {"correlated_cell_px", &noise, "correlated_cell_px"}},
+                [&] { n.validate(); });
+}
+
+// camera.edge_filter (ours: sensors/depth_edge_filter.hpp; STVL has none), when given.
+void read_edge_filter(YamlMap& camera, pipeline::CameraConfig& c) {
+  if (!camera.has("edge_filter")) return;
+  auto edge = camera.map("edge_filter");
+  edge.get("enabled", c.edge_filter.enabled);
+  edge.get("max_jump_at_1m_m", c.edge_filter.max_jump_at_1m_m);
+  edge.finish();
+  validate_keys({{"max_jump_at_1m_m", &edge, "max_jump_at_1m_m"}}, [&] { c.edge_filter.validate(); });
+}
+
+}  // namespace
+
+// The keys of a camera (top-level `camera` or an entry of robot.cameras) that describe the sensor itself.
+void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c) {
+  read_camera_model(camera, c);
+  read_gl_backend(camera, c);
+  read_noise(camera, c);
+  read_edge_filter(camera, c);
 }
 
 // A camera's outages: [{from_s, to_s}], each inside the run, from_s < to_s, none overlapping another.
@@ -129,7 +150,7 @@ void read_mount(YamlMap mount, sim::CameraMount& m) {
     require_range(mount, key, "non-finite values", finite, "must be finite");
   }
   require_range(mount, "xyz_m", xyz[2], xyz[2] > 0, "z must be > 0 m (a camera below the floor sees nothing)");
-  m = {xyz[2], pitch_deg * kDegToRad, xyz[0], xyz[1], roll_deg * kDegToRad, yaw_deg * kDegToRad};
+  m = {xyz[2], pitch_deg * kRadPerDeg, xyz[0], xyz[1], roll_deg * kRadPerDeg, yaw_deg * kRadPerDeg};
 }
 
 // robot.cameras: each entry a camera with its name and mount; its observation overrides (applied once the map's

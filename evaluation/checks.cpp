@@ -2,16 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
+
+#include "common/units.hpp"
 
 namespace stvl::evaluation {
-
-std::string fixed(double value, int decimals) {
-  std::ostringstream text;
-  text << std::fixed << std::setprecision(decimals) << value;
-  return text.str();
-}
 
 CheckResult not_evaluated(const std::string& name, const std::string& why) { return {name, false, why, false}; }
 
@@ -25,12 +19,21 @@ CheckResult at_least(const char* name, const char* what, double value, double mi
   return {name, value >= min, std::string(what) + " " + fixed(value, 4) + ", required >= " + fixed(min, 4)};
 }
 
-}  // namespace
+// The lowest mean recall of one camera against camera_recall_min (the run averaged at least one evaluation).
+CheckResult camera_recall_check(const std::vector<double>& recalls, const std::vector<std::string>& camera_names,
+                                double min) {
+  std::size_t lowest = 0;
+  for (std::size_t i = 1; i < recalls.size(); ++i)
+    if (recalls[i] < recalls[lowest]) lowest = i;
+  const std::string name = lowest < camera_names.size() ? camera_names[lowest] : "camera " + std::to_string(lowest);
+  return recalls.empty() ? CheckResult{"camera_recall", false, "no camera was evaluated"}
+                         : at_least("camera_recall", ("lowest mean recall of one camera (" + name + ")").c_str(),
+                                    recalls[lowest], min);
+}
 
-std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e,
-                                           const std::vector<std::string>& camera_names) {
-  std::vector<CheckResult> r;
-  const auto& mean = e.mean;
+// The checks of the figures averaged over the evaluations: F1, IoU, costmap precision and recall, camera recall.
+void add_mean_checks(const ChecksConfig& c, const EvaluationMean& mean, const std::vector<std::string>& camera_names,
+                     std::vector<CheckResult>& r) {
   const bool averaged = mean.snapshots > 0;
   const auto mean_check = [&](const char* name, const char* what, double value, const std::optional<double>& min) {
     if (min) r.push_back(averaged ? at_least(name, what, value, *min) : not_evaluated(name, kNoMean));
@@ -40,28 +43,36 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
   mean_check("costmap_precision", "mean costmap precision", mean.costmap_precision, c.costmap_precision_min);
   mean_check("costmap_recall", "mean costmap recall", mean.costmap_recall, c.costmap_recall_min);
   if (c.camera_recall_min && !averaged) r.push_back(not_evaluated("camera_recall", kNoMean));
-  if (c.camera_recall_min && averaged) {
-    const auto& recalls = mean.camera_recall;
-    std::size_t lowest = 0;
-    for (std::size_t i = 1; i < recalls.size(); ++i)
-      if (recalls[i] < recalls[lowest]) lowest = i;
-    const std::string name = lowest < camera_names.size() ? camera_names[lowest] : "camera " + std::to_string(lowest);
-    r.push_back(recalls.empty() ? CheckResult{"camera_recall", false, "no camera was evaluated"}
-                                : at_least("camera_recall", ("lowest mean recall of one camera (" + name + ")").c_str(),
-                                           recalls[lowest], *c.camera_recall_min));
+  if (c.camera_recall_min && averaged) r.push_back(camera_recall_check(mean.camera_recall, camera_names, *c.camera_recall_min));
+}
+
+CheckResult all_obstacles_detected_check(const std::vector<ObstacleResult>& obstacles) {
+  std::string missed;
+  int observed = 0;
+  for (const auto& o : obstacles) {
+    observed += o.observed;
+    if (o.observed && !o.detected) missed += (missed.empty() ? "" : ", ") + o.name;
   }
-  if (c.all_obstacles_detected) {
-    std::string missed;
-    int observed = 0;
-    for (const auto& o : e.obstacles) {
-      observed += o.observed;
-      if (o.observed && !o.detected) missed += (missed.empty() ? "" : ", ") + o.name;
-    }
-    r.push_back(observed == 0 ? not_evaluated("all_obstacles_detected", "not evaluated: no obstacle was observed")
-                              : CheckResult{"all_obstacles_detected", missed.empty(),
-                                            missed.empty() ? std::to_string(observed) + " observed obstacles all detected"
-                                                           : "missed: " + missed});
-  }
+  return observed == 0 ? not_evaluated("all_obstacles_detected", "not evaluated: no obstacle was observed")
+                       : CheckResult{"all_obstacles_detected", missed.empty(),
+                                     missed.empty() ? std::to_string(observed) + " observed obstacles all detected"
+                                                    : "missed: " + missed};
+}
+
+CheckResult path_free_lethal_check(const EvaluationMean& mean, std::size_t allowed) {
+  const PathBlock& worst = mean.max_path_block;
+  return {"path_free_lethal", worst.cells <= allowed,
+          "at worst " + std::to_string(worst.cells) + " lethal cells where the truth is free along the path" +
+              (worst.cells ? " (t = " + fixed(mean.max_path_block_time_s, 1) + " s, the first at (" +
+                                 fixed(worst.first_x_m, 2) + ", " + fixed(worst.first_y_m, 2) + ") m, " +
+                                 fixed(worst.first_along_m, 2) + " m along the path)"
+                           : std::string()) +
+              ", allowed " + std::to_string(allowed)};
+}
+
+// The checks of the costmap: phantom obstacles, costmap ghosts, the robot marking itself, lethal cells on the path.
+void add_costmap_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e, std::vector<CheckResult>& r) {
+  const auto& mean = e.mean;
   if (c.phantom_obstacles_max)
     r.push_back({"phantom_obstacles", e.final.phantom_obstacles <= *c.phantom_obstacles_max,
                  std::to_string(e.final.phantom_obstacles) + " phantom obstacles in the final costmap, allowed " +
@@ -81,17 +92,11 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
                      std::to_string(mean.max_self_ring) + " in the ring) at one evaluation, allowed " +
                      std::to_string(allowed)});
   }
-  if (c.path_free_lethal_max) {
-    const PathBlock& worst = mean.max_path_block;
-    const auto allowed = static_cast<std::size_t>(*c.path_free_lethal_max);
-    r.push_back({"path_free_lethal", worst.cells <= allowed,
-                 "at worst " + std::to_string(worst.cells) + " lethal cells where the truth is free along the path" +
-                     (worst.cells ? " (t = " + fixed(mean.max_path_block_time_s, 1) + " s, the first at (" +
-                                        fixed(worst.first_x_m, 2) + ", " + fixed(worst.first_y_m, 2) + ") m, " +
-                                        fixed(worst.first_along_m, 2) + " m along the path)"
-                                  : std::string()) +
-                     ", allowed " + std::to_string(allowed)});
-  }
+  if (c.path_free_lethal_max) r.push_back(path_free_lethal_check(mean, static_cast<std::size_t>(*c.path_free_lethal_max)));
+}
+
+// The checks of clearing and accuracy: clearing latency, p90 distance to the surface, voxels cleared while hidden.
+void add_clearing_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e, std::vector<CheckResult>& r) {
   if (c.clearing_latency_max_s) {
     const auto& cl = e.clearing;
     const bool ok = cl.not_cleared == 0 && cl.max_latency_s <= *c.clearing_latency_max_s;
@@ -115,6 +120,17 @@ std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluati
                      (o.first_s ? " (first at t = " + fixed(*o.first_s, 2) + " s)" : "") + ", allowed " +
                      std::to_string(*c.hidden_false_clears_max)});
   }
+}
+
+}  // namespace
+
+std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e,
+                                           const std::vector<std::string>& camera_names) {
+  std::vector<CheckResult> r;
+  add_mean_checks(c, e.mean, camera_names, r);
+  if (c.all_obstacles_detected) r.push_back(all_obstacles_detected_check(e.obstacles));
+  add_costmap_checks(c, e, r);
+  add_clearing_checks(c, e, r);
   return r;
 }
 
@@ -159,7 +175,7 @@ std::vector<CheckResult> soak_checks(const ChecksConfig& c, const SoakSeries& so
   std::size_t end_of_lap = samples.size();
   if (soak.first_lap_end_s)
     for (std::size_t i = 0; i < samples.size() && end_of_lap == samples.size(); ++i)
-      if (samples[i].t_s + 1e-9 >= *soak.first_lap_end_s) end_of_lap = i;
+      if (samples[i].t_s + kTimeEpsilon_s >= *soak.first_lap_end_s) end_of_lap = i;
   const std::string too_short =
       !soak.first_lap_end_s ? "the first lap was not completed (" + std::to_string(samples.size()) + " samples)"
                             : "no sample after the one closing the first lap (t = " + fixed(*soak.first_lap_end_s, 1) + " s)";
@@ -182,7 +198,7 @@ std::vector<CheckResult> soak_checks(const ChecksConfig& c, const SoakSeries& so
   if (c.soak_map_ms_growth_max) {
     // As many of the last samples as one lap spans, all after the sample that closes the first lap.
     const std::size_t window = soak.first_lap_end_s && soak.sample_every_s > 0
-                                   ? std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(*soak.first_lap_end_s / soak.sample_every_s - 1e-9)))
+                                   ? std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(*soak.first_lap_end_s / soak.sample_every_s - kWholeCountEpsilon)))
                                    : 1;
     if (!comparable) {
       r.push_back({"soak_map_ms_growth", false, too_short});

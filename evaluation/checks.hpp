@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "common/format.hpp"
 #include "evaluation/evaluator.hpp"
 #include "evaluation/outage.hpp"
 #include "evaluation/soak.hpp"
@@ -97,8 +98,5 @@ CheckResult path_completed_check(bool completed, double time_s, double duration_
 // robot's position, when it last moved, the path's end and what it is in contact with (sim::robot_contacts).
 std::string blocked_diagnosis(const Eigen::Vector2d& at_W, double since_s, const Eigen::Vector2d& path_end_W,
                               const std::vector<std::string>& touching);
-
-// `value` with `decimals` digits after the point ("0.9871").
-std::string fixed(double value, int decimals);
 
 }  // namespace stvl::evaluation

@@ -1,32 +1,68 @@
 #include "evaluation/evaluator.hpp"
 
+#include "common/stopwatch.hpp"
 #include "mapping/footprint.hpp"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <optional>
 
 namespace stvl::evaluation {
+
 namespace {
 
-// Adds the scope's wall time to a PhaseTimes field.
-class PhaseTimer {
- public:
-  explicit PhaseTimer(double& total_ms) : total_ms_(total_ms), start_(std::chrono::steady_clock::now()) {}
-  ~PhaseTimer() {
-    total_ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
-  }
-  PhaseTimer(const PhaseTimer&) = delete;
-  PhaseTimer& operator=(const PhaseTimer&) = delete;
+constexpr int kObserveStride = 2;  // observe() reads every second pixel of every second row
 
- private:
-  double& total_ms_;
-  std::chrono::steady_clock::time_point start_;
-};
+// observe()'s keys of one block of rows [row_begin, row_end) (in strided rows), sorted and unique. Neighbouring
+// pixels mostly fall in one voxel: a key equal to its left or upper neighbour's (both already kept) is skipped.
+// ray_x: the pixel rays' x per column, as pixel_ray_C() gives them.
+void row_block_keys(const CameraView& view, const std::vector<float>& ray_x, const EvaluationConfig& config,
+                    int row_begin, int row_end, int columns, std::vector<VoxelKey>& keys) {
+  const sensors::DepthImage& depth = *view.clean_depth;
+  const sensors::CameraIntrinsics& k = view.intrinsics;
+  const Eigen::Isometry3f T = view.T_world_camera.cast<float>();
+  bool have_last = false;
+  VoxelKey last{};
+  // The last key computed in each column (kept, or equal to a kept one); have_above: whether there is one.
+  std::vector<VoxelKey> above(static_cast<std::size_t>(columns));
+  std::vector<char> have_above(static_cast<std::size_t>(columns), 0);
+  for (int row = row_begin; row < row_end; ++row) {
+    const int v = row * kObserveStride;
+    const float ray_y = static_cast<float>((v - k.cy) / k.fy);
+    for (int u = 0; u < depth.width; u += kObserveStride) {
+      const float z = depth.at(u, v);
+      if (!(z > 0.0f)) continue;
+      const Eigen::Vector3f p_C = z * Eigen::Vector3f(ray_x[u], ray_y, 1.0f);
+      if (p_C.norm() > view.obstacle_range_m) continue;
+      const Eigen::Vector3d p_W = (T * p_C).cast<double>();
+      if (p_W.z() < config.min_obstacle_height_m || p_W.z() > config.max_obstacle_height_m) continue;
+      const VoxelKey key = voxel_key(p_W, config.voxel_size_m);
+      const std::size_t column = static_cast<std::size_t>(u / kObserveStride);
+      const bool repeat = (have_last && key == last) || (have_above[column] && key == above[column]);
+      have_last = true, last = key;
+      have_above[column] = 1, above[column] = key;
+      if (!repeat) keys.push_back(key);
+    }
+  }
+  std::sort(keys.begin(), keys.end());  // each block sorted in parallel, then merged: the same sorted set
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+}
+
+// Merges sorted `blocks` pairwise (log2(blocks) rounds) into blocks.front(); `scratch` is the merge buffer.
+void merge_sorted_blocks(std::vector<std::vector<VoxelKey>>& blocks, std::vector<VoxelKey>& scratch) {
+  for (std::size_t step = 1; step < blocks.size(); step *= 2)
+    for (std::size_t b = 0; b + step < blocks.size(); b += 2 * step) {
+      std::vector<VoxelKey>& a = blocks[b];
+      std::vector<VoxelKey>& c = blocks[b + step];
+      scratch.resize(a.size() + c.size());
+      std::merge(a.begin(), a.end(), c.begin(), c.end(), scratch.begin());
+      a.swap(scratch);
+      std::vector<VoxelKey>().swap(c);
+    }
+}
 
 }  // namespace
 
@@ -81,7 +117,7 @@ Evaluator::Evaluator(const sim::World& world, const EvaluationConfig& config) : 
 }
 
 void Evaluator::update_truth(const sim::World& world) {
-  const PhaseTimer timer(times_.truth_ms);
+  const ScopedMsTimer timer(times_.truth_ms);
   truth_.update(world);
   for (const auto* body : truth_.bodies()) {
     auto& result = obstacles_[body->body_name];
@@ -91,63 +127,27 @@ void Evaluator::update_truth(const sim::World& world) {
 }
 
 void Evaluator::observe(double time_s, const CameraView& view) {
-  const PhaseTimer timer(times_.observe_ms);
+  const ScopedMsTimer timer(times_.observe_ms);
   if (view.camera_index >= config_.cameras)
     throw std::invalid_argument("evaluation: camera index " + std::to_string(view.camera_index) + " of " +
                                 std::to_string(config_.cameras) + " cameras");
   ++times_.frames;
   const sensors::DepthImage& depth = *view.clean_depth;
   const sensors::CameraIntrinsics& k = view.intrinsics;
-  const Eigen::Isometry3f T = view.T_world_camera.cast<float>();
-  constexpr int kStride = 2;
   // The pixel rays of pixel_ray_C(), per column and per row (the same values, computed once).
   ray_x_.resize(static_cast<std::size_t>(depth.width));
-  for (int u = 0; u < depth.width; u += kStride) ray_x_[u] = static_cast<float>((u - k.cx) / k.fx);
-  // Rows in parallel, each block of rows keeping its own keys. Neighbouring pixels mostly fall in one voxel:
-  // a key equal to its left or upper neighbour's (both already kept) is skipped, then each voxel is recorded once
-  // (in sorted order; the order of recording does not matter: a voxel's last-seen time is this frame's either
-  // way).
-  const int rows = (depth.height + kStride - 1) / kStride;
-  const int columns = (depth.width + kStride - 1) / kStride;
+  for (int u = 0; u < depth.width; u += kObserveStride) ray_x_[u] = static_cast<float>((u - k.cx) / k.fx);
+  // Rows in parallel, each block of rows keeping its own keys, then each voxel is recorded once (in sorted
+  // order; the order of recording does not matter: a voxel's last-seen time is this frame's either way).
+  const int rows = (depth.height + kObserveStride - 1) / kObserveStride;
+  const int columns = (depth.width + kObserveStride - 1) / kObserveStride;
   const int blocks = std::max(1, std::min(rows, 16));
   std::vector<std::vector<VoxelKey>> block_keys(static_cast<std::size_t>(blocks));
   tbb::parallel_for(0, blocks, [&](int b) {
-    std::vector<VoxelKey>& keys = block_keys[static_cast<std::size_t>(b)];
-    bool have_last = false;
-    VoxelKey last{};
-    // The last key computed in each column (kept, or equal to a kept one); have_above: whether there is one.
-    std::vector<VoxelKey> above(static_cast<std::size_t>(columns));
-    std::vector<char> have_above(static_cast<std::size_t>(columns), 0);
-    for (int row = b * rows / blocks; row < (b + 1) * rows / blocks; ++row) {
-      const int v = row * kStride;
-      const float ray_y = static_cast<float>((v - k.cy) / k.fy);
-      for (int u = 0; u < depth.width; u += kStride) {
-        const float z = depth.at(u, v);
-        if (!(z > 0.0f)) continue;
-        const Eigen::Vector3f p_C = z * Eigen::Vector3f(ray_x_[u], ray_y, 1.0f);
-        if (p_C.norm() > view.obstacle_range_m) continue;
-        const Eigen::Vector3d p_W = (T * p_C).cast<double>();
-        if (p_W.z() < config_.min_obstacle_height_m || p_W.z() > config_.max_obstacle_height_m) continue;
-        const VoxelKey key = voxel_key(p_W, config_.voxel_size_m);
-        const std::size_t column = static_cast<std::size_t>(u / kStride);
-        const bool repeat = (have_last && key == last) || (have_above[column] && key == above[column]);
-        have_last = true, last = key;
-        have_above[column] = 1, above[column] = key;
-        if (!repeat) keys.push_back(key);
-      }
-    }
-    std::sort(keys.begin(), keys.end());  // each block sorted in parallel, then merged: the same sorted set
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    row_block_keys(view, ray_x_, config_, b * rows / blocks, (b + 1) * rows / blocks, columns,
+                   block_keys[static_cast<std::size_t>(b)]);
   });
-  for (std::size_t step = 1; step < block_keys.size(); step *= 2)  // pairwise merges, log2(blocks) rounds
-    for (std::size_t b = 0; b + step < block_keys.size(); b += 2 * step) {
-      std::vector<VoxelKey>& a = block_keys[b];
-      std::vector<VoxelKey>& c = block_keys[b + step];
-      frame_keys_.resize(a.size() + c.size());
-      std::merge(a.begin(), a.end(), c.begin(), c.end(), frame_keys_.begin());
-      a.swap(frame_keys_);
-      std::vector<VoxelKey>().swap(c);
-    }
+  merge_sorted_blocks(block_keys, frame_keys_);
   frame_keys_.swap(block_keys.front());
   frame_keys_.erase(std::unique(frame_keys_.begin(), frame_keys_.end()), frame_keys_.end());
   // Voxels last seen before the recall window are forgotten here as at an evaluation (evaluations come later).
@@ -185,7 +185,7 @@ void Evaluator::update_stale_candidates() {
 void Evaluator::observe_clearing(double time_s, const sim::World& world, const CameraView& view,
                                  const mapping::VoxelMap& map) {
   if (!truth_.has_moving_bodies()) return;
-  const PhaseTimer timer(times_.clearing_ms);
+  const ScopedMsTimer timer(times_.clearing_ms);
   update_truth(world);
   update_stale_candidates();
   // Stale voxels: in the map (as the previous update left it), where a moving body was, now far from every
@@ -211,10 +211,10 @@ void Evaluator::observe_clearing(double time_s, const sim::World& world, const C
 
 void Evaluator::after_update(double time_s, const mapping::VoxelMap& map, const std::vector<VoxelKey>& cleared_keys) {
   {  // the next evaluation's per-voxel results, a frame's share at a time (the figures do not depend on it)
-    const PhaseTimer timer(times_.mapped_ms);
+    const ScopedMsTimer timer(times_.mapped_ms);
     mapped_.update(map, truth_);
   }
-  const PhaseTimer timer(times_.clearing_ms);
+  const ScopedMsTimer timer(times_.clearing_ms);
   // A true voxel the rays removed and no point marked again in the same update: gone from the map. (In frustum
   // mode cleared_keys holds what the acceleration removed: observe_hidden_clears() looks at those.)
   if (map.config().clearing_mode == mapping::ClearingMode::kRaycast)
@@ -226,7 +226,7 @@ void Evaluator::after_update(double time_s, const mapping::VoxelMap& map, const 
 
 void Evaluator::observe_hidden_clears(double time_s, const CameraView& view, const mapping::VoxelMap& map,
                                       const std::vector<VoxelKey>& cleared_keys) {
-  const PhaseTimer timer(times_.clearing_ms);
+  const ScopedMsTimer timer(times_.clearing_ms);
   const double s = config_.voxel_size_m;
   hidden_clears_.after_update(
       time_s, cleared_keys, truth_.bodies(), [&](const VoxelKey& k) { return truth_.body_of(k); },
@@ -235,12 +235,12 @@ void Evaluator::observe_hidden_clears(double time_s, const CameraView& view, con
 }
 
 VoxelMatches Evaluator::match_mapped_voxels(const mapping::VoxelMap& map) {
-  const PhaseTimer timer(times_.mapped_ms);
+  const ScopedMsTimer timer(times_.mapped_ms);
   return mapped_.match(map, truth_);  // reference::match_mapped()'s figures, kept from one evaluation to the next
 }
 
 VoxelMatches Evaluator::match_observed_truth(double time_s, std::vector<CellKey>& observed_cells) {
-  const PhaseTimer timer(times_.observed_ms);
+  const ScopedMsTimer timer(times_.observed_ms);
   VoxelMatches m;
   const auto& bodies = truth_.bodies();
   std::vector<std::size_t> body_observed(bodies.size()), body_matched(bodies.size());
@@ -279,7 +279,7 @@ std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const VoxelMa
 }
 
 CellGrid Evaluator::project_lethal(const mapping::VoxelMap& map, CellGrid& columns) {
-  const PhaseTimer timer(times_.costmap_ms);
+  const ScopedMsTimer timer(times_.costmap_ms);
   if (map.empty()) return {};
   mapping::CostmapOptions options;  // its band infinite unless the costmap counts the marking band only
   if (!config_.costmap_every_voxel) {
@@ -295,7 +295,7 @@ CellGrid Evaluator::project_lethal(const mapping::VoxelMap& map, CellGrid& colum
 void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellGrid& lethal, const CellGrid& columns,
                               const CellGrid& observed_cells, EvaluationSnapshot& snap) {
   const double cell_m = config_.voxel_size_m;
-  std::optional<PhaseTimer> timer(std::in_place, times_.costmap_ms);
+  std::optional<ScopedMsTimer> timer(std::in_place, times_.costmap_ms);
   const CellGrid& footprint = truth_.footprint();
   const std::vector<Eigen::Vector2d> footprint_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
   if (!map.empty()) {
@@ -338,7 +338,7 @@ const EvaluationSnapshot& Evaluator::evaluate(double time_s, const sim::World& w
                        [&] {
                          mapped_matches = match_mapped_voxels(map);
                          truth_matches = match_observed_truth(time_s, observed_cells);
-                         const PhaseTimer timer(times_.observed_ms);
+                         const ScopedMsTimer timer(times_.observed_ms);
                          snap.cameras = camera_recalls(time_s, truth_matches);
                        });
   VoxelMatches matches = mapped_matches;

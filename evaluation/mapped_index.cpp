@@ -62,38 +62,47 @@ void MappedIndex::walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches*
     // Between evaluations, a leaf whose results are of an older truth is left for match(): while a body keeps
     // moving, each frame's results would be stale by the evaluation.
     if (!counts && leaf.version != 0 && leaf.version != version) return;
-    if (leaf.version != version) {  // the truth changed since this leaf's results
-      leaf.version = version;
-      leaf.moving_done = {};
-      const bool moving = truth.moving_distance_in(origin, {origin.x + 7, origin.y + 7, origin.z + 7});
-      for (int w = 0; w < 8; ++w) {
-        if (moving) leaf.distance_fixed[w] = 0;
-        leaf.distance_done[w] &= leaf.distance_fixed[w];
-      }
-    }
-    Mask todo_static{}, todo_moving{}, todo_distance{};
-    for (int w = 0; w < 8; ++w) {
-      leaf.on[w] = on[w];
-      todo_static[w] = on[w] & ~leaf.static_done[w];
-      todo_distance[w] = on[w] & ~leaf.distance_done[w];
-    }
-    for_each_bit(todo_static, [&](int i) {
-      set_bit(leaf.static_done, i);
-      if (truth.near_static(key_at(origin, i))) set_bit(leaf.static_near, i);
-    });
-    for (int w = 0; w < 8; ++w) todo_moving[w] = on[w] & ~leaf.static_near[w] & ~leaf.moving_done[w];
-    for_each_bit(todo_moving, [&](int i) {
-      set_bit(leaf.moving_done, i);
-      const std::uint64_t bit = std::uint64_t{1} << (i & 63);
-      if (truth.near_moving(key_at(origin, i)))
-        leaf.moving_near[i >> 6] |= bit;
-      else
-        leaf.moving_near[i >> 6] &= ~bit;
-    });
-    for_each_bit(todo_distance, [&](int i) { distance_todo_.push_back({&leaf, i}); });
+    visit_leaf(leaf, on, truth, version);
   });
   (previous ? previous->next : first_) = nullptr;  // every pointer in the chain is to a leaf of this walk
+  compute_distances(truth);
+  if (counts) count_matches(*counts);
+}
 
+void MappedIndex::visit_leaf(Leaf& leaf, const std::uint64_t* on, Truth& truth, std::size_t version) {
+  const VoxelKey& origin = leaf.origin;
+  if (leaf.version != version) {  // the truth changed since this leaf's results
+    leaf.version = version;
+    leaf.moving_done = {};
+    const bool moving = truth.moving_distance_in(origin, {origin.x + 7, origin.y + 7, origin.z + 7});
+    for (int w = 0; w < 8; ++w) {
+      if (moving) leaf.distance_fixed[w] = 0;
+      leaf.distance_done[w] &= leaf.distance_fixed[w];
+    }
+  }
+  Mask todo_static{}, todo_moving{}, todo_distance{};
+  for (int w = 0; w < 8; ++w) {
+    leaf.on[w] = on[w];
+    todo_static[w] = on[w] & ~leaf.static_done[w];
+    todo_distance[w] = on[w] & ~leaf.distance_done[w];
+  }
+  for_each_bit(todo_static, [&](int i) {
+    set_bit(leaf.static_done, i);
+    if (truth.near_static(key_at(origin, i))) set_bit(leaf.static_near, i);
+  });
+  for (int w = 0; w < 8; ++w) todo_moving[w] = on[w] & ~leaf.static_near[w] & ~leaf.moving_done[w];
+  for_each_bit(todo_moving, [&](int i) {
+    set_bit(leaf.moving_done, i);
+    const std::uint64_t bit = std::uint64_t{1} << (i & 63);
+    if (truth.near_moving(key_at(origin, i)))
+      leaf.moving_near[i >> 6] |= bit;
+    else
+      leaf.moving_near[i >> 6] &= ~bit;
+  });
+  for_each_bit(todo_distance, [&](int i) { distance_todo_.push_back({&leaf, i}); });
+}
+
+void MappedIndex::compute_distances(const Truth& truth) {
   // The surface distances, the costly part, in parallel (Truth::voxel_distance_to_surface_m only reads), then
   // recorded in the walk's order.
   struct Distance {
@@ -121,11 +130,13 @@ void MappedIndex::walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches*
       leaf.distance_fixed[i >> 6] &= ~bit;
   }
   distance_todo_.clear();
-  if (!counts) return;
+}
+
+void MappedIndex::count_matches(VoxelMatches& counts) {
   for (const Leaf* leaf = first_; leaf; leaf = leaf->next) {
     for (int w = 0; w < 8; ++w) {
-      counts->mapped += static_cast<std::size_t>(__builtin_popcountll(leaf->on[w]));
-      counts->matched_mapped += static_cast<std::size_t>(__builtin_popcountll(
+      counts.mapped += static_cast<std::size_t>(__builtin_popcountll(leaf->on[w]));
+      counts.matched_mapped += static_cast<std::size_t>(__builtin_popcountll(
           leaf->on[w] & (leaf->static_near[w] | (leaf->moving_near[w] & leaf->moving_done[w]))));
     }
     for_each_bit(leaf->on, [&](int i) {

@@ -53,6 +53,11 @@ class MappedIndex {
   static constexpr std::uint32_t kNoDistance = 0xffffffffu;
   std::uint32_t intern(double d);
   void walk(const mapping::VoxelMap& map, Truth& truth, VoxelMatches* counts);  // counts: match() only
+  // walk()'s phases: a leaf's masks of the truth's version (its distances queued), the queued distances (in
+  // parallel), the pooled counts of match().
+  void visit_leaf(Leaf& leaf, const std::uint64_t* on, Truth& truth, std::size_t version);
+  void compute_distances(const Truth& truth);
+  void count_matches(VoxelMatches& counts);
   const Leaf* leaf_of(const VoxelKey& key) const;
 
   std::unordered_map<VoxelKey, Leaf, VoxelKeyHash> leaves_;  // by origin

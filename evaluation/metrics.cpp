@@ -1,5 +1,6 @@
 #include "evaluation/metrics.hpp"
 
+#include "common/units.hpp"
 #include "mapping/footprint.hpp"
 
 #include <unordered_map>
@@ -151,14 +152,14 @@ SelfMarking count_self_marking(const CellGrid& lethal, const std::vector<Eigen::
       for (std::size_t i = 0; i < footprint_W.size(); ++i)
         distance_m = std::min(distance_m,
                               distance_to_segment(centre_m, footprint_W[i], footprint_W[(i + 1) % footprint_W.size()]));
-      if (distance_m <= ring_m + 1e-9) ++self.ring;
+      if (distance_m <= ring_m + kLengthEpsilon_m) ++self.ring;
     }
   return self;
 }
 
 std::vector<Phantom> find_phantoms(const CellGrid& lethal, const CellGrid& footprint, double cell_m, double clearance_m,
                                    int min_cells) {
-  const int clearance_cells = static_cast<int>(std::ceil(clearance_m / cell_m - 1e-9));
+  const int clearance_cells = static_cast<int>(std::ceil(clearance_m / cell_m - kWholeCountEpsilon));
   std::vector<Phantom> phantoms;
   CellGrid visited(lethal.lo(), lethal.hi());
   std::vector<CellKey> stack;

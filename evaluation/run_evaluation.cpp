@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/stopwatch.hpp"
+#include "common/units.hpp"
 
 namespace stvl::evaluation {
 namespace {
@@ -58,7 +59,7 @@ void RunEvaluation::after_update(const pipeline::Frame& f, const layer::UpdateRe
   outages_.after_update(f.time_s, map);
   outages_.observe(f.camera_index, f.time_s, evaluator_.frame_keys(), evaluator_.truth(),
                    static_cast<std::size_t>(f.observation->marking_W.cols()));
-  if (f.time_s + 1e-9 >= next_evaluation_s_) {
+  if (f.time_s + kTimeEpsilon_s >= next_evaluation_s_) {
     evaluator_.evaluate(f.time_s, world, map);
     next_evaluation_s_ += config_.evaluate_every_s;
   }

@@ -4,6 +4,8 @@
 
 #include <fstream>
 
+#include "common/units.hpp"
+
 namespace stvl::evaluation {
 
 double resident_memory_mb() {
@@ -33,14 +35,14 @@ void SoakSampler::frame(double time_s, double map_ms, double map_cpu_ms, int lap
     }
   }
   series_.laps = laps;
-  if (time_s + 1e-9 < next_sample_s_) return;
+  if (time_s + kTimeEpsilon_s < next_sample_s_) return;
   const double frames = static_cast<double>(interval_frames_);
   series_.samples.push_back(
       {time_s, map.size(), map.leaf_count(), resident_memory_mb(), interval_ms_ / frames, interval_cpu_ms_ / frames});
   interval_ms_ = 0.0;
   interval_cpu_ms_ = 0.0;
   interval_frames_ = 0;
-  while (next_sample_s_ <= time_s + 1e-9) next_sample_s_ += series_.sample_every_s;
+  while (next_sample_s_ <= time_s + kTimeEpsilon_s) next_sample_s_ += series_.sample_every_s;
 }
 
 }  // namespace stvl::evaluation

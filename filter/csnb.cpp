@@ -89,27 +89,11 @@ void find_spans(const CsnbLayout& l, const std::uint32_t* keys, std::size_t cube
   }
 }
 
-}  // namespace
-
-Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, int threads) {
-  detail::validate(config);
-  detail::check_cloud_size(points.cols());
-  threads = detail::resolve_threads(threads);
-  const detail::Bounds bounds = detail::compute_bounds(points, threads);
-  if (bounds.finite == 0) return Eigen::Matrix3Xf(3, 0);
-  const CsnbLayout layout = detail::make_csnb_layout(bounds, config);
-  const std::size_t n = static_cast<std::size_t>(points.cols());
-  const std::size_t m = bounds.finite;
-  const float* p = points.data();
+// The finite points of p[0 .. 3n) (m of them) as (cube key << 32 | index), in index order, then stably sorted by
+// key; returns the sorted items (in w.items or w.scratch).
+const std::uint64_t* sort_by_cube(Workspace& w, const float* p, std::size_t n, std::size_t m, const CsnbLayout& layout,
+                                  bool avx2, int threads) {
   const int key_bits = 3 * layout.grid_exponent;
-  thread_local Workspace workspace;
-  Workspace& w = workspace;  // named through a reference: the worker threads must see the caller's buffers
-  const detail::AtScopeExit release{[&] {
-    if (n > detail::kKeepBuffersUpToPoints) w = Workspace{};
-  }};
-  const bool avx2 = avx2_supported() && m < (std::size_t{1} << 31);  // ids compared as signed 32-bit
-
-  // The finite points as (cube key << 32 | index), in index order, then stably sorted by key.
   w.items.resize(n);
   w.scratch.resize(n);
   const int parts = detail::parts_for(n, threads, 16384);
@@ -130,10 +114,13 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     }
     segments[t] = {out, count};
   });
-  const std::uint64_t* sorted = detail::radix_sort_segments(segments, w.items.data(), w.scratch.data(), 32,
-                                                            32 + key_bits, [](std::uint64_t v) { return v; }, threads);
+  return detail::radix_sort_segments(segments, w.items.data(), w.scratch.data(), 32, 32 + key_bits,
+                                     [](std::uint64_t v) { return v; }, threads);
+}
 
-  // Sorted points, and the cube table: a cube starts wherever the key changes.
+// The sorted points (w.points, w.column) and the cube table (w.cube_key with a sentinel, w.cube_begin): a cube
+// starts wherever the key changes. Returns the number of cubes.
+std::size_t build_cube_table(Workspace& w, const float* p, const std::uint64_t* sorted, std::size_t m, int threads) {
   auto key_at = [&](std::size_t s) { return static_cast<std::uint32_t>(sorted[s] >> 32); };
   auto opens_cube = [&](std::size_t s) { return s == 0 || key_at(s) != key_at(s - 1); };
   const int point_parts = detail::parts_for(m, threads, 16384);
@@ -164,11 +151,13 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
     }
   });
   w.cube_begin[cubes] = static_cast<std::uint32_t>(m);
+  return cubes;
+}
 
-  // Per cube and row (detail::csnb_row), the range of occupied cubes the row covers; the anchor: the point
-  // nearest the cube centre, ties to the earliest sorted position.
+// Per cube and row (detail::csnb_row), the range of occupied cubes the row covers (w.spans); the anchor
+// (w.anchor, w.is_anchor): the point nearest the cube centre, ties to the earliest sorted position.
+void find_spans_and_anchors(Workspace& w, const CsnbLayout& layout, std::size_t cubes, std::size_t m, int threads) {
   const int rows = detail::csnb_rows(layout);
-  const int side = 2 * layout.reach + 1;
   w.spans.resize(cubes * rows * 2);
   w.anchor.resize(cubes);
   w.is_anchor.assign(m, 0);
@@ -190,14 +179,10 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
       w.is_anchor[best] = 1;
     }
   });
+}
 
-  // Batches follow one random order of the non-anchor points, fixed by the seed. A point that is not marked
-  // can never be marked again (counts only fall), and deleted points never return, so the points the walk
-  // has passed are settled, and the first K marked points after the cursor are a uniformly random K-subset
-  // of all marked points: the same law as drawing K at random in every iteration, without a full pass each.
-  // A point's mark is counted when the walk reaches it, on the live set of that moment (the batch being
-  // gathered is deleted only once complete), which is exactly what per-point neighbour counts kept up to
-  // date by decrements would say; a point found unmarked stays settled.
+// The walk's order (w.order): the non-anchor points by their seeded priority. Returns their number.
+std::size_t random_order(Workspace& w, std::size_t m, std::uint64_t seed, int threads) {
   const std::size_t order_size = parallel_compact(
       m, threads, 16384,
       [&](std::size_t b, std::size_t e) {
@@ -209,18 +194,17 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
       [&](std::size_t b, std::size_t e, std::size_t first) {
         for (std::size_t s = b; s < e; ++s) {
           if (w.is_anchor[s]) continue;
-          w.items[first++] = detail::csnb_priority(config.seed, w.column[s], static_cast<std::uint32_t>(s));
+          w.items[first++] = detail::csnb_priority(seed, w.column[s], static_cast<std::uint32_t>(s));
         }
       });
   w.order.assign(w.items.begin(), w.items.begin() + order_size);
   detail::radix_sort(w.order, w.scratch, 32, 64, [](std::uint64_t v) { return v; }, threads);
-  const std::uint32_t never = avx2 ? kNeverAvx2 : kNeverPlain;
-  init_candidates(w, order_size, never, threads);
-  Counter counter{w.candidates.data(), w.cube_begin.data(), w.spans.data(),
-                  rows, layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
-  find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
+  return order_size;
+}
 
-  // Sparse points are settled from the start; the rest that are not sure go through the walk.
+// Sparse points are settled from the start; the rest that are not sure go to the walk (w.unsure by walk id,
+// w.unsure_points their points).
+void settle_sparse_and_list_unsure(Workspace& w, std::size_t m, std::size_t order_size, std::uint32_t never) {
   w.settled_bits.assign((m + 63) / 64, 0);
   for_each_bit(w.sparse, [&](std::uint32_t j) { settle(w, j, never); });
   w.unsure.clear();
@@ -233,19 +217,18 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   }
   w.unsure_points.resize(w.unsure.size());
   for (std::size_t k = 0; k < w.unsure.size(); ++k) w.unsure_points[k] = w.points[std::uint32_t(w.order[w.unsure[k]])];
-  walk(w, counter, order_size, static_cast<std::size_t>(config.batch_size), never, avx2, threads);
-  claim(w, counter, cubes, avx2, threads);
+}
 
+// The kept points in sorted order: the anchors, and the settled points no claim deleted.
+Eigen::Matrix3Xf kept_points(Workspace& w, std::size_t m, int threads) {
   const Point* q = w.points.data();
-
-  // Kept points in sorted order.
   w.result.resize(m);
   Eigen::Matrix3Xf out;
   parallel_compact(
       m, threads, 16384,
       [&](std::size_t b, std::size_t e) {
         std::size_t kept = 0;
-        for (std::size_t s = b; s < e; ++s) {  // the anchors, and the settled points no claim deleted
+        for (std::size_t s = b; s < e; ++s) {
           w.result[s] = w.is_anchor[s] || (bit(w.settled_bits.data(), std::uint32_t(s)) && !w.claimed[s]);
           kept += w.result[s];
         }
@@ -263,6 +246,49 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
         }
       });
   return out;
+}
+
+}  // namespace
+
+Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, int threads) {
+  detail::validate(config);
+  detail::check_cloud_size(points.cols());
+  threads = detail::resolve_threads(threads);
+  const detail::Bounds bounds = detail::compute_bounds(points, threads);
+  if (bounds.finite == 0) return Eigen::Matrix3Xf(3, 0);
+  const CsnbLayout layout = detail::make_csnb_layout(bounds, config);
+  const std::size_t n = static_cast<std::size_t>(points.cols());
+  const std::size_t m = bounds.finite;
+  const float* p = points.data();
+  thread_local Workspace workspace;
+  Workspace& w = workspace;  // named through a reference: the worker threads must see the caller's buffers
+  const detail::AtScopeExit release{[&] {
+    if (n > detail::kKeepBuffersUpToPoints) w = Workspace{};
+  }};
+  const bool avx2 = avx2_supported() && m < (std::size_t{1} << 31);  // ids compared as signed 32-bit
+
+  const std::uint64_t* sorted = sort_by_cube(w, p, n, m, layout, avx2, threads);
+  const std::size_t cubes = build_cube_table(w, p, sorted, m, threads);
+  find_spans_and_anchors(w, layout, cubes, m, threads);
+
+  // Batches follow one random order of the non-anchor points, fixed by the seed. A point that is not marked
+  // can never be marked again (counts only fall), and deleted points never return, so the points the walk
+  // has passed are settled, and the first K marked points after the cursor are a uniformly random K-subset
+  // of all marked points: the same law as drawing K at random in every iteration, without a full pass each.
+  // A point's mark is counted when the walk reaches it, on the live set of that moment (the batch being
+  // gathered is deleted only once complete), which is exactly what per-point neighbour counts kept up to
+  // date by decrements would say; a point found unmarked stays settled.
+  const std::size_t order_size = random_order(w, m, config.seed, threads);
+  const std::uint32_t never = avx2 ? kNeverAvx2 : kNeverPlain;
+  init_candidates(w, order_size, never, threads);
+  const int side = 2 * layout.reach + 1;
+  Counter counter{w.candidates.data(), w.cube_begin.data(), w.spans.data(),
+                  detail::csnb_rows(layout), layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
+  find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
+  settle_sparse_and_list_unsure(w, m, order_size, never);
+  walk(w, counter, order_size, static_cast<std::size_t>(config.batch_size), never, avx2, threads);
+  claim(w, counter, cubes, avx2, threads);
+  return kept_points(w, m, threads);
 }
 
 }  // namespace stvl::filter

@@ -174,22 +174,18 @@ void reduce_bucket(Item* data, Item* spare, std::size_t m, int bits, std::size_t
   }
 }
 
-}  // namespace
+// What every pass of one voxel_grid() call reads: the cloud, its layout, and where each of its parts starts among
+// the finite points.
+struct GridInput {
+  const float* p;
+  std::size_t n, finite;
+  const detail::VoxelLayout& layout;
+  int parts;
+  std::vector<std::size_t> offset;  // parts + 1 entries
+};
 
-Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfig& config, int threads) {
-  detail::validate(config);
-  detail::check_cloud_size(points.cols());
-  threads = detail::resolve_threads(threads);
-  const detail::Bounds bounds = detail::compute_bounds(points, threads);
-  if (bounds.finite == 0) return Eigen::Matrix3Xf(3, 0);
-  const std::size_t n = static_cast<std::size_t>(points.cols());
-  const std::size_t finite = bounds.finite;
-  const detail::VoxelLayout layout = detail::make_voxel_layout(bounds, config.voxel_size_m, n);
-  const std::size_t min_points = static_cast<std::size_t>(std::max(config.min_points_per_voxel, 1));
-  const float* p = points.data();
-
-  // Where each part of the cloud starts among the finite points.
-  const int parts = detail::parts_for(n, threads);
+// Where each of `parts` parts of the cloud starts among its finite points (offset[parts]: all of them).
+std::vector<std::size_t> finite_offsets(const float* p, std::size_t n, std::size_t finite, int parts) {
   std::vector<std::size_t> offset(parts + 1, 0);
   if (finite != n) {
     detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
@@ -201,107 +197,151 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
     for (int t = 0; t < parts; ++t) offset[t + 1] = n * (t + 1) / parts - n * t / parts;
   }
   for (int t = 0; t < parts; ++t) offset[t + 1] += offset[t];
+  return offset;
+}
 
-  // A most-significant-digit pass into 2^kBucketBits buckets, then each bucket reduced to centroids while in
-  // cache (reduce_bucket). Every step keeps index order among equal keys.
-  auto run = [&](auto key_type) {
-    using Key = decltype(key_type);
-    using Item = KeyPoint<Key>;
-    thread_local Workspace<Key> workspace;
-    Workspace<Key>& w = workspace;  // the caller's, seen by the worker threads
-    const detail::AtScopeExit release{[&] {
-      if (n > detail::kKeepBuffersUpToPoints) w = {};
-    }};
-    const int high_bits = std::min(layout.key_bits, kBucketBits);
-    const int low_bits = layout.key_bits - high_bits;
-    const std::size_t buckets = std::size_t{1} << high_bits;
+// 1. The keys of the finite points (w.keys), and per part how many of its points fall in each bucket (the
+// key's bits above low_bits): count[t * buckets + d].
+template <class Key>
+void count_keys(const GridInput& in, Workspace<Key>& w, std::size_t buckets, int low_bits, std::vector<std::uint32_t>& count) {
+  w.keys.resize(in.finite);
+  w.items.resize(in.finite);
+  count.assign(in.parts * buckets, 0);
+  Keys32 layout32;
+  const bool all_32_bit = std::is_same_v<Key, std::uint32_t> && in.finite == in.n && keys32_supported() &&
+                          make_keys32(in.layout, layout32);
+  const float* p = in.p;
+  detail::parallel_for(in.n, in.parts, [&](std::size_t b, std::size_t e, int t) {
+    std::uint32_t* c = count.data() + t * buckets;
+    Key* keys = w.keys.data();
+    std::size_t o = in.offset[t];
+    if constexpr (std::is_same_v<Key, std::uint32_t>) {
+      if (all_32_bit) {
+        keys32(p + 3 * b, e - b, layout32, keys + o);
+        for (std::size_t i = o; i < o + (e - b); ++i) ++c[keys[i] >> low_bits];
+        return;
+      }
+    }
+    for (std::size_t i = b; i < e; ++i) {
+      const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+      if (!detail::finite3(x, y, z)) continue;
+      const Key k = static_cast<Key>(detail::voxel_key(in.layout, x, y, z));
+      keys[o++] = k;
+      ++c[k >> low_bits];
+    }
+  });
+}
 
-    // 1. The keys, and per part how many of its points fall in each bucket.
-    w.keys.resize(finite);
-    w.items.resize(finite);
-    std::vector<std::uint32_t> count(parts * buckets, 0);
-    Keys32 layout32;
-    const bool all_32_bit = std::is_same_v<Key, std::uint32_t> && finite == n && keys32_supported() &&
-                            make_keys32(layout, layout32);
-    detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
-      std::uint32_t* c = count.data() + t * buckets;
-      Key* keys = w.keys.data();
-      std::size_t o = offset[t];
-      if constexpr (std::is_same_v<Key, std::uint32_t>) {
-        if (all_32_bit) {
-          keys32(p + 3 * b, e - b, layout32, keys + o);
-          for (std::size_t i = o; i < o + (e - b); ++i) ++c[keys[i] >> low_bits];
-          return;
-        }
-      }
-      for (std::size_t i = b; i < e; ++i) {
-        const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
-        if (!detail::finite3(x, y, z)) continue;
-        const Key k = static_cast<Key>(detail::voxel_key(layout, x, y, z));
-        keys[o++] = k;
-        ++c[k >> low_bits];
-      }
-    });
-    // 2. Bucket d of part t starts after bucket d of the parts before it.
-    std::vector<std::size_t> bucket_begin(buckets + 1);
-    std::uint32_t o = 0;
-    for (std::size_t d = 0; d < buckets; ++d) {
-      bucket_begin[d] = o;
-      for (int t = 0; t < parts; ++t) {
-        const std::uint32_t c = count[t * buckets + d];
-        count[t * buckets + d] = o;
-        o += c;
-      }
+// 2. Bucket d of part t starts after bucket d of the parts before it: count becomes each part's write position
+// per bucket; returns where each bucket starts (buckets + 1 entries).
+std::vector<std::size_t> bucket_starts(std::vector<std::uint32_t>& count, int parts, std::size_t buckets) {
+  std::vector<std::size_t> bucket_begin(buckets + 1);
+  std::uint32_t o = 0;
+  for (std::size_t d = 0; d < buckets; ++d) {
+    bucket_begin[d] = o;
+    for (int t = 0; t < parts; ++t) {
+      const std::uint32_t c = count[t * buckets + d];
+      count[t * buckets + d] = o;
+      o += c;
     }
-    bucket_begin[buckets] = o;
-    // 3. The points, with their keys, into their buckets.
-    detail::parallel_for(n, parts, [&](std::size_t b, std::size_t e, int t) {
-      std::uint32_t* c = count.data() + t * buckets;
-      const Key* keys = w.keys.data() + offset[t];
-      Item* items = w.items.data();
-      for (std::size_t i = b; i < e; ++i) {
-        const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
-        if (!detail::finite3(x, y, z)) continue;
-        const Key k = *keys++;
-        items[c[k >> low_bits]++] = Item{k, {x, y, z}};
-      }
-    });
-    // 4. Each worker takes a run of whole buckets holding about its share of the points and appends their
-    // centroids; buckets are in key order, so the outputs concatenate.
-    const int workers = detail::parts_for(finite, threads);
-    std::vector<std::size_t> first_bucket(workers + 1, buckets);
-    for (int t = 0; t < workers; ++t) {
-      first_bucket[t] = static_cast<std::size_t>(
-          std::lower_bound(bucket_begin.begin(), bucket_begin.end() - 1, finite * t / workers) - bucket_begin.begin());
+  }
+  bucket_begin[buckets] = o;
+  return bucket_begin;
+}
+
+// 3. The points, with their keys, into their buckets (w.items), in index order within each.
+template <class Key>
+void scatter_items(const GridInput& in, Workspace<Key>& w, std::size_t buckets, int low_bits,
+                   std::vector<std::uint32_t>& count) {
+  using Item = KeyPoint<Key>;
+  const float* p = in.p;
+  detail::parallel_for(in.n, in.parts, [&](std::size_t b, std::size_t e, int t) {
+    std::uint32_t* c = count.data() + t * buckets;
+    const Key* keys = w.keys.data() + in.offset[t];
+    Item* items = w.items.data();
+    for (std::size_t i = b; i < e; ++i) {
+      const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+      if (!detail::finite3(x, y, z)) continue;
+      const Key k = *keys++;
+      items[c[k >> low_bits]++] = Item{k, {x, y, z}};
     }
-    first_bucket[0] = 0;
-    if (static_cast<int>(w.scratch.size()) < workers) {
-      w.scratch.resize(workers);
-      w.tables.resize(workers);
-      w.centroids.resize(workers);
+  });
+}
+
+// 4. Each worker takes a run of whole buckets holding about its share of the points and appends their
+// centroids; buckets are in key order, so the outputs concatenate.
+template <class Key>
+Eigen::Matrix3Xf reduce_buckets(const GridInput& in, Workspace<Key>& w, const std::vector<std::size_t>& bucket_begin,
+                                int low_bits, std::size_t min_points, int threads) {
+  using Item = KeyPoint<Key>;
+  const std::size_t buckets = bucket_begin.size() - 1;
+  const int workers = detail::parts_for(in.finite, threads);
+  std::vector<std::size_t> first_bucket(workers + 1, buckets);
+  for (int t = 0; t < workers; ++t) {
+    first_bucket[t] = static_cast<std::size_t>(
+        std::lower_bound(bucket_begin.begin(), bucket_begin.end() - 1, in.finite * t / workers) - bucket_begin.begin());
+  }
+  first_bucket[0] = 0;
+  if (static_cast<int>(w.scratch.size()) < workers) {
+    w.scratch.resize(workers);
+    w.tables.resize(workers);
+    w.centroids.resize(workers);
+  }
+  std::vector<std::size_t> kept(workers + 1, 0);
+  detail::parallel_for(workers, workers, [&](std::size_t, std::size_t, int t) {
+    std::vector<float>& out = w.centroids[t];
+    std::vector<Item>& scratch = w.scratch[t];
+    out.clear();
+    for (std::size_t d = first_bucket[t]; d < first_bucket[t + 1]; ++d) {
+      const std::size_t m = bucket_begin[d + 1] - bucket_begin[d];
+      if (m == 0) continue;
+      if (scratch.size() < m) scratch.resize(m);
+      reduce_bucket(w.items.data() + bucket_begin[d], scratch.data(), m, low_bits, min_points, w.tables[t], out);
     }
-    std::vector<std::size_t> kept(workers + 1, 0);
-    detail::parallel_for(workers, workers, [&](std::size_t, std::size_t, int t) {
-      std::vector<float>& out = w.centroids[t];
-      std::vector<Item>& scratch = w.scratch[t];
-      out.clear();
-      for (std::size_t d = first_bucket[t]; d < first_bucket[t + 1]; ++d) {
-        const std::size_t m = bucket_begin[d + 1] - bucket_begin[d];
-        if (m == 0) continue;
-        if (scratch.size() < m) scratch.resize(m);
-        reduce_bucket(w.items.data() + bucket_begin[d], scratch.data(), m, low_bits, min_points, w.tables[t], out);
-      }
-      kept[t + 1] = out.size() / 3;
-    });
-    for (int t = 0; t < workers; ++t) kept[t + 1] += kept[t];
-    Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(kept[workers]));
-    detail::parallel_for(workers, workers, [&](std::size_t, std::size_t, int t) {
-      std::copy(w.centroids[t].begin(), w.centroids[t].end(), out.data() + 3 * kept[t]);
-    });
-    return out;
-  };
-  if (layout.key_bits <= 32) return run(std::uint32_t{});
-  return run(std::uint64_t{});
+    kept[t + 1] = out.size() / 3;
+  });
+  for (int t = 0; t < workers; ++t) kept[t + 1] += kept[t];
+  Eigen::Matrix3Xf out(3, static_cast<Eigen::Index>(kept[workers]));
+  detail::parallel_for(workers, workers, [&](std::size_t, std::size_t, int t) {
+    std::copy(w.centroids[t].begin(), w.centroids[t].end(), out.data() + 3 * kept[t]);
+  });
+  return out;
+}
+
+// A most-significant-digit pass into 2^kBucketBits buckets, then each bucket reduced to centroids while in
+// cache (reduce_bucket). Every step keeps index order among equal keys. Key: 32-bit keys where they fit.
+template <class Key>
+Eigen::Matrix3Xf reduce_to_centroids(const GridInput& in, std::size_t min_points, int threads) {
+  thread_local Workspace<Key> workspace;
+  Workspace<Key>& w = workspace;  // the caller's, seen by the worker threads
+  const detail::AtScopeExit release{[&] {
+    if (in.n > detail::kKeepBuffersUpToPoints) w = {};
+  }};
+  const int high_bits = std::min(in.layout.key_bits, kBucketBits);
+  const int low_bits = in.layout.key_bits - high_bits;
+  const std::size_t buckets = std::size_t{1} << high_bits;
+  std::vector<std::uint32_t> count;
+  count_keys(in, w, buckets, low_bits, count);
+  const std::vector<std::size_t> bucket_begin = bucket_starts(count, in.parts, buckets);
+  scatter_items(in, w, buckets, low_bits, count);
+  return reduce_buckets(in, w, bucket_begin, low_bits, min_points, threads);
+}
+
+}  // namespace
+
+Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfig& config, int threads) {
+  detail::validate(config);
+  detail::check_cloud_size(points.cols());
+  threads = detail::resolve_threads(threads);
+  const detail::Bounds bounds = detail::compute_bounds(points, threads);
+  if (bounds.finite == 0) return Eigen::Matrix3Xf(3, 0);
+  const std::size_t n = static_cast<std::size_t>(points.cols());
+  const detail::VoxelLayout layout = detail::make_voxel_layout(bounds, config.voxel_size_m, n);
+  const std::size_t min_points = static_cast<std::size_t>(std::max(config.min_points_per_voxel, 1));
+  const int parts = detail::parts_for(n, threads);
+  const GridInput in{points.data(), n, bounds.finite, layout, parts, finite_offsets(points.data(), n, bounds.finite, parts)};
+  if (layout.key_bits <= 32) return reduce_to_centroids<std::uint32_t>(in, min_points, threads);
+  return reduce_to_centroids<std::uint64_t>(in, min_points, threads);
 }
 
 }  // namespace stvl::filter

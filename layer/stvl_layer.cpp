@@ -6,18 +6,16 @@
 #include <utility>
 
 #include "common/stopwatch.hpp"
+#include "common/units.hpp"
 #include "mapping/footprint.hpp"
 
 namespace stvl::layer {
 namespace {
 
-// Two stamps closer than this are one instant (simulated and recorded times are sums of floating-point periods).
-constexpr double kSameInstant_s = 1e-9;
-
 double process_cpu_ms() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
+  return kMsPerSecond * static_cast<double>(t.tv_sec) + kMsPerNanosecond * static_cast<double>(t.tv_nsec);
 }
 
 }  // namespace
@@ -38,8 +36,8 @@ struct StvlLayer::Sensor {
   // It has missed a frame (an outage): one was due after its last and by now_s, and none is pending at now_s
   // (a sensor of a higher index with a frame at now_s takes it right after this one).
   bool overdue(double now_s, double next_frame_s) const {
-    return last_frame_s >= 0.0 && last_frame_s + 1.0 / config.rate_hz <= now_s + kSameInstant_s &&
-           next_frame_s > now_s + kSameInstant_s;
+    return last_frame_s >= 0.0 && last_frame_s + 1.0 / config.rate_hz <= now_s + kTimeEpsilon_s &&
+           next_frame_s > now_s + kTimeEpsilon_s;
   }
 };
 
@@ -84,7 +82,7 @@ void StvlLayer::update(std::shared_ptr<const Observation> observation, const std
   // STVL's layer updates at every tick of the costmap's clock, observations or not: the ticks since the last one
   // run now, at their own times, with the buffers as they were (this observation has not arrived).
   if (frequency_hz > 0.0)
-    for (; tick_s(next_tick_) + kSameInstant_s < o.time_s; ++next_tick_)
+    for (; tick_s(next_tick_) + kTimeEpsilon_s < o.time_s; ++next_tick_)
       run_update(tick_s(next_tick_), o.sensor_index, sensors, report);
 
   for (std::size_t s = 0; s < sensor.buffers.size(); ++s) {
@@ -106,18 +104,18 @@ bool StvlLayer::updates_now(const Observation& o, const std::vector<SensorNow>& 
   if (config_.map.update_grouping == mapping::UpdateGrouping::kInstant)
     // another sensor still takes a frame at this time: STVL's update of the instant runs at the last
     for (std::size_t index = 0; index < sensors_.size(); ++index)
-      if (index != o.sensor_index && std::abs(sensors.at(index).next_frame_time_s - o.time_s) <= kSameInstant_s)
+      if (index != o.sensor_index && std::abs(sensors.at(index).next_frame_time_s - o.time_s) <= kTimeEpsilon_s)
         return false;
   const double frequency_hz = config_.map.update_frequency_hz;
   // STVL's next update is later: the reading waits in the buffers
-  return !(frequency_hz > 0.0 && o.time_s + kSameInstant_s < static_cast<double>(next_tick_) / frequency_hz);
+  return !(frequency_hz > 0.0 && o.time_s + kTimeEpsilon_s < static_cast<double>(next_tick_) / frequency_hz);
 }
 
 StvlLayer::Applied StvlLayer::collect(double time_s, std::size_t sensor_index, const std::vector<SensorNow>& sensors,
                                       LayerUpdate& update, UpdateReport& report) {
   const bool instant = config_.map.update_grouping == mapping::UpdateGrouping::kInstant;
   const bool at_frequency = config_.map.update_frequency_hz > 0.0;
-  const auto at_this_instant = [&](double t_s) { return std::abs(t_s - time_s) <= kSameInstant_s; };
+  const auto at_this_instant = [&](double t_s) { return std::abs(t_s - time_s) <= kTimeEpsilon_s; };
   Applied applied;
   for (std::size_t index = 0; index < sensors_.size(); ++index) {
     Sensor& c = *sensors_[index];
@@ -127,7 +125,7 @@ StvlLayer::Applied StvlLayer::collect(double time_s, std::size_t sensor_index, c
     const bool frame_of_this_update = (index == sensor_index && at_this_instant(c.last_frame_s)) ||
                                       (instant && at_this_instant(c.last_frame_s)) || at_frequency;
     if (!frame_of_this_update &&
-        (!c.overdue(time_s, sensors.at(index).next_frame_time_s) || c.last_reapplied_s >= time_s - kSameInstant_s))
+        (!c.overdue(time_s, sensors.at(index).next_frame_time_s) || c.last_reapplied_s >= time_s - kTimeEpsilon_s))
       continue;
     if (!frame_of_this_update) c.last_reapplied_s = time_s;
     const Eigen::Vector3d centre_now = sensors.at(index).T_world_camera.translation();

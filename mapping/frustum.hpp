@@ -36,6 +36,11 @@ class DepthCameraFrustum {
   const Eigen::AlignedBox3d& bounds_W() const { return bounds_W_; }
 
  private:
+  // The constructor's two geometries: planes, anchors (kStvl) and bounds from the pose and the validated source.
+  void build_stvl(const Eigen::Isometry3d& T_world_camera, double horizontal_fov_rad, double vertical_fov_rad,
+                  double min_z_m, double max_z_m);
+  void build_ideal(const Eigen::Isometry3d& T_world_camera, double horizontal_fov_rad, double vertical_fov_rad,
+                   double min_z_m, double max_z_m);
   FrustumGeometry geometry_;
   std::array<Eigen::Vector4d, 6> planes_W_;  // inside where n.p + d >= 0 (kStvl: -outward normal, for culling)
   // kStvl only: STVL's outward unit normals and anchor points, in the world frame.

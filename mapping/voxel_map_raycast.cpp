@@ -76,78 +76,91 @@ struct RayHit {
   openvdb::Index offset;
 };
 
+// What one thread's rays found: the active voxels they passed and how many voxels they visited.
+struct Walked {
+  std::vector<RayHit> hits;
+  std::size_t visited = 0;
+};
+
+// The rays from the optical centre origin_W (s_vox in voxels) to each point of `points` (cut at max_z_m), walked
+// in parallel; rays only read the tree (one accessor per chunk), each thread collecting the active voxels passed.
+void walk_rays(const Eigen::Matrix3Xf& points, const GridT& grid, const LeafTable& table, const Eigen::Vector3d& origin_W,
+               const Eigen::Vector3d& s_vox, double max_z_m, double voxel_size_m,
+               tbb::enumerable_thread_specific<Walked>& walked) {
+  const double max_range_sq_m2 = max_z_m * max_z_m;
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
+                    [&](const tbb::blocked_range<Eigen::Index>& range) {
+    Walked& mine = walked.local();
+    auto accessor = grid.getConstAccessor();
+    auto leaf_at = [&](const VoxelKey& block) -> const LeafT* {
+      const Coord origin(block.x, block.y, block.z);
+      return table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
+    };
+    auto collect = [&](const LeafT* leaf, const VoxelKey& key) {
+      ++mine.visited;
+      const openvdb::Index offset = ((key.x & 7) << 6) | ((key.y & 7) << 3) | (key.z & 7);
+      if (leaf->isValueOn(offset)) mine.hits.push_back({leaf, offset});
+    };
+    for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
+      Eigen::Vector3d p_W = points.col(i).cast<double>();
+      if (!p_W.allFinite()) continue;
+      const double length_sq_m2 = (p_W - origin_W).squaredNorm();
+      if (length_sq_m2 < 1e-18) continue;
+      if (length_sq_m2 > max_range_sq_m2)
+        p_W = origin_W + (p_W - origin_W) * (max_z_m / std::sqrt(length_sq_m2));
+      // The walk stops before the point's voxel floor(e_vox), the key mark() gives it.
+      const Eigen::Vector3d e_vox = p_W / voxel_size_m;
+      // Every block nearer than free_radius_vox is empty: skip that part of the ray (or all of it).
+      const double length_vox = (e_vox - s_vox).norm();
+      if (length_vox < table.free_radius_vox) continue;
+      if (table.free_radius_vox > 1.0)
+        walk_ray_blocks(s_vox + (e_vox - s_vox) * ((table.free_radius_vox - 0.5) / length_vox), e_vox, leaf_at,
+                        collect);
+      else
+        walk_ray_blocks(s_vox, e_vox, leaf_at, collect);
+    }
+  });
+}
+
+// Clears the voxels the rays passed, counted once per voxel (clearing is idempotent, so the result does not depend
+// on the split), their keys into cleared_keys when given and their leaves into touched; empties `walked`.
+void clear_hits(tbb::enumerable_thread_specific<Walked>& walked, ClearStats& stats, std::vector<VoxelKey>* cleared_keys,
+                std::vector<Coord>& touched) {
+  for (Walked& mine : walked) {
+    for (const RayHit& hit : mine.hits) {
+      LeafT* leaf = const_cast<LeafT*>(hit.leaf);  // the grid is ours and no ray is being walked now
+      if (!leaf->isValueOn(hit.offset)) continue;
+      leaf->setValueOff(hit.offset);
+      ++stats.voxels_removed;
+      if (cleared_keys) {
+        const Coord key = leaf->offsetToGlobalCoord(hit.offset);
+        cleared_keys->push_back({key.x(), key.y(), key.z()});
+      }
+      touched.push_back(leaf->origin());
+    }
+    stats.voxels_visited += mine.visited;
+    mine.hits.clear();
+    mine.visited = 0;
+  }
+}
+
 }  // namespace
 
 void VoxelMap::Impl::raycast_pass(const std::vector<ClearingObservation>& observations, ClearStats& stats,
                                   std::vector<VoxelKey>* cleared_keys) {
   std::vector<Coord> touched;
-  struct Walked {
-    std::vector<RayHit> hits;
-    std::size_t visited = 0;
-  };
   tbb::enumerable_thread_specific<Walked> walked;
   for (const ClearingObservation& obs : observations) {
     const Eigen::Vector3d origin_W = obs.T_world_camera.translation();
     const Eigen::Vector3d s_vox = origin_W / config.voxel_size_m;  // as to_key divides: floor(s_vox) = start
     Coord start;
     if (!to_key(origin_W, start)) continue;
-    const double max_range_sq_m2 = obs.source.max_z_m * obs.source.max_z_m;
     const int radius_vox = static_cast<int>(std::ceil(obs.source.max_z_m / config.voxel_size_m)) + 1;
     const LeafTable table = leaf_table_around(*grid, s_vox, start, radius_vox);
-    // Rays only read the tree (in parallel, one accessor per chunk); the voxels they pass are cleared after.
-    const auto walk = [&](const Eigen::Matrix3Xf& points) {
-      tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
-                        [&](const tbb::blocked_range<Eigen::Index>& range) {
-        Walked& mine = walked.local();
-        auto accessor = grid->getConstAccessor();
-        auto leaf_at = [&](const VoxelKey& block) -> const LeafT* {
-          const Coord origin(block.x, block.y, block.z);
-          return table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
-        };
-        auto collect = [&](const LeafT* leaf, const VoxelKey& key) {
-          ++mine.visited;
-          const openvdb::Index offset = ((key.x & 7) << 6) | ((key.y & 7) << 3) | (key.z & 7);
-          if (leaf->isValueOn(offset)) mine.hits.push_back({leaf, offset});
-        };
-        for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
-          Eigen::Vector3d p_W = points.col(i).cast<double>();
-          if (!p_W.allFinite()) continue;
-          const double length_sq_m2 = (p_W - origin_W).squaredNorm();
-          if (length_sq_m2 < 1e-18) continue;
-          if (length_sq_m2 > max_range_sq_m2)
-            p_W = origin_W + (p_W - origin_W) * (obs.source.max_z_m / std::sqrt(length_sq_m2));
-          // The walk stops before the point's voxel floor(e_vox), the key mark() gives it.
-          const Eigen::Vector3d e_vox = p_W / config.voxel_size_m;
-          // Every block nearer than free_radius_vox is empty: skip that part of the ray (or all of it).
-          const double length_vox = (e_vox - s_vox).norm();
-          if (length_vox < table.free_radius_vox) continue;
-          if (table.free_radius_vox > 1.0)
-            walk_ray_blocks(s_vox + (e_vox - s_vox) * ((table.free_radius_vox - 0.5) / length_vox), e_vox, leaf_at,
-                            collect);
-          else
-            walk_ray_blocks(s_vox, e_vox, leaf_at, collect);
-        }
-      });
-    };
-    walk(*obs.points_W);
-    if (obs.source.clear_on_no_return && obs.no_return_W) walk(*obs.no_return_W);
-    // Clearing is idempotent and counted once per voxel, so the result does not depend on the split.
-    for (Walked& mine : walked) {
-      for (const RayHit& hit : mine.hits) {
-        LeafT* leaf = const_cast<LeafT*>(hit.leaf);  // the grid is ours and no ray is being walked now
-        if (!leaf->isValueOn(hit.offset)) continue;
-        leaf->setValueOff(hit.offset);
-        ++stats.voxels_removed;
-        if (cleared_keys) {
-          const Coord key = leaf->offsetToGlobalCoord(hit.offset);
-          cleared_keys->push_back({key.x(), key.y(), key.z()});
-        }
-        touched.push_back(leaf->origin());
-      }
-      stats.voxels_visited += mine.visited;
-      mine.hits.clear();
-      mine.visited = 0;
-    }
+    walk_rays(*obs.points_W, *grid, table, origin_W, s_vox, obs.source.max_z_m, config.voxel_size_m, walked);
+    if (obs.source.clear_on_no_return && obs.no_return_W)
+      walk_rays(*obs.no_return_W, *grid, table, origin_W, s_vox, obs.source.max_z_m, config.voxel_size_m, walked);
+    clear_hits(walked, stats, cleared_keys, touched);
   }
   delete_empty_leaves(touched);
 }

@@ -81,106 +81,141 @@ class BagRecording final : public Recording {
  private:
   std::string where() const { return info_.path + ": " + info_.depth_topic; }
 
-  void open() {
-    std::map<std::string, std::string> types;  // topic -> datatype
-    {
-      rosbag::View all(bag_);
-      for (const auto* c : all.getConnections()) types[c->topic] = c->datatype;
-    }
+  using TopicTypes = std::map<std::string, std::string>;  // topic -> datatype
+
+  // librealsense's recorder names its depth topics /device_N/sensor_N/Depth_N/image/data.
+  static const std::regex& librealsense_depth() {
+    static const std::regex kLibrealsense(R"(^/device_\d+/sensor_\d+/Depth_\d+/image/data$)");
+    return kLibrealsense;
+  }
+
+  TopicTypes topic_types() {
+    TopicTypes types;
+    rosbag::View all(bag_);
+    for (const auto* c : all.getConnections()) types[c->topic] = c->datatype;
+    return types;
+  }
+
+  static std::vector<std::string> topic_names(const TopicTypes& types) {
     std::vector<std::string> topics;
     for (const auto& [t, type] : types) topics.push_back(t);
-    auto require_topic = [&](const std::string& topic, const std::string& type, const char* option) {
-      const auto it = types.find(topic);
-      if (it == types.end()) {
-        std::vector<std::string> same_type;  // the nearest of the expected type, else of all
-        for (const auto& [t, ty] : types) if (ty == type) same_type.push_back(t);
-        const std::string near = nearest_name(topic, same_type.empty() ? topics : same_type);
-        throw std::invalid_argument(info_.path + ": no topic " + topic + " (" + option + ")" +
-                                    (same_type.empty() ? ", the bag has no " + type + " topic" : std::string()) +
-                                    (near.empty() ? std::string(", the bag has no topics")
-                                                  : ", nearest existing topic: " + near));
-      }
-      if (it->second != type) {
-        throw std::invalid_argument(info_.path + ": topic " + topic + " is " + it->second + ", expected " + type);
-      }
-    };
+    return topics;
+  }
 
-    // Depth topic.
-    static const std::regex kLibrealsense(R"(^/device_\d+/sensor_\d+/Depth_\d+/image/data$)");
-    if (!options_.depth_topic.empty()) {
-      require_topic(options_.depth_topic, "sensor_msgs/Image", "--depth-topic");
-      info_.depth_topic = options_.depth_topic;
-    } else {
-      std::vector<std::string> candidates;
-      for (const auto& [t, type] : types) {
-        if (type != "sensor_msgs/Image") continue;
-        if (ends_with(t, "/depth/image_rect_raw") || ends_with(t, "/aligned_depth_to_color/image_raw") ||
-            std::regex_match(t, kLibrealsense)) {
-          candidates.push_back(t);
-        }
-      }
-      if (candidates.empty()) {
-        throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
-                                    "*/aligned_depth_to_color/image_raw, /device_N/sensor_N/Depth_N/image/data; "
-                                    "the bag has: " + join(topics) + "); name one with --depth-topic");
-      }
-      if (candidates.size() > 1) {
-        throw std::invalid_argument(info_.path + ": several depth topics: " + join(candidates) +
-                                    "; choose one with --depth-topic");
-      }
-      info_.depth_topic = candidates.front();
+  // Throws std::invalid_argument unless the bag has `topic` of `type` (naming the nearest topic when it is missing).
+  void require_topic(const TopicTypes& types, const std::string& topic, const std::string& type, const char* option) const {
+    const auto it = types.find(topic);
+    if (it == types.end()) {
+      std::vector<std::string> same_type;  // the nearest of the expected type, else of all
+      for (const auto& [t, ty] : types) if (ty == type) same_type.push_back(t);
+      const std::string near = nearest_name(topic, same_type.empty() ? topic_names(types) : same_type);
+      throw std::invalid_argument(info_.path + ": no topic " + topic + " (" + option + ")" +
+                                  (same_type.empty() ? ", the bag has no " + type + " topic" : std::string()) +
+                                  (near.empty() ? std::string(", the bag has no topics")
+                                                : ", nearest existing topic: " + near));
     }
+    if (it->second != type) {
+      throw std::invalid_argument(info_.path + ": topic " + topic + " is " + it->second + ", expected " + type);
+    }
+  }
+
+  void open() {
+    const TopicTypes types = topic_types();
+    choose_depth_topic(types);
     const std::string& depth = info_.depth_topic;
-    const bool librealsense = std::regex_match(depth, kLibrealsense);
+    const bool librealsense = std::regex_match(depth, librealsense_depth());
     info_.format = librealsense ? "ros1 bag (librealsense)" : "ros1 bag (realsense-ros)";
+    choose_info_topic(types, librealsense);
+    read_camera_infos();
+    if (librealsense) read_depth_units(types);
+    read_depth_frames();
+    read_poses(types);
+    // The first frame's pose now, so that a recording without one fails at open.
+    Eigen::Isometry3d T_fixed_camera, T_fixed_base;
+    pose_at(info_.start_time_s, 0, T_fixed_camera, T_fixed_base);
+    it_ = view_->begin();
+  }
 
-    // Camera info beside it.
+  // The depth topic: --depth-topic, else the only realsense-ros or librealsense depth image topic.
+  void choose_depth_topic(const TopicTypes& types) {
+    if (!options_.depth_topic.empty()) {
+      require_topic(types, options_.depth_topic, "sensor_msgs/Image", "--depth-topic");
+      info_.depth_topic = options_.depth_topic;
+      return;
+    }
+    std::vector<std::string> candidates;
+    for (const auto& [t, type] : types) {
+      if (type != "sensor_msgs/Image") continue;
+      if (ends_with(t, "/depth/image_rect_raw") || ends_with(t, "/aligned_depth_to_color/image_raw") ||
+          std::regex_match(t, librealsense_depth())) {
+        candidates.push_back(t);
+      }
+    }
+    if (candidates.empty()) {
+      throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
+                                  "*/aligned_depth_to_color/image_raw, /device_N/sensor_N/Depth_N/image/data; "
+                                  "the bag has: " + join(topic_names(types)) + "); name one with --depth-topic");
+    }
+    if (candidates.size() > 1) {
+      throw std::invalid_argument(info_.path + ": several depth topics: " + join(candidates) +
+                                  "; choose one with --depth-topic");
+    }
+    info_.depth_topic = candidates.front();
+  }
+
+  // The camera info beside the depth topic: --info-topic, else the driver's name for it.
+  void choose_info_topic(const TopicTypes& types, bool librealsense) {
+    const std::string& depth = info_.depth_topic;
     if (!options_.info_topic.empty()) {
-      require_topic(options_.info_topic, "sensor_msgs/CameraInfo", "--info-topic");
+      require_topic(types, options_.info_topic, "sensor_msgs/CameraInfo", "--info-topic");
       info_.info_topic = options_.info_topic;
-    } else {
-      info_.info_topic = librealsense ? depth.substr(0, depth.size() - 11) + "/info/camera_info"
-                                      : depth.substr(0, depth.rfind('/')) + "/camera_info";
-      if (!types.count(info_.info_topic)) {
-        throw std::invalid_argument(info_.path + ": no camera info for " + depth + " (expected " + info_.info_topic +
-                                    "); name one with --info-topic");
-      }
-      require_topic(info_.info_topic, "sensor_msgs/CameraInfo", "camera info");
+      return;
     }
-    {
-      rosbag::View view(bag_, rosbag::TopicQuery(info_.info_topic));
-      for (const auto& m : view) {
-        const auto msg = m.instantiate<sensor_msgs::CameraInfo>();
-        if (!msg) continue;
-        const std::string what = info_.path + ": " + info_.info_topic + " K";
-        infos_.emplace_back(to_seconds(msg->header.stamp),
-                            make_intrinsics(msg->width, msg->height, msg->K[0], msg->K[4], msg->K[2], msg->K[5],
-                                            options_.rate_hz, options_, what));
-      }
-      std::stable_sort(infos_.begin(), infos_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-      if (infos_.empty()) throw std::invalid_argument(info_.path + ": " + info_.info_topic + " has no messages");
+    info_.info_topic = librealsense ? depth.substr(0, depth.size() - 11) + "/info/camera_info"
+                                    : depth.substr(0, depth.rfind('/')) + "/camera_info";
+    if (!types.count(info_.info_topic)) {
+      throw std::invalid_argument(info_.path + ": no camera info for " + depth + " (expected " + info_.info_topic +
+                                  "); name one with --info-topic");
     }
+    require_topic(types, info_.info_topic, "sensor_msgs/CameraInfo", "camera info");
+  }
 
-    // librealsense's depth units.
-    if (librealsense) {
-      const std::string units = depth.substr(0, depth.find("/Depth_")) + "/option/Depth Units/value";
-      if (types.count(units) && types[units] == "std_msgs/Float32") {
-        rosbag::View view(bag_, rosbag::TopicQuery(units));
-        for (const auto& m : view) {
-          if (const auto msg = m.instantiate<std_msgs::Float32>()) {
-            if (!std::isfinite(msg->data) || !(msg->data > 0)) {
-              throw std::invalid_argument(info_.path + ": " + units + " is " + std::to_string(msg->data) +
-                                          ", expected a positive number of metres");
-            }
-            info_.depth_unit_m = msg->data;
-            break;
-          }
+  // Every camera info message's intrinsics, by stamp.
+  void read_camera_infos() {
+    rosbag::View view(bag_, rosbag::TopicQuery(info_.info_topic));
+    for (const auto& m : view) {
+      const auto msg = m.instantiate<sensor_msgs::CameraInfo>();
+      if (!msg) continue;
+      const std::string what = info_.path + ": " + info_.info_topic + " K";
+      infos_.emplace_back(to_seconds(msg->header.stamp),
+                          make_intrinsics(msg->width, msg->height, msg->K[0], msg->K[4], msg->K[2], msg->K[5],
+                                          options_.rate_hz, options_, what));
+    }
+    std::stable_sort(infos_.begin(), infos_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (infos_.empty()) throw std::invalid_argument(info_.path + ": " + info_.info_topic + " has no messages");
+  }
+
+  // librealsense's depth units (its first "Depth Units" option message), when the bag has them.
+  void read_depth_units(const TopicTypes& types) {
+    const std::string& depth = info_.depth_topic;
+    const std::string units = depth.substr(0, depth.find("/Depth_")) + "/option/Depth Units/value";
+    if (!types.count(units) || types.at(units) != "std_msgs/Float32") return;
+    rosbag::View view(bag_, rosbag::TopicQuery(units));
+    for (const auto& m : view) {
+      if (const auto msg = m.instantiate<std_msgs::Float32>()) {
+        if (!std::isfinite(msg->data) || !(msg->data > 0)) {
+          throw std::invalid_argument(info_.path + ": " + units + " is " + std::to_string(msg->data) +
+                                      ", expected a positive number of metres");
         }
+        info_.depth_unit_m = msg->data;
+        break;
       }
     }
+  }
 
-    // Depth frames: count, first and last stamps, encoding and frame_id of the first.
-    view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(depth));
+  // Depth frames: count, first and last stamps, encoding and frame_id of the first; the rate from the stamps.
+  void read_depth_frames() {
+    view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(info_.depth_topic));
     info_.frame_count = view_->size();
     if (info_.frame_count == 0) throw std::invalid_argument(where() + ": no depth images on the topic");
     {
@@ -200,16 +235,10 @@ class BagRecording final : public Recording {
       for (auto& [t, k] : infos_) k.rate_hz = rate_hz;
     }
     info_.intrinsics = intrinsics_at(info_.start_time_s);
-
-    read_poses(types, require_topic);
-    // The first frame's pose now, so that a recording without one fails at open.
-    Eigen::Isometry3d T_fixed_camera, T_fixed_base;
-    pose_at(info_.start_time_s, 0, T_fixed_camera, T_fixed_base);
-    it_ = view_->begin();
   }
 
-  template <typename RequireTopic>
-  void read_poses(const std::map<std::string, std::string>& types, RequireTopic& require_topic) {
+  // /tf_static, /tf and --odom-topic into poses_, resolved against the depth frames.
+  void read_poses(const TopicTypes& types) {
     // /tf_static and /tf.
     for (const char* topic : {"/tf_static", "/tf"}) {
       const auto it = types.find(topic);
@@ -229,7 +258,7 @@ class BagRecording final : public Recording {
       }
     }
     if (!options_.odom_topic.empty()) {
-      require_topic(options_.odom_topic, "nav_msgs/Odometry", "--odom-topic");
+      require_topic(types, options_.odom_topic, "nav_msgs/Odometry", "--odom-topic");
       rosbag::View view(bag_, rosbag::TopicQuery(options_.odom_topic));
       for (const auto& m : view) {
         const auto msg = m.instantiate<nav_msgs::Odometry>();

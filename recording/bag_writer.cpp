@@ -23,6 +23,7 @@
 #include <utility>
 
 #include "common/enum_names.hpp"
+#include "common/units.hpp"
 
 // Debian 12 packages no C++ header for rosgraph_msgs/Clock (libros-rosgraph-msgs-dev is not a dependency), so the
 // message is declared here: md5sum, datatype and definition match rosgraph_msgs/Clock exactly, so readers
@@ -77,9 +78,9 @@ ros::Time to_ros_time(double t_s) {
   if (!std::isfinite(t_s) || t_s < 0.0 || t_s > 4.0e9) {
     throw std::invalid_argument("BagWriter: time must be finite and in [0, 4e9] s, got " + std::to_string(t_s));
   }
-  const auto total_ns = static_cast<std::int64_t>(std::llround((t_s + kBagTimeOffset_s) * 1e9));
-  return ros::Time(static_cast<std::uint32_t>(total_ns / 1000000000),
-                   static_cast<std::uint32_t>(total_ns % 1000000000));
+  const auto total_ns = static_cast<std::int64_t>(std::llround((t_s + kBagTimeOffset_s) * kNanosecondsPerSecond));
+  return ros::Time(static_cast<std::uint32_t>(total_ns / kWholeNanosecondsPerSecond),
+                   static_cast<std::uint32_t>(total_ns % kWholeNanosecondsPerSecond));
 }
 
 void require_finite_pose(const Eigen::Isometry3d& T, const char* name) {

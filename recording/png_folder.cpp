@@ -115,53 +115,9 @@ class PngFolderRecording final : public Recording {
     info_.encoding = "png16";
     info_.camera_frame = "camera";
     info_.fixed_frame = options.fixed_frame.empty() ? "world" : options.fixed_frame;
-    const fs::path image_dir = fs::is_directory(dir / "depth") ? dir / "depth" : dir;
-    static const std::set<std::string> kKnown = {"intrinsics.yaml", "poses.txt", "timestamps.txt", "README.md"};
-    for (const auto& entry : fs::directory_iterator(image_dir)) {
-      const std::string name = entry.path().filename().string();
-      if (entry.is_directory() || name.front() == '.' || (image_dir == dir && kKnown.count(name))) continue;
-      if (entry.path().extension() != ".png") {
-        throw std::invalid_argument(image_dir.string() + ": mixed files: '" + name + "' is not a depth PNG");
-      }
-      files_.push_back(entry.path());
-    }
-    if (files_.empty()) throw std::invalid_argument(image_dir.string() + ": empty folder: no depth PNGs (*.png)");
-    std::sort(files_.begin(), files_.end(), name_less);
-    info_.frame_count = files_.size();
-
-    // Intrinsics.
-    const bool has_yaml = fs::exists(dir / "intrinsics.yaml"), has_calib = fs::is_directory(dir / "calib");
-    if (has_yaml && has_calib) {
-      throw std::invalid_argument(path + ": both intrinsics.yaml and calib/ give intrinsics; keep one");
-    }
-    if (has_yaml) {
-      read_intrinsics_yaml(dir / "intrinsics.yaml");
-    } else if (has_calib) {
-      for (const auto& f : files_) calib_.push_back(read_calib(dir / "calib" / (f.stem().string() + ".yaml")));
-    } else {
-      throw std::invalid_argument(path + ": missing intrinsics: neither intrinsics.yaml nor calib/<name>.yaml");
-    }
-    info_.intrinsics = calib_.front().intrinsics;
-    info_.pose_source = has_calib ? PoseSource::kFile : PoseSource::kStatic;
-
-    // Every PNG: 16-bit grey, one size.
-    for (std::size_t i = 0; i < files_.size(); ++i) {
-      const auto header = read_png_header(files_[i]);
-      const std::string name = files_[i].string();
-      if (!header) throw std::invalid_argument(name + ": mixed files: not a PNG");
-      if (header->bit_depth != 16 || header->color_type != 0) {
-        throw std::invalid_argument(name + ": mixed files: a " + std::to_string(header->bit_depth) + "-bit " +
-                                    (header->color_type == 0 ? "grey" : "colour") +
-                                    " PNG, expected 16-bit grey depth");
-      }
-      const auto& k = calibration(i).intrinsics;
-      if (header->width != k.width || header->height != k.height) {
-        throw std::invalid_argument(name + ": mixed files: " + std::to_string(header->width) + "x" +
-                                    std::to_string(header->height) + " but the intrinsics say " +
-                                    std::to_string(k.width) + "x" + std::to_string(k.height));
-      }
-    }
-
+    list_depth_pngs(dir);
+    read_folder_intrinsics(dir, path);
+    check_pngs();
     // Times and poses.
     const double rate_hz = info_.intrinsics.rate_hz;
     for (std::size_t i = 0; i < files_.size(); ++i) stamps_.push_back(double(i) / rate_hz);
@@ -204,6 +160,60 @@ class PngFolderRecording final : public Recording {
   }
 
  private:
+  // The depth PNGs of dir/depth (or dir), in name order; anything else there but the folder's own files throws.
+  void list_depth_pngs(const fs::path& dir) {
+    const fs::path image_dir = fs::is_directory(dir / "depth") ? dir / "depth" : dir;
+    static const std::set<std::string> kKnown = {"intrinsics.yaml", "poses.txt", "timestamps.txt", "README.md"};
+    for (const auto& entry : fs::directory_iterator(image_dir)) {
+      const std::string name = entry.path().filename().string();
+      if (entry.is_directory() || name.front() == '.' || (image_dir == dir && kKnown.count(name))) continue;
+      if (entry.path().extension() != ".png") {
+        throw std::invalid_argument(image_dir.string() + ": mixed files: '" + name + "' is not a depth PNG");
+      }
+      files_.push_back(entry.path());
+    }
+    if (files_.empty()) throw std::invalid_argument(image_dir.string() + ": empty folder: no depth PNGs (*.png)");
+    std::sort(files_.begin(), files_.end(), name_less);
+    info_.frame_count = files_.size();
+  }
+
+  // Intrinsics from intrinsics.yaml (static poses) or calib/<name>.yaml per frame (poses from the files).
+  void read_folder_intrinsics(const fs::path& dir, const std::string& path) {
+    const bool has_yaml = fs::exists(dir / "intrinsics.yaml"), has_calib = fs::is_directory(dir / "calib");
+    if (has_yaml && has_calib) {
+      throw std::invalid_argument(path + ": both intrinsics.yaml and calib/ give intrinsics; keep one");
+    }
+    if (has_yaml) {
+      read_intrinsics_yaml(dir / "intrinsics.yaml");
+    } else if (has_calib) {
+      for (const auto& f : files_) calib_.push_back(read_calib(dir / "calib" / (f.stem().string() + ".yaml")));
+    } else {
+      throw std::invalid_argument(path + ": missing intrinsics: neither intrinsics.yaml nor calib/<name>.yaml");
+    }
+    info_.intrinsics = calib_.front().intrinsics;
+    info_.pose_source = has_calib ? PoseSource::kFile : PoseSource::kStatic;
+  }
+
+  // Every PNG: 16-bit grey, of its intrinsics' size.
+  void check_pngs() const {
+    for (std::size_t i = 0; i < files_.size(); ++i) {
+      const auto header = read_png_header(files_[i]);
+      const std::string name = files_[i].string();
+      if (!header) throw std::invalid_argument(name + ": mixed files: not a PNG");
+      if (header->bit_depth != 16 || header->color_type != 0) {
+        throw std::invalid_argument(name + ": mixed files: a " + std::to_string(header->bit_depth) + "-bit " +
+                                    (header->color_type == 0 ? "grey" : "colour") +
+                                    " PNG, expected 16-bit grey depth");
+      }
+      const auto& k = calibration(i).intrinsics;
+      if (header->width != k.width || header->height != k.height) {
+        throw std::invalid_argument(name + ": mixed files: " + std::to_string(header->width) + "x" +
+                                    std::to_string(header->height) + " but the intrinsics say " +
+                                    std::to_string(k.width) + "x" + std::to_string(k.height));
+      }
+    }
+  }
+
   const FrameCalibration& calibration(std::size_t i) const { return calib_.size() == 1 ? calib_.front() : calib_[i]; }
 
   void read_intrinsics_yaml(const fs::path& file) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "common/atomic_file.hpp"
+#include "common/units.hpp"
 #include "recording/cdr.hpp"
 #include "recording/detail.hpp"
 #include "recording/mcap.hpp"
@@ -31,7 +32,7 @@ std::string qos_yaml(bool transient_local, const std::string& indent) {
 std::uint64_t stamp_ns(double t_s) {
   if (!std::isfinite(t_s) || t_s < 0.0 || t_s > 2.0e9)
     throw std::invalid_argument("BagWriter: time must be finite and in [0, 2e9] s, got " + std::to_string(t_s));
-  return static_cast<std::uint64_t>(std::llround((t_s + kBagTimeOffset_s) * 1e9));
+  return static_cast<std::uint64_t>(std::llround((t_s + kBagTimeOffset_s) * kNanosecondsPerSecond));
 }
 
 void require_finite(const Eigen::Isometry3d& T, const char* name) {
@@ -213,7 +214,8 @@ class Ros2BagWriter final : public BagSink {
   };
 
   static void put_time(CdrWriter& w, std::uint64_t ns) {
-    w.put(static_cast<std::int32_t>(ns / 1000000000ull)), w.put(static_cast<std::uint32_t>(ns % 1000000000ull));
+    w.put(static_cast<std::int32_t>(ns / kWholeNanosecondsPerSecond));
+    w.put(static_cast<std::uint32_t>(ns % kWholeNanosecondsPerSecond));
   }
   static void put_header(CdrWriter& w, std::uint64_t ns, const std::string& frame) { put_time(w, ns), w.put_string(frame); }
   static void put_pose(CdrWriter& w, const Eigen::Isometry3d& T) {

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "common/units.hpp"
+
 namespace stvl::recording::detail {
 
 // "sensor_msgs/msg/Image" and "sensor_msgs/Image" -> "sensor_msgs/Image".
@@ -20,7 +22,7 @@ void check_ros2_schema(const std::string& type, const std::string& definition, c
 struct Stamp {
   std::int32_t sec = 0;
   std::uint32_t nanosec = 0;
-  double seconds() const { return sec + nanosec * 1e-9; }
+  double seconds() const { return sec + nanosec * kSecondsPerNanosecond; }
 };
 
 struct ImageMsg {

@@ -67,66 +67,15 @@ class Ros2Recording final : public Recording {
   }
 
   void open() {
-    const auto& topics = source_.topics();
-    std::vector<std::string> names;
-    for (const auto& [t, info] : topics) names.push_back(t);
-    if (!options_.depth_topic.empty()) {
-      require_topic(options_.depth_topic, "sensor_msgs/Image", "--depth-topic");
-      info_.depth_topic = options_.depth_topic;
-    } else {
-      std::vector<std::string> candidates;
-      for (const auto& [t, info] : topics)
-        if (short_type(info.type) == "sensor_msgs/Image" &&
-            (ends_with(t, "/depth/image_rect_raw") || ends_with(t, "/aligned_depth_to_color/image_raw")))
-          candidates.push_back(t);
-      if (candidates.empty())
-        throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
-                                    "*/aligned_depth_to_color/image_raw; the recording has: " + join(names) +
-                                    "); name one with --depth-topic");
-      if (candidates.size() > 1)
-        throw std::invalid_argument(info_.path + ": several depth topics: " + join(candidates) + "; choose one with --depth-topic");
-      info_.depth_topic = candidates.front();
-    }
-    const std::string& depth = info_.depth_topic;
-    if (!options_.info_topic.empty()) {
-      require_topic(options_.info_topic, "sensor_msgs/CameraInfo", "--info-topic");
-      info_.info_topic = options_.info_topic;
-    } else {
-      info_.info_topic = depth.substr(0, depth.rfind('/')) + "/camera_info";
-      if (!topics.count(info_.info_topic))
-        throw std::invalid_argument(info_.path + ": no camera info for " + depth + " (expected " + info_.info_topic +
-                                    "); name one with --info-topic");
-      require_topic(info_.info_topic, "sensor_msgs/CameraInfo", "camera info");
-    }
+    choose_depth_topic();
+    choose_info_topic();
     if (!options_.odom_topic.empty()) require_topic(options_.odom_topic, "nav_msgs/Odometry", "--odom-topic");
 
     // One pass: camera info, tf, odometry, and the depth frames' stamps.
     bool first = true;
     double last_stamp = 0;
     source_.scan(nullptr, [&](const Ros2Topic& t, std::int64_t, const std::uint8_t* data, std::size_t size) {
-      const std::string what = info_.path + ": " + t.name;
-      if (t.name == depth) {
-        const ImageMsg image = decode_image(data, size, what + " (frame " + std::to_string(info_.frame_count) + ")", true);
-        if (first) {
-          info_.encoding = image.encoding;
-          depth_bytes_per_pixel(image.encoding, where());
-          info_.camera_frame = strip_slash(image.frame_id);
-          info_.start_time_s = image.stamp.seconds();
-          first = false;
-        }
-        last_stamp = image.stamp.seconds();
-        ++info_.frame_count;
-      } else if (t.name == info_.info_topic) {
-        const CameraInfoMsg m = decode_camera_info(data, size, what);
-        infos_.emplace_back(m.stamp.seconds(), make_intrinsics(m.width, m.height, m.k[0], m.k[4], m.k[2], m.k[5],
-                                                               options_.rate_hz, options_, what + " k"));
-      } else if ((t.name == "/tf" || t.name == "/tf_static") && short_type(t.type) == "tf2_msgs/TFMessage") {
-        for (const auto& tf : decode_tf(data, size, what))
-          poses_.add_transform(info_.path, t.name, t.name == "/tf_static", tf.parent, tf.child, tf.stamp.seconds(), tf.t, tf.q);
-      } else if (t.name == options_.odom_topic) {
-        const OdometryMsg m = decode_odometry(data, size, what);
-        poses_.add_odometry(info_.path, t.name, m.stamp.seconds(), m.frame_id, m.child_frame_id, m.p, m.q);
-      }
+      read_message(t, data, size, first, last_stamp);
       return true;
     });
     if (info_.frame_count == 0) throw std::invalid_argument(where() + ": no depth images on the topic");
@@ -141,6 +90,73 @@ class Ros2Recording final : public Recording {
     poses_.resolve(info_, options_);
     Eigen::Isometry3d T_fixed_camera, T_fixed_base;  // the first frame's pose now: a recording without one fails at open
     poses_.pose_at(info_, options_, where(), info_.start_time_s, 0, T_fixed_camera, T_fixed_base);
+  }
+
+  // The depth topic: --depth-topic, else the only realsense-ros depth image topic.
+  void choose_depth_topic() {
+    const auto& topics = source_.topics();
+    if (!options_.depth_topic.empty()) {
+      require_topic(options_.depth_topic, "sensor_msgs/Image", "--depth-topic");
+      info_.depth_topic = options_.depth_topic;
+      return;
+    }
+    std::vector<std::string> names;
+    for (const auto& [t, info] : topics) names.push_back(t);
+    std::vector<std::string> candidates;
+    for (const auto& [t, info] : topics)
+      if (short_type(info.type) == "sensor_msgs/Image" &&
+          (ends_with(t, "/depth/image_rect_raw") || ends_with(t, "/aligned_depth_to_color/image_raw")))
+        candidates.push_back(t);
+    if (candidates.empty())
+      throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
+                                  "*/aligned_depth_to_color/image_raw; the recording has: " + join(names) +
+                                  "); name one with --depth-topic");
+    if (candidates.size() > 1)
+      throw std::invalid_argument(info_.path + ": several depth topics: " + join(candidates) + "; choose one with --depth-topic");
+    info_.depth_topic = candidates.front();
+  }
+
+  // The camera info: --info-topic, else camera_info beside the depth topic.
+  void choose_info_topic() {
+    const std::string& depth = info_.depth_topic;
+    if (!options_.info_topic.empty()) {
+      require_topic(options_.info_topic, "sensor_msgs/CameraInfo", "--info-topic");
+      info_.info_topic = options_.info_topic;
+      return;
+    }
+    info_.info_topic = depth.substr(0, depth.rfind('/')) + "/camera_info";
+    if (!source_.topics().count(info_.info_topic))
+      throw std::invalid_argument(info_.path + ": no camera info for " + depth + " (expected " + info_.info_topic +
+                                  "); name one with --info-topic");
+    require_topic(info_.info_topic, "sensor_msgs/CameraInfo", "camera info");
+  }
+
+  // open()'s pass over one message: a depth frame's stamp (the first's encoding, frame and stamp), camera info,
+  // tf or odometry.
+  void read_message(const Ros2Topic& t, const std::uint8_t* data, std::size_t size, bool& first, double& last_stamp) {
+    const std::string what = info_.path + ": " + t.name;
+    if (t.name == info_.depth_topic) {
+      const ImageMsg image = decode_image(data, size, what + " (frame " + std::to_string(info_.frame_count) + ")", true);
+      if (first) {
+        info_.encoding = image.encoding;
+        depth_bytes_per_pixel(image.encoding, where());
+        info_.camera_frame = strip_slash(image.frame_id);
+        info_.start_time_s = image.stamp.seconds();
+        first = false;
+      }
+      last_stamp = image.stamp.seconds();
+      ++info_.frame_count;
+    } else if (t.name == info_.info_topic) {
+      const CameraInfoMsg m = decode_camera_info(data, size, what);
+      infos_.emplace_back(m.stamp.seconds(), make_intrinsics(m.width, m.height, m.k[0], m.k[4], m.k[2], m.k[5],
+                                                             options_.rate_hz, options_, what + " k"));
+    } else if ((t.name == "/tf" || t.name == "/tf_static") && short_type(t.type) == "tf2_msgs/TFMessage") {
+      for (const auto& tf : decode_tf(data, size, what))
+        poses_.add_transform(info_.path, t.name, t.name == "/tf_static", tf.parent, tf.child, tf.stamp.seconds(), tf.t, tf.q);
+    } else if (t.name == options_.odom_topic) {
+      const OdometryMsg m = decode_odometry(data, size, what);
+      poses_.add_odometry(info_.path, t.name, m.stamp.seconds(), m.frame_id, m.child_frame_id, m.p, m.q);
+    }
   }
 
   const sensors::CameraIntrinsics& intrinsics_at(double t) const {

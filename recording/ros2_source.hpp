@@ -10,6 +10,9 @@
 
 namespace stvl::recording::detail {
 
+struct McapChannel;
+struct McapSchema;
+
 struct Ros2Topic {
   std::string name, type;  // type as recorded ("sensor_msgs/msg/Image")
   std::uint64_t count = 0;
@@ -40,6 +43,13 @@ class Ros2Source {
 
  private:
   struct File;
+  void open_db3(File& file);  // its topics into topics_, its tables and message definitions checked
+  // scan() over one file; false when f stopped it.
+  bool scan_db3(File& file, const std::string* topic, const Visit& f, bool counting);
+  bool scan_mcap(File& file, const std::string* topic, const Visit& f, bool counting);
+  // An MCAP channel's topic into topics_ and channels (by channel id), its schema checked.
+  void add_mcap_channel(const File& file, const McapChannel& channel, const std::map<std::uint16_t, McapSchema>& schemas,
+                        std::map<std::uint16_t, std::string>& channels);
   std::vector<std::unique_ptr<File>> files_;
   std::string path_, format_;
   std::map<std::string, Ros2Topic> topics_;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/atomic_file.hpp"
+#include "common/format.hpp"
 #include "common/markup.hpp"
 #include "report/machine.hpp"
 #include "report/raster.hpp"
@@ -17,7 +18,6 @@
 namespace stvl::report {
 
 using config::Scenario;
-using evaluation::fixed;
 
 nlohmann::json stage_stats(std::vector<double> ms) {
   if (ms.empty()) return {{"mean", 0.0}, {"p50", 0.0}, {"p95", 0.0}};
@@ -215,10 +215,7 @@ nlohmann::json urdf_robot_json(const config::Scenario& s) {
           {"notices", robot.notices}};
 }
 
-}  // namespace
-
-nlohmann::json metrics_json(const RunResult& r) {
-  const auto& e = r.evaluation;
+nlohmann::json obstacles_json(const evaluation::EvaluationSummary& e) {
   nlohmann::json obstacles = nlohmann::json::array();
   for (const auto& o : e.obstacles)
     obstacles.push_back({{"name", o.name},
@@ -227,32 +224,120 @@ nlohmann::json metrics_json(const RunResult& r) {
                          {"observed", o.observed},
                          {"detected", o.detected},
                          {"best_recall", o.best_recall}});
-  nlohmann::json snapshots = nlohmann::json::array();
-  for (const auto& s : e.snapshots) snapshots.push_back(snapshot_json(s));
-  // Recall per camera: the total's definition over the truth voxels each camera saw.
+  return obstacles;
+}
+
+// Recall per camera: the total's definition over the truth voxels each camera saw.
+nlohmann::json camera_recall_json(const RunResult& r) {
+  const auto& e = r.evaluation;
   nlohmann::json cameras = nlohmann::json::array();
-  nlohmann::json camera_timing = nlohmann::json::object();
   for (std::size_t c = 0; c < r.scenario.pipeline.cameras.size(); ++c) {
-    const std::string& name = r.scenario.pipeline.cameras[c].name;
     const bool final_known = c < e.final.cameras.size();
-    cameras.push_back({{"name", name},
+    cameras.push_back({{"name", r.scenario.pipeline.cameras[c].name},
                        {"mean_recall", c < e.mean.camera_recall.size() ? e.mean.camera_recall[c] : 0.0},
                        {"final_recall", final_known ? e.final.cameras[c].recall : 0.0},
                        {"final_observed_truth_voxels", final_known ? e.final.cameras[c].observed_truth_voxels : 0}});
-    if (c < r.camera_times.size()) {
-      const auto& ct = r.camera_times[c];
-      camera_timing[name] = {{"frames", ct.render.size()},   {"render", stage_stats(ct.render)},
-                             {"noise", stage_stats(ct.noise)}, {"cloud", stage_stats(ct.cloud)},
-                             {"filter", stage_stats(ct.filter)}, {"clear", stage_stats(ct.clear)},
-                             {"mark", stage_stats(ct.mark)}};
-    }
   }
+  return cameras;
+}
+
+// Stage timings per camera, by camera name.
+nlohmann::json camera_timing_json(const RunResult& r) {
+  nlohmann::json camera_timing = nlohmann::json::object();
+  for (std::size_t c = 0; c < r.scenario.pipeline.cameras.size() && c < r.camera_times.size(); ++c) {
+    const auto& ct = r.camera_times[c];
+    camera_timing[r.scenario.pipeline.cameras[c].name] = {
+        {"frames", ct.render.size()},     {"render", stage_stats(ct.render)}, {"noise", stage_stats(ct.noise)},
+        {"cloud", stage_stats(ct.cloud)}, {"filter", stage_stats(ct.filter)}, {"clear", stage_stats(ct.clear)},
+        {"mark", stage_stats(ct.mark)}};
+  }
+  return camera_timing;
+}
+
+nlohmann::json truth_json(const evaluation::EvaluationSummary& e) {
   nlohmann::json truth_notes = nlohmann::json::array();
   for (const auto& n : e.truth.notes) truth_notes.push_back({{"geom", n.geom}, {"note", n.note}});
+  return {{"exact", e.truth.notes.empty()},
+          {"geoms", e.truth.geoms},
+          {"mesh_geoms", e.truth.mesh_geoms},
+          {"mesh_triangles", e.truth.mesh_triangles},
+          {"notes", truth_notes}};
+}
+
+nlohmann::json checks_json(const RunResult& r) {
   nlohmann::json checks = nlohmann::json::array();
   for (const auto& c : r.checks)
     checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}, {"status", evaluation::check_status(c)}});
+  return checks;
+}
+
+// metrics.json "evaluation": the scenario's evaluation settings and every figure of the run's evaluation.
+nlohmann::json evaluation_json(const RunResult& r) {
+  const auto& e = r.evaluation;
+  nlohmann::json snapshots = nlohmann::json::array();
+  for (const auto& s : e.snapshots) snapshots.push_back(snapshot_json(s));
+  return {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
+          {"recall_window_s", r.scenario.evaluation.recall_window_s},
+          {"phantom_clearance_m", r.scenario.evaluation.phantom_clearance_m},
+          {"truth", truth_json(e)},
+          {"mean", mean_json(e.mean)},
+          {"final", final_json(e.final)},
+          {"snapshots", snapshots},
+          {"obstacles", obstacles_json(e)},
+          {"accuracy_m",
+           {{"count", e.accuracy.count},
+            {"mean", e.accuracy.mean_m},
+            {"median", e.accuracy.median_m},
+            {"p90", e.accuracy.p90_m},
+            {"p99", e.accuracy.p99_m},
+            {"max", e.accuracy.max_m}}},
+          {"clearing",
+           {{"stale_voxels_seen_through", e.clearing.stale_voxels_seen_through},
+            {"not_cleared", e.clearing.not_cleared},
+            {"max_latency_s", e.clearing.max_latency_s},
+            {"mean_latency_s", e.clearing.mean_latency_s},
+            {"false_clears", e.false_clears}}},
+          {"observed_off_truth_voxels", e.observed_off_truth_voxels},
+          {"failure_modes",
+           {{"outage", outage_json(r)}, {"occlusion", occlusion_json(e.occlusion)}, {"self_marking", self_marking_json(r)}}},
+          {"cameras", camera_recall_json(r)}};
+}
+
+// metrics.json "timing_ms": every stage's statistics, the evaluation's phases and the stages per camera.
+nlohmann::json timing_json(const RunResult& r) {
   const auto& t = r.times;
+  return {{"render", stage_stats(t.render)},
+          {"noise", stage_stats(t.noise)},
+          {"cloud", stage_stats(t.cloud)},
+          {"filter", stage_stats(t.filter)},
+          {"clear", stage_stats(t.clear)},
+          {"mark", stage_stats(t.mark)},
+          {"evaluation", stage_stats(t.evaluation)},
+          {"bag", stage_stats(t.bag)},
+          {"frame", stage_stats(t.frame)},
+          {"evaluation_phases", phases_json(r.evaluation_phases)},
+          {"per_camera", camera_timing_json(r)}};
+}
+
+// Soak runs (issue #270): voxels in metrics["soak"], resident memory and map cost with the timings.
+void add_soak_json(const RunResult& r, nlohmann::json& metrics) {
+  nlohmann::json voxels = nlohmann::json::array(), resources = nlohmann::json::array();
+  for (const auto& x : r.soak.samples) {
+    voxels.push_back({{"t_s", x.t_s}, {"voxels", x.voxels}, {"leaves", x.leaves}});
+    resources.push_back({{"t_s", x.t_s}, {"rss_mb", x.rss_mb}, {"map_ms", x.map_ms}, {"map_cpu_ms", x.map_cpu_ms}});
+  }
+  metrics["soak"] = {{"sample_every_s", r.soak.sample_every_s},
+                     {"laps", r.soak.laps},
+                     {"first_lap_end_s", r.soak.first_lap_end_s ? nlohmann::json(*r.soak.first_lap_end_s) : nlohmann::json()},
+                     {"samples", voxels}};
+  metrics["timing_ms"]["soak"] = {{"first_lap_map_ms", r.soak.first_lap_map_ms},
+                                  {"first_lap_map_cpu_ms", r.soak.first_lap_map_cpu_ms},
+                                  {"samples", resources}};
+}
+
+}  // namespace
+
+nlohmann::json metrics_json(const RunResult& r) {
   nlohmann::json metrics = {
       {"scenario", r.scenario.name},
       {"scenario_file", r.scenario.file},
@@ -268,75 +353,19 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"cameras", camera_list_json(r.scenario)},
       {"map", map_json(r.scenario.pipeline.map)},
       {"nav2_costmap", nav2_json(r)},
-      {"evaluation",
-       {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
-        {"recall_window_s", r.scenario.evaluation.recall_window_s},
-        {"phantom_clearance_m", r.scenario.evaluation.phantom_clearance_m},
-        {"truth",
-         {{"exact", e.truth.notes.empty()},
-          {"geoms", e.truth.geoms},
-          {"mesh_geoms", e.truth.mesh_geoms},
-          {"mesh_triangles", e.truth.mesh_triangles},
-          {"notes", truth_notes}}},
-        {"mean", mean_json(e.mean)},
-        {"final", final_json(e.final)},
-        {"snapshots", snapshots},
-        {"obstacles", obstacles},
-        {"accuracy_m",
-         {{"count", e.accuracy.count},
-          {"mean", e.accuracy.mean_m},
-          {"median", e.accuracy.median_m},
-          {"p90", e.accuracy.p90_m},
-          {"p99", e.accuracy.p99_m},
-          {"max", e.accuracy.max_m}}},
-        {"clearing",
-         {{"stale_voxels_seen_through", e.clearing.stale_voxels_seen_through},
-          {"not_cleared", e.clearing.not_cleared},
-          {"max_latency_s", e.clearing.max_latency_s},
-          {"mean_latency_s", e.clearing.mean_latency_s},
-          {"false_clears", e.false_clears}}},
-        {"observed_off_truth_voxels", e.observed_off_truth_voxels},
-        {"failure_modes", {{"outage", outage_json(r)}}},
-        {"cameras", cameras}}},
-      {"checks", checks},
+      {"evaluation", evaluation_json(r)},
+      {"checks", checks_json(r)},
       {"points",
        {{"raw_mean", mean_of(r.points_raw)},
         {"filtered_mean", mean_of(r.points_filtered)},
         {"map_voxels_final", r.map_voxels.empty() ? 0 : r.map_voxels.back()}}},
-      {"timing_ms",
-       {{"render", stage_stats(t.render)},
-        {"noise", stage_stats(t.noise)},
-        {"cloud", stage_stats(t.cloud)},
-        {"filter", stage_stats(t.filter)},
-        {"clear", stage_stats(t.clear)},
-        {"mark", stage_stats(t.mark)},
-        {"evaluation", stage_stats(t.evaluation)},
-        {"bag", stage_stats(t.bag)},
-        {"frame", stage_stats(t.frame)},
-        {"evaluation_phases", phases_json(r.evaluation_phases)},
-        {"per_camera", camera_timing}}},
+      {"timing_ms", timing_json(r)},
       {"wall_time_s", r.wall_time_s},
       {"real_time_factor", r.real_time_factor},
       {"machine", machine_json()},
   };
-  metrics["evaluation"]["failure_modes"]["occlusion"] = occlusion_json(e.occlusion);
-  metrics["evaluation"]["failure_modes"]["self_marking"] = self_marking_json(r);
   if (r.scenario.pipeline.urdf_robot) metrics["robot"] = urdf_robot_json(r.scenario);
-
-  if (r.soak.sample_every_s > 0) {  // soak (issue #270): voxels here, resident memory and map cost with the timings
-    nlohmann::json voxels = nlohmann::json::array(), resources = nlohmann::json::array();
-    for (const auto& x : r.soak.samples) {
-      voxels.push_back({{"t_s", x.t_s}, {"voxels", x.voxels}, {"leaves", x.leaves}});
-      resources.push_back({{"t_s", x.t_s}, {"rss_mb", x.rss_mb}, {"map_ms", x.map_ms}, {"map_cpu_ms", x.map_cpu_ms}});
-    }
-    metrics["soak"] = {{"sample_every_s", r.soak.sample_every_s},
-                       {"laps", r.soak.laps},
-                       {"first_lap_end_s", r.soak.first_lap_end_s ? nlohmann::json(*r.soak.first_lap_end_s) : nlohmann::json()},
-                       {"samples", voxels}};
-    metrics["timing_ms"]["soak"] = {{"first_lap_map_ms", r.soak.first_lap_map_ms},
-                                    {"first_lap_map_cpu_ms", r.soak.first_lap_map_cpu_ms},
-                                    {"samples", resources}};
-  }
+  if (r.soak.sample_every_s > 0) add_soak_json(r, metrics);
   return metrics;
 }
 
@@ -392,17 +421,10 @@ std::string junit_xml(const RunResult& r) {
   return x.str();
 }
 
-void write_report(const RunResult& r, const std::filesystem::path& out) {
-  const nlohmann::json metrics = metrics_json(r);
-  write_file_atomically(out / "metrics.json", metrics.dump(2) + "\n");
-  write_file_atomically(out / "junit.xml", junit_xml(r));
-  const std::string top_down_png = encode_png(top_down_image(r));
-  write_file_atomically(out / "top_down.png", top_down_png);
-  const ReportScripts scripts = load_report_scripts();
+namespace {
 
-  const auto& e = r.evaluation;
-  std::ostringstream h;
-  h.precision(4);
+// report.html's head and title line: scenario, seed, frames, timing, voxel, filter, GL and noise.
+void write_page_head(std::ostream& h, const RunResult& r, const nlohmann::json& metrics, const ReportScripts& scripts) {
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench: " << xml_escape(r.scenario.name)
     << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
        "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}.skip{color:#8a6d00}"
@@ -415,11 +437,19 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     << r.real_time_factor << "), voxel " << r.scenario.pipeline.map.voxel_size_m << " m, filter "
     << metrics["filter"]["type"].get<std::string>() << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
     << (r.scenario.camera().noise.enabled ? "on" : "off") << ".</p>\n";
+}
+
+void write_checks_table(std::ostream& h, const RunResult& r) {
   h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";
   for (const auto& c : r.checks)
     h << "<tr><td>" << xml_escape(c.name) << "</td><td class=\""
       << (!c.evaluated ? "skip\">not evaluated" : c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
       << xml_escape(c.message) << "</td></tr>\n";
+}
+
+// "Map quality": the mean and final figures, the accuracy and how exact the truth is.
+void write_map_quality(std::ostream& h, const RunResult& r) {
+  const auto& e = r.evaluation;
   h << "</table>\n<h2>Map quality</h2><p>Tolerance " << r.scenario.evaluation.tolerance_voxels
     << " voxel(s); recall against surfaces seen by the noise-free camera within the last "
     << r.scenario.evaluation.recall_window_s << " s.</p><table><tr><th></th><th>precision</th><th>recall</th><th>F1</th>"
@@ -444,9 +474,9 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     for (const auto& n : e.truth.notes) h << "<li>" << xml_escape(n.note) << "</li>";
     h << "</ul>\n";
   }
-  h << map_contents_html(r);
-  h << interactive_body_html(r, scripts);
-  h << top_down_html(r, top_down_png, scripts.complete());
+}
+
+void write_obstacles_and_clearing(std::ostream& h, const evaluation::EvaluationSummary& e) {
   h << "<h2>Obstacles</h2><table><tr><th>body</th><th>observed</th><th>detected</th><th>best recall</th></tr>\n";
   for (const auto& o : e.obstacles)
     h << "<tr><td>" << xml_escape(o.name) << "</td><td>" << (o.observed ? "yes" : "no") << "</td><td class=\""
@@ -455,26 +485,45 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
     << " stale voxels of moved bodies were seen through; max latency " << e.clearing.max_latency_s << " s, mean "
     << e.clearing.mean_latency_s << " s, " << e.clearing.not_cleared << " never cleared; ray-cast clearing removed "
     << e.false_clears << " true obstacle voxels (false clears).</p>\n";
+}
+
+// "Soak" (issue #270): the first lap and the samples' voxels, memory and map cost.
+void write_soak_table(std::ostream& h, const RunResult& r) {
+  h << "<h2>Soak</h2><p>" << r.soak.laps << " laps; first lap ended at "
+    << (r.soak.first_lap_end_s ? fixed(*r.soak.first_lap_end_s, 1) + " s" : std::string("- (not completed)"))
+    << ", its map cost " << fixed(r.soak.first_lap_map_ms, 3) << " ms per frame (CPU " << fixed(r.soak.first_lap_map_cpu_ms, 3)
+    << " ms).</p><table><tr><th>t s</th><th>voxels</th><th>leaves</th><th>resident MiB</th><th>map ms per frame</th>"
+       "<th>map CPU ms per frame</th></tr>\n";
+  for (const auto& x : r.soak.samples)
+    h << "<tr><td>" << fixed(x.t_s, 0) << "</td><td>" << x.voxels << "</td><td>" << x.leaves << "</td><td>" << fixed(x.rss_mb, 1) << "</td><td>"
+      << fixed(x.map_ms, 3) << "</td><td>" << fixed(x.map_cpu_ms, 3) << "</td></tr>\n";
+  h << "</table>\n";
+}
+
+}  // namespace
+
+void write_report(const RunResult& r, const std::filesystem::path& out) {
+  const nlohmann::json metrics = metrics_json(r);
+  write_file_atomically(out / "metrics.json", metrics.dump(2) + "\n");
+  write_file_atomically(out / "junit.xml", junit_xml(r));
+  const std::string top_down_png = encode_png(top_down_image(r));
+  write_file_atomically(out / "top_down.png", top_down_png);
+  const ReportScripts scripts = load_report_scripts();
+
+  std::ostringstream h;
+  h.precision(4);
+  write_page_head(h, r, metrics, scripts);
+  write_checks_table(h, r);
+  write_map_quality(h, r);
+  h << map_contents_html(r);
+  h << interactive_body_html(r, scripts);
+  h << top_down_html(r, top_down_png, scripts.complete());
+  write_obstacles_and_clearing(h, r.evaluation);
   h << failure_modes_html(metrics);
   h << depth_frames_html(r, out);
-  h << "\n<h2>Timing</h2><table><tr><th>stage</th><th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
-  for (const auto& [stage, stats] : metrics["timing_ms"].items()) {
-    if (stage == "evaluation_phases" || stage == "per_camera" || stage == "soak") continue;
-    h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()
-      << "</td><td>" << stats["p95"].get<double>() << "</td></tr>\n";
-  }
-  h << "</table>\n";
-  if (!r.soak.samples.empty()) {  // soak (issue #270)
-    h << "<h2>Soak</h2><p>" << r.soak.laps << " laps; first lap ended at "
-      << (r.soak.first_lap_end_s ? fixed(*r.soak.first_lap_end_s, 1) + " s" : std::string("- (not completed)"))
-      << ", its map cost " << fixed(r.soak.first_lap_map_ms, 3) << " ms per frame (CPU " << fixed(r.soak.first_lap_map_cpu_ms, 3)
-      << " ms).</p><table><tr><th>t s</th><th>voxels</th><th>leaves</th><th>resident MiB</th><th>map ms per frame</th>"
-         "<th>map CPU ms per frame</th></tr>\n";
-    for (const auto& x : r.soak.samples)
-      h << "<tr><td>" << fixed(x.t_s, 0) << "</td><td>" << x.voxels << "</td><td>" << x.leaves << "</td><td>" << fixed(x.rss_mb, 1) << "</td><td>"
-        << fixed(x.map_ms, 3) << "</td><td>" << fixed(x.map_cpu_ms, 3) << "</td></tr>\n";
-    h << "</table>\n";
-  }
+  h << "\n";
+  write_timing_table(h, metrics["timing_ms"]);
+  if (!r.soak.samples.empty()) write_soak_table(h, r);
   h << "</body></html>\n";
   write_file_atomically(out / "report.html", h.str());
 }

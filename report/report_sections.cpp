@@ -8,6 +8,7 @@
 #include <sstream>
 #include <vector>
 
+#include "common/format.hpp"
 #include "common/markup.hpp"
 #include "evaluation/checks.hpp"
 #include "run/bag_recorder.hpp"
@@ -190,9 +191,17 @@ std::string map_contents_html(const run::RunResult& r) {
 std::string significant(double value) {
   if (!std::isfinite(value)) return value != value ? "NaN" : value > 0 ? "inf" : "-inf";
   if (value == std::round(value) && std::fabs(value) < 1e15) return std::to_string(static_cast<long long>(value));
-  char text[32];
-  std::snprintf(text, sizeof text, "%.4g", value);
-  return text;
+  return general(value, 4);
+}
+
+void write_timing_table(std::ostream& h, const nlohmann::json& timing_ms) {
+  h << "<h2>Timing</h2><table><tr><th>stage</th><th>mean ms</th><th>p50 ms</th><th>p95 ms</th></tr>\n";
+  for (const auto& [stage, stats] : timing_ms.items()) {
+    if (stage == "evaluation_phases" || stage == "per_camera" || stage == "soak") continue;
+    h << "<tr><td>" << stage << "</td><td>" << stats["mean"].get<double>() << "</td><td>" << stats["p50"].get<double>()
+      << "</td><td>" << stats["p95"].get<double>() << "</td></tr>\n";
+  }
+  h << "</table>\n";
 }
 
 namespace {
@@ -213,89 +222,112 @@ void flatten(const nlohmann::json& j, const std::string& path, std::vector<std::
 
 std::string count(const nlohmann::json& v) { return significant(v.get<double>()); }
 
-}  // namespace
+// The failure-mode table's rows: one per mode, with the verdict of the checks (in metrics["checks"]) that judge it.
+class FailureModeRows {
+ public:
+  FailureModeRows(const nlohmann::json& metrics, std::ostream& h) : h_(h) {
+    if (metrics.contains("checks"))
+      for (const auto& c : metrics.at("checks")) checks_[c.at("name").get<std::string>()] = &c;
+  }
 
-std::string failure_modes_html(const nlohmann::json& metrics) {
-  const nlohmann::json& e = metrics.at("evaluation");
-  const nlohmann::json& mean = e.at("mean");
-  std::map<std::string, const nlohmann::json*> checks;
-  if (metrics.contains("checks"))
-    for (const auto& c : metrics.at("checks")) checks[c.at("name").get<std::string>()] = &c;
-  std::ostringstream h;
-  h << "<h2>Failure modes</h2><p>STVL's known failure modes as this run measured them against truth: one row each, "
-       "with the check that judges it where the scenario sets one (docs/fidelity.md says which scenario reproduces "
-       "each and which option fixes it).</p>"
-       "<table><tr><th>failure mode</th><th>this run</th><th>what it means</th><th>verdict</th></tr>\n";
-  const auto row = [&](const std::string& mode, const std::string& figure, const std::string& meaning,
-                       std::initializer_list<const char*> judged_by) {
+  void row(const std::string& mode, const std::string& figure, const std::string& meaning,
+           std::initializer_list<const char*> judged_by) const {
     std::string verdict, cls = "";
     for (const char* name : judged_by) {
-      const auto it = checks.find(name);
-      if (it == checks.end()) continue;
+      const auto it = checks_.find(name);
+      if (it == checks_.end()) continue;
       const std::string status = it->second->value("status", it->second->value("passed", false) ? "pass" : "fail");
       if (status == "fail") cls = "fail";
       else if (cls.empty() && status == "pass") cls = "pass";
       verdict += std::string(verdict.empty() ? "" : "; ") + name + ": " + (status == "not_evaluated" ? "not evaluated" : status == "pass" ? "pass" : "FAIL");
     }
     if (verdict.empty()) verdict = "not checked by this scenario", cls = "skip";
-    h << "<tr><td>" << xml_escape(mode) << "</td><td>" << xml_escape(figure) << "</td><td>" << xml_escape(meaning)
-      << "</td><td class=\"" << cls << "\">" << xml_escape(verdict) << "</td></tr>\n";
-  };
-  row("ghosts (phantom obstacles)",
-      count(e.at("final").at("phantom_obstacles")) + " at the end, at most " + count(mean.at("max_phantom_obstacles")) +
-          " at one evaluation",
-      "lethal groups with no true obstacle near them: a planner detours around nothing", {"phantom_obstacles"});
-  if (mean.contains("max_path_free_lethal"))
-    row("lethal where the truth is free, on the path (a floor marked)",
-        "at worst " + count(mean.at("max_path_free_lethal")) + " cells within the path's corridor; costmap precision " +
-            (mean.at("costmap_precision").is_null() ? std::string("not evaluated") : significant(mean.at("costmap_precision").get<double>())),
-        "cells a robot must drive through marked lethal: the path is blocked", {"path_free_lethal", "costmap_precision"});
-  row("rays clearing true voxels", count(e.at("clearing").at("false_clears")) + " true obstacle voxels removed by clearing",
-      "ray-cast clearing erasing what is there (rays grazing a surface); 0 with frustum clearing", {});
-  row("costmap ghosts", "at worst " + count(mean.at("max_lethal_without_voxels")) + " lethal cells without voxels, " +
-                            count(mean.at("max_columns_without_lethal")) + " voxel columns without a lethal cell",
-      "the 2D costmap disagreeing with the voxels it is projected from", {"costmap_ghosts"});
-  row("stale voxels of moved bodies",
-      count(e.at("clearing").at("stale_voxels_seen_through")) + " seen through, max latency " +
-          significant(e.at("clearing").at("max_latency_s").get<double>()) + " s, " + count(e.at("clearing").at("not_cleared")) +
-          " never cleared",
-      "a body that moved away still blocks its old place until the camera clears it", {"clearing_latency"});
-  if (e.contains("failure_modes")) {
-    const nlohmann::json& fm = e.at("failure_modes");
-    if (fm.contains("occlusion")) {
-      const auto& o = fm.at("occlusion");
-      std::size_t vanished = 0;
-      for (const auto& b : o.value("bodies", nlohmann::json::array())) vanished += !b.value("vanished_s", nlohmann::json()).is_null();
-      row("occluded obstacles erased (STVL #134)",
-          count(o.at("hidden_false_clears")) + " true voxels cleared while hidden; " + std::to_string(vanished) +
-              " bodies vanished from the map",
-          "frustum clearing removes what a nearer object hides; a handful of voxels at edges is harmless, a body "
-          "that vanishes is an obstacle the planner no longer sees",
-          {"hidden_false_clears"});
-    }
-    if (fm.contains("self_marking"))
-      row("the robot marks itself (STVL #214)",
-          "at worst " + count(fm.at("self_marking").at("max_self_lethal_cells")) + " lethal cells on the robot",
-          "the robot's own body or mast in the costmap: it cannot move", {"self_lethal_cells"});
-    if (fm.contains("outage")) {
-      std::size_t outages = 0, cleared = 0, watched = 0;
-      for (const auto& c : fm.at("outage").at("cameras"))
-        for (const auto& o : c.at("outages")) ++outages, cleared += o.value("cleared", 0u), watched += o.value("only_seen_voxels", 0u);
-      if (outages > 0)
-        row("a camera that stops", std::to_string(outages) + " outages: " + std::to_string(cleared) + " of " +
-                                       std::to_string(watched) + " voxels only that camera had seen left the map",
-            "what a stopped camera saw is forgotten or kept stale", {"outage_cleared", "outage_resume"});
-    }
-    std::vector<std::pair<std::string, std::string>> leaves;
-    flatten(fm, "", leaves);
-    h << "</table>\n<details><summary>Every figure under evaluation.failure_modes (" << leaves.size()
-      << ")</summary><table><tr><th>figure</th><th>value</th></tr>\n";
-    for (const auto& [figure, value] : leaves)
-      h << "<tr><td>" << xml_escape(figure) << "</td><td>" << xml_escape(value) << "</td></tr>\n";
-    h << "</table></details>\n";
-    return h.str();
+    h_ << "<tr><td>" << xml_escape(mode) << "</td><td>" << xml_escape(figure) << "</td><td>" << xml_escape(meaning)
+       << "</td><td class=\"" << cls << "\">" << xml_escape(verdict) << "</td></tr>\n";
   }
+
+ private:
+  std::map<std::string, const nlohmann::json*> checks_;
+  std::ostream& h_;
+};
+
+// The rows every run has, from metrics["evaluation"]: ghosts, a marked floor, clearing rays, costmap ghosts, stale voxels.
+void map_failure_rows(const FailureModeRows& rows, const nlohmann::json& e) {
+  const nlohmann::json& mean = e.at("mean");
+  rows.row("ghosts (phantom obstacles)",
+           count(e.at("final").at("phantom_obstacles")) + " at the end, at most " + count(mean.at("max_phantom_obstacles")) +
+               " at one evaluation",
+           "lethal groups with no true obstacle near them: a planner detours around nothing", {"phantom_obstacles"});
+  if (mean.contains("max_path_free_lethal"))
+    rows.row("lethal where the truth is free, on the path (a floor marked)",
+             "at worst " + count(mean.at("max_path_free_lethal")) + " cells within the path's corridor; costmap precision " +
+                 (mean.at("costmap_precision").is_null() ? std::string("not evaluated") : significant(mean.at("costmap_precision").get<double>())),
+             "cells a robot must drive through marked lethal: the path is blocked", {"path_free_lethal", "costmap_precision"});
+  rows.row("rays clearing true voxels", count(e.at("clearing").at("false_clears")) + " true obstacle voxels removed by clearing",
+           "ray-cast clearing erasing what is there (rays grazing a surface); 0 with frustum clearing", {});
+  rows.row("costmap ghosts", "at worst " + count(mean.at("max_lethal_without_voxels")) + " lethal cells without voxels, " +
+                                 count(mean.at("max_columns_without_lethal")) + " voxel columns without a lethal cell",
+           "the 2D costmap disagreeing with the voxels it is projected from", {"costmap_ghosts"});
+  rows.row("stale voxels of moved bodies",
+           count(e.at("clearing").at("stale_voxels_seen_through")) + " seen through, max latency " +
+               significant(e.at("clearing").at("max_latency_s").get<double>()) + " s, " + count(e.at("clearing").at("not_cleared")) +
+               " never cleared",
+           "a body that moved away still blocks its old place until the camera clears it", {"clearing_latency"});
+}
+
+// The rows of the modes under evaluation.failure_modes that this run measured: occlusion, self-marking, outages.
+void measured_failure_rows(const FailureModeRows& rows, const nlohmann::json& fm) {
+  if (fm.contains("occlusion")) {
+    const auto& o = fm.at("occlusion");
+    std::size_t vanished = 0;
+    for (const auto& b : o.value("bodies", nlohmann::json::array())) vanished += !b.value("vanished_s", nlohmann::json()).is_null();
+    rows.row("occluded obstacles erased (STVL #134)",
+             count(o.at("hidden_false_clears")) + " true voxels cleared while hidden; " + std::to_string(vanished) +
+                 " bodies vanished from the map",
+             "frustum clearing removes what a nearer object hides; a handful of voxels at edges is harmless, a body "
+             "that vanishes is an obstacle the planner no longer sees",
+             {"hidden_false_clears"});
+  }
+  if (fm.contains("self_marking"))
+    rows.row("the robot marks itself (STVL #214)",
+             "at worst " + count(fm.at("self_marking").at("max_self_lethal_cells")) + " lethal cells on the robot",
+             "the robot's own body or mast in the costmap: it cannot move", {"self_lethal_cells"});
+  if (fm.contains("outage")) {
+    std::size_t outages = 0, cleared = 0, watched = 0;
+    for (const auto& c : fm.at("outage").at("cameras"))
+      for (const auto& o : c.at("outages")) ++outages, cleared += o.value("cleared", 0u), watched += o.value("only_seen_voxels", 0u);
+    if (outages > 0)
+      rows.row("a camera that stops", std::to_string(outages) + " outages: " + std::to_string(cleared) + " of " +
+                                          std::to_string(watched) + " voxels only that camera had seen left the map",
+               "what a stopped camera saw is forgotten or kept stale", {"outage_cleared", "outage_resume"});
+  }
+}
+
+// A folded table of every leaf under evaluation.failure_modes.
+void every_failure_figure_html(std::ostream& h, const nlohmann::json& fm) {
+  std::vector<std::pair<std::string, std::string>> leaves;
+  flatten(fm, "", leaves);
+  h << "<details><summary>Every figure under evaluation.failure_modes (" << leaves.size()
+    << ")</summary><table><tr><th>figure</th><th>value</th></tr>\n";
+  for (const auto& [figure, value] : leaves)
+    h << "<tr><td>" << xml_escape(figure) << "</td><td>" << xml_escape(value) << "</td></tr>\n";
+  h << "</table></details>\n";
+}
+
+}  // namespace
+
+std::string failure_modes_html(const nlohmann::json& metrics) {
+  const nlohmann::json& e = metrics.at("evaluation");
+  std::ostringstream h;
+  h << "<h2>Failure modes</h2><p>STVL's known failure modes as this run measured them against truth: one row each, "
+       "with the check that judges it where the scenario sets one (docs/fidelity.md says which scenario reproduces "
+       "each and which option fixes it).</p>"
+       "<table><tr><th>failure mode</th><th>this run</th><th>what it means</th><th>verdict</th></tr>\n";
+  const FailureModeRows rows(metrics, h);
+  map_failure_rows(rows, e);
+  if (e.contains("failure_modes")) measured_failure_rows(rows, e.at("failure_modes"));
   h << "</table>\n";
+  if (e.contains("failure_modes")) every_failure_figure_html(h, e.at("failure_modes"));
   return h.str();
 }
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <ostream>
 #include <string>
 
 #include "report/raster.hpp"
@@ -38,6 +39,9 @@ std::string failure_modes_html(const nlohmann::json& metrics);
 
 // A number to 4 significant digits ("22.07", "1284", "0.0003"); integers as they are.
 std::string significant(double value);
+// "<h2>Timing</h2>" and a table of the mean, p50 and p95 ms of each stage in `timing_ms` (metrics.json's), in the
+// precision of `h`; evaluation_phases, per_camera and soak (not stages) are left out.
+void write_timing_table(std::ostream& h, const nlohmann::json& timing_ms);
 // metrics.json nav2_costmap: the model's settings, its ghosts over the run, its lethal cells at the end (null
 // when map.nav2_costmap is off).
 nlohmann::json nav2_json(const run::RunResult& r);

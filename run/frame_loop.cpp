@@ -1,6 +1,5 @@
 #include "run/frame_loop.hpp"
 
-#include <chrono>
 #include <filesystem>
 
 #include "common/stopwatch.hpp"
@@ -64,7 +63,7 @@ FrameLoopResult run_frame_loop(FrameSource& source, layer::Layer& layer, FrameHo
     append_series(f, report, layer, hooks.last_frame_ms(), ms_since(bag_start), r);
     if (hooks.done(f, report, r.frames)) break;
   }
-  r.wall_time_s = std::chrono::duration<double>(SteadyClock::now() - wall_start).count();
+  r.wall_time_s = s_since(wall_start);
   r.real_time_factor = r.wall_time_s > 0 ? r.sim_time_s / r.wall_time_s : 0;
   r.sources = layer.source_status(r.sim_time_s);
   if (r.interrupted) return r;  // the bag stays as <bag>.active

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "common/units.hpp"
+
 namespace stvl::run {
 
 void StageSeries::append(const pipeline::SensingTimes& t, const layer::UpdateReport& update) {
@@ -58,7 +60,7 @@ void FrameSampler::offer(const pipeline::Frame& f, double min_range_m) const {
 }
 
 bool MapPublishClock::due(double time_s) {
-  if (time_s + 1e-9 < next_s_) return false;
+  if (time_s + kTimeEpsilon_s < next_s_) return false;
   next_s_ = grid_ == Grid::kFixed ? next_s_ + period_s_ : time_s + period_s_;
   last_s_ = time_s;
   return true;

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "common/atomic_file.hpp"
+#include "common/units.hpp"
 #include "layer/stvl_layer.hpp"
 #include "pipeline/sensing.hpp"
 
@@ -31,8 +32,8 @@ pipeline::PipelineConfig replay_config(const ReplaySettings& settings, const rec
     camera.intrinsics.rate_hz = double(info.frame_count - 1) / (info.end_time_s - info.start_time_s);
   camera.outages.clear();
   for (auto& source : camera.sources) {
-    if (std::abs(source.params.horizontal_fov_rad - old_hfov) < 1e-9) source.params.horizontal_fov_rad = camera.intrinsics.hfov_rad();
-    if (std::abs(source.params.vertical_fov_rad - old_vfov) < 1e-9) source.params.vertical_fov_rad = camera.intrinsics.vfov_rad();
+    if (std::abs(source.params.horizontal_fov_rad - old_hfov) < kAngleEpsilon_rad) source.params.horizontal_fov_rad = camera.intrinsics.hfov_rad();
+    if (std::abs(source.params.vertical_fov_rad - old_vfov) < kAngleEpsilon_rad) source.params.vertical_fov_rad = camera.intrinsics.vfov_rad();
   }
   config.cameras = {camera};
   config.robot_geoms_seen.clear();

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "common/atomic_file.hpp"
+#include "common/units.hpp"
 #include "layer/stvl_layer.hpp"
 #include "pipeline/pipeline.hpp"
 #include "sim/contacts.hpp"
@@ -31,7 +32,7 @@ class SimulatedFrames : public FrameSource {
   SimulatedFrames(pipeline::Pipeline& pipeline, double duration_s, const evaluation::Truth& truth)
       : pipeline_(pipeline), duration_s_(duration_s), truth_(truth) {}
   const pipeline::Frame* next() override {
-    if (pipeline_.next_time_s() > duration_s_ + 1e-9) return nullptr;
+    if (pipeline_.next_time_s() > duration_s_ + kTimeEpsilon_s) return nullptr;
     return &pipeline_.step();
   }
   const std::vector<pipeline::CameraConfig>& cameras() const override { return pipeline_.config().cameras; }

@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/units.hpp"
+
 namespace stvl::sensors {
 namespace {
 
@@ -81,7 +83,7 @@ void CameraIntrinsics::validate() const {
   require(std::isfinite(rate_hz) && rate_hz > 0.0, "rate_hz " + str(rate_hz) + " must be finite and > 0");
 }
 
-bool CameraIntrinsics::square_pixels() const { return std::abs(fx - fy) <= 1e-9 * std::abs(fy); }
+bool CameraIntrinsics::square_pixels() const { return std::abs(fx - fy) <= kRelativeEpsilon * std::abs(fy); }
 
 double CameraIntrinsics::hfov_rad() const {
   return std::atan((cx + 0.5) / fx) + std::atan((width - 0.5 - cx) / fx);

@@ -42,6 +42,66 @@ void DepthEdgeFilterConfig::validate() const {
                                 " must be finite and > 0 m");
 }
 
+namespace {
+
+// Whether pixel (u, v) of the W x H image `src` is dropped, with bounds tests (the border's path).
+inline bool drops_checked(const float* src, int W, int H, float c, int u, int v) {
+  const float z = src[size_t(v) * W + u];
+  if (!valid(z)) return false;
+  const float t = threshold_m(c, z);
+  for (int dv = -1; dv <= 1; ++dv)
+    for (int du = -1; du <= 1; ++du) {
+      const int uu = u + du, vv = v + dv;
+      if ((du == 0 && dv == 0) || uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
+      if (jumps(z, src[size_t(vv) * W + uu], t)) return true;
+    }
+  return false;
+}
+
+// The interior pixels 1..W-2 of an interior row: their 8 neighbours without bounds tests or branches (a loop the
+// compiler vectorizes). Returns the pixels dropped.
+inline std::size_t filter_interior_row(const float* row, int W, float c, float* out_row) {
+  const float* up = row - W;
+  const float* down = row + W;
+  std::size_t row_dropped = 0;
+  for (int u = 1; u + 1 < W; ++u) {
+    const float z = row[u];
+    const float t = threshold_m(c, z);
+    const bool drop = valid(z) & (jumps(z, row[u - 1], t) | jumps(z, row[u + 1], t) | jumps(z, up[u - 1], t) |
+                                  jumps(z, up[u], t) | jumps(z, up[u + 1], t) | jumps(z, down[u - 1], t) |
+                                  jumps(z, down[u], t) | jumps(z, down[u + 1], t));
+    out_row[u] = drop ? 0.0f : z;
+    row_dropped += drop;
+  }
+  return row_dropped;
+}
+
+// Rows [begin, end) of src into dst; every output pixel reads the input only. Returns the pixels dropped.
+inline std::size_t filter_rows(const float* src, float* dst, int W, int H, float c, int begin, int end) {
+  std::size_t dropped = 0;
+  for (int v = begin; v < end; ++v) {
+    const float* row = src + size_t(v) * W;
+    float* out_row = dst + size_t(v) * W;
+    if (v == 0 || v + 1 == H || W < 3) {  // the border rows take the checked path
+      for (int u = 0; u < W; ++u) {
+        const bool drop = drops_checked(src, W, H, c, u, v);
+        out_row[u] = drop ? 0.0f : row[u];
+        dropped += drop;
+      }
+      continue;
+    }
+    for (int u : {0, W - 1}) {  // and so do the border columns
+      const bool drop = drops_checked(src, W, H, c, u, v);
+      out_row[u] = drop ? 0.0f : row[u];
+      dropped += drop;
+    }
+    dropped += filter_interior_row(row, W, c, out_row);
+  }
+  return dropped;
+}
+
+}  // namespace
+
 std::size_t filter_depth_edges(const DepthEdgeFilterConfig& config, const DepthImage& in, DepthImage& out) {
   check_input(in, out);
   config.validate();
@@ -54,52 +114,9 @@ std::size_t filter_depth_edges(const DepthEdgeFilterConfig& config, const DepthI
   const float c = float(config.max_jump_at_1m_m);
   const float* src = in.depth_m.data();
   float* dst = out.depth_m.data();
-  // Rows in parallel: every output pixel reads the input only. Interior pixels check their 8 neighbours without
-  // bounds tests or branches (a loop the compiler vectorizes); the border rows and columns take the checked path.
-  const auto checked = [&](int u, int v) {
-    const float z = src[size_t(v) * W + u];
-    if (!valid(z)) return false;
-    const float t = threshold_m(c, z);
-    for (int dv = -1; dv <= 1; ++dv)
-      for (int du = -1; du <= 1; ++du) {
-        const int uu = u + du, vv = v + dv;
-        if ((du == 0 && dv == 0) || uu < 0 || vv < 0 || uu >= W || vv >= H) continue;
-        if (jumps(z, src[size_t(vv) * W + uu], t)) return true;
-      }
-    return false;
-  };
+  // Rows in parallel (blocks of 16), the dropped pixels summed.
   const auto rows = [&](const tbb::blocked_range<int>& range, std::size_t dropped) {
-    for (int v = range.begin(); v < range.end(); ++v) {
-      const float* row = src + size_t(v) * W;
-      float* out_row = dst + size_t(v) * W;
-      if (v == 0 || v + 1 == H || W < 3) {
-        for (int u = 0; u < W; ++u) {
-          const bool drop = checked(u, v);
-          out_row[u] = drop ? 0.0f : row[u];
-          dropped += drop;
-        }
-        continue;
-      }
-      for (int u : {0, W - 1}) {
-        const bool drop = checked(u, v);
-        out_row[u] = drop ? 0.0f : row[u];
-        dropped += drop;
-      }
-      const float* up = row - W;
-      const float* down = row + W;
-      std::size_t row_dropped = 0;
-      for (int u = 1; u + 1 < W; ++u) {
-        const float z = row[u];
-        const float t = threshold_m(c, z);
-        const bool drop = valid(z) & (jumps(z, row[u - 1], t) | jumps(z, row[u + 1], t) | jumps(z, up[u - 1], t) |
-                                      jumps(z, up[u], t) | jumps(z, up[u + 1], t) | jumps(z, down[u - 1], t) |
-                                      jumps(z, down[u], t) | jumps(z, down[u + 1], t));
-        out_row[u] = drop ? 0.0f : z;
-        row_dropped += drop;
-      }
-      dropped += row_dropped;
-    }
-    return dropped;
+    return dropped + filter_rows(src, dst, W, H, c, range.begin(), range.end());
   };
   return tbb::parallel_reduce(tbb::blocked_range<int>(0, H, 16), std::size_t(0), rows,
                               [](std::size_t a, std::size_t b) { return a + b; });

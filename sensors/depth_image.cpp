@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "common/png.hpp"
+#include "common/units.hpp"
 
 namespace stvl::sensors {
 namespace {
@@ -134,7 +135,7 @@ std::vector<std::uint16_t> depth_to_millimetres(const DepthImage& image) {
   std::vector<std::uint16_t> mm(image.depth_m.size());
   for (size_t i = 0; i < image.depth_m.size(); ++i) {
     const float z = image.depth_m[i];
-    mm[i] = static_cast<std::uint16_t>((z > 0.0f && std::isfinite(z)) ? std::min(65535L, std::lround(double(z) * 1000.0)) : 0L);
+    mm[i] = static_cast<std::uint16_t>((z > 0.0f && std::isfinite(z)) ? std::min(65535L, std::lround(double(z) * kMmPerMetre)) : 0L);
   }
   return mm;
 }
@@ -162,7 +163,7 @@ void write_depth_png_colorized(const DepthImage& image, const std::string& path,
 DepthImage read_depth_png_mm(const std::string& path) {
   const Gray16Image png = read_png_gray16(path);
   DepthImage image(png.width, png.height);
-  for (size_t i = 0; i < png.pixels.size(); ++i) image.depth_m[i] = float(png.pixels[i]) * 0.001f;
+  for (size_t i = 0; i < png.pixels.size(); ++i) image.depth_m[i] = float(png.pixels[i]) * kMetresPerMmF;
   return image;
 }
 

@@ -177,47 +177,83 @@ void DepthNoise::apply(const DepthImage& clean, DepthImage& noisy, uint64_t seed
   apply_rows(clean.depth_m.data(), noisy.depth_m.data(), seed, frame_index, parallel);
 }
 
-void DepthNoise::apply_rows(const float* truth_m, float* out_m, uint64_t seed, uint64_t frame_index, bool parallel) {
-  const int W = intrinsics_.width, H = intrinsics_.height;
-  const uint64_t key = frame_key(seed, frame_index);
+namespace {
+
+// The frame's per-pixel noise settings (noise_rows::Frame) from the config and intrinsics; the occlusion mask and
+// the correlated field's grid are apply_rows()'s to add.
+noise_rows::Frame noise_frame(const DepthNoiseConfig& config, const CameraIntrinsics& k, const float* truth_m,
+                              float* out_m, uint64_t key) {
   noise_rows::Frame f;
   f.truth = truth_m;
   f.out = out_m;
   f.normal = normal_table().data();
-  f.W = W;
-  f.H = H;
+  f.W = k.width;
+  f.H = k.height;
   f.key = key;
-  f.fb = intrinsics_.fx * config_.baseline_m;  // px * m
-  f.step = config_.disparity_step_px;
+  f.fb = k.fx * config.baseline_m;  // px * m
+  f.step = config.disparity_step_px;
   f.inv_step = f.step > 0.0 ? 1.0 / f.step : 0.0;
-  f.min_m = intrinsics_.min_range_m;
-  f.max_m = intrinsics_.max_range_m;
-  f.subpixel = config_.subpixel;
-  f.stereo = config_.subpixel > 0.0 || f.step > 0.0;
-  f.edges = config_.edge_probability > 0.0;
-  f.edge_jump = float(config_.edge_jump_m);
-  f.edge_threshold = threshold(config_.edge_probability);
-  f.edge_invalid_fraction = config_.edge_invalid_fraction;
-  f.dropout_threshold = threshold(config_.dropout_probability);
+  f.min_m = k.min_range_m;
+  f.max_m = k.max_range_m;
+  f.subpixel = config.subpixel;
+  f.stereo = config.subpixel > 0.0 || f.step > 0.0;
+  f.edges = config.edge_probability > 0.0;
+  f.edge_jump = float(config.edge_jump_m);
+  f.edge_threshold = threshold(config.edge_probability);
+  f.edge_invalid_fraction = config.edge_invalid_fraction;
+  f.dropout_threshold = threshold(config.dropout_probability);
+  // Correlated disparity error: a grid of normals every cell px (one beyond each edge), bilinearly interpolated and
+  // renormalized to unit variance per pixel; drawn from a key of its own.
+  f.correlated = config.correlated_fraction > 0.0 && config.subpixel > 0.0;
+  f.cell = std::max(1, int(std::lround(config.correlated_cell_px)));
+  f.grid_w = f.W / f.cell + 2;
+  f.white_scale = std::sqrt(1.0 - config.correlated_fraction);
+  f.field_scale = std::sqrt(config.correlated_fraction);
+  return f;
+}
 
+// The correlated field's grid of normals (grid_w x grid_h) for the frame `key`.
+void draw_field_grid(uint64_t key, std::size_t cells, std::vector<float>& grid) {
+  const uint64_t field_key = splitmix64_mix(key ^ 0xC2B2AE3D27D4EB4FULL);
+  grid.resize(cells);
+  for (size_t j = 0; j < grid.size(); ++j) grid[j] = normal_table()[draw(field_key, j, kGauss) & (kNormalBins - 1)];
+}
+
+// holes_per_frame round holes (a fractional count: one more with that probability) of radius 1..hole_max_radius_px
+// at uniform positions, zeroed in out_m.
+void punch_holes(const DepthNoiseConfig& config, uint64_t key, int W, int H, float* out_m) {
+  const double whole = std::floor(config.holes_per_frame);
+  const int holes = int(whole) + (uniform(key, 0, kHoleCount) < config.holes_per_frame - whole ? 1 : 0);
+  for (int h = 0; h < holes; ++h) {
+    const double hole_u = uniform(key, 3 * uint64_t(h), kHole) * W;
+    const double hole_v = uniform(key, 3 * uint64_t(h) + 1, kHole) * H;
+    const double radius = 1.0 + uniform(key, 3 * uint64_t(h) + 2, kHole) * (config.hole_max_radius_px - 1.0);
+    const int u0 = std::max(0, int(std::floor(hole_u - radius))), u1 = std::min(W - 1, int(std::ceil(hole_u + radius)));
+    const int v0 = std::max(0, int(std::floor(hole_v - radius))), v1 = std::min(H - 1, int(std::ceil(hole_v + radius)));
+    for (int v = v0; v <= v1; ++v) {
+      for (int u = u0; u <= u1; ++u) {
+        if ((u - hole_u) * (u - hole_u) + (v - hole_v) * (v - hole_v) <= radius * radius) {
+          out_m[size_t(v) * W + u] = 0.0f;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void DepthNoise::apply_rows(const float* truth_m, float* out_m, uint64_t seed, uint64_t frame_index, bool parallel) {
+  const int W = intrinsics_.width, H = intrinsics_.height;
+  const uint64_t key = frame_key(seed, frame_index);
+  noise_rows::Frame f = noise_frame(config_, intrinsics_, truth_m, out_m, key);
   const bool occlusion = config_.stereo_occlusion;
   if (occlusion) occluded_.resize(size_t(W) * H);
   f.occluded = occlusion ? occluded_.data() : nullptr;
   const uint64_t band_key = splitmix64_mix(key ^ 0x5BD1E9955BD1E995ULL);  // own draws: the others stay as they were
   const int shadow_margin = int(std::lround(config_.shadow_margin_px));
-  // Correlated disparity error: a grid of normals every cell px (one beyond each edge), bilinearly interpolated and
-  // renormalized to unit variance per pixel; drawn from a key of its own.
-  f.correlated = config_.correlated_fraction > 0.0 && config_.subpixel > 0.0;
-  f.cell = std::max(1, int(std::lround(config_.correlated_cell_px)));
-  f.grid_w = W / f.cell + 2;
-  const int grid_h = H / f.cell + 2;
-  f.white_scale = std::sqrt(1.0 - config_.correlated_fraction);
-  f.field_scale = std::sqrt(config_.correlated_fraction);
   if (f.correlated) {
-    const uint64_t field_key = splitmix64_mix(key ^ 0xC2B2AE3D27D4EB4FULL);
-    field_grid_.resize(size_t(f.grid_w) * grid_h);
-    for (size_t j = 0; j < field_grid_.size(); ++j)
-      field_grid_[j] = normal_table()[draw(field_key, j, kGauss) & (kNormalBins - 1)];
+    const int grid_h = H / f.cell + 2;
+    draw_field_grid(key, size_t(f.grid_w) * grid_h, field_grid_);
     f.field_grid = field_grid_.data();
   }
 
@@ -238,22 +274,7 @@ void DepthNoise::apply_rows(const float* truth_m, float* out_m, uint64_t seed, u
     tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), noise_rows);
   else
     noise_rows(tbb::blocked_range<int>(0, H));
-  const double whole = std::floor(config_.holes_per_frame);
-  const int holes = int(whole) + (uniform(key, 0, kHoleCount) < config_.holes_per_frame - whole ? 1 : 0);
-  for (int h = 0; h < holes; ++h) {
-    const double hole_u = uniform(key, 3 * uint64_t(h), kHole) * W;
-    const double hole_v = uniform(key, 3 * uint64_t(h) + 1, kHole) * H;
-    const double radius = 1.0 + uniform(key, 3 * uint64_t(h) + 2, kHole) * (config_.hole_max_radius_px - 1.0);
-    const int u0 = std::max(0, int(std::floor(hole_u - radius))), u1 = std::min(W - 1, int(std::ceil(hole_u + radius)));
-    const int v0 = std::max(0, int(std::floor(hole_v - radius))), v1 = std::min(H - 1, int(std::ceil(hole_v + radius)));
-    for (int v = v0; v <= v1; ++v) {
-      for (int u = u0; u <= u1; ++u) {
-        if ((u - hole_u) * (u - hole_u) + (v - hole_v) * (v - hole_v) <= radius * radius) {
-          out_m[size_t(v) * W + u] = 0.0f;
-        }
-      }
-    }
-  }
+  punch_holes(config_, key, W, H, out_m);
 }
 
 }  // namespace stvl::sensors

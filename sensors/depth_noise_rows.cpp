@@ -114,61 +114,44 @@ __attribute__((always_inline)) inline float finish(const Frame& f, double z, boo
   return keep ? z_out : 0.0f;
 }
 
-// Passes over pixels [u0, u0 + n) of row v (n <= kChunk); always inlined into each instruction set's copy.
-template <bool Stereo, bool Quantize, bool Dropout, bool Occlusion>
-__attribute__((always_inline)) inline void chunk(const Frame& f, int v, int u0, int n) {
-  const size_t row = size_t(v) * f.W;
-  const float* cur = f.truth + row + u0;
-  float* out = f.out + row + u0;
-  const uint8_t* occluded = Occlusion ? f.occluded + row + u0 : nullptr;
-  const uint64_t i0 = row + uint64_t(u0);
-
-  // Disparity noise term subpixel * normal per pixel: one draw per four pixels of the image (16 bits each).
-  alignas(64) double term_pad[kChunk + 8];
+// The disparity noise term subpixel * normal of pixels [u0, u0 + n) of row v (i0: the first's index) into
+// term_pad[off .. off + n), off = i0 & 3: one draw per four pixels of the image (16 bits each).
+__attribute__((always_inline)) inline void disparity_terms(const Frame& f, int v, int u0, int n, uint64_t i0,
+                                                           double* term_pad) {
+  alignas(64) uint64_t group_bits[kChunk / 4 + 2];
   const int off = int(i0 & 3);
-  const double* term = term_pad + off;
-  if (Stereo) {
-    alignas(64) uint64_t group_bits[kChunk / 4 + 2];
-    const uint64_t g0 = i0 >> 2;
-    const int groups = (off + n + 3) / 4;
-    const uint64_t base = f.key + (g0 * kStreams + kGauss + 1) * kGolden;
-    for (int k = 0; k < groups; ++k) group_bits[k] = splitmix64_mix(base + uint64_t(k) * (kStreams * kGolden));
-    const float* normal = f.normal;
-    if (!f.correlated) {
-      const double s = f.subpixel;
-      for (int k = 0; k < groups; ++k) {
-        const uint64_t b = group_bits[k];
-        term_pad[4 * k + 0] = s * double(normal[b & kNormalMask]);
-        term_pad[4 * k + 1] = s * double(normal[(b >> 16) & kNormalMask]);
-        term_pad[4 * k + 2] = s * double(normal[(b >> 32) & kNormalMask]);
-        term_pad[4 * k + 3] = s * double(normal[(b >> 48) & kNormalMask]);
-      }
-    } else {
-      for (int k = 0; k < groups; ++k) {
-        const uint64_t b = group_bits[k];
-        for (int r = 0; r < 4; ++r) term_pad[4 * k + r] = double(normal[(b >> (16 * r)) & kNormalMask]);
-      }
-      for (int j = 0; j < n; ++j)
-        term_pad[off + j] = f.subpixel * (f.white_scale * term_pad[off + j] + f.field_scale * field_at(f, u0 + j, v));
+  const uint64_t g0 = i0 >> 2;
+  const int groups = (off + n + 3) / 4;
+  const uint64_t base = f.key + (g0 * kStreams + kGauss + 1) * kGolden;
+  for (int k = 0; k < groups; ++k) group_bits[k] = splitmix64_mix(base + uint64_t(k) * (kStreams * kGolden));
+  const float* normal = f.normal;
+  if (!f.correlated) {
+    const double s = f.subpixel;
+    for (int k = 0; k < groups; ++k) {
+      const uint64_t b = group_bits[k];
+      term_pad[4 * k + 0] = s * double(normal[b & kNormalMask]);
+      term_pad[4 * k + 1] = s * double(normal[(b >> 16) & kNormalMask]);
+      term_pad[4 * k + 2] = s * double(normal[(b >> 32) & kNormalMask]);
+      term_pad[4 * k + 3] = s * double(normal[(b >> 48) & kNormalMask]);
     }
+  } else {
+    for (int k = 0; k < groups; ++k) {
+      const uint64_t b = group_bits[k];
+      for (int r = 0; r < 4; ++r) term_pad[4 * k + r] = double(normal[(b >> (16 * r)) & kNormalMask]);
+    }
+    for (int j = 0; j < n; ++j)
+      term_pad[off + j] = f.subpixel * (f.white_scale * term_pad[off + j] + f.field_scale * field_at(f, u0 + j, v));
   }
+}
 
-  // Every pixel as if it were no edge: branch-free.
-  const uint64_t drop_base = f.key + (i0 * kStreams + kDropout + 1) * kGolden, drop_stride = kStreams * kGolden;
-  for (int j = 0; j < n; ++j) {
-    const float z_true = cur[j];
-    bool keep = z_true > 0.0f;
-    if (Occlusion) keep &= occluded[j] == 0;
-    out[j] = finish<Stereo, Quantize, Dropout>(f, double(z_true), keep, Stereo ? term[j] : 0.0,
-                                               drop_base + uint64_t(j) * drop_stride);
-  }
-  if (!f.edges) return;
-
-  // Edge candidates: valid, visible pixels with a neighbour that jumps by more than edge_jump.
-  const float* up = v > 0 ? cur - f.W : cur;
-  const float* down = v + 1 < f.H ? cur + f.W : cur;
+// Edge candidates of pixels [u0, u0 + n) (cur: the first; up, down: the rows around it, or the row itself at
+// the image's edge): valid, visible pixels with a neighbour that jumps by more than edge_jump. candidate[] is
+// zeroed past n up to a multiple of 8.
+template <bool Occlusion>
+__attribute__((always_inline)) inline void edge_candidates(const Frame& f, const float* cur, const float* up,
+                                                           const float* down, const uint8_t* occluded, int u0, int n,
+                                                           uint8_t* candidate) {
   const float jump = f.edge_jump;
-  alignas(64) uint8_t candidate[kChunk + 8];
   const int first = u0 == 0 ? 1 : 0, last = u0 + n == f.W ? n - 1 : n;  // interior: both row neighbours exist
   for (int j = first; j < last; ++j) {
     const float z = cur[j];
@@ -185,9 +168,12 @@ __attribute__((always_inline)) inline void chunk(const Frame& f, int v, int u0, 
   if (Occlusion)
     for (int j = 0; j < n; ++j) candidate[j] &= uint8_t(occluded[j] == 0);
   for (int j = n; j < kChunk + 8 && j % 8 != 0; ++j) candidate[j] = 0;
+}
 
-  // Their positions (eight flags at a time, mostly all zero), then those whose edge draw passes (branch-free).
-  alignas(64) int list[kChunk];
+// The candidates' positions (eight flags at a time, mostly all zero), then those whose edge draw passes
+// (branch-free), into list[]; returns how many passed.
+__attribute__((always_inline)) inline int affected_edges(const Frame& f, const uint8_t* candidate, int n, uint64_t i0,
+                                                         int* list) {
   int count = 0;
   for (int j0 = 0; j0 < n; j0 += 8) {
     uint64_t flags;
@@ -200,6 +186,39 @@ __attribute__((always_inline)) inline void chunk(const Frame& f, int v, int u0, 
     list[affected] = j;
     affected += draw(f.key, i0 + uint64_t(j), kEdge) < f.edge_threshold;
   }
+  return affected;
+}
+
+// Passes over pixels [u0, u0 + n) of row v (n <= kChunk); always inlined into each instruction set's copy.
+template <bool Stereo, bool Quantize, bool Dropout, bool Occlusion>
+__attribute__((always_inline)) inline void chunk(const Frame& f, int v, int u0, int n) {
+  const size_t row = size_t(v) * f.W;
+  const float* cur = f.truth + row + u0;
+  float* out = f.out + row + u0;
+  const uint8_t* occluded = Occlusion ? f.occluded + row + u0 : nullptr;
+  const uint64_t i0 = row + uint64_t(u0);
+
+  alignas(64) double term_pad[kChunk + 8];
+  const double* term = term_pad + int(i0 & 3);
+  if (Stereo) disparity_terms(f, v, u0, n, i0, term_pad);
+
+  // Every pixel as if it were no edge: branch-free.
+  const uint64_t drop_base = f.key + (i0 * kStreams + kDropout + 1) * kGolden, drop_stride = kStreams * kGolden;
+  for (int j = 0; j < n; ++j) {
+    const float z_true = cur[j];
+    bool keep = z_true > 0.0f;
+    if (Occlusion) keep &= occluded[j] == 0;
+    out[j] = finish<Stereo, Quantize, Dropout>(f, double(z_true), keep, Stereo ? term[j] : 0.0,
+                                               drop_base + uint64_t(j) * drop_stride);
+  }
+  if (!f.edges) return;
+
+  const float* up = v > 0 ? cur - f.W : cur;
+  const float* down = v + 1 < f.H ? cur + f.W : cur;
+  alignas(64) uint8_t candidate[kChunk + 8];
+  edge_candidates<Occlusion>(f, cur, up, down, occluded, u0, n, candidate);
+  alignas(64) int list[kChunk];
+  const int affected = affected_edges(f, candidate, n, i0, list);
 
   // Those vanish or fly (a depth between their own and the neighbour's of the largest jump, the first of equal
   // ones in the order left, right, up, down; a missing neighbour is the pixel itself, which never wins).

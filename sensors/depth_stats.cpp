@@ -5,21 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+
+#include "common/statistics.hpp"
 
 namespace stvl::sensors {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-double median(std::vector<double> values) {
-  if (values.empty()) return kNaN;
-  const size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + long(mid), values.end());
-  if (values.size() % 2 == 1) return values[mid];
-  const double upper = values[mid];
-  return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + long(mid)));
-}
 
 bool valid(float z) { return z > 0.0f && std::isfinite(z); }
 
@@ -166,50 +160,64 @@ std::vector<DepthBinStat> temporal_sigma_m(const DepthImage& a, const DepthImage
   return out;
 }
 
+namespace {
+
+// The mean depth of the patch_px x patch_px patch at (u0, v0) when every pixel has depth and the depths span at
+// most max_range_fraction of the mean (a flat patch); nullopt otherwise.
+std::optional<double> flat_patch_mean(const DepthImage& image, int u0, int v0, int patch_px, double max_range_fraction) {
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0, sum = 0.0;
+  for (int v = v0; v < v0 + patch_px; ++v)
+    for (int u = u0; u < u0 + patch_px; ++u) {
+      const float z = image.at(u, v);
+      if (!valid(z)) return std::nullopt;
+      lo = std::min(lo, double(z));
+      hi = std::max(hi, double(z));
+      sum += z;
+    }
+  const double mean = sum / (patch_px * patch_px);
+  if (hi - lo > max_range_fraction * mean) return std::nullopt;
+  return mean;
+}
+
+// RMS of the depth residuals of the patch against the least-squares plane in inverse depth (a plane in 3D is
+// linear in 1/z over the pixels).
+double plane_fit_residual_rms(const DepthImage& image, int u0, int v0, int patch_px) {
+  const double c = 0.5 * (patch_px - 1);  // patch-centred coordinates keep the normal equations well conditioned
+  Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
+  for (int v = v0; v < v0 + patch_px; ++v)
+    for (int u = u0; u < u0 + patch_px; ++u) {
+      const Eigen::Vector3d row(u - u0 - c, v - v0 - c, 1.0);
+      AtA += row * row.transpose();
+      Atb += row / double(image.at(u, v));
+    }
+  const Eigen::Vector3d p = AtA.ldlt().solve(Atb);
+  double sq = 0.0;
+  for (int v = v0; v < v0 + patch_px; ++v)
+    for (int u = u0; u < u0 + patch_px; ++u) {
+      const double w = p.x() * (u - u0 - c) + p.y() * (v - v0 - c) + p.z();
+      const double r = double(image.at(u, v)) - 1.0 / w;
+      sq += r * r;
+    }
+  return std::sqrt(sq / (patch_px * patch_px));
+}
+
+}  // namespace
+
 std::vector<DepthBinStat> plane_fit_rms_m(const DepthImage& image, const std::vector<double>& centres_m,
                                           double half_width_m, int patch_px, double max_range_fraction,
                                           long min_samples, double sigma_at_1m_m) {
   if (patch_px < 3) throw std::invalid_argument("plane_fit_rms_m: patch_px must be >= 3");
   std::vector<std::vector<double>> rms(centres_m.size()), normalized(centres_m.size());
   std::vector<double> depth_sum(centres_m.size(), 0.0);
-  const double c = 0.5 * (patch_px - 1);  // patch-centred coordinates keep the normal equations well conditioned
   for (int v0 = 0; v0 + patch_px <= image.height; v0 += patch_px) {
     for (int u0 = 0; u0 + patch_px <= image.width; u0 += patch_px) {
-      double lo = std::numeric_limits<double>::infinity(), hi = 0.0, sum = 0.0;
-      bool all_valid = true;
-      for (int v = v0; v < v0 + patch_px && all_valid; ++v)
-        for (int u = u0; u < u0 + patch_px; ++u) {
-          const float z = image.at(u, v);
-          if (!valid(z)) {
-            all_valid = false;
-            break;
-          }
-          lo = std::min(lo, double(z));
-          hi = std::max(hi, double(z));
-          sum += z;
-        }
-      if (!all_valid) continue;
-      const double mean = sum / (patch_px * patch_px);
-      if (hi - lo > max_range_fraction * mean) continue;
+      const std::optional<double> flat_mean = flat_patch_mean(image, u0, v0, patch_px, max_range_fraction);
+      if (!flat_mean) continue;
+      const double mean = *flat_mean;
       const int k = bin_of(mean, centres_m, half_width_m);
       if (k < 0) continue;
-      Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
-      for (int v = v0; v < v0 + patch_px; ++v)
-        for (int u = u0; u < u0 + patch_px; ++u) {
-          const Eigen::Vector3d row(u - u0 - c, v - v0 - c, 1.0);
-          AtA += row * row.transpose();
-          Atb += row / double(image.at(u, v));
-        }
-      const Eigen::Vector3d p = AtA.ldlt().solve(Atb);
-      double sq = 0.0;
-      for (int v = v0; v < v0 + patch_px; ++v)
-        for (int u = u0; u < u0 + patch_px; ++u) {
-          const double w = p.x() * (u - u0 - c) + p.y() * (v - v0 - c) + p.z();
-          const double r = double(image.at(u, v)) - 1.0 / w;
-          sq += r * r;
-        }
-      rms[size_t(k)].push_back(std::sqrt(sq / (patch_px * patch_px)));
+      rms[size_t(k)].push_back(plane_fit_residual_rms(image, u0, v0, patch_px));
       depth_sum[size_t(k)] += mean;
       if (sigma_at_1m_m > 0.0) normalized[size_t(k)].push_back(rms[size_t(k)].back() / (sigma_at_1m_m * mean * mean));
     }

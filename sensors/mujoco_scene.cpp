@@ -19,6 +19,53 @@ int hook_depth = 0;                          // guards alive, under hook_mutex()
 void (*hook_previous)(const char*) = nullptr;  // the handler before the first of them
 void raise(const char* message) { throw std::runtime_error(std::string("MuJoCo: ") + message); }
 
+// Only the geoms of the visible groups, and no sites, joints, tendons, actuators, skins or decorations.
+void set_depth_only_option(mjvOption& option, const std::array<bool, 6>& visible_geom_groups) {
+  mjv_defaultOption(&option);
+  for (int g = 0; g < mjNGROUP; ++g) {
+    option.geomgroup[g] = visible_geom_groups[size_t(g)] ? 1 : 0;
+    option.sitegroup[g] = option.jointgroup[g] = option.tendongroup[g] = 0;
+    option.actuatorgroup[g] = option.skingroup[g] = 0;
+  }
+  for (int f = 0; f < mjNVISFLAG; ++f) option.flags[f] = 0;
+  option.flags[mjVIS_STATIC] = 1;
+}
+
+// Segmentation mode: flat colour, no lighting, shadows, reflections or skybox: the cheapest pass that still
+// writes the depth buffer for every geom (transparent ones included, as mj_ray sees them).
+void set_segmentation_flags(mjvScene& scene) {
+  for (int f = 0; f < mjNRNDFLAG; ++f) scene.flags[f] = 0;
+  scene.flags[mjRND_SEGMENT] = 1;
+  scene.flags[mjRND_CULL_FACE] = 1;
+  scene.stereo = mjSTEREO_NONE;
+}
+
+// The rendering context, made from a copy of the model with depth-exact visual settings: no MSAA, an offscreen
+// buffer of at least k's size, finer tessellation, planes as a 2x2 grid. On failure `context` is freed.
+void make_render_context(const mjModel* model, const CameraIntrinsics& k, const std::string& owner, mjrContext& context) {
+  mjModel* copy = mj_copyModel(nullptr, model);
+  if (!copy) throw std::runtime_error(owner + ": mj_copyModel failed");
+  copy->vis.quality.offsamples = 0;  // MSAA blends silhouette depths (metres off)
+  copy->vis.global.offwidth = std::max(copy->vis.global.offwidth, k.width);
+  copy->vis.global.offheight = std::max(copy->vis.global.offheight, k.height);
+  copy->vis.quality.numslices = std::max(copy->vis.quality.numslices, kMinSlices);
+  copy->vis.quality.numstacks = std::max(copy->vis.quality.numstacks, kMinStacks);
+  for (int i = 0; i < copy->ngeom; ++i) {  // planes: a 2x2 grid, not one quad per `size[2]` (can be ~40k quads)
+    if (copy->geom_type[i] != mjGEOM_PLANE) continue;
+    mjtNum* size = copy->geom_size + 3 * i;
+    size[2] = std::max(size[2], 0.5 * std::max(size[0], size[1]));
+  }
+  mjr_defaultContext(&context);
+  try {
+    mjr_makeContext(copy, &context, mjFONTSCALE_100);
+  } catch (...) {
+    mj_deleteModel(copy);
+    mjr_freeContext(&context);
+    throw;
+  }
+  mj_deleteModel(copy);
+}
+
 }  // namespace
 
 ThrowOnMujocoError::ThrowOnMujocoError() {
@@ -48,49 +95,15 @@ MujocoScene::MujocoScene(const mjModel* model, const CameraIntrinsics& k, GlBack
   znear_m = std::min(0.05, 0.5 * k.min_range_m);
   zfar_m = 2.0 * k.max_range_m + 1.0;
   gl = GlContext::create(backend);
-
-  mjv_defaultOption(&option);
-  for (int g = 0; g < mjNGROUP; ++g) {
-    option.geomgroup[g] = visible_geom_groups[size_t(g)] ? 1 : 0;
-    option.sitegroup[g] = option.jointgroup[g] = option.tendongroup[g] = 0;
-    option.actuatorgroup[g] = option.skingroup[g] = 0;
-  }
-  for (int f = 0; f < mjNVISFLAG; ++f) option.flags[f] = 0;
-  option.flags[mjVIS_STATIC] = 1;
+  set_depth_only_option(option, visible_geom_groups);
   mjv_defaultCamera(&camera);
 
   ThrowOnMujocoError guard;
   mjv_defaultScene(&scene);
   mjv_makeScene(model, &scene, model->ngeom + 64);
   scene_made = true;
-  for (int f = 0; f < mjNRNDFLAG; ++f) scene.flags[f] = 0;
-  // Segmentation mode: flat colour, no lighting, shadows, reflections or skybox: the cheapest pass that still
-  // writes the depth buffer for every geom (transparent ones included, as mj_ray sees them).
-  scene.flags[mjRND_SEGMENT] = 1;
-  scene.flags[mjRND_CULL_FACE] = 1;
-  scene.stereo = mjSTEREO_NONE;
-
-  mjModel* copy = mj_copyModel(nullptr, model);
-  if (!copy) throw std::runtime_error(owner + ": mj_copyModel failed");
-  copy->vis.quality.offsamples = 0;  // MSAA blends silhouette depths (metres off)
-  copy->vis.global.offwidth = std::max(copy->vis.global.offwidth, k.width);
-  copy->vis.global.offheight = std::max(copy->vis.global.offheight, k.height);
-  copy->vis.quality.numslices = std::max(copy->vis.quality.numslices, kMinSlices);
-  copy->vis.quality.numstacks = std::max(copy->vis.quality.numstacks, kMinStacks);
-  for (int i = 0; i < copy->ngeom; ++i) {  // planes: a 2x2 grid, not one quad per `size[2]` (can be ~40k quads)
-    if (copy->geom_type[i] != mjGEOM_PLANE) continue;
-    mjtNum* size = copy->geom_size + 3 * i;
-    size[2] = std::max(size[2], 0.5 * std::max(size[0], size[1]));
-  }
-  mjr_defaultContext(&context);
-  try {
-    mjr_makeContext(copy, &context, mjFONTSCALE_100);
-  } catch (...) {
-    mj_deleteModel(copy);
-    mjr_freeContext(&context);
-    throw;
-  }
-  mj_deleteModel(copy);
+  set_segmentation_flags(scene);
+  make_render_context(model, k, owner, context);
   context_made = true;
   mjr_setBuffer(mjFB_OFFSCREEN, &context);
   if (context.currentBuffer != mjFB_OFFSCREEN || context.offWidth < k.width || context.offHeight < k.height) {

@@ -118,6 +118,17 @@ struct Context::Impl {
   detail::Bounds compute_bounds(const float* p, std::size_t n);
   int read_int(const int* device);
 
+  // Context::csnb's phases (csnb.cu). The m finite points of p[0, 3n) sorted by cube (xyz, column, key32) and the
+  // cube table (cube_key, cube_begin); returns the number of cubes.
+  std::uint32_t csnb_sort_into_cubes(const float* p, std::size_t n, std::uint32_t m, const detail::CsnbLayout& layout);
+  // Per cube its rows' spans and its anchor (cube_of, is_anchor); every point's neighbour count, all live.
+  void csnb_spans_anchors_counts(const detail::CsnbLayout& layout, std::uint32_t m, std::uint32_t cubes);
+  // The m - cubes non-anchor points in their seeded random order; returns the buffer holding it.
+  const std::uint64_t* csnb_random_order(std::uint32_t m, std::uint32_t cubes, std::uint64_t seed);
+  // The batches of K marked points (more than T neighbours) along walk_order, deleted one after another: one
+  // cooperative kernel where the device can, else a loop on the host.
+  void csnb_batches(const std::uint64_t* walk_order, std::size_t candidates, int rows, float r2, int T, int K);
+
   template <class Fn>
   void cub_call(Fn&& fn) {
     std::size_t bytes = 0;

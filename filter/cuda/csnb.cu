@@ -223,6 +223,104 @@ __global__ void csnb_claims(const std::uint32_t* anchor, std::uint32_t cubes, co
 
 }  // namespace
 
+std::uint32_t Context::Impl::csnb_sort_into_cubes(const float* p, std::size_t n, std::uint32_t m,
+                                                  const detail::CsnbLayout& layout) {
+  const int index_bits = std::max(1, detail::bit_width(n - 1));
+  const int key_bits = 3 * layout.grid_exponent;
+  items.ensure(n);
+  items_alt.ensure(n);
+  csnb_keys<<<blocks(n), kBlock, 0, stream>>>(p, n, layout, index_bits, items.ptr);
+  const std::uint64_t* sorted = sort_keys(items, items_alt, n, index_bits, std::min(64, index_bits + key_bits + 1));
+  xyz.ensure(m);
+  column.ensure(m);
+  key32.ensure(m);
+  csnb_gather<<<blocks(m), kBlock, 0, stream>>>(p, sorted, m, index_bits, xyz.ptr, column.ptr, key32.ptr);
+  cube_key.ensure(m);
+  cube_count.ensure(m);
+  cube_begin.ensure(m + 1);
+  small.ensure(2);
+  cub_call([&](void* t, std::size_t& bytes) {
+    return cub::DeviceRunLengthEncode::Encode(t, bytes, key32.ptr, cube_key.ptr, cube_count.ptr, small.ptr,
+                                              static_cast<int>(m), stream);
+  });
+  const std::uint32_t cubes = static_cast<std::uint32_t>(read_int(small.ptr));
+  cub_call([&](void* t, std::size_t& bytes) {
+    return cub::DeviceScan::ExclusiveSum(t, bytes, cube_count.ptr, cube_begin.ptr, static_cast<int>(cubes), stream);
+  });
+  STVL_CUDA(cudaMemcpyAsync(cube_begin.ptr + cubes, &m, sizeof(m), cudaMemcpyHostToDevice, stream));
+  return cubes;
+}
+
+void Context::Impl::csnb_spans_anchors_counts(const detail::CsnbLayout& layout, std::uint32_t m, std::uint32_t cubes) {
+  const int rows = detail::csnb_rows(layout);
+  spans.ensure(std::size_t(cubes) * rows * 2);
+  anchor.ensure(cubes);
+  cube_of.ensure(m);
+  is_anchor.ensure(m);
+  live.ensure(m);
+  count.ensure(m);
+  csnb_cubes<<<blocks(cubes), kBlock, 0, stream>>>(layout, cube_key.ptr, cube_begin.ptr, cubes, xyz.ptr, spans.ptr,
+                                                    anchor.ptr, cube_of.ptr, is_anchor.ptr);
+  csnb_mark_anchors<<<blocks(cubes), kBlock, 0, stream>>>(anchor.ptr, cubes, is_anchor.ptr);
+  csnb_count<<<blocks(m), kBlock, 0, stream>>>(xyz.ptr, m, cube_of.ptr, spans.ptr, rows, layout.radius_sq, count.ptr,
+                                                live.ptr);
+}
+
+const std::uint64_t* Context::Impl::csnb_random_order(std::uint32_t m, std::uint32_t cubes, std::uint64_t seed) {
+  order.ensure(m);
+  order_alt.ensure(m);
+  keep.ensure(m);
+  csnb_priorities<<<blocks(m), kBlock, 0, stream>>>(column.ptr, is_anchor.ptr, m, seed, order_alt.ptr, keep.ptr);
+  cub_call([&](void* t, std::size_t& bytes) {
+    return cub::DeviceSelect::Flagged(t, bytes, order_alt.ptr, keep.ptr, order.ptr, small.ptr + 1, static_cast<int>(m),
+                                      stream);
+  });
+  return sort_keys(order, order_alt, m - cubes, 32, 64);
+}
+
+void Context::Impl::csnb_batches(const std::uint64_t* walk_order, std::size_t candidates, int rows, float r2, int T,
+                                 int K) {
+  flag.ensure(candidates);
+  pos.ensure(candidates);
+  picked.ensure(static_cast<std::size_t>(K));
+  result.ensure(2);
+  if (loop_grid < 0) {
+    int device = 0, cooperative = 0, sms = 0, per_sm = 0;
+    STVL_CUDA(cudaGetDevice(&device));
+    STVL_CUDA(cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device));
+    STVL_CUDA(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
+    STVL_CUDA(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, csnb_loop, kLoopBlock, 0));
+    loop_grid = cooperative && per_sm > 0 ? sms : 0;
+  }
+  if (loop_grid > 0 && candidates > 0) {
+    LoopParams params{walk_order, candidates, xyz.ptr, cube_of.ptr, spans.ptr, rows, r2, live.ptr, count.ptr, T, K,
+                      picked.ptr};
+    void* args[] = {&params};
+    STVL_CUDA(cudaLaunchCooperativeKernel(reinterpret_cast<void*>(csnb_loop), dim3(loop_grid), dim3(kLoopBlock), args,
+                                          0, stream));
+  }
+  for (std::size_t cursor = 0; loop_grid == 0 && cursor < candidates;) {  // without cooperative launch
+    const std::size_t window = candidates - cursor;
+    csnb_flags<<<blocks(window), kBlock, 0, stream>>>(walk_order + cursor, window, live.ptr, count.ptr, T, flag.ptr);
+    cub_call([&](void* t, std::size_t& bytes) {
+      return cub::DeviceScan::ExclusiveSum(t, bytes, flag.ptr, pos.ptr, static_cast<int>(window), stream);
+    });
+    csnb_pick<<<blocks(window), kBlock, 0, stream>>>(walk_order + cursor, window, flag.ptr, pos.ptr, K, picked.ptr,
+                                                      result.ptr);
+    long long found[2];
+    STVL_CUDA(cudaMemcpyAsync(found, result.ptr, sizeof(found), cudaMemcpyDeviceToHost, stream));
+    STVL_CUDA(cudaStreamSynchronize(stream));
+    const int batch = static_cast<int>(std::min<long long>(found[0], K));
+    if (batch > 0) {
+      csnb_kill<<<blocks(batch), kBlock, 0, stream>>>(picked.ptr, batch, live.ptr);
+      csnb_decrement<<<blocks(batch), kBlock, 0, stream>>>(picked.ptr, batch, xyz.ptr, cube_of.ptr, spans.ptr, rows, r2,
+                                                            live.ptr, count.ptr);
+    }
+    if (found[0] <= K) break;
+    cursor += static_cast<std::size_t>(found[1]);
+  }
+}
+
 Eigen::Matrix3Xf Context::csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, MemoryMode mode) {
   detail::validate(config);
   detail::check_cloud_size(points.cols());
@@ -234,94 +332,13 @@ Eigen::Matrix3Xf Context::csnb(const Eigen::Matrix3Xf& points, const CsnbConfig&
   if (bounds.finite == 0) return Eigen::Matrix3Xf(3, 0);
   const detail::CsnbLayout layout = detail::make_csnb_layout(bounds, config);
   const std::uint32_t m = static_cast<std::uint32_t>(bounds.finite);
-  const int index_bits = std::max(1, detail::bit_width(n - 1));
-  const int key_bits = 3 * layout.grid_exponent;
-  d.items.ensure(n);
-  d.items_alt.ensure(n);
-  csnb_keys<<<blocks(n), kBlock, 0, d.stream>>>(p, n, layout, index_bits, d.items.ptr);
-  const std::uint64_t* sorted = d.sort_keys(d.items, d.items_alt, n, index_bits, std::min(64, index_bits + key_bits + 1));
-  d.xyz.ensure(m);
-  d.column.ensure(m);
-  d.key32.ensure(m);
-  csnb_gather<<<blocks(m), kBlock, 0, d.stream>>>(p, sorted, m, index_bits, d.xyz.ptr, d.column.ptr, d.key32.ptr);
-  d.cube_key.ensure(m);
-  d.cube_count.ensure(m);
-  d.cube_begin.ensure(m + 1);
-  d.small.ensure(2);
-  d.cub_call([&](void* t, std::size_t& bytes) {
-    return cub::DeviceRunLengthEncode::Encode(t, bytes, d.key32.ptr, d.cube_key.ptr, d.cube_count.ptr, d.small.ptr,
-                                              static_cast<int>(m), d.stream);
-  });
-  const std::uint32_t cubes = static_cast<std::uint32_t>(d.read_int(d.small.ptr));
-  d.cub_call([&](void* t, std::size_t& bytes) {
-    return cub::DeviceScan::ExclusiveSum(t, bytes, d.cube_count.ptr, d.cube_begin.ptr, static_cast<int>(cubes), d.stream);
-  });
-  STVL_CUDA(cudaMemcpyAsync(d.cube_begin.ptr + cubes, &m, sizeof(m), cudaMemcpyHostToDevice, d.stream));
-  const int rows = detail::csnb_rows(layout);
-  d.spans.ensure(std::size_t(cubes) * rows * 2);
-  d.anchor.ensure(cubes);
-  d.cube_of.ensure(m);
-  d.is_anchor.ensure(m);
-  d.live.ensure(m);
-  d.count.ensure(m);
-  csnb_cubes<<<blocks(cubes), kBlock, 0, d.stream>>>(layout, d.cube_key.ptr, d.cube_begin.ptr, cubes, d.xyz.ptr,
-                                                      d.spans.ptr, d.anchor.ptr, d.cube_of.ptr, d.is_anchor.ptr);
-  csnb_mark_anchors<<<blocks(cubes), kBlock, 0, d.stream>>>(d.anchor.ptr, cubes, d.is_anchor.ptr);
-  csnb_count<<<blocks(m), kBlock, 0, d.stream>>>(d.xyz.ptr, m, d.cube_of.ptr, d.spans.ptr, rows, layout.radius_sq,
-                                                  d.count.ptr, d.live.ptr);
+  const std::uint32_t cubes = d.csnb_sort_into_cubes(p, n, m, layout);
+  d.csnb_spans_anchors_counts(layout, m, cubes);
   // Random order of the non-anchor points (see csnb.cpp for why one order serves every batch).
-  d.order.ensure(m);
-  d.order_alt.ensure(m);
-  d.keep.ensure(m);
-  csnb_priorities<<<blocks(m), kBlock, 0, d.stream>>>(d.column.ptr, d.is_anchor.ptr, m, config.seed, d.order_alt.ptr,
-                                                       d.keep.ptr);
-  d.cub_call([&](void* t, std::size_t& bytes) {
-    return cub::DeviceSelect::Flagged(t, bytes, d.order_alt.ptr, d.keep.ptr, d.order.ptr, d.small.ptr + 1,
-                                      static_cast<int>(m), d.stream);
-  });
-  const std::size_t candidates = m - cubes;
-  const std::uint64_t* order = d.sort_keys(d.order, d.order_alt, candidates, 32, 64);
-  const int K = config.batch_size;
+  const std::uint64_t* order = d.csnb_random_order(m, cubes, config.seed);
+  const int rows = detail::csnb_rows(layout);
   const int T = config.max_neighbours;
-  d.flag.ensure(candidates);
-  d.pos.ensure(candidates);
-  d.picked.ensure(static_cast<std::size_t>(K));
-  d.result.ensure(2);
-  if (d.loop_grid < 0) {
-    int device = 0, cooperative = 0, sms = 0, per_sm = 0;
-    STVL_CUDA(cudaGetDevice(&device));
-    STVL_CUDA(cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device));
-    STVL_CUDA(cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device));
-    STVL_CUDA(cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, csnb_loop, kLoopBlock, 0));
-    d.loop_grid = cooperative && per_sm > 0 ? sms : 0;
-  }
-  if (d.loop_grid > 0 && candidates > 0) {
-    LoopParams params{order, candidates, d.xyz.ptr, d.cube_of.ptr, d.spans.ptr, rows, layout.radius_sq,
-                      d.live.ptr, d.count.ptr, T, K, d.picked.ptr};
-    void* args[] = {&params};
-    STVL_CUDA(cudaLaunchCooperativeKernel(reinterpret_cast<void*>(csnb_loop), dim3(d.loop_grid), dim3(kLoopBlock),
-                                          args, 0, d.stream));
-  }
-  for (std::size_t cursor = 0; d.loop_grid == 0 && cursor < candidates;) {  // without cooperative launch
-    const std::size_t window = candidates - cursor;
-    csnb_flags<<<blocks(window), kBlock, 0, d.stream>>>(order + cursor, window, d.live.ptr, d.count.ptr, T, d.flag.ptr);
-    d.cub_call([&](void* t, std::size_t& bytes) {
-      return cub::DeviceScan::ExclusiveSum(t, bytes, d.flag.ptr, d.pos.ptr, static_cast<int>(window), d.stream);
-    });
-    csnb_pick<<<blocks(window), kBlock, 0, d.stream>>>(order + cursor, window, d.flag.ptr, d.pos.ptr, K, d.picked.ptr,
-                                                        d.result.ptr);
-    long long result[2];
-    STVL_CUDA(cudaMemcpyAsync(result, d.result.ptr, sizeof(result), cudaMemcpyDeviceToHost, d.stream));
-    STVL_CUDA(cudaStreamSynchronize(d.stream));
-    const int batch = static_cast<int>(std::min<long long>(result[0], K));
-    if (batch > 0) {
-      csnb_kill<<<blocks(batch), kBlock, 0, d.stream>>>(d.picked.ptr, batch, d.live.ptr);
-      csnb_decrement<<<blocks(batch), kBlock, 0, d.stream>>>(d.picked.ptr, batch, d.xyz.ptr, d.cube_of.ptr, d.spans.ptr,
-                                                              rows, layout.radius_sq, d.live.ptr, d.count.ptr);
-    }
-    if (result[0] <= K) break;
-    cursor += static_cast<std::size_t>(result[1]);
-  }
+  d.csnb_batches(order, m - cubes, rows, layout.radius_sq, T, config.batch_size);
   csnb_claims<<<blocks(cubes), kBlock, 0, d.stream>>>(d.anchor.ptr, cubes, d.xyz.ptr, d.spans.ptr, rows,
                                                        layout.radius_sq, d.count.ptr, T, d.is_anchor.ptr, d.live.ptr);
   F3* target = d.output_target(m, mode);

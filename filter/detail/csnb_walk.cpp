@@ -96,6 +96,84 @@ void settle(Workspace& w, std::uint32_t j, std::uint32_t never) {
   set_bit(w.settled_bits.data(), s);
 }
 
+namespace {
+
+// walk()'s state: the current batch (from walk id `start`, `in_batch` marks in it), the marks so far, and the
+// window of unsure points classified ahead (w.result up to window_end).
+class Walker {
+ public:
+  Walker(Workspace& w, const Counter& counter, std::size_t order_size, std::size_t K, bool avx2, int threads)
+      : w_(w), counter_(counter), order_size_(order_size), K_(K), avx2_(avx2), threads_(threads) {}
+
+  // n more marks, the sure points at walk ids [from, to): where the last batch they start begins.
+  void sure_marks(std::size_t from, std::size_t to) {
+    const std::uint64_t* sure = w_.sure.data();
+    const std::size_t n = count_bits(sure, from, to);
+    marks_ += n;
+    if (in_batch_ + n <= K_) {
+      in_batch_ += n;
+      return;
+    }
+    const std::size_t first = K_ - in_batch_ + 1;  // the first of them that starts a batch (from 1), then every K
+    const std::size_t last = first + (n - first) / K_ * K_;
+    start_ = static_cast<std::uint32_t>(select_bit(sure, from, last));
+    in_batch_ = n - last + 1;
+  }
+
+  // Whether unsure point k (walk id j) is marked when the walk reaches it: counted in its batch (the window's
+  // verdicts hold whatever was deleted since it opened); a (K+1)-th mark deletes the batch and is counted again.
+  bool reach(std::size_t k) {
+    if (k >= window_end_) open_window(k);
+    const std::uint32_t j = w_.unsure[k];
+    const std::uint8_t verdict = w_.result[k];
+    bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(k));
+    if (marked && in_batch_ == K_) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
+      start_ = j;
+      in_batch_ = 0;
+      marked = verdict == kMarked || marked_exactly(k);
+    }
+    if (marked) {
+      ++in_batch_;
+      ++marks_;
+    }
+    return marked;
+  }
+
+ private:
+  bool marked_exactly(std::size_t k) const {
+    return marked_now(avx2_, counter_, w_.unsure_points[k], start_, w_.unsure[k]);
+  }
+
+  // The unsure points from index `from` of w.unsure that lie within about kWindowBatches batches, classified.
+  void open_window(std::size_t from) {
+    const std::size_t unsure = w_.unsure.size();
+    const std::uint32_t first = w_.unsure[from];
+    const double rate = first == 0 ? 1.0 : double(marks_) / double(first);  // marks per walk position so far
+    const double span = double(kWindowBatches * (K_ + 1)) / std::max(rate, 1e-3);
+    const double last = std::min(double(order_size_), double(first) + std::max(span, 256.0));
+    window_end_ = from;
+    while (window_end_ < unsure && double(w_.unsure[window_end_]) < last) ++window_end_;
+    const std::size_t n = window_end_ - from;
+    const std::uint32_t start = start_;
+    detail::parallel_for(n, detail::parts_for(n, threads_, 128), [&](std::size_t b, std::size_t e, int) {
+      classify(avx2_, counter_, w_.unsure_points.data() + from, start, w_.unsure.data() + from, b, e,
+               w_.result.data() + from);
+    });
+  }
+
+  Workspace& w_;
+  const Counter& counter_;
+  const std::size_t order_size_, K_;
+  const bool avx2_;
+  const int threads_;
+  std::uint32_t start_ = 0;     // walk id where the current batch starts
+  std::size_t in_batch_ = 0;    // marks in it
+  std::size_t marks_ = 0;       // marks so far
+  std::size_t window_end_ = 0;  // index into w.unsure
+};
+
+}  // namespace
+
 // The walk, over the points neither sure nor sparse (w.unsure, by walk id) in windows of about
 // kWindowBatches batches; the sure points in between are counted from their bits, as marks that fill the
 // batches. Points of a window are first classified in parallel when it opens (classify): with more than
@@ -106,65 +184,14 @@ void settle(Workspace& w, std::uint32_t j, std::uint32_t never) {
 // starts the next: nothing needs doing then but moving `start`, since the candidates' keys say who is live.
 void walk(Workspace& w, Counter& counter, std::size_t order_size, std::size_t K, std::uint32_t never, bool avx2,
           int threads) {
-  const std::uint64_t* sure = w.sure.data();
-  const std::size_t unsure = w.unsure.size();
-  w.result.resize(unsure);
-  std::uint32_t start = 0;     // walk id where the current batch starts
-  std::size_t in_batch = 0;    // marks in it
-  std::size_t marks = 0;       // marks so far
-  std::size_t window_end = 0;  // index into w.unsure
-  auto marked_exactly = [&](std::size_t k) {
-    const std::uint32_t j = w.unsure[k];
-    const Point& p = w.unsure_points[k];
-    return marked_now(avx2, counter, p, start, j);
-  };
-  // The unsure points from index `from` of w.unsure that lie within about kWindowBatches batches.
-  auto open_window = [&](std::size_t from) {
-    const std::uint32_t first = w.unsure[from];
-    const double rate = first == 0 ? 1.0 : double(marks) / double(first);  // marks per walk position so far
-    const double span = double(kWindowBatches * (K + 1)) / std::max(rate, 1e-3);
-    const double last = std::min(double(order_size), double(first) + std::max(span, 256.0));
-    window_end = from;
-    while (window_end < unsure && double(w.unsure[window_end]) < last) ++window_end;
-    const std::size_t n = window_end - from;
-    detail::parallel_for(n, detail::parts_for(n, threads, 128), [&](std::size_t b, std::size_t e, int) {
-      classify(avx2, counter, w.unsure_points.data() + from, start, w.unsure.data() + from, b, e,
-               w.result.data() + from);
-    });
-  };
-  // n more marks, the sure points at walk ids [from, to): where the last batch they start begins.
-  auto sure_marks = [&](std::size_t from, std::size_t to) {
-    const std::size_t n = count_bits(sure, from, to);
-    marks += n;
-    if (in_batch + n <= K) {
-      in_batch += n;
-      return;
-    }
-    const std::size_t first = K - in_batch + 1;  // the first of them that starts a batch (from 1), then every K
-    const std::size_t last = first + (n - first) / K * K;
-    start = static_cast<std::uint32_t>(select_bit(sure, from, last));
-    in_batch = n - last + 1;
-  };
+  w.result.resize(w.unsure.size());
+  Walker walker(w, counter, order_size, K, avx2, threads);
   std::size_t previous = 0;  // walk id after the last unsure point
-  for (std::size_t k = 0; k < unsure; ++k) {
+  for (std::size_t k = 0; k < w.unsure.size(); ++k) {
     const std::uint32_t j = w.unsure[k];
-    sure_marks(previous, j);
+    walker.sure_marks(previous, j);
     previous = std::size_t(j) + 1;
-    if (k >= window_end) open_window(k);
-    // Marked in the current batch? The window's verdicts hold whatever was deleted since it opened.
-    const std::uint8_t verdict = w.result[k];
-    bool marked = verdict == kMarked || (verdict == kAmbiguous && marked_exactly(k));
-    if (marked && in_batch == K) {  // j is the (K+1)-th mark: the batch is deleted and j counted again
-      start = j;
-      in_batch = 0;
-      marked = verdict == kMarked || marked_exactly(k);
-    }
-    if (marked) {
-      ++in_batch;
-      ++marks;
-      continue;
-    }
-    settle(w, j, never);
+    if (!walker.reach(k)) settle(w, j, never);
   }
 }
 
