@@ -84,7 +84,7 @@ int filter_bench(const FilterBenchCli& o) {
   std::vector<FilterBenchRow> rows;
   std::string baseline = "voxel/cpu";
   if (o.peer == "pcl") {
-    // Ours and PCL's back to back for each cloud and voxel size, so that the ratio compares like with like on
+    // The bench's filters and PCL's back to back for each cloud and voxel size, so that the ratio compares like with like on
     // a machine whose speed drifts.
     baseline = "pcl2/cpu";
     for (const auto& cloud : clouds) {

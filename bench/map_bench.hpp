@@ -22,7 +22,7 @@ struct MapBenchOptions {
 struct MapBenchRow {
   std::size_t prefilled_voxels = 0;
   double mark_ms = 0.0;          // medians per frame
-  double clear_ms = 0.0;         // bounded walk (ours)
+  double clear_ms = 0.0;         // bounded walk (the bench's)
   double full_walk_clear_ms = 0.0;
   double raycast_clear_ms = 0.0;
   double raycast_mark_ms = 0.0;

@@ -64,11 +64,11 @@ void read_noise(YamlMap& camera, pipeline::CameraConfig& c) {
   noise.get("dropout_probability", n.dropout_probability);
   noise.get("holes_per_frame", n.holes_per_frame);
   noise.get("hole_max_radius_px", n.hole_max_radius_px);
-  noise.get("stereo_occlusion", n.stereo_occlusion);  // ours (real D435 artifacts), off by default
+  noise.get("stereo_occlusion", n.stereo_occlusion);  // the bench's (real D435 artifacts), off by default
   noise.get("left_band_margin_px", n.left_band_margin_px);
   noise.get("left_band_jitter_px", n.left_band_jitter_px);
   noise.get("shadow_margin_px", n.shadow_margin_px);
-  noise.get("correlated_fraction", n.correlated_fraction);  // ours, 0 = off
+  noise.get("correlated_fraction", n.correlated_fraction);  // the bench's, 0 = off
   noise.get("correlated_cell_px", n.correlated_cell_px);
   noise.finish();
   validate_keys({{"enabled", &noise, "enabled"}, {"baseline_m", &noise, "baseline_m"}, {"subpixel", &noise, "subpixel"},
@@ -85,7 +85,7 @@ void read_noise(YamlMap& camera, pipeline::CameraConfig& c) {
                 [&] { n.validate(); });
 }
 
-// camera.edge_filter (ours: sensors/depth_edge_filter.hpp; STVL has none), when given.
+// camera.edge_filter (the bench's: sensors/depth_edge_filter.hpp; STVL has none), when given.
 void read_edge_filter(YamlMap& camera, pipeline::CameraConfig& c) {
   if (!camera.has("edge_filter")) return;
   auto edge = camera.map("edge_filter");

@@ -69,7 +69,7 @@ const std::vector<StvlKey>& stvl_keys() {
       other("clear_after_reading", kRos, "", "false", "false"),
       other("enabled", kRos, "", "true", "true"),
       other("model_type", kAll, "", "0", "0"),
-      // Ours (no STVL branch reads them): scenario files only.
+      // The bench's own (no STVL branch reads them): scenario files only.
       flag("clear_on_no_return", kReadByScenario, "", "", &Src::clear_on_no_return),
       flag("drop_when_not_current", kReadByScenario, "", "", &Src::drop_when_not_current),
   };

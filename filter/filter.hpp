@@ -35,7 +35,7 @@ struct FilterConfig {
   Device device = Device::kAuto;
   MemoryMode memory = MemoryMode::kCopy;
   bool passthrough_enabled = true;  // passthrough runs before voxel/csnb when enabled (always for type passthrough)
-  // How the pipeline (pipeline/map_stages.hpp) uses the band. false (ours): the whole cloud is decimated (it
+  // How the pipeline (pipeline/sensing.hpp) uses the band. false (the bench's order): the whole cloud is decimated (it
   // clears), then the band picks what marks. true (STVL's measurement buffer with `filter: voxel`: PCL's VoxelGrid
   // with z filter limits): the band first, then the decimation, whose output both marks and clears.
   bool band_before_decimation = false;  // YAML filter.passthrough.before_decimation

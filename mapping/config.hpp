@@ -34,7 +34,7 @@ ClearingWalk parse_clearing_walk(const std::string& text);
 std::string to_string(ClearingWalk walk);
 
 // How mark() turns a point into a voxel key (only marking; lookup() and key_of() always floor).
-// floor (ours): key = floor(p / voxel_size) on every axis, so key k spans [k*s, (k+1)*s).
+// floor (the bench's): key = floor(p / voxel_size) on every axis, so key k spans [k*s, (k+1)*s).
 // stvl: STVL's arithmetic (grid.cpp operator(), ros2 403d9ed and noetic-devel 5e06daf), in double with
 //   vs = double(float(voxel_size)): x' = px < 0 ? px - vs : px, y' = py < 0 ? py - vs : py,
 //   z' = py < 0 ? pz - vs : pz (the sign of *y*: STVL's bug), key = trunc(x' * (1.0 / vs)) per axis (the
@@ -45,7 +45,7 @@ MarkRounding parse_mark_rounding(const std::string& text);
 std::string to_string(MarkRounding rounding);
 
 // The depth camera's clearing frustum (mapping/frustum.hpp), in both walks.
-// ideal (ours): near/far planes at z = min_z / max_z, sides |x| <= z tan(h/2), |y| <= z tan(v/2).
+// ideal (the bench's): near/far planes at z = min_z / max_z, sides |x| <= z tan(h/2), |y| <= z tan(v/2).
 // stvl: STVL's DepthCameraFrustum::ComputePlaneNormals (ros2 403d9ed, noetic-devel 5e06daf): corners at radial
 //   distance min_z / max_z along the unit rays Rx(+-v/2) Ry(+-h/2) z, so near/far planes at
 //   d cos(h/2) cos(v/2) and sides |x| <= z tan(h/2) / cos(v/2), |y| <= z tan(v/2); a voxel centre
@@ -55,11 +55,11 @@ enum class FrustumGeometry { kIdeal, kStvl };
 FrustumGeometry parse_frustum_geometry(const std::string& text);
 std::string to_string(FrustumGeometry geometry);
 
-// Which camera frames make one STVL update (pipeline/map_stages.hpp).
+// Which camera frames make one STVL update (layer/stvl_layer.hpp).
 // instant: STVL's layer takes every source's readings in one update (one ClearFrustums with every clearing
 //   reading, a voxel accelerated once, by the first frustum that holds it; then one Mark): the frames of cameras
 //   that share a time make one update, at the last of them.
-// camera_frame (ours, the bench before 2026-12): one clear-and-mark update per camera frame, so a voxel in two
+// camera_frame (the bench before 2026-12): one clear-and-mark update per camera frame, so a voxel in two
 //   cameras' frustums at one instant is accelerated twice.
 enum class UpdateGrouping { kInstant, kCameraFrame };
 UpdateGrouping parse_update_grouping(const std::string& text);
@@ -68,7 +68,7 @@ std::string to_string(UpdateGrouping grouping);
 // Which voxels of a column count toward its costmap cell (the map's projection and the evaluation's).
 // every_voxel: STVL's (TemporalClearAndGenerateCostmap counts every voxel that survives, whatever its height;
 //   heights are limited only by the marking filter, on the points).
-// marking_band (ours, the bench before 2026-12-03): only voxels whose centre z lies in the marking sources'
+// marking_band (the bench before 2026-12-03): only voxels whose centre z lies in the marking sources'
 //   [min_obstacle_height, max_obstacle_height]; with STVL's z shift a low obstacle's voxel can fall under it.
 enum class CostmapBand { kEveryVoxel, kMarkingBand };
 CostmapBand parse_costmap_band(const std::string& text);
@@ -78,7 +78,7 @@ std::string to_string(CostmapBand band);
 // stvl: STVL builds its 2D costmap during ClearFrustums, before Mark (layer.cpp updateBounds, ros2 403d9ed and
 //   noetic-devel 5e06daf), and publishes that: voxels that mark() created since the last clear() are not
 //   counted, so an update's new obstacles reach the costmap one update later (refreshed voxels count at once).
-// after_mark (ours, the bench before 2026-12-03): the costmap counts every voxel in the map.
+// after_mark (the bench before 2026-12-03): the costmap counts every voxel in the map.
 enum class CostmapTiming { kStvl, kAfterMark };
 CostmapTiming parse_costmap_timing(const std::string& text);
 std::string to_string(CostmapTiming timing);
@@ -96,11 +96,11 @@ struct StvlConfig {
   int mark_threshold = 0;
   ClearingMode clearing_mode = ClearingMode::kFrustum;
   ClearingWalk clearing_walk = ClearingWalk::kBounded;
-  MarkRounding mark_rounding = MarkRounding::kStvl;             // YAML map.mark_rounding; floor is ours
-  FrustumGeometry frustum_geometry = FrustumGeometry::kStvl;    // YAML map.frustum_geometry; ideal is ours
-  UpdateGrouping update_grouping = UpdateGrouping::kInstant;    // YAML map.update_grouping; camera_frame is ours
-  CostmapBand costmap_band = CostmapBand::kEveryVoxel;          // YAML map.costmap_band; marking_band is ours
-  CostmapTiming costmap_timing = CostmapTiming::kStvl;          // YAML map.costmap_timing; after_mark is ours
+  MarkRounding mark_rounding = MarkRounding::kStvl;             // YAML map.mark_rounding; floor is the bench's
+  FrustumGeometry frustum_geometry = FrustumGeometry::kStvl;    // YAML map.frustum_geometry; ideal is the bench's
+  UpdateGrouping update_grouping = UpdateGrouping::kInstant;    // YAML map.update_grouping; camera_frame is the bench's
+  CostmapBand costmap_band = CostmapBand::kEveryVoxel;          // YAML map.costmap_band; marking_band is the bench's
+  CostmapTiming costmap_timing = CostmapTiming::kStvl;          // YAML map.costmap_timing; after_mark is the bench's
   // nav2's costmap update_frequency (YAML map.update_frequency, or the costmap's own key in a ROS parameter file):
   // STVL's layer updates at every tick k / update_frequency_hz, frames or not (the ticks since the last frame run
   // when the next frame arrives, at their own times), applying every source's buffer (persistence 0: its newest
@@ -116,7 +116,7 @@ struct StvlConfig {
   // nothing is cleared (nav2 would fall back to its robot_radius default of 0.1 m).
   bool update_footprint_enabled = true;
   std::vector<Eigen::Vector2d> footprint_B;
-  // clear_footprint_voxels_below (ours; STVL has none, 0 = off): at every update, after marking, the voxels in
+  // clear_footprint_voxels_below (the bench's; STVL has none, 0 = off): at every update, after marking, the voxels in
   // the footprint's convex fill at the robot's pose from the floor up to this height are removed from the map,
   // so that the robot's own body (a bumper, a mast in view) leaves no voxels behind when it drives on. Voxels
   // above it (a desk top the robot passes under) stay. Needs footprint_B.
@@ -138,7 +138,7 @@ std::string to_string(SensorFrame frame);
 // The frame whose z the height band is measured in (z_reference_frame, STVL's passthrough_relative and
 // voxel_relative filters, PR #304 / 22f7927): the map's (global, STVL's passthrough and voxel) or the robot's
 // base_link. Relative: STVL's buffer takes the cloud into base_link (float), filters there (band, and the voxel
-// leaves for voxel_relative) and takes what is left to the global frame (float again): pipeline/map_stages.
+// leaves for voxel_relative) and takes what is left to the global frame (float again): pipeline/sensing.cpp.
 enum class ZReference { kGlobal, kBaseLink };
 ZReference parse_z_reference(const std::string& text);  // "global" | "base_link"; throws std::invalid_argument
 std::string to_string(ZReference frame);
@@ -166,7 +166,7 @@ struct ObservationSource {
   ClearingModel model = ClearingModel::kDepthCamera;  // model_type: 0 or 1; with 1, horizontal_fov_angle up to 2 pi
   double vertical_fov_padding_m = 0.0;  // vertical_fov_padding: >= 0, model_type 1 only (shrinks the cone by metres)
   SensorFrame sensor_frame = SensorFrame::kOptical;  // sensor_frame: optical | link (ROS files: the frame's name)
-  // clear_on_no_return (ours; STVL clears nothing along a pixel that returns nothing): in ray-cast mode the rays
+  // clear_on_no_return (the bench's; STVL clears nothing along a pixel that returns nothing): in ray-cast mode the rays
   // of pixels without a return are walked to max_z too. A camera cannot tell "too far" from a dropout or a
   // too-near obstacle, so this also clears what such pixels hide.
   bool clear_on_no_return = false;
@@ -177,7 +177,7 @@ struct ObservationSource {
   // latest only, which STVL keeps and applies again at every update until a new one arrives.
   double expected_update_rate_s = 0.0;   // expected_update_rate: >= 0 s
   double observation_persistence_s = 0.0;  // observation_persistence: >= 0 s
-  // drop_when_not_current (ours; STVL applies a stale buffer at every update): while the source is not current
+  // drop_when_not_current (the bench's; STVL applies a stale buffer at every update): while the source is not current
   // (expected_update_rate exceeded) its buffered readings are not applied again at other cameras' updates.
   bool drop_when_not_current = false;
 

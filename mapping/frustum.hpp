@@ -3,7 +3,7 @@
 // T_world_camera is the optical frame (z forward, x right, y down).
 //
 // Two geometries (FrustumGeometry, mapping/config.hpp):
-// - kIdeal (ours): the pyramid between z = min_z and z = max_z with |x| <= z tan(h/2), |y| <= z tan(v/2).
+// - kIdeal (the bench's): the pyramid between z = min_z and z = max_z with |x| <= z tan(h/2), |y| <= z tan(v/2).
 // - kStvl: STVL's DepthCameraFrustum (ros2 403d9ed, noetic-devel 5e06daf), built the same way in double: unit
 //   corner rays d = Rx(+-v/2) Ry(+-h/2) z, corners d*min_z and d*max_z, outward normals from the cross products
 //   of corner differences, anchored at a corner. Near/far planes at min_z/max_z * cos(h/2) cos(v/2),

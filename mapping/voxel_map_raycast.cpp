@@ -128,7 +128,7 @@ void clear_hits(tbb::enumerable_thread_specific<Walked>& walked, ClearStats& sta
                 std::vector<Coord>& touched) {
   for (Walked& mine : walked) {
     for (const RayHit& hit : mine.hits) {
-      LeafT* leaf = const_cast<LeafT*>(hit.leaf);  // the grid is ours and no ray is being walked now
+      LeafT* leaf = const_cast<LeafT*>(hit.leaf);  // the grid is this map's and no ray is being walked now
       if (!leaf->isValueOn(hit.offset)) continue;
       leaf->setValueOff(hit.offset);
       ++stats.voxels_removed;

@@ -331,7 +331,7 @@ std::string failure_modes_html(const nlohmann::json& metrics) {
   return h.str();
 }
 
-// nav2's master costmap (ours to model; null when not modelled): its settings, ghosts against STVL's layer after
+// nav2's master costmap (the bench's model; null when not modelled): its settings, ghosts against STVL's layer after
 // each update, its lethal cells at the end and those against the final truth (false: no true obstacle within the
 // evaluation's tolerance; phantoms as the evaluation's).
 nlohmann::json nav2_json(const run::RunResult& r) {

@@ -1,5 +1,5 @@
 #pragma once
-// Depth-edge ("flying pixel") filter, ours (STVL has none): run on the noisy depth image before depth to cloud.
+// Depth-edge ("flying pixel") filter, the bench's (STVL has none): run on the noisy depth image before depth to cloud.
 // A valid pixel is dropped (set to 0) when the depth of any valid pixel of its 8-neighbourhood differs from its
 // own depth z by more than
 //

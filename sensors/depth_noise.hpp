@@ -30,7 +30,7 @@ struct DepthNoiseConfig {
   // [1, hole_max_radius_px] px.
   double holes_per_frame = 2.0;
   double hole_max_radius_px = 4.0;
-  // Stereo occlusion (ours, off by default): the D435's depth is the left imager's view, and a pixel has depth
+  // Stereo occlusion (the bench's, off by default): the D435's depth is the left imager's view, and a pixel has depth
   // only where the right imager, baseline_m to its right, sees the same point. With d = fx * baseline / z the
   // point's disparity (px), pixel u appears at column u - d in the right image; it is invalid when that column is
   // left of left_band_margin_px - 0.5 (the left-edge band; geometric width d, widened by the margin, which the real
@@ -45,7 +45,7 @@ struct DepthNoiseConfig {
   double left_band_margin_px = 12.0;
   double left_band_jitter_px = 2.0;
   double shadow_margin_px = 2.0;
-  // Correlated disparity error (ours, off at 0): this share of the disparity noise variance (subpixel^2) is a smooth
+  // Correlated disparity error (the bench's, off at 0): this share of the disparity noise variance (subpixel^2) is a smooth
   // field instead of per-pixel white noise, so Intel's RMS formula still gives each pixel's total. The field is a
   // grid of normals every correlated_cell_px, bilinearly interpolated (renormalized to unit variance), new each
   // frame. The real D435 (stvl-bench noise-stats, docs/fidelity.md): the difference of two frames of a wall at
