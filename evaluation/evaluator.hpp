@@ -72,7 +72,7 @@ struct EvaluationMean {
 // What the truth is made of, and what it could not make exact (metrics.json evaluation.truth).
 struct TruthSummary {
   std::size_t geoms = 0, mesh_geoms = 0, mesh_triangles = 0;
-  std::vector<sim::TruthNote> notes;  // empty: every obstacle geom the cameras draw is exact (the floor aside)
+  std::vector<truth::TruthNote> notes;  // empty: every obstacle geom the cameras draw is exact (the floor aside)
 };
 
 struct EvaluationSummary {

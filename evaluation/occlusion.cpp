@@ -29,7 +29,7 @@ VoxelSight voxel_sight(const VoxelKey& key, double voxel_size_m, const sensors::
 }
 
 void HiddenClears::after_update(double time_s, const std::vector<VoxelKey>& cleared,
-                                const std::vector<const sim::BodyVoxels*>& bodies,
+                                const std::vector<const truth::BodyVoxels*>& bodies,
                                 const std::function<int(const VoxelKey&)>& body_of,
                                 const std::function<bool(const VoxelKey&)>& in_map,
                                 const std::function<VoxelSight(const VoxelKey&)>& sight) {

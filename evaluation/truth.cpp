@@ -24,12 +24,13 @@ bool in_band(const VoxelKey& k, const EvaluationConfig& c) {
   return zc >= c.min_obstacle_height_m - 0.5 * c.voxel_size_m && zc <= c.max_obstacle_height_m + 0.5 * c.voxel_size_m;
 }
 
-std::vector<sim::BodyVoxels> voxelize_in_band(const std::vector<sim::ObstacleGeom>& geoms, const EvaluationConfig& c) {
-  sim::VoxelizeOptions options;
+std::vector<truth::BodyVoxels> voxelize_in_band(const std::vector<truth::ObstacleGeom>& geoms,
+                                               const EvaluationConfig& c) {
+  truth::VoxelizeOptions options;
   options.voxel_size_m = c.voxel_size_m;
   options.bounds_W = Eigen::AlignedBox3d(Eigen::Vector3d(-1e6, -1e6, c.min_obstacle_height_m),
                                          Eigen::Vector3d(1e6, 1e6, c.max_obstacle_height_m));
-  std::vector<sim::BodyVoxels> bodies = sim::voxelize_bodies(geoms, options);
+  std::vector<truth::BodyVoxels> bodies = truth::voxelize_bodies(geoms, options);
   for (auto& body : bodies)
     body.voxels.erase(std::remove_if(body.voxels.begin(), body.voxels.end(), [&](const VoxelKey& k) { return !in_band(k, c); }),
                       body.voxels.end());
@@ -45,7 +46,7 @@ void print_once(const std::string& note) {
 }
 
 // Same geoms at the same poses (and so the same voxels, footprints and distances).
-bool same_placement(const std::vector<sim::ObstacleGeom>& a, const std::vector<sim::ObstacleGeom>& b) {
+bool same_placement(const std::vector<truth::ObstacleGeom>& a, const std::vector<truth::ObstacleGeom>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
     if (a[i].geom_id != b[i].geom_id || !(a[i].T_world_geom.matrix() == b[i].T_world_geom.matrix()) ||
@@ -58,16 +59,16 @@ bool same_placement(const std::vector<sim::ObstacleGeom>& a, const std::vector<s
 
 Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(config) {
   config_.validate();
-  notes_ = sim::truth_notes(world);
+  notes_ = truth::truth_notes(world);
   for (const auto& n : notes_) print_once(n.note);
-  geoms_ = sim::obstacle_geoms(world);
-  std::vector<sim::ObstacleGeom> statics;
+  geoms_ = truth::obstacle_geoms(world);
+  std::vector<truth::ObstacleGeom> statics;
   for (const auto& g : geoms_) (is_mocap(world, g.body_id) ? dynamic_geoms_ : statics).push_back(g);
   static_bodies_ = voxelize_in_band(statics, config_);
   for (std::size_t b = 0; b < static_bodies_.size(); ++b)  // a key in several bodies keeps the first
     for (const auto& k : static_bodies_[b].voxels) static_truth_.insert(k, static_cast<int>(b));
   std::vector<CellKey> cells;
-  for (const auto& body : sim::footprints(statics, config_.voxel_size_m, config_.min_obstacle_height_m,
+  for (const auto& body : truth::footprints(statics, config_.voxel_size_m, config_.min_obstacle_height_m,
                                           config_.max_obstacle_height_m))
     cells.insert(cells.end(), body.cells.begin(), body.cells.end());
   static_footprint_ = CellGrid::of(cells);
@@ -75,8 +76,8 @@ Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(
 }
 
 void Truth::update(const sim::World& world) {
-  std::vector<sim::ObstacleGeom> geoms = sim::obstacle_geoms(world);
-  std::vector<sim::ObstacleGeom> dynamic;
+  std::vector<truth::ObstacleGeom> geoms = truth::obstacle_geoms(world);
+  std::vector<truth::ObstacleGeom> dynamic;
   for (const auto& g : geoms)
     if (is_mocap(world, g.body_id)) dynamic.push_back(g);
   if (version_ > 0 && same_placement(dynamic, dynamic_geoms_)) return;
@@ -114,7 +115,7 @@ void Truth::index_geoms() {
     const auto lo = cell_key(boxes_.back().min().head<2>().array() - kReach_m, kBucketCell_m);
     const auto hi = cell_key(boxes_.back().max().head<2>().array() + kReach_m, kBucketCell_m);
     const bool moving = std::any_of(dynamic_geoms_.begin(), dynamic_geoms_.end(),
-                                    [&](const sim::ObstacleGeom& d) { return d.geom_id == geoms_[g].geom_id; });
+                                    [&](const truth::ObstacleGeom& d) { return d.geom_id == geoms_[g].geom_id; });
     for (int x = lo.x; x <= hi.x; ++x)
       for (int y = lo.y; y <= hi.y; ++y) {
         Bucket& bucket = geoms_near_[{x, y}];
@@ -153,7 +154,7 @@ const CellGrid& Truth::footprint() const {
   if (footprint_version_ == version_) return footprint_;
   footprint_version_ = version_;
   std::vector<CellKey> moving;
-  for (const auto& body : sim::footprints(dynamic_geoms_, config_.voxel_size_m, config_.min_obstacle_height_m,
+  for (const auto& body : truth::footprints(dynamic_geoms_, config_.voxel_size_m, config_.min_obstacle_height_m,
                                           config_.max_obstacle_height_m))
     moving.insert(moving.end(), body.cells.begin(), body.cells.end());
   if (std::all_of(moving.begin(), moving.end(), [&](const CellKey& c) { return static_footprint_.covers(c); })) {
@@ -211,7 +212,7 @@ bool Truth::moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const {
 }
 
 std::size_t Truth::mesh_geom_count() const {
-  return std::count_if(geoms_.begin(), geoms_.end(), [](const sim::ObstacleGeom& g) { return g.mesh != nullptr; });
+  return std::count_if(geoms_.begin(), geoms_.end(), [](const truth::ObstacleGeom& g) { return g.mesh != nullptr; });
 }
 
 std::size_t Truth::mesh_triangle_count() const {

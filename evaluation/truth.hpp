@@ -1,6 +1,6 @@
 #pragma once
 // Ground truth from the simulated geometry at the evaluation's voxel size: the surface voxels of every obstacle
-// body inside the marking height band (sim::voxelize_bodies), the bodies' footprints, and which body holds a
+// body inside the marking height band (truth::voxelize_bodies), the bodies' footprints, and which body holds a
 // voxel. Static bodies are voxelized once; mocap (moving) bodies at their current poses on every update(). Lookups
 // cache a leaf: one thread at a time.
 #include <optional>
@@ -13,7 +13,7 @@
 #include "evaluation/cell_grid.hpp"
 #include "evaluation/config.hpp"
 #include "evaluation/voxel_mask_set.hpp"
-#include "sim/ground_truth.hpp"
+#include "truth/ground_truth.hpp"
 
 namespace stvl::evaluation {
 
@@ -40,7 +40,7 @@ class Truth {
   int static_body_of(const VoxelKey& key) const;
   int moving_body_of(const VoxelKey& key) const;
   // Static bodies, then moving ones; each with its voxels in the band.
-  const std::vector<const sim::BodyVoxels*>& bodies() const { return bodies_; }
+  const std::vector<const truth::BodyVoxels*>& bodies() const { return bodies_; }
   // Whether the world has a mocap (moving) obstacle body.
   bool has_moving_bodies() const { return !dynamic_geoms_.empty(); }
   // Every voxel a moving body has occupied since the start, grown by one voxel: where stale map voxels can be.
@@ -58,9 +58,9 @@ class Truth {
   bool moving_distance_in(const VoxelKey& lo, const VoxelKey& hi) const;
   // x/y extent of every obstacle now.
   Eigen::AlignedBox2d bounds_W() const;
-  // What the truth could not make exact (sim::truth_notes(), each printed once to stderr when first met), and
+  // What the truth could not make exact (truth::truth_notes(), each printed once to stderr when first met), and
   // what it is made of: obstacle geoms, of them meshes (mesh assets, height fields, finite planes), their triangles.
-  const std::vector<sim::TruthNote>& notes() const { return notes_; }
+  const std::vector<truth::TruthNote>& notes() const { return notes_; }
   std::size_t geom_count() const { return geoms_.size(); }
   std::size_t mesh_geom_count() const;
   std::size_t mesh_triangle_count() const;
@@ -72,11 +72,11 @@ class Truth {
   bool near_static_mask(const VoxelKey& key, int tol) const;
 
   EvaluationConfig config_;
-  std::vector<sim::TruthNote> notes_;
-  std::vector<sim::ObstacleGeom> geoms_;          // every obstacle geom, current poses
-  std::vector<sim::ObstacleGeom> dynamic_geoms_;  // those of mocap bodies
-  std::vector<sim::BodyVoxels> static_bodies_, dynamic_bodies_;
-  std::vector<const sim::BodyVoxels*> bodies_;
+  std::vector<truth::TruthNote> notes_;
+  std::vector<truth::ObstacleGeom> geoms_;          // every obstacle geom, current poses
+  std::vector<truth::ObstacleGeom> dynamic_geoms_;  // those of mocap bodies
+  std::vector<truth::BodyVoxels> static_bodies_, dynamic_bodies_;
+  std::vector<const truth::BodyVoxels*> bodies_;
   VoxelMaskSet static_truth_;  // the static bodies' voxels labelled with their body (not thread-safe)
   VoxelSet dynamic_truth_;
   VoxelSet dynamic_near_;  // dynamic_truth_ grown by tolerance_voxels

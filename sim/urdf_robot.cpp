@@ -9,11 +9,24 @@
 #include <tinyxml2.h>
 
 #include "common/enum_names.hpp"
+#include "robot_description/urdf_geometry.hpp"
+#include "robot_description/urdf_mjcf.hpp"
 #include "sim/simulator.hpp"
-#include "sim/urdf_geometry.hpp"
-#include "sim/urdf_mjcf.hpp"
 
 namespace stvl::sim {
+
+using robot_description::MjcfRobot;
+using robot_description::MjcfRobotOptions;
+using robot_description::RobotExtent;
+using robot_description::UrdfJoint;
+using robot_description::UrdfJointType;
+using robot_description::UrdfLink;
+using robot_description::UrdfModel;
+using robot_description::UrdfShape;
+using robot_description::load_urdf;
+using robot_description::robot_extent;
+using robot_description::urdf_to_mjcf;
+
 namespace {
 
 constexpr double kWheelAxisCos = 0.906;    // a wheel's axis lies within 25 degrees of the base's y
@@ -286,7 +299,7 @@ bool is_optical_frame(const std::string& link) {
   return link.size() >= suffix.size() && link.compare(link.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-CameraMount camera_mount_at(const UrdfModel& urdf, const std::string& frame) {
+CameraMount camera_mount_at(const robot_description::UrdfModel& urdf, const std::string& frame) {
   Eigen::Isometry3d T = urdf.T_root_link(frame);
   if (is_optical_frame(frame)) T = T * DiffDriveRobot::T_camera_link_optical().inverse();
   const Eigen::Matrix3d& R = T.linear();

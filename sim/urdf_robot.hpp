@@ -1,7 +1,7 @@
 #pragma once
 // The user's robot from a plain URDF, standing in for worlds/robot.xml (scenario key robot.urdf). The route into
-// MuJoCo 2.2.2: the URDF is read here (sim/urdf_model.hpp) and written as an MJCF robot.xml
-// (sim/urdf_mjcf.hpp); a world is then loaded through MuJoCo's virtual file system with that text as the
+// MuJoCo 2.2.2: the URDF is read here (robot_description/urdf_model.hpp) and written as an MJCF robot.xml
+// (robot_description/urdf_mjcf.hpp); a world is then loaded through MuJoCo's virtual file system with that text as the
 // robot.xml its <include file="robot.xml"/> names. On top of the URDF: the freejoint on the root link, the
 // diff-drive's wheel joints (found or named) with velocity actuators, the rest height, the footprint from the
 // collision shapes, and the drive (physics, or kinematic where the URDF's inertias make wheel physics unusable).
@@ -12,9 +12,9 @@
 
 #include <Eigen/Geometry>
 
+#include "robot_description/urdf_model.hpp"
 #include "sim/diff_drive.hpp"
 #include "sim/kinematic_drive.hpp"
-#include "sim/urdf_model.hpp"
 #include "sim/world.hpp"
 
 namespace stvl::sim {
@@ -28,7 +28,7 @@ struct UrdfWheelsConfig {
 
 struct UrdfRobotConfig {
   std::string urdf;                       // the URDF file
-  std::vector<std::string> package_path;  // folders package://NAME resolves in (sim/package_path.hpp)
+  std::vector<std::string> package_path;  // folders package://NAME resolves in (robot_description/package_path.hpp)
   UrdfWheelsConfig wheels;
   DriveMode drive = DriveMode::kAuto;
   double probe_speed_mps = 0.5;  // auto: the physics probe's cruise speed (the scenario's speed_mps)
@@ -44,7 +44,7 @@ struct UrdfWheels {
 // A URDF robot ready to stand in for robot.xml.
 struct UrdfRobot {
   UrdfRobotConfig config;
-  UrdfModel urdf;
+  robot_description::UrdfModel urdf;
   UrdfWheels wheels;
   std::string mjcf;          // the robot.xml it stands in for
   double rest_height_m = 0;  // the root link's origin above the floor at rest
@@ -74,6 +74,6 @@ bool is_optical_frame(const std::string& link);
 // The mount of a camera at URDF link `frame` (camera_link on the root link): an optical frame is the camera's
 // optical frame, any other link its camera_link (x forward, y left, z up). Throws std::invalid_argument listing
 // the links, nearest name first, when there is no such link.
-CameraMount camera_mount_at(const UrdfModel& urdf, const std::string& frame);
+CameraMount camera_mount_at(const robot_description::UrdfModel& urdf, const std::string& frame);
 
 }  // namespace stvl::sim

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <sstream>
 #include <stdexcept>
 
 #include "sim/world.hpp"
@@ -11,29 +9,36 @@
 namespace stvl::worldgen {
 namespace {
 
-// XML comments may not hold "--".
-std::string comment_text(std::string text) {
-  for (std::size_t at = text.find("--"); at != std::string::npos; at = text.find("--", at)) text.replace(at, 2, "- ");
-  return text;
+using robot_description::fixed_numbers;
+using robot_description::MjcfWriter;
+
+std::string vec3(const Eigen::Vector3d& v) { return fixed_numbers({v.x(), v.y(), v.z()}, 4); }
+
+void write_geom(MjcfWriter& xml, const Geom& g) {
+  xml.open("geom");
+  if (!g.name.empty()) xml.attribute("name", g.name);
+  xml.attribute("type", g.type);
+  if (!g.fromto.empty()) xml.attribute("fromto", fixed_numbers(g.fromto, 4));
+  else xml.attribute("pos", vec3(g.pos));
+  xml.attribute("size", fixed_numbers(g.size, 4));
+  if (g.yaw_rad != 0.0) xml.attribute("euler", "0 0 " + fixed(g.yaw_rad, 5));
+  xml.attribute("group", std::to_string(g.group));
+  xml.attribute("rgba", g.rgba);
+  xml.close();
 }
 
-std::string join(const std::vector<double>& values, int decimals) {
-  std::string out;
-  for (double v : values) out += (out.empty() ? "" : " ") + fixed(v, decimals);
-  return out;
-}
-
-std::string vec3(const Eigen::Vector3d& v) { return join({v.x(), v.y(), v.z()}, 4); }
-
-void write_geom(std::ostringstream& out, const Geom& g, const std::string& indent) {
-  out << indent << "<geom";
-  if (!g.name.empty()) out << " name=\"" << g.name << "\"";
-  out << " type=\"" << g.type << "\"";
-  if (!g.fromto.empty()) out << " fromto=\"" << join(g.fromto, 4) << "\"";
-  else out << " pos=\"" << vec3(g.pos) << "\"";
-  out << " size=\"" << join(g.size, 4) << "\"";
-  if (g.yaw_rad != 0.0) out << " euler=\"0 0 " << fixed(g.yaw_rad, 5) << "\"";
-  out << " group=\"" << g.group << "\" rgba=\"" << g.rgba << "\"/>\n";
+// The header of the shipped worlds: compiler, timestep, statistic, visual, the robot's include.
+void write_header(MjcfWriter& xml, const Eigen::Vector2d& center) {
+  xml.element("compiler", {{"autolimits", "true"}, {"angle", "radian"}});
+  xml.element("option", {{"timestep", "0.002"}});
+  xml.comment("extent 1 makes map znear/zfar absolute: near 0.01 m, far 50 m.");
+  xml.element("statistic", {{"extent", "1"}, {"center", fixed(center.x(), 3) + " " + fixed(center.y(), 3) + " 1.2"}});
+  xml.open("visual");
+  xml.element("quality", {{"offsamples", "0"}, {"shadowsize", "0"}});
+  xml.element("global", {{"offwidth", "1280"}, {"offheight", "960"}});
+  xml.element("map", {{"znear", "0.01"}, {"zfar", "50"}});
+  xml.close();
+  xml.element("include", {{"file", "robot.xml"}});
 }
 
 // Farthest horizontal distance from origin_xy of geom g (world pose in d), sampled exactly enough for primitives.
@@ -75,50 +80,34 @@ double horizontal_reach(const mjModel* m, const mjData* d, int g, const Eigen::V
 
 }  // namespace
 
-std::string fixed(double value, int decimals) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", decimals, value);
-  std::string out = text;
-  if (out.find_first_not_of("-0.") == std::string::npos && out[0] == '-') out.erase(0, 1);
-  return out;
-}
-
 std::string write_mjcf(const WorldSpec& w) {
-  std::ostringstream out;
+  MjcfWriter xml(2);
   const Eigen::Vector2d center = 0.5 * (w.floor_min_W + w.floor_max_W), half = 0.5 * (w.floor_max_W - w.floor_min_W);
-  out << "<mujoco model=\"" << w.model_name << "\">\n";
-  if (!w.comment.empty()) {
-    out << "  <!--\n";
-    std::istringstream lines(comment_text(w.comment));
-    for (std::string line; std::getline(lines, line);) out << (line.empty() ? "" : "    ") << line << "\n";
-    out << "  -->\n";
-  }
-  out << "  <compiler autolimits=\"true\" angle=\"radian\"/>\n"
-      << "  <option timestep=\"0.002\"/>\n"
-      << "  <!-- extent 1 makes map znear/zfar absolute: near 0.01 m, far 50 m. -->\n"
-      << "  <statistic extent=\"1\" center=\"" << fixed(center.x(), 3) << " " << fixed(center.y(), 3) << " 1.2\"/>\n"
-      << "  <visual>\n"
-      << "    <quality offsamples=\"0\" shadowsize=\"0\"/>\n"
-      << "    <global offwidth=\"1280\" offheight=\"960\"/>\n"
-      << "    <map znear=\"0.01\" zfar=\"50\"/>\n"
-      << "  </visual>\n"
-      << "  <include file=\"robot.xml\"/>\n"
-      << "  <worldbody>\n"
-      << "    <light name=\"sun\" directional=\"true\" pos=\"0 0 10\" dir=\"0.2 0.1 -1\" castshadow=\"false\"/>\n"
-      << "    <geom name=\"floor\" type=\"plane\" pos=\"" << fixed(center.x(), 3) << " " << fixed(center.y(), 3)
-      << " 0\" size=\"" << fixed(half.x(), 3) << " " << fixed(half.y(), 3) << " 0.1\" group=\"" << kWallGroup
-      << "\" rgba=\"0.5 0.5 0.5 1\"/>\n";
+  xml.open("mujoco");
+  xml.attribute("model", w.model_name);
+  if (!w.comment.empty()) xml.comment_block(w.comment);
+  write_header(xml, center);
+  xml.open("worldbody");
+  xml.element("light", {{"name", "sun"}, {"directional", "true"}, {"pos", "0 0 10"}, {"dir", "0.2 0.1 -1"},
+                        {"castshadow", "false"}});
+  xml.element("geom", {{"name", "floor"}, {"type", "plane"},
+                       {"pos", fixed(center.x(), 3) + " " + fixed(center.y(), 3) + " 0"},
+                       {"size", fixed(half.x(), 3) + " " + fixed(half.y(), 3) + " 0.1"},
+                       {"group", std::to_string(kWallGroup)}, {"rgba", "0.5 0.5 0.5 1"}});
   for (const Body& b : w.bodies) {
-    if (!b.comment.empty()) out << "    <!-- " << comment_text(b.comment) << " -->\n";
-    out << "    <body name=\"" << b.name << "\" pos=\"" << vec3(b.pos) << "\"";
-    if (b.yaw_rad != 0.0) out << " euler=\"0 0 " << fixed(b.yaw_rad, 5) << "\"";
-    if (b.mocap) out << " mocap=\"true\"";
-    out << ">\n";
-    for (const Geom& g : b.geoms) write_geom(out, g, "      ");
-    out << "    </body>\n";
+    if (!b.comment.empty()) xml.comment(b.comment);
+    xml.open("body");
+    xml.attribute("name", b.name);
+    xml.attribute("pos", vec3(b.pos));
+    if (b.yaw_rad != 0.0) xml.attribute("euler", "0 0 " + fixed(b.yaw_rad, 5));
+    if (b.mocap) xml.attribute("mocap", "true");
+    xml.end_attributes();  // <body ...></body> even without geoms
+    for (const Geom& g : b.geoms) write_geom(xml, g);
+    xml.close();
   }
-  out << "  </worldbody>\n</mujoco>\n";
-  return out.str();
+  xml.close();
+  xml.close();
+  return xml.text();
 }
 
 std::string shipped_robot_xml() { return std::string(STVL_SOURCE_DIR) + "/worlds/robot.xml"; }

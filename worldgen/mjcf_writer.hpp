@@ -1,12 +1,14 @@
 #pragma once
 // MJCF text for the worlds worldgen builds, with the header conventions of worlds/office_corridor.xml (statistic
 // extent 1 so znear/zfar are absolute, MSAA off, the robot included from robot.xml beside the world), and the
-// robot's footprint radius read from robot.xml. Numbers are written with fixed precision, so the same world
-// always gives the same bytes.
+// robot's footprint radius read from robot.xml. Written through robot_description's MjcfWriter, the robot's too;
+// numbers are written with fixed precision, so the same world always gives the same bytes.
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "robot_description/mjcf_writer.hpp"
 
 namespace stvl::worldgen {
 
@@ -46,8 +48,8 @@ struct WorldSpec {
 // The world as MJCF text: header, <include file="robot.xml"/>, a light, the floor, the bodies.
 std::string write_mjcf(const WorldSpec& world);
 
-// `value` with `decimals` digits after the point, "-0.000" written as "0.000".
-std::string fixed(double value, int decimals = 4);
+// `value` with `decimals` digits after the point, "-0.000" written as "0.000" (robot_description/mjcf_writer.hpp).
+using robot_description::fixed;
 
 // worlds/robot.xml of this checkout: the robot every generated world includes.
 std::string shipped_robot_xml();

@@ -135,18 +135,8 @@ void check_size_from_header(const std::string& prefix, const std::string& name, 
                                 std::to_string(max_cells) + " cells; crop the map or save it at a coarser resolution");
 }
 
-}  // namespace
-
-const char* to_string(MapMode mode) {
-  switch (mode) {
-    case MapMode::kTrinary: return "trinary";
-    case MapMode::kScale: return "scale";
-    case MapMode::kRaw: return "raw";
-  }
-  return "?";
-}
-
-MapMetadata parse_map_yaml(const std::string& text, const std::string& file, const std::string& yaml_dir) {
+// The YAML's document, refused unless every key is map_server's, once.
+YAML::Node load_map_yaml(const std::string& text, const std::string& file) {
   YAML::Node doc;
   try {
     doc = YAML::Load(text);
@@ -166,32 +156,36 @@ MapMetadata parse_map_yaml(const std::string& text, const std::string& file, con
                " (map_server reads image, resolution, origin, negate, occupied_thresh, free_thresh, mode)");
     }
   }
-  const auto required = [&](const char* key) {
-    const YAML::Node node = doc[key];
-    if (!node) fail(file, doc, key, std::string("required key is missing (map_server requires it too); add ") + key + ": ...");
-    if (node.IsNull()) fail(file, node, key, "has no value");
-    return node;
-  };
-  MapMetadata m;
-  const YAML::Node image = required("image");
-  if (!image.IsScalar() || image.Scalar().empty()) fail(file, image, "image", "expected the image file's name (PGM or PNG)");
-  m.image = image.Scalar();
-  m.image_path = std::filesystem::path(m.image).is_absolute() ? m.image : (std::filesystem::path(yaml_dir) / m.image).lexically_normal().string();
+  return doc;
+}
 
-  const YAML::Node resolution = required("resolution");
+// doc[key], refused when missing or without a value.
+YAML::Node required(const YAML::Node& doc, const std::string& file, const char* key) {
+  const YAML::Node node = doc[key];
+  if (!node) fail(file, doc, key, std::string("required key is missing (map_server requires it too); add ") + key + ": ...");
+  if (node.IsNull()) fail(file, node, key, "has no value");
+  return node;
+}
+
+// resolution and origin: where the grid lies.
+void read_placement(const YAML::Node& doc, const std::string& file, MapMetadata& m) {
+  const YAML::Node resolution = required(doc, file, "resolution");
   m.resolution_m = number(file, resolution, "resolution");
   if (!(std::isfinite(m.resolution_m) && m.resolution_m > 0 && m.resolution_m <= 100))
     fail(file, resolution, "resolution", "must be a finite number in (0, 100] m per cell, got " + resolution.Scalar() + "; e.g. resolution: 0.05");
 
-  const YAML::Node origin = required("origin");
+  const YAML::Node origin = required(doc, file, "origin");
   if (!origin.IsSequence() || origin.size() != 3) fail(file, origin, "origin", "expected [x, y, yaw] (m, m, rad), e.g. origin: [-10.0, -10.0, 0.0]");
   const double o[3] = {number(file, origin[0], "origin"), number(file, origin[1], "origin"), number(file, origin[2], "origin")};
   if (!(std::isfinite(o[0]) && std::isfinite(o[1]) && std::isfinite(o[2])) || std::abs(o[0]) > 1e6 || std::abs(o[1]) > 1e6)
     fail(file, origin, "origin", "x and y must be finite and within 1e6 m, yaw finite; got [" + origin[0].Scalar() + ", " +
                                      origin[1].Scalar() + ", " + origin[2].Scalar() + "]");
   m.origin_x_m = o[0], m.origin_y_m = o[1], m.origin_yaw_rad = o[2];
+}
 
-  const YAML::Node negate = required("negate");
+// negate, occupied_thresh and free_thresh: how pixels become occupancy.
+void read_thresholds(const YAML::Node& doc, const std::string& file, MapMetadata& m) {
+  const YAML::Node negate = required(doc, file, "negate");
   try {
     m.negate = negate.as<int>() != 0;  // map_server reads an integer, then a boolean
   } catch (const YAML::Exception&) {
@@ -201,13 +195,17 @@ MapMetadata parse_map_yaml(const std::string& text, const std::string& file, con
       fail(file, negate, "negate", "expected 0, 1, true or false, got '" + (negate.IsScalar() ? negate.Scalar() : std::string("a list")) + "'");
     }
   }
-  const YAML::Node occupied = required("occupied_thresh"), free = required("free_thresh");
+  const YAML::Node occupied = required(doc, file, "occupied_thresh"), free = required(doc, file, "free_thresh");
   m.occupied_thresh = number(file, occupied, "occupied_thresh");
   m.free_thresh = number(file, free, "free_thresh");
   if (!(std::isfinite(m.occupied_thresh) && m.occupied_thresh > 0 && m.occupied_thresh <= 1))
     fail(file, occupied, "occupied_thresh", "must lie in (0, 1], got " + occupied.Scalar() + "; map_saver writes 0.65");
   if (!(std::isfinite(m.free_thresh) && m.free_thresh >= 0 && m.free_thresh < m.occupied_thresh))
     fail(file, free, "free_thresh", "must lie in [0, occupied_thresh), got " + free.Scalar() + "; map_saver writes 0.25");
+}
+
+// mode, when given: trinary, scale or raw.
+void read_mode(const YAML::Node& doc, const std::string& file, MapMetadata& m) {
   if (const YAML::Node mode = doc["mode"]) {
     const std::string name = mode.IsScalar() ? mode.Scalar() : "";
     if (name == "trinary") m.mode = MapMode::kTrinary;
@@ -219,6 +217,30 @@ MapMetadata parse_map_yaml(const std::string& text, const std::string& file, con
                                    " (trinary, scale or raw)");
     }
   }
+}
+
+}  // namespace
+
+const char* to_string(MapMode mode) {
+  switch (mode) {
+    case MapMode::kTrinary: return "trinary";
+    case MapMode::kScale: return "scale";
+    case MapMode::kRaw: return "raw";
+  }
+  return "?";
+}
+
+MapMetadata parse_map_yaml(const std::string& text, const std::string& file, const std::string& yaml_dir) {
+  const YAML::Node doc = load_map_yaml(text, file);
+  MapMetadata m;
+  const YAML::Node image = required(doc, file, "image");
+  if (!image.IsScalar() || image.Scalar().empty()) fail(file, image, "image", "expected the image file's name (PGM or PNG)");
+  m.image = image.Scalar();
+  m.image_path = std::filesystem::path(m.image).is_absolute() ? m.image : (std::filesystem::path(yaml_dir) / m.image).lexically_normal().string();
+
+  read_placement(doc, file, m);
+  read_thresholds(doc, file, m);
+  read_mode(doc, file, m);
   return m;
 }
 

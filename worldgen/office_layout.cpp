@@ -196,10 +196,14 @@ OfficeLayout make_layout(double width_m, double height_m, double wall_height_m, 
   return l;
 }
 
-std::vector<Body> wall_bodies(const OfficeLayout& l, FloorRaster& raster) {
-  const double t = l.wall_thickness_m, h = l.wall_height_m;
-  // Wall lines keyed by (vertical, coordinate in mm): their spans along the line.
-  std::map<std::pair<bool, long>, std::vector<std::pair<double, double>>> lines;
+namespace {
+
+// Wall lines keyed by (vertical, coordinate in mm): their spans along the line.
+using WallLines = std::map<std::pair<bool, long>, std::vector<std::pair<double, double>>>;
+
+// The building's outline and every room's sides as wall lines.
+WallLines wall_lines(const OfficeLayout& l) {
+  WallLines lines;
   const auto add = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     const bool vertical = std::abs(a.x() - b.x()) < 1e-9;
     const double coord = vertical ? a.x() : a.y();
@@ -210,9 +214,12 @@ std::vector<Body> wall_bodies(const OfficeLayout& l, FloorRaster& raster) {
   for (const Side& s : sides({0, 0, l.width_m, l.height_m})) add(s.a, s.b);
   for (const Room& room : l.rooms)
     for (const Side& s : sides(room.r)) add(s.a, s.b);
-  Body walls;
-  walls.name = "walls";
-  walls.comment = "walls 0.1 m thick and " + fixed(h, 2) + " m high, with the door openings and lintels above them";
+  return lines;
+}
+
+// The walls' boxes along each line, merged, with the door openings cut out; each marked on the raster.
+void add_wall_boxes(WallLines& lines, const OfficeLayout& l, Body& walls, FloorRaster& raster) {
+  const double t = l.wall_thickness_m, h = l.wall_height_m;
   for (auto& [key, spans] : lines) {
     const bool vertical = key.first;
     const double coord = key.second / 1000.0;
@@ -233,34 +240,50 @@ std::vector<Body> wall_bodies(const OfficeLayout& l, FloorRaster& raster) {
       raster.mark(Shape::box(g.pos.head<2>(), {g.size[0], g.size[1]}), FloorRaster::Solid::kWall);
     }
   }
+}
+
+// A room's door `n`: the lintel above its opening (added to walls, when they stand higher than it) and the door's
+// body, open (turned into the room at one jamb) or closed, marked on the raster.
+Body door_body(const Room& room, int n, const OfficeLayout& l, Body& walls, FloorRaster& raster) {
+  const double t = l.wall_thickness_m, h = l.wall_height_m;
+  const Door& d = room.door;
+  const Eigen::Vector2d along(-d.into_room.y(), d.into_room.x());
+  const double yaw = std::atan2(along.y(), along.x());
+  if (h > kLintelM + 0.05)
+    walls.geoms.push_back({"box", "", Eigen::Vector3d(d.center_W.x(), d.center_W.y(), 0.5 * (kLintelM + h)),
+                           {std::abs(along.x()) * (d.width_m / 2 + t / 2) + std::abs(along.y()) * t / 2,
+                            std::abs(along.y()) * (d.width_m / 2 + t / 2) + std::abs(along.x()) * t / 2, 0.5 * (h - kLintelM)},
+                           {}, 0, kWallGroup, kWallRgba});
+  Body door;
+  door.name = "door_" + std::to_string(n);
+  door.comment = door.name + ": " + (d.open ? "open" : "closed") + ", " + fixed(d.width_m, 2) + " m, " + room.region + " room";
+  door.yaw_rad = yaw;
+  Eigen::Vector2d half;
+  if (d.open) {  // turned into the room at one jamb
+    door.pos.head<2>() = d.center_W - along * (d.width_m / 2 - 0.03) + d.into_room * (d.width_m / 2 + t / 2);
+    half = {0.02, d.width_m / 2 - 0.005};
+  } else {
+    door.pos.head<2>() = d.center_W;
+    half = {d.width_m / 2 - 0.005, 0.02};
+  }
+  door.geoms.push_back({"box", "", Eigen::Vector3d(0, 0, kDoorHeightM / 2), {half.x(), half.y(), kDoorHeightM / 2}, {}, 0,
+                        kWallGroup, kDoorRgba});
+  raster.mark(Shape::box(door.pos.head<2>(), half, yaw), FloorRaster::Solid::kWall);
+  return door;
+}
+
+}  // namespace
+
+std::vector<Body> wall_bodies(const OfficeLayout& l, FloorRaster& raster) {
+  WallLines lines = wall_lines(l);
+  Body walls;
+  walls.name = "walls";
+  walls.comment =
+      "walls 0.1 m thick and " + fixed(l.wall_height_m, 2) + " m high, with the door openings and lintels above them";
+  add_wall_boxes(lines, l, walls, raster);
   std::vector<Body> bodies;
   int n = 0;
-  for (const Room& room : l.rooms) {
-    const Door& d = room.door;
-    const Eigen::Vector2d along(-d.into_room.y(), d.into_room.x());
-    const double yaw = std::atan2(along.y(), along.x());
-    if (h > kLintelM + 0.05)
-      walls.geoms.push_back({"box", "", Eigen::Vector3d(d.center_W.x(), d.center_W.y(), 0.5 * (kLintelM + h)),
-                             {std::abs(along.x()) * (d.width_m / 2 + t / 2) + std::abs(along.y()) * t / 2,
-                              std::abs(along.y()) * (d.width_m / 2 + t / 2) + std::abs(along.x()) * t / 2, 0.5 * (h - kLintelM)},
-                             {}, 0, kWallGroup, kWallRgba});
-    Body door;
-    door.name = "door_" + std::to_string(++n);
-    door.comment = door.name + ": " + (d.open ? "open" : "closed") + ", " + fixed(d.width_m, 2) + " m, " + room.region + " room";
-    door.yaw_rad = yaw;
-    Eigen::Vector2d half;
-    if (d.open) {  // turned into the room at one jamb
-      door.pos.head<2>() = d.center_W - along * (d.width_m / 2 - 0.03) + d.into_room * (d.width_m / 2 + t / 2);
-      half = {0.02, d.width_m / 2 - 0.005};
-    } else {
-      door.pos.head<2>() = d.center_W;
-      half = {d.width_m / 2 - 0.005, 0.02};
-    }
-    door.geoms.push_back({"box", "", Eigen::Vector3d(0, 0, kDoorHeightM / 2), {half.x(), half.y(), kDoorHeightM / 2}, {}, 0,
-                          kWallGroup, kDoorRgba});
-    raster.mark(Shape::box(door.pos.head<2>(), half, yaw), FloorRaster::Solid::kWall);
-    bodies.push_back(door);
-  }
+  for (const Room& room : l.rooms) bodies.push_back(door_body(room, ++n, l, walls, raster));
   bodies.insert(bodies.begin(), walls);
   return bodies;
 }

@@ -7,7 +7,7 @@
 
 #include "sim/urdf_robot.hpp"
 #include "tests/config/scenario_texts.hpp"
-#include "tests/sim/urdf_texts.hpp"
+#include "tests/robot_description/urdf_texts.hpp"
 
 namespace stvl::config {
 namespace {

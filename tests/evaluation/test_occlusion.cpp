@@ -54,9 +54,9 @@ TEST(VoxelSight, BehindANearerSurfaceSeenOrOutOfView) {
 
 // Hand-made truth: body 0 "box" and body 1 "wall"; what is in the map and what the camera saw are given per key.
 struct Scene {
-  sim::BodyVoxels box{0, "box", {{1, 0, 0}, {2, 0, 0}, {3, 0, 0}}};
-  sim::BodyVoxels wall{1, "wall", {{9, 0, 0}}};
-  std::vector<const sim::BodyVoxels*> bodies{&box, &wall};
+  truth::BodyVoxels box{0, "box", {{1, 0, 0}, {2, 0, 0}, {3, 0, 0}}};
+  truth::BodyVoxels wall{1, "wall", {{9, 0, 0}}};
+  std::vector<const truth::BodyVoxels*> bodies{&box, &wall};
   std::set<VoxelKey> in_map;
   std::map<VoxelKey, VoxelSight> sight;
 

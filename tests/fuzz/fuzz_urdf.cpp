@@ -1,6 +1,6 @@
-// URDF reader (sim/urdf_model.hpp): any text either reads into a tree whose every link has a finite pose, or throws
-// std::invalid_argument naming the file (what `stvl-bench run` turns into exit 2). The MJCF written from a tree
-// that reads must be well-formed. Any other exception, crash or sanitizer report is a finding.
+// URDF reader (robot_description/urdf_model.hpp): any text either reads into a tree whose every link has a finite
+// pose, or throws std::invalid_argument naming the file (what `stvl-bench run` turns into exit 2). The MJCF written
+// from a tree that reads must be well-formed. Any other exception, crash or sanitizer report is a finding.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -11,15 +11,15 @@
 
 #include <tinyxml2.h>
 
-#include "sim/urdf_mjcf.hpp"
-#include "sim/urdf_model.hpp"
+#include "robot_description/urdf_mjcf.hpp"
+#include "robot_description/urdf_model.hpp"
 #include "sim/urdf_robot.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  stvl::sim::UrdfModel urdf;
+  stvl::robot_description::UrdfModel urdf;
   try {
-    urdf = stvl::sim::parse_urdf(text, "fuzz.urdf", {});
+    urdf = stvl::robot_description::parse_urdf(text, "fuzz.urdf", {});
   } catch (const std::invalid_argument& e) {
     if (std::string(e.what()).rfind("fuzz.urdf", 0) != 0) {
       std::fprintf(stderr, "error message does not start with the file: %s\n", e.what());
@@ -34,7 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!std::isfinite(m.height_m + m.pitch_rad + m.roll_rad + m.yaw_rad + m.forward_offset_m + m.lateral_offset_m))
       std::abort();
   }
-  const stvl::sim::MjcfRobot mjcf = stvl::sim::urdf_to_mjcf(urdf, {});
+  const stvl::robot_description::MjcfRobot mjcf = stvl::robot_description::urdf_to_mjcf(urdf, {});
   tinyxml2::XMLDocument doc;
   if (doc.Parse(mjcf.xml.c_str()) != tinyxml2::XML_SUCCESS) {
     std::fprintf(stderr, "the MJCF written does not parse: %s\n", doc.ErrorStr());

@@ -3,9 +3,9 @@
 #include <set>
 #include <string>
 
-#include "tests/support/fixture.hpp"
-#include "sim/ground_truth.hpp"
 #include "sim/simulator.hpp"
+#include "tests/support/fixture.hpp"
+#include "truth/ground_truth.hpp"
 
 namespace stvl::sim {
 namespace {
@@ -49,7 +49,7 @@ Drive drive(Simulator& sim, const Path& path, double timeout_s) {
 
 std::set<std::string> obstacle_bodies(const World& world) {
   std::set<std::string> names;
-  for (const auto& g : obstacle_geoms(world)) names.insert(g.body_name);
+  for (const auto& g : truth::obstacle_geoms(world)) names.insert(g.body_name);
   return names;
 }
 
@@ -112,10 +112,10 @@ TEST(ShippedWorlds, LCorridorThroughTheTurn) {
 
 TEST(ShippedWorlds, CorridorVoxelizationInHeightBand) {
   World world = World::from_file(test::worlds_dir() + "/office_corridor.xml");
-  VoxelizeOptions options;
+  truth::VoxelizeOptions options;
   options.voxel_size_m = 0.1;
   options.bounds_W = Eigen::AlignedBox3d(Eigen::Vector3d(-2, -3, 0.11), Eigen::Vector3d(30, 3, 1.99));
-  const auto bodies = voxelize_bodies(obstacle_geoms(world), options);
+  const auto bodies = truth::voxelize_bodies(truth::obstacle_geoms(world), options);
   std::size_t total = 0;
   for (const auto& b : bodies) {
     total += b.voxels.size();

@@ -1,13 +1,12 @@
-// sim/urdf_robot.hpp, sim/urdf_mjcf.hpp and the kinematic drive: a URDF robot standing in for robot.xml.
+// sim/urdf_robot.hpp, robot_description/urdf_mjcf.hpp and the kinematic drive: a URDF robot standing in for robot.xml.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "sim/simulator.hpp"
-#include "sim/urdf_geometry.hpp"
 #include "sim/urdf_robot.hpp"
+#include "tests/robot_description/urdf_texts.hpp"
 #include "tests/sim/polyline.hpp"
-#include "tests/sim/urdf_texts.hpp"
 #include "tests/support/fixture.hpp"
 #include "tests/support/invalid_argument.hpp"
 
@@ -41,18 +40,6 @@ Simulator simulator(const TinyBot& bot, const UrdfRobot& robot) {
 }
 
 using test::off_polyline;
-
-TEST(ConvexHull, CornersOnlyCounterClockwise) {
-  // A square with points inside, repeated, on its edges and 0.05 mm off an edge: its four corners are left.
-  const std::vector<Eigen::Vector2d> hull = convex_hull(
-      {{0, 0}, {1, 0}, {1, 1}, {0, 1}, {0.5, 0.5}, {1, 1}, {0.5, 0}, {1, 0.3}, {0.4, 1.00005}, {0.2, 0.7}});
-  ASSERT_EQ(hull.size(), 4u);
-  EXPECT_EQ(hull[0], Eigen::Vector2d(0, 0));
-  EXPECT_EQ(hull[1], Eigen::Vector2d(1, 0));
-  EXPECT_EQ(hull[2], Eigen::Vector2d(1, 1));
-  EXPECT_EQ(hull[3], Eigen::Vector2d(0, 1));
-  EXPECT_EQ(convex_hull({{1, 2}, {1, 2}}).size(), 1u);
-}
 
 TEST(UrdfRobot, FindsTheWheelsWithTheirRadiusAndTrack) {
   const TinyBot bot(DriveMode::kPhysics);

@@ -4,11 +4,11 @@
 
 #include <stdexcept>
 
-#include "tests/support/fixture.hpp"
-#include "sim/ground_truth.hpp"
 #include "sim/mocap_script.hpp"
 #include "sim/simulator.hpp"
 #include "sim/world.hpp"
+#include "tests/support/fixture.hpp"
+#include "truth/ground_truth.hpp"
 
 namespace stvl::sim {
 namespace {
@@ -95,7 +95,7 @@ TEST(World, ShowsChosenRobotGeomsToCamerasOnly) {
   EXPECT_EQ(m->geom_group[mast], kRobotGeomGroup);
   world.show_robot_geoms_to_cameras({"front_bumper"});  // again: still seen
   EXPECT_EQ(m->geom_group[bumper], kRobotSeenGeomGroup);
-  for (const auto& g : obstacle_geoms(world)) EXPECT_NE(g.geom_id, bumper);
+  for (const auto& g : truth::obstacle_geoms(world)) EXPECT_NE(g.geom_id, bumper);
   EXPECT_THAT([&] { world.show_robot_geoms_to_cameras({"no_such_geom"}); },
               ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("no_such_geom")));
   EXPECT_THAT([&] { world.show_robot_geoms_to_cameras({"floor"}); },

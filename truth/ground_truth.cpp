@@ -1,4 +1,4 @@
-#include "sim/ground_truth.hpp"
+#include "truth/ground_truth.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <unordered_map>
 
-#include "sim/geom_meshes.hpp"
-#include "sim/mesh_voxelize.hpp"
+#include "truth/geom_meshes.hpp"
+#include "truth/mesh_voxelize.hpp"
 
-namespace stvl::sim {
+namespace stvl::truth {
 namespace {
 
 constexpr double kPad_m = 1e-9;  // closes voxel cubes against rounding of points on their faces
@@ -87,7 +87,7 @@ std::string name_of(const mjModel* m, int type, int id) {
   return name && *name ? name : "";
 }
 
-std::string geom_label(const World& world, int g) {
+std::string geom_label(const sim::World& world, int g) {
   const mjModel* m = world.model();
   const std::string name = name_of(m, mjOBJ_GEOM, g);
   std::string label = name.empty() ? "geom " + std::to_string(g) : "geom '" + name + "'";
@@ -208,7 +208,7 @@ bool ObstacleGeom::contains_box(const Eigen::AlignedBox3d& box_W) const {
   return inside;
 }
 
-std::vector<ObstacleGeom> obstacle_geoms(const World& world, unsigned group_mask) {
+std::vector<ObstacleGeom> obstacle_geoms(const sim::World& world, unsigned group_mask) {
   const mjModel* m = world.model();
   const mjData* d = world.data();
   std::vector<ObstacleGeom> out;
@@ -258,7 +258,7 @@ std::vector<ObstacleGeom> obstacle_geoms(const World& world, unsigned group_mask
   return out;
 }
 
-std::vector<TruthNote> truth_notes(const World& world, unsigned group_mask) {
+std::vector<TruthNote> truth_notes(const sim::World& world, unsigned group_mask) {
   const mjModel* m = world.model();
   const mjData* d = world.data();
   std::vector<TruthNote> out;
@@ -371,7 +371,7 @@ std::vector<BodyFootprint> footprints(const std::vector<ObstacleGeom>& geoms, do
   return out;
 }
 
-RayHit cast_ray(const World& world, const Eigen::Vector3d& origin_W, const Eigen::Vector3d& direction_W,
+RayHit cast_ray(const sim::World& world, const Eigen::Vector3d& origin_W, const Eigen::Vector3d& direction_W,
                 double max_range_m, unsigned group_mask, int exclude_body_id) {
   const double n = direction_W.norm();
   if (!origin_W.allFinite() || !std::isfinite(n) || n < 1e-12) {
@@ -394,4 +394,4 @@ RayHit cast_ray(const World& world, const Eigen::Vector3d& origin_W, const Eigen
   return hit;
 }
 
-}  // namespace stvl::sim
+}  // namespace stvl::truth

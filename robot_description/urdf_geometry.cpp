@@ -1,10 +1,10 @@
-#include "sim/urdf_geometry.hpp"
+#include "robot_description/urdf_geometry.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-namespace stvl::sim {
+namespace stvl::robot_description {
 namespace {
 
 constexpr int kCircleSides = 32;
@@ -127,4 +127,4 @@ std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> points) {
   return hull;
 }
 
-}  // namespace stvl::sim
+}  // namespace stvl::robot_description

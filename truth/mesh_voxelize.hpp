@@ -1,6 +1,6 @@
 #pragma once
 // Exact voxels and footprint cells of triangles in the world frame (a mesh or height-field geom), for
-// sim/ground_truth.cpp; sim/reference/mesh_voxelize_reference.hpp is the plain twin the tests compare with.
+// truth/ground_truth.cpp; truth/reference/mesh_voxelize_reference.hpp is the plain twin the tests compare with.
 //  - surface: voxels whose closed cube (padded by 1e-9 m) meets a triangle (triangle_meets_box). Candidates per
 //    triangle: the columns of its bounding box, and in each only the heights the triangle spans inside the column.
 //  - solid (closed meshes): the surface voxels and those whose centre is inside: odd number of crossings above the
@@ -17,7 +17,7 @@
 
 #include "common/voxel_key.hpp"
 
-namespace stvl::sim::detail {
+namespace stvl::truth::detail {
 
 using Triangle = std::array<Eigen::Vector3d, 3>;
 
@@ -35,4 +35,4 @@ std::vector<VoxelKey> voxelize_triangles(const std::vector<Triangle>& triangles_
 std::vector<CellKey> footprint_triangles(const std::vector<Triangle>& triangles_W, bool closed, double cell_size_m,
                                          double min_z_m, double max_z_m, const std::string& what);
 
-}  // namespace stvl::sim::detail
+}  // namespace stvl::truth::detail

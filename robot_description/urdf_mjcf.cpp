@@ -1,14 +1,14 @@
-#include "sim/urdf_mjcf.hpp"
+#include "robot_description/urdf_mjcf.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <map>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
-#include <tinyxml2.h>
 
-namespace stvl::sim {
+#include "robot_description/mjcf_writer.hpp"
+
+namespace stvl::robot_description {
 namespace {
 
 constexpr double kStandInMass_kg = 1e-3;
@@ -16,22 +16,11 @@ constexpr double kStandInInertia_kgm2 = 1e-7;
 constexpr double kWheelTimeConstant_s = 0.016;  // robot.xml's: kv 4 for 20 kg on 0.08 m wheels
 constexpr double kMaxLinearSpeed_mps = 1.2;     // DiffDriveConfig's default limit
 
-// Shortest text that reads back to the same doubles.
-std::string numbers(std::initializer_list<double> values) {
-  std::string text;
-  for (double v : values) {
-    char buffer[32];
-    const auto end = std::to_chars(buffer, buffer + sizeof buffer, v == 0.0 ? 0.0 : v).ptr;
-    text += (text.empty() ? "" : " ") + std::string(buffer, end);
-  }
-  return text;
-}
-
-std::string vector_text(const Eigen::Vector3d& v) { return numbers({v.x(), v.y(), v.z()}); }
+std::string vector_text(const Eigen::Vector3d& v) { return shortest_numbers({v.x(), v.y(), v.z()}); }
 
 std::string quat_text(const Eigen::Matrix3d& R) {
   const Eigen::Quaterniond q(R);
-  return numbers({q.w(), q.x(), q.y(), q.z()});
+  return shortest_numbers({q.w(), q.x(), q.y(), q.z()});
 }
 
 // A usable inertial as MuJoCo's principal axes (quaternion, diagonal), or why it is not usable.
@@ -50,7 +39,7 @@ Principal principal(const UrdfInertial& in) {
   p.diagonal = eigen.eigenvalues();
   const Eigen::Vector3d& d = p.diagonal;
   const double slack = 1e-9 * d.sum();
-  if (!(in.mass_kg > 0)) p.problem = "mass " + numbers({in.mass_kg}) + " kg";
+  if (!(in.mass_kg > 0)) p.problem = "mass " + shortest_number(in.mass_kg) + " kg";
   else if (!(d.minCoeff() > 0)) p.problem = "inertia not positive definite";
   else if (d[0] + d[1] < d[2] - slack) p.problem = "inertia breaks the triangle inequality (A + B >= C)";
   return p;
@@ -69,27 +58,27 @@ class Writer {
       for (const auto& c : l.collisions)
         if (c.geometry.shape == UrdfShape::kMesh && !mesh_names_.count(mesh_key(c.geometry)))
           mesh_names_[mesh_key(c.geometry)] = "urdf_mesh_" + std::to_string(mesh_names_.size());
-    xml_.OpenElement("mujoco");
-    xml_.PushAttribute("model", ("urdf " + urdf_.name).c_str());
+    xml_.open("mujoco");
+    xml_.attribute("model", "urdf " + urdf_.name);
     if (!mesh_names_.empty()) {
-      xml_.OpenElement("asset");
+      xml_.open("asset");
       for (const auto& [key, name] : mesh_names_) {
-        xml_.OpenElement("mesh");
-        xml_.PushAttribute("name", name.c_str());
-        xml_.PushAttribute("file", key.first.c_str());
-        xml_.PushAttribute("scale", key.second.c_str());
-        xml_.CloseElement();
+        xml_.open("mesh");
+        xml_.attribute("name", name);
+        xml_.attribute("file", key.first);
+        xml_.attribute("scale", key.second);
+        xml_.close();
       }
-      xml_.CloseElement();
+      xml_.close();
     }
-    xml_.OpenElement("worldbody");
+    xml_.open("worldbody");
     Eigen::Isometry3d T_world_root = Eigen::Isometry3d::Identity();
     T_world_root.translation().z() = options_.root_height_m;
     body(*urdf_.find_link(urdf_.root), nullptr, T_world_root);
-    xml_.CloseElement();
+    xml_.close();
     actuators();
-    xml_.CloseElement();
-    out_.xml = xml_.CStr();
+    xml_.close();
+    out_.xml = xml_.text();
     out_.mass_kg = total_mass_;
   }
 
@@ -99,9 +88,7 @@ class Writer {
   }
 
   void element(const char* name, std::initializer_list<std::pair<const char*, std::string>> attributes) {
-    xml_.OpenElement(name);
-    for (const auto& [key, value] : attributes) xml_.PushAttribute(key, value.c_str());
-    xml_.CloseElement();
+    xml_.element(name, attributes);
   }
 
   bool driven(const std::string& joint) const {
@@ -111,10 +98,10 @@ class Writer {
   // The link's body: pose in its parent body, its joint (null: the root, which gets the freejoint), inertial,
   // geoms, then the bodies of its child links.
   void body(const UrdfLink& link, const UrdfJoint* joint, const Eigen::Isometry3d& T_parent_body) {
-    xml_.OpenElement("body");
-    xml_.PushAttribute("name", link.name.c_str());
-    xml_.PushAttribute("pos", vector_text(T_parent_body.translation()).c_str());
-    xml_.PushAttribute("quat", quat_text(T_parent_body.linear()).c_str());
+    xml_.open("body");
+    xml_.attribute("name", link.name);
+    xml_.attribute("pos", vector_text(T_parent_body.translation()));
+    xml_.attribute("quat", quat_text(T_parent_body.linear()));
     bool moving = true;
     if (!joint) {
       element("freejoint", {{"name", "base_free"}});
@@ -122,19 +109,19 @@ class Writer {
       Eigen::Vector3d axis = joint->axis;
       // A driven wheel turns forward for a positive rate: its axis along +y of the root (robot.xml's convention).
       if (driven(joint->name) && (urdf_.T_root_link(link.name).linear() * axis).y() < 0) axis = -axis;
-      xml_.OpenElement("joint");
-      xml_.PushAttribute("name", joint->name.c_str());
-      xml_.PushAttribute("type", "hinge");
-      xml_.PushAttribute("axis", vector_text(axis).c_str());
+      xml_.open("joint");
+      xml_.attribute("name", joint->name);
+      xml_.attribute("type", "hinge");
+      xml_.attribute("axis", vector_text(axis));
       if (driven(joint->name)) {
-        xml_.PushAttribute("armature", numbers({wheel_gain() * options_.timestep_s / 0.4}).c_str());
-        xml_.PushAttribute("damping", numbers({joint->damping > 0 ? joint->damping : 0.002}).c_str());
+        xml_.attribute("armature", shortest_number(wheel_gain() * options_.timestep_s / 0.4));
+        xml_.attribute("damping", shortest_number(joint->damping > 0 ? joint->damping : 0.002));
       } else {
-        if (joint->damping > 0) xml_.PushAttribute("damping", numbers({joint->damping}).c_str());
-        xml_.PushAttribute("armature", "0.0001");
+        if (joint->damping > 0) xml_.attribute("damping", shortest_number(joint->damping));
+        xml_.attribute("armature", "0.0001");
       }
-      if (joint->friction > 0) xml_.PushAttribute("frictionloss", numbers({joint->friction}).c_str());
-      xml_.CloseElement();
+      if (joint->friction > 0) xml_.attribute("frictionloss", shortest_number(joint->friction));
+      xml_.close();
     } else {
       moving = false;
       if (joint->type != UrdfJointType::kFixed)
@@ -150,7 +137,7 @@ class Writer {
     }
     for (const auto& j : urdf_.joints)
       if (j.parent == link.name) body(*urdf_.find_link(j.child), &j, T_parent_child(j, rest_position(j)));
-    xml_.CloseElement();
+    xml_.close();
   }
 
   static const char* type_name(UrdfJointType type) {
@@ -172,7 +159,7 @@ class Writer {
         out_.massive_links.push_back(link.name);
         element("inertial", {{"pos", vector_text(link.inertial->T_link_inertial.translation())},
                              {"quat", quat_text(p.R_link_principal)},
-                             {"mass", numbers({link.inertial->mass_kg})},
+                             {"mass", shortest_number(link.inertial->mass_kg)},
                              {"diaginertia", vector_text(p.diagonal)}});
         return;
       }
@@ -188,41 +175,42 @@ class Writer {
     const bool stand_in = moving && !carried;
     if (stand_in) out_.stand_in_inertials.push_back(link.name + ": " + problem);
     const double mass = stand_in ? kStandInMass_kg : 0.0, inertia = stand_in ? kStandInInertia_kgm2 : 0.0;
-    element("inertial", {{"pos", "0 0 0"}, {"mass", numbers({mass})}, {"diaginertia", numbers({inertia, inertia, inertia})}});
+    element("inertial", {{"pos", "0 0 0"}, {"mass", shortest_number(mass)},
+                         {"diaginertia", shortest_numbers({inertia, inertia, inertia})}});
   }
 
   void geom(const UrdfLink& link, std::size_t k, bool wheel) {
     const UrdfCollision& c = link.collisions[k];
     const UrdfGeometry& g = c.geometry;
-    xml_.OpenElement("geom");
-    xml_.PushAttribute("name", (link.name + "_collision" + (k ? "_" + std::to_string(k) : "")).c_str());
+    xml_.open("geom");
+    xml_.attribute("name", link.name + "_collision" + (k ? "_" + std::to_string(k) : ""));
     switch (g.shape) {
       case UrdfShape::kBox:
-        xml_.PushAttribute("type", "box");
-        xml_.PushAttribute("size", vector_text(0.5 * g.box_size_m).c_str());
+        xml_.attribute("type", "box");
+        xml_.attribute("size", vector_text(0.5 * g.box_size_m));
         break;
       case UrdfShape::kCylinder:
-        xml_.PushAttribute("type", "cylinder");
-        xml_.PushAttribute("size", numbers({g.radius_m, 0.5 * g.length_m}).c_str());
+        xml_.attribute("type", "cylinder");
+        xml_.attribute("size", shortest_numbers({g.radius_m, 0.5 * g.length_m}));
         break;
       case UrdfShape::kSphere:
-        xml_.PushAttribute("type", "sphere");
-        xml_.PushAttribute("size", numbers({g.radius_m}).c_str());
+        xml_.attribute("type", "sphere");
+        xml_.attribute("size", shortest_number(g.radius_m));
         break;
       case UrdfShape::kMesh:
-        xml_.PushAttribute("type", "mesh");
-        xml_.PushAttribute("mesh", mesh_names_.at(mesh_key(g)).c_str());
+        xml_.attribute("type", "mesh");
+        xml_.attribute("mesh", mesh_names_.at(mesh_key(g)));
         break;
     }
-    xml_.PushAttribute("pos", vector_text(c.T_link_geom.translation()).c_str());
-    xml_.PushAttribute("quat", quat_text(c.T_link_geom.linear()).c_str());
-    xml_.PushAttribute("group", "2");
+    xml_.attribute("pos", vector_text(c.T_link_geom.translation()));
+    xml_.attribute("quat", quat_text(c.T_link_geom.linear()));
+    xml_.attribute("group", "2");
     // Drive wheels grip as robot.xml's; everything else touches frictionless (condim 1), as Gazebo descriptions
     // make casters with mu1 = mu2 = 0 in <gazebo> tags that MuJoCo does not read.
-    if (wheel) xml_.PushAttribute("friction", "1.2 0.005 0.0001");
-    else xml_.PushAttribute("condim", "1");
-    xml_.PushAttribute("rgba", wheel ? "0.05 0.05 0.05 1" : "0.3 0.3 0.35 1");
-    xml_.CloseElement();
+    if (wheel) xml_.attribute("friction", "1.2 0.005 0.0001");
+    else xml_.attribute("condim", "1");
+    xml_.attribute("rgba", wheel ? "0.05 0.05 0.05 1" : "0.3 0.3 0.35 1");
+    xml_.close();
   }
 
   // Velocity servo gain (N m s/rad): robot.xml's time constant for this robot's mass on these wheels.
@@ -235,19 +223,19 @@ class Writer {
     if (options_.left_wheel_joint.empty()) return;
     const double torque = 0.5 * std::max(total_mass_, 0.1) * 9.81 * options_.wheel_radius_m;
     const double rate = 2.0 * kMaxLinearSpeed_mps / options_.wheel_radius_m;
-    xml_.OpenElement("actuator");
+    xml_.open("actuator");
     for (const auto& [name, joint] : {std::pair<const char*, std::string>{"left_wheel", options_.left_wheel_joint},
                                       {"right_wheel", options_.right_wheel_joint}})
-      element("velocity", {{"name", name}, {"joint", joint}, {"kv", numbers({wheel_gain()})},
-                           {"ctrllimited", "true"}, {"ctrlrange", numbers({-rate, rate})},
-                           {"forcelimited", "true"}, {"forcerange", numbers({-torque, torque})}});
-    xml_.CloseElement();
+      element("velocity", {{"name", name}, {"joint", joint}, {"kv", shortest_number(wheel_gain())},
+                           {"ctrllimited", "true"}, {"ctrlrange", shortest_numbers({-rate, rate})},
+                           {"forcelimited", "true"}, {"forcerange", shortest_numbers({-torque, torque})}});
+    xml_.close();
   }
 
   const UrdfModel& urdf_;
   const MjcfRobotOptions& options_;
   MjcfRobot& out_;
-  tinyxml2::XMLPrinter xml_;
+  MjcfWriter xml_{4};  // tinyxml2::XMLPrinter's layout, which wrote robot.xml before
   std::map<std::pair<std::string, std::string>, std::string> mesh_names_;
   double total_mass_ = 0.0;
 };
@@ -268,4 +256,4 @@ MjcfRobot urdf_to_mjcf(const UrdfModel& urdf, const MjcfRobotOptions& options) {
   return out;
 }
 
-}  // namespace stvl::sim
+}  // namespace stvl::robot_description

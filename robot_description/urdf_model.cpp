@@ -1,4 +1,4 @@
-#include "sim/urdf_model.hpp"
+#include "robot_description/urdf_model.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -15,9 +15,9 @@
 #include <tinyxml2.h>
 
 #include "common/enum_names.hpp"
-#include "sim/package_path.hpp"
+#include "robot_description/package_path.hpp"
 
-namespace stvl::sim {
+namespace stvl::robot_description {
 namespace {
 
 namespace fs = std::filesystem;
@@ -384,4 +384,4 @@ UrdfModel load_urdf(const std::string& path, const std::vector<std::string>& pac
   return parse_urdf(text.str(), path, package_path);
 }
 
-}  // namespace stvl::sim
+}  // namespace stvl::robot_description

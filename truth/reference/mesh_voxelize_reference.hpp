@@ -1,17 +1,17 @@
 #pragma once
-// Plain twin of sim/mesh_voxelize.hpp, for tests only (library stvl_sim_reference, linked by no module): every
+// Plain twin of truth/mesh_voxelize.hpp, for tests only (library stvl_truth_reference, linked by no module): every
 // voxel (cell) of the region against every triangle, with other predicates than the optimized code's. A triangle
 // meets a box when clipping it to the box's six planes leaves something (Sutherland-Hodgman, not separating
 // axes); a point is inside a closed mesh when a ray from it in a fixed oblique direction crosses an odd number of
-// triangles (Möller-Trumbore, not vertical lines). Same contract as sim/mesh_voxelize.hpp.
+// triangles (Möller-Trumbore, not vertical lines). Same contract as truth/mesh_voxelize.hpp.
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "common/voxel_key.hpp"
-#include "sim/mesh_voxelize.hpp"
+#include "truth/mesh_voxelize.hpp"
 
-namespace stvl::sim::reference {
+namespace stvl::truth::reference {
 
 bool triangle_meets_box(const detail::Triangle& t, const Eigen::AlignedBox3d& box);
 bool inside(const std::vector<detail::Triangle>& triangles, const Eigen::Vector3d& p);
@@ -21,4 +21,4 @@ std::vector<VoxelKey> voxelize_triangles(const std::vector<detail::Triangle>& tr
 std::vector<CellKey> footprint_triangles(const std::vector<detail::Triangle>& triangles_W, bool closed,
                                          double cell_size_m, double min_z_m, double max_z_m);
 
-}  // namespace stvl::sim::reference
+}  // namespace stvl::truth::reference

@@ -1,5 +1,6 @@
 #pragma once
-// Tiny URDFs for the tests of sim/urdf_*, and a temporary folder to write them (and meshes) into.
+// Tiny URDFs for the tests of robot_description/ and sim/urdf_robot, and a temporary folder to write them (and
+// meshes) into.
 #include <gtest/gtest.h>
 
 #include <filesystem>

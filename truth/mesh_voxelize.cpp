@@ -1,13 +1,13 @@
-#include "sim/mesh_voxelize.hpp"
+#include "truth/mesh_voxelize.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
-#include "sim/triangle_mesh.hpp"
+#include "truth/triangle_mesh.hpp"
 
-namespace stvl::sim::detail {
+namespace stvl::truth::detail {
 namespace {
 
 constexpr double kPad_m = 1e-9;   // closes the cubes against rounding, as for the other shapes
@@ -201,4 +201,4 @@ std::vector<CellKey> footprint_triangles(const std::vector<Triangle>& triangles_
   return out;
 }
 
-}  // namespace stvl::sim::detail
+}  // namespace stvl::truth::detail

@@ -1,4 +1,4 @@
-#include "sim/triangle_mesh.hpp"
+#include "truth/triangle_mesh.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <numeric>
 #include <stdexcept>
 
-namespace stvl::sim {
+namespace stvl::truth {
 namespace {
 
 constexpr int kLeafFaces = 4;
@@ -230,4 +230,4 @@ bool TriangleMesh::meets_box(const Eigen::Isometry3d& T_W_G, const Eigen::Aligne
   return hit;
 }
 
-}  // namespace stvl::sim
+}  // namespace stvl::truth

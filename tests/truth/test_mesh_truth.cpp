@@ -1,5 +1,5 @@
-// Exact truth of meshes and height fields (sim/ground_truth.hpp, sim/mesh_voxelize.hpp): against the box primitive,
-// hand-computed voxels and cells, and the brute-force twin in sim/reference/.
+// Exact truth of meshes and height fields (truth/ground_truth.hpp, truth/mesh_voxelize.hpp): against the box primitive
+// and hand-computed voxels and cells; test_mesh_truth_reference.cpp compares with the brute-force twin.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -12,99 +12,16 @@
 #include <random>
 #include <stdexcept>
 
-#include "sim/ground_truth.hpp"
-#include "sim/mesh_voxelize.hpp"
-#include "sim/reference/mesh_voxelize_reference.hpp"
 #include "tests/support/fixture.hpp"
+#include "tests/truth/mesh_truth_helpers.hpp"
+#include "truth/ground_truth.hpp"
+#include "truth/mesh_voxelize.hpp"
 
-namespace stvl::sim {
+namespace stvl::truth {
 namespace {
 
-// A fresh folder for mesh files, removed with the object.
-class MeshDir {
- public:
-  MeshDir() {
-    static int serial = 0;
-    dir_ = std::filesystem::temp_directory_path() /
-           ("stvl_mesh_" + std::to_string(::getpid()) + "_" + std::to_string(serial++));
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  ~MeshDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir_, ignored);
-  }
-  std::string path() const { return dir_.string(); }
-  void write(const std::string& name, const std::string& text) const { std::ofstream(dir_ / name) << text; }
-
- private:
-  std::filesystem::path dir_;
-};
-
-// OBJ text of the box [lo, hi] (12 triangles, outward), without the faces listed in `skip` (0..5: -x +x -y +y -z +z).
-std::string box_obj(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<int> skip = {}) {
-  std::string obj;
-  char line[160];
-  for (int i = 0; i < 8; ++i) {
-    std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(),
-                  i & 4 ? hi.z() : lo.z());
-    obj += line;
-  }
-  // OBJ indices from 1; vertex i+1 has bits x=1, y=2, z=4.
-  const int quads[6][4] = {{1, 5, 7, 3}, {2, 4, 8, 6}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 3, 4, 2}, {5, 6, 8, 7}};
-  for (int f = 0; f < 6; ++f) {
-    if (std::find(skip.begin(), skip.end(), f) != skip.end()) continue;
-    const auto& q = quads[f];
-    std::snprintf(line, sizeof line, "f %d %d %d\nf %d %d %d\n", q[0], q[1], q[2], q[0], q[2], q[3]);
-    obj += line;
-  }
-  return obj;
-}
-
-std::string mesh_world(const std::string& file, const std::string& body_attrs, const std::string& extra = "") {
-  return "<mujoco><asset><mesh name=\"scan\" file=\"" + file + "\"/></asset><worldbody><body name=\"room\" " +
-         body_attrs + "><geom name=\"scan_geom\" type=\"mesh\" mesh=\"scan\"/></body>" + extra + "</worldbody></mujoco>";
-}
-
-ObstacleGeom box_geom(const Eigen::Vector3d& half, const Eigen::Isometry3d& T) {
-  ObstacleGeom g;
-  g.shape = ShapeType::box;
-  g.size_m = half;
-  g.T_world_geom = T;
-  g.body_name = "box";
-  return g;
-}
-
-ObstacleGeom mesh_geom(std::vector<Eigen::Vector3d> vertices, std::vector<TriangleMesh::Face> faces,
-                       const Eigen::Isometry3d& T = Eigen::Isometry3d::Identity()) {
-  ObstacleGeom g;
-  g.shape = ShapeType::mesh;
-  g.mesh = std::make_shared<const TriangleMesh>(std::move(vertices), std::move(faces), "test mesh");
-  g.size_m = 0.5 * g.mesh->aabb_G().sizes();
-  g.T_world_geom = T;
-  g.body_name = "mesh";
-  g.label = "test mesh";
-  return g;
-}
-
-std::vector<VoxelKey> voxels(const ObstacleGeom& g, double s, bool solid) {
-  VoxelizeOptions options;
-  options.voxel_size_m = s;
-  options.solid = solid;
-  return voxelize(g, options);
-}
-
-std::vector<CellKey> cells(const ObstacleGeom& g, double s, double z0, double z1) {
-  return footprints({g}, s, z0, z1).at(0).cells;
-}
-
-Eigen::Isometry3d pose(const Eigen::Vector3d& t, double yaw, double roll) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = t;
-  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
-                   .toRotationMatrix();
-  return T;
-}
+using namespace mesh_test;
+using sim::World;
 
 // A box [0.01, 0.99] x [0.01, 0.49] x [0.01, 0.24] placed by `body_attrs` (the mesh, with its OBJ vertices off the
 // body's origin by `offset`) and the box primitive at the same place: the same voxels and cells, surface and solid.
@@ -261,119 +178,8 @@ TEST(MeshTruth, TetrahedronFootprintIsItsShadowInTheBand) {
   EXPECT_NEAR(g.signed_distance_m({0.06, 0.06, -0.04}), 0.05, 1e-6);
 }
 
-// --- Against the brute-force twin ---------------------------------------------------------------------------
-
-// A closed, non-convex bumpy sphere: a UV sphere of radius r with every vertex's radius scaled by 1 +- bump.
-ObstacleGeom bumpy_sphere(std::mt19937& rng, int rings, int segments, double r, double bump, const Eigen::Isometry3d& T) {
-  std::uniform_real_distribution<double> u(1 - bump, 1 + bump);
-  std::vector<Eigen::Vector3d> v;
-  v.push_back({0, 0, r * u(rng)});
-  for (int i = 1; i < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      const double theta = M_PI * i / rings, phi = 2 * M_PI * j / segments, k = r * u(rng);
-      v.push_back({k * std::sin(theta) * std::cos(phi), k * std::sin(theta) * std::sin(phi), k * std::cos(theta)});
-    }
-  v.push_back({0, 0, -r * u(rng)});
-  const int south = static_cast<int>(v.size()) - 1;
-  auto at = [&](int i, int j) { return 1 + (i - 1) * segments + (j % segments); };
-  std::vector<TriangleMesh::Face> f;
-  for (int j = 0; j < segments; ++j) {
-    f.push_back({0, at(1, j), at(1, j + 1)});
-    f.push_back({south, at(rings - 1, j + 1), at(rings - 1, j)});
-    for (int i = 1; i + 1 < rings; ++i) {
-      f.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      f.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  }
-  return mesh_geom(std::move(v), std::move(f), T);
-}
-
-std::vector<detail::Triangle> world_triangles(const ObstacleGeom& g) {
-  std::vector<detail::Triangle> out;
-  for (std::size_t f = 0; f < g.mesh->faces().size(); ++f) {
-    const auto t = g.mesh->triangle(f);
-    out.push_back({g.T_world_geom * t[0], g.T_world_geom * t[1], g.T_world_geom * t[2]});
-  }
-  return out;
-}
-
-void expect_matches_reference(const ObstacleGeom& g, double s, const std::string& what) {
-  const auto triangles = world_triangles(g);
-  const bool closed = g.mesh->closed();
-  const Eigen::AlignedBox3d everywhere(Eigen::Vector3d::Constant(-1e6), Eigen::Vector3d::Constant(1e6));
-  std::size_t solid_count = 0;
-  for (const bool solid : {false, true}) {
-    const auto fast = voxels(g, s, solid);
-    const auto plain = reference::voxelize_triangles(triangles, closed, s, solid, g.aabb_W().intersection(everywhere));
-    EXPECT_EQ(fast, plain) << what << (solid ? " solid" : " surface") << ": " << fast.size() << " vs " << plain.size();
-    EXPECT_FALSE(fast.empty()) << what;
-    if (solid) solid_count = fast.size();
-  }
-  const Eigen::AlignedBox3d box = g.aabb_W();
-  const double z0 = box.min().z() + 0.3 * box.sizes().z(), z1 = box.min().z() + 0.6 * box.sizes().z();
-  EXPECT_EQ(cells(g, s, z0, z1), reference::footprint_triangles(triangles, closed, s, z0, z1)) << what << " cells";
-  if (closed) {
-    EXPECT_GT(solid_count, voxels(g, s, false).size()) << what << ": the solid has an inside";
-  }
-}
-
-TEST(MeshTruthReference, ClosedBumpySpheresMatch) {
-  std::mt19937 rng(29);
-  for (int trial = 0; trial < 4; ++trial) {
-    std::uniform_real_distribution<double> a(-M_PI, M_PI), t(-1, 1);
-    const ObstacleGeom g = bumpy_sphere(rng, 7 + trial, 9 + 2 * trial, 0.3 + 0.05 * trial, 0.25,
-                                        pose({t(rng), t(rng), 0.5 + t(rng)}, a(rng), a(rng)));
-    ASSERT_TRUE(g.mesh->closed());
-    expect_matches_reference(g, trial % 2 ? 0.05 : 0.07, "bumpy sphere " + std::to_string(trial));
-  }
-}
-
-TEST(MeshTruthReference, TriangleSoupsMatch) {
-  std::mt19937 rng(31);
-  std::uniform_real_distribution<double> u(-0.5, 0.5);
-  for (int trial = 0; trial < 4; ++trial) {
-    std::vector<Eigen::Vector3d> v;
-    std::vector<TriangleMesh::Face> f;
-    for (int k = 0; k < 25; ++k) {
-      const Eigen::Vector3d c(u(rng), u(rng), u(rng));
-      const double size = k % 5 == 0 ? 0.8 : 0.15;  // a few large slanted ones among small ones
-      for (int i = 0; i < 3; ++i) v.push_back(c + size * Eigen::Vector3d(u(rng), u(rng), u(rng)));
-      f.push_back({3 * k, 3 * k + 1, 3 * k + 2});
-    }
-    v.push_back({0.1, 0.1, 0.1});  // and a degenerate one (a segment)
-    v.push_back({0.3, 0.2, 0.1});
-    f.push_back({75, 76, 76});
-    const ObstacleGeom g = mesh_geom(v, f, pose({0.2, -0.1, 0.3}, 0.1 * trial, 0.2));
-    EXPECT_FALSE(g.mesh->closed());
-    expect_matches_reference(g, 0.05, "soup " + std::to_string(trial));
-  }
-}
-
-TEST(MeshTruthReference, LatticeAlignedClosedMeshesMatch) {
-  // Vertices on voxel centres and corners: the vertical lines of the solid pass next to edges and vertices.
-  const double s = 0.05;
-  std::vector<Eigen::Vector3d> corners = {{0.025, 0.025, 0.025}, {0.225, 0.025, 0.025}, {0.025, 0.175, 0.025},
-                                          {0.225, 0.175, 0.025}, {0.025, 0.025, 0.225}, {0.225, 0.025, 0.225},
-                                          {0.025, 0.175, 0.225}, {0.225, 0.175, 0.225}};
-  const std::vector<TriangleMesh::Face> box_faces = {{0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}, {0, 1, 5}, {0, 5, 4},
-                                                     {2, 6, 7}, {2, 7, 3}, {0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}};
-  expect_matches_reference(mesh_geom(corners, box_faces), s, "box on centres");
-  for (auto& c : corners) c -= Eigen::Vector3d::Constant(0.025);
-  expect_matches_reference(mesh_geom(corners, box_faces), s, "box on corners");
-  // An octahedron with its apexes on voxel centres.
-  const std::vector<Eigen::Vector3d> octa = {{0.325, 0.025, 0.025}, {-0.275, 0.025, 0.025}, {0.025, 0.325, 0.025},
-                                             {0.025, -0.275, 0.025}, {0.025, 0.025, 0.325}, {0.025, 0.025, -0.275}};
-  expect_matches_reference(mesh_geom(octa, {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}),
-                           s, "octahedron");
-}
-
 // --- Height fields and planes -------------------------------------------------------------------------------
 
-const char* kHeightFieldWorld = R"(
-<mujoco>
-  <asset><hfield name="terrain" nrow="5" ncol="7" size="0.61 0.43 0.4 0.11"/></asset>
-  <worldbody><body name="ground" pos="0.3 0.2 0.213"><geom name="bumps" type="hfield" hfield="terrain"/></body></worldbody>
-</mujoco>)";
 
 TEST(MeshTruth, FlatHeightFieldEqualsItsBox) {
   World world = World::from_string(kHeightFieldWorld);
@@ -388,21 +194,6 @@ TEST(MeshTruth, FlatHeightFieldEqualsItsBox) {
   const ObstacleGeom box = box_geom({0.61, 0.43, 0.5 * (0.2 + 0.11)}, T);
   for (const bool solid : {false, true}) EXPECT_EQ(voxels(g, 0.05, solid), voxels(box, 0.05, solid));
   EXPECT_EQ(cells(g, 0.05, 0.15, 0.3), cells(box, 0.05, 0.15, 0.3));
-}
-
-TEST(MeshTruth, BumpyHeightFieldMatchesTheReference) {
-  World world = World::from_string(kHeightFieldWorld);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> u(0, 1);
-  float* data = world.mutable_model()->hfield_data;
-  for (int i = 0; i < 35; ++i) data[i] = u(rng);
-  world.forward();
-  const ObstacleGeom g = obstacle_geoms(world).at(0);
-  EXPECT_TRUE(g.mesh->closed());
-  EXPECT_EQ(g.mesh->faces().size(), 4u * 4 * 6 + 4u * 4 + 4u * 6);
-  expect_matches_reference(g, 0.05, "height field");
-  // The top is where the data says: sample (row 2, column 3) is the geom's centre.
-  EXPECT_NEAR(g.signed_distance_m({0.3, 0.2, 0.213 + 0.4 * data[2 * 7 + 3]}), 0.0, 1e-6);
 }
 
 TEST(MeshTruth, PlanesFloorLeftOutOthersExactOrNoted) {
@@ -526,4 +317,4 @@ TEST(MeshTruth, HundredThousandTrianglesAtFiveCentimetres) {
 }
 
 }  // namespace
-}  // namespace stvl::sim
+}  // namespace stvl::truth

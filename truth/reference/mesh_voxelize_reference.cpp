@@ -1,8 +1,8 @@
-#include "sim/reference/mesh_voxelize_reference.hpp"
+#include "truth/reference/mesh_voxelize_reference.hpp"
 
 #include <cmath>
 
-namespace stvl::sim::reference {
+namespace stvl::truth::reference {
 namespace {
 
 constexpr double kPad_m = 1e-9;  // the cubes are closed and padded as in the optimized code
@@ -93,4 +93,4 @@ std::vector<CellKey> footprint_triangles(const std::vector<detail::Triangle>& tr
   return out;
 }
 
-}  // namespace stvl::sim::reference
+}  // namespace stvl::truth::reference

@@ -1,11 +1,11 @@
-#include "sim/package_path.hpp"
+#include "robot_description/package_path.hpp"
 
 #include <filesystem>
 #include <stdexcept>
 
 #include "common/enum_names.hpp"
 
-namespace stvl::sim {
+namespace stvl::robot_description {
 namespace {
 
 namespace fs = std::filesystem;
@@ -64,4 +64,4 @@ std::string resolve_package_uri(const std::string& uri, const std::string& urdf_
                               " (robot.package_path " + listed(package_path) + ")");
 }
 
-}  // namespace stvl::sim
+}  // namespace stvl::robot_description

@@ -10,7 +10,7 @@
 
 #include <Eigen/Geometry>
 
-namespace stvl::sim {
+namespace stvl::robot_description {
 
 enum class UrdfShape { kBox, kCylinder, kSphere, kMesh };
 
@@ -81,7 +81,7 @@ Eigen::Isometry3d T_parent_child(const UrdfJoint& joint, double position);
 // URDF's rpy: R = Rz(yaw) Ry(pitch) Rx(roll).
 Eigen::Matrix3d rpy_to_matrix(const Eigen::Vector3d& rpy);
 
-// Parses URDF text. Collision meshes are resolved (sim/package_path.hpp: package://, file://, relative to the
+// Parses URDF text. Collision meshes are resolved (package_path.hpp: package://, file://, relative to the
 // folder of `file`) and must be STL (binary) or OBJ; visuals are skipped (a DAE visual adds one notice naming the
 // links). Throws std::invalid_argument "FILE:LINE: what; how to fix" for malformed XML (tinyxml2's error and
 // line), a missing or malformed attribute, an unknown joint type or shape, a collision mesh that is missing,
@@ -90,4 +90,4 @@ UrdfModel parse_urdf(const std::string& text, const std::string& file, const std
 // Reads the file, then parse_urdf. Throws std::invalid_argument when it cannot be read.
 UrdfModel load_urdf(const std::string& path, const std::vector<std::string>& package_path);
 
-}  // namespace stvl::sim
+}  // namespace stvl::robot_description

@@ -2,7 +2,7 @@
 // Triangles of a mesh or height field in one frame (a geom's, G), with the exact predicates the ground truth needs:
 // a closed axis-aligned box against a triangle (separating axes, after Akenine-Möller), the crossing of a vertical
 // line with a triangle (robust on shared edges and vertices), distance, inside and box queries through a bounding
-// volume hierarchy. No MuJoCo here: sim/ground_truth.cpp reads the model, sim/reference/ checks the voxelization.
+// volume hierarchy. No MuJoCo here: truth/ground_truth.cpp reads the model, truth/reference/ checks the voxelization.
 #include <array>
 #include <cstddef>
 #include <memory>
@@ -11,7 +11,7 @@
 
 #include <Eigen/Geometry>
 
-namespace stvl::sim {
+namespace stvl::truth {
 
 // Whether the closed box meets the closed triangle abc (exact up to rounding; no tolerance). Degenerate
 // triangles (segments, points) are handled.
@@ -72,4 +72,4 @@ class TriangleMesh {
   std::vector<Node> nodes_;
 };
 
-}  // namespace stvl::sim
+}  // namespace stvl::truth

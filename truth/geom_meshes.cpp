@@ -1,4 +1,4 @@
-#include "sim/geom_meshes.hpp"
+#include "truth/geom_meshes.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
-namespace stvl::sim {
+namespace stvl::truth {
 namespace {
 
 struct Hash64 {
@@ -118,4 +118,4 @@ std::shared_ptr<const TriangleMesh> rectangle_mesh(double hx, double hy, const s
   });
 }
 
-}  // namespace stvl::sim
+}  // namespace stvl::truth

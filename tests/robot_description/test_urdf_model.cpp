@@ -1,15 +1,15 @@
-// sim/urdf_model.hpp and sim/package_path.hpp: reading a URDF, resolving its meshes, and its bad inputs.
+// robot_description/urdf_model.hpp and robot_description/package_path.hpp: reading a URDF, resolving its meshes,
+// and its bad inputs.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "sim/diff_drive.hpp"
-#include "sim/package_path.hpp"
-#include "sim/urdf_model.hpp"
-#include "tests/sim/urdf_texts.hpp"
+#include "robot_description/package_path.hpp"
+#include "robot_description/urdf_model.hpp"
+#include "tests/robot_description/urdf_texts.hpp"
 #include "tests/support/invalid_argument.hpp"
 
-namespace stvl::sim {
+namespace stvl::robot_description {
 namespace {
 
 using test::invalid_argument_of;
@@ -40,7 +40,9 @@ TEST(UrdfModel, ReadsTheTreeAndItsTransforms) {
   // The optical frame's chain: translation from camera_joint, the rotation of REP-103's optical frame.
   const Eigen::Isometry3d T = urdf.T_root_link("camera_depth_optical_frame");
   EXPECT_TRUE(T.translation().isApprox(Eigen::Vector3d(0.15, 0, 0.3), 1e-12));
-  EXPECT_TRUE(T.linear().isApprox(DiffDriveRobot::T_camera_link_optical().linear(), 1e-12)) << T.linear();
+  Eigen::Matrix3d R_link_optical;  // columns: optical x, y, z in camera_link (DiffDriveRobot's)
+  R_link_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  EXPECT_TRUE(T.linear().isApprox(R_link_optical, 1e-12)) << T.linear();
   EXPECT_TRUE(urdf.notices.empty());
 }
 
@@ -167,4 +169,4 @@ INSTANTIATE_TEST_SUITE_P(
     [](const ::testing::TestParamInfo<BadUrdf>& info) { return std::string(info.param.name); });
 
 }  // namespace
-}  // namespace stvl::sim
+}  // namespace stvl::robot_description

@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 #include <mujoco/mujoco.h>
 
-namespace stvl::sim {
+namespace stvl::robot_description {
 
 struct RobotExtent {
   double lowest_z_m = 0;         // the lowest point of any geom of the robot
@@ -24,4 +24,4 @@ RobotExtent robot_extent(const mjModel* m, const mjData* d, int root_body, const
 // through their neighbours are dropped. Fewer than three distinct points come back as they are (deduplicated).
 std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> points);
 
-}  // namespace stvl::sim
+}  // namespace stvl::robot_description

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/urdf_model.hpp"
+#include "robot_description/urdf_model.hpp"
 
-namespace stvl::sim {
+namespace stvl::robot_description {
 
 struct MjcfRobotOptions {
   double root_height_m = 0.0;  // the root body's z in the world at rest
@@ -33,4 +33,4 @@ struct MjcfRobot {
 // Throws std::invalid_argument when a wheel joint named in `options` is no continuous or revolute joint of `urdf`.
 MjcfRobot urdf_to_mjcf(const UrdfModel& urdf, const MjcfRobotOptions& options);
 
-}  // namespace stvl::sim
+}  // namespace stvl::robot_description

@@ -6,10 +6,12 @@
 #include <stdexcept>
 
 #include "tests/support/fixture.hpp"
-#include "sim/ground_truth.hpp"
+#include "truth/ground_truth.hpp"
 
-namespace stvl::sim {
+namespace stvl::truth {
 namespace {
+
+using sim::World;
 
 // Dense surface samples (spacing voxel/20) land in voxels that the exact test must all report.
 // The exact set may add voxels that the surface only grazes between samples: each must touch a
@@ -325,4 +327,4 @@ TEST(GroundTruth, RayHitsKnownBox) {
 }
 
 }  // namespace
-}  // namespace stvl::sim
+}  // namespace stvl::truth

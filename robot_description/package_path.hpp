@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace stvl::sim {
+namespace stvl::robot_description {
 
 // The absolute, existing file `uri` names.
 //   package://NAME/rest  NAME is a folder NAME directly inside an entry of package_path, or the entry itself when
@@ -15,4 +15,4 @@ namespace stvl::sim {
 std::string resolve_package_uri(const std::string& uri, const std::string& urdf_dir,
                                 const std::vector<std::string>& package_path);
 
-}  // namespace stvl::sim
+}  // namespace stvl::robot_description

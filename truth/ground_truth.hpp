@@ -18,10 +18,10 @@
 //    Surface: the cube meets a triangle (separating axes). Solid, for a closed mesh (every
 //    edge shared by an even number of faces once vertices at equal positions are merged): the
 //    surface voxels and those whose centre is inside (parity of crossings on a vertical line;
-//    sim/mesh_voxelize.hpp). An open mesh's solid is its surface: truth_notes() says so. A
+//    truth/mesh_voxelize.hpp). An open mesh's solid is its surface: truth_notes() says so. A
 //    height field is closed: its grid (split as the renderer splits it), four sides and a base.
 //    Candidates per triangle only (its columns, its heights in each), never every voxel
-//    against every triangle; sim/reference/ holds the brute-force twin the tests compare.
+//    against every triangle; truth/reference/ holds the brute-force twin the tests compare.
 //  - planes: a horizontal plane at or below z = 0.01 m is the floor and is left out on purpose
 //    (the marking band excludes it); other finite planes are their rectangle (a surface); an
 //    infinite one that is not the floor is left out, and truth_notes() says so. Geoms named floor*
@@ -32,7 +32,7 @@
 // MeshTruth.HundredThousandTrianglesAtFiveCentimetres) at 0.05 m: surface 0.18 s (66.5k voxels),
 // solid 0.27 s (557k voxels), footprint 0.04 s; its closure and hierarchy, built once per
 // distinct mesh, 0.2 s (this 2-core machine, up to twice that when loaded). Every voxel
-// against every triangle (sim/reference/) would be some 10^11 tests.
+// against every triangle (truth/reference/) would be some 10^11 tests.
 // Clip with bounds_W (a height band, the camera's reach) when calling it often.
 #include <limits>
 #include <memory>
@@ -42,10 +42,10 @@
 #include <Eigen/Geometry>
 
 #include "common/voxel_key.hpp"
-#include "sim/triangle_mesh.hpp"
 #include "sim/world.hpp"
+#include "truth/triangle_mesh.hpp"
 
-namespace stvl::sim {
+namespace stvl::truth {
 
 // Geom groups as a bit mask (bit g = group g). Obstacles live in groups 0 and 1; the robot in 2.
 constexpr unsigned kObstacleGroups = 0b011;
@@ -81,7 +81,7 @@ struct ObstacleGeom {
 // ellipsoids, meshes, height fields and finite planes; the floor and infinite planes are left
 // out. Throws std::invalid_argument naming the geom for a mesh without faces or with a
 // non-finite vertex.
-std::vector<ObstacleGeom> obstacle_geoms(const World& world, unsigned group_mask = kObstacleGroups);
+std::vector<ObstacleGeom> obstacle_geoms(const sim::World& world, unsigned group_mask = kObstacleGroups);
 
 // What the truth cannot make exact, one line per geom: an open mesh (its solid is its surface:
 // solid voxels, footprints), an infinite plane that is not the floor (left out). Empty for
@@ -91,7 +91,7 @@ struct TruthNote {
   std::string geom;  // ObstacleGeom::label
   std::string note;  // one line naming the geom
 };
-std::vector<TruthNote> truth_notes(const World& world, unsigned group_mask = kObstacleGroups);
+std::vector<TruthNote> truth_notes(const sim::World& world, unsigned group_mask = kObstacleGroups);
 
 struct VoxelizeOptions {
   double voxel_size_m = 0.05;
@@ -134,8 +134,8 @@ struct RayHit {
 
 // mj_ray against geoms in group_mask (static ones included), skipping exclude_body_id (-1: none).
 // Hits beyond max_range_m are reported as misses. Throws on a zero or non-finite direction.
-RayHit cast_ray(const World& world, const Eigen::Vector3d& origin_W, const Eigen::Vector3d& direction_W,
+RayHit cast_ray(const sim::World& world, const Eigen::Vector3d& origin_W, const Eigen::Vector3d& direction_W,
                 double max_range_m = std::numeric_limits<double>::infinity(),
                 unsigned group_mask = kObstacleGroups, int exclude_body_id = -1);
 
-}  // namespace stvl::sim
+}  // namespace stvl::truth
