@@ -105,8 +105,8 @@ Tables tables_of(const Comparison& c) {
 }
 
 // The settings of a run: every leaf (numbers, strings, booleans) under these keys of metrics.json.
-const char* const kConfigKeys[] = {"scenario", "scenario_file", "kind", "recording", "seed", "voxel_size_m", "filter",
-                                   "filter_device", "gl_backend", "noise", "cameras", "machine"};
+const char* const kConfigKeys[] = {"scenario", "scenario_file", "kind",       "recording", "seed",    "voxel_size_m",
+                                   "filter",   "filter_device", "gl_backend", "noise",     "cameras", "machine"};
 
 void leaves(const nlohmann::json& j, const std::string& path, std::map<std::string, std::string>& out) {
   if (j.is_object()) {
@@ -125,8 +125,10 @@ std::vector<ConfigDifference> config_differences(const nlohmann::json& a, const 
     if (b.contains(key)) leaves(b[key], key, lb);
   }
   for (const char* key : {"tolerance_voxels", "recall_window_s", "phantom_clearance_m"}) {
-    if (a.contains("evaluation") && a["evaluation"].contains(key)) leaves(a["evaluation"][key], std::string("evaluation.") + key, la);
-    if (b.contains("evaluation") && b["evaluation"].contains(key)) leaves(b["evaluation"][key], std::string("evaluation.") + key, lb);
+    if (a.contains("evaluation") && a["evaluation"].contains(key))
+      leaves(a["evaluation"][key], std::string("evaluation.") + key, la);
+    if (b.contains("evaluation") && b["evaluation"].contains(key))
+      leaves(b["evaluation"][key], std::string("evaluation.") + key, lb);
   }
   std::vector<ConfigDifference> out;
   for (const auto& [path, value] : la) {
@@ -140,7 +142,8 @@ std::vector<ConfigDifference> config_differences(const nlohmann::json& a, const 
 }
 
 std::string fingerprint(const nlohmann::json& m) {
-  return m.contains("machine") && m["machine"].is_object() ? m["machine"].value("fingerprint", std::string()) : std::string();
+  return m.contains("machine") && m["machine"].is_object() ? m["machine"].value("fingerprint", std::string())
+                                                           : std::string();
 }
 
 }  // namespace
@@ -159,12 +162,15 @@ CompareRule parse_compare_rule(const std::string& text) {
                                 "(e.g. 'delta(evaluation.mean.f1) < -0.01')");
   CompareRule rule;
   rule.text = text;
-  rule.left = m[1] == "delta" ? CompareRule::Left::kDelta : m[1] == "ratio" ? CompareRule::Left::kRatio
-                                                                            : CompareRule::Left::kValue;
+  rule.left = m[1] == "delta"   ? CompareRule::Left::kDelta
+              : m[1] == "ratio" ? CompareRule::Left::kRatio
+                                : CompareRule::Left::kValue;
   rule.path = m[2].matched ? m[2].str() : m[3].str();
   const std::string op = m[4];
-  rule.op = op == "<" ? CompareRule::Op::kLess : op == "<=" ? CompareRule::Op::kLessEqual
-          : op == ">" ? CompareRule::Op::kGreater : CompareRule::Op::kGreaterEqual;
+  rule.op = op == "<"    ? CompareRule::Op::kLess
+            : op == "<=" ? CompareRule::Op::kLessEqual
+            : op == ">"  ? CompareRule::Op::kGreater
+                         : CompareRule::Op::kGreaterEqual;
   rule.threshold = std::stod(m[5]);
   return rule;
 }
@@ -172,9 +178,10 @@ CompareRule parse_compare_rule(const std::string& text) {
 std::vector<CompareRule> default_compare_rules(bool ground_truth) {
   std::vector<CompareRule> rules;
   if (ground_truth)
-    for (const char* text : {"delta(evaluation.mean.f1) < -0.01", "delta(evaluation.mean.precision) < -0.01",
-                             "delta(evaluation.mean.recall) < -0.01", "delta(evaluation.mean.costmap_precision) < -0.02",
-                             "delta(evaluation.final.phantom_obstacles) > 0", "delta(evaluation.mean.max_phantom_obstacles) > 0"})
+    for (const char* text :
+         {"delta(evaluation.mean.f1) < -0.01", "delta(evaluation.mean.precision) < -0.01",
+          "delta(evaluation.mean.recall) < -0.01", "delta(evaluation.mean.costmap_precision) < -0.02",
+          "delta(evaluation.final.phantom_obstacles) > 0", "delta(evaluation.mean.max_phantom_obstacles) > 0"})
       rules.push_back(parse_compare_rule(text));
   for (const char* text : {"ratio(timing_ms.filter.p50) > 1.2", "ratio(timing_ms.clear.p50) > 1.2",
                            "ratio(timing_ms.mark.p50) > 1.2", "ratio(timing_ms.frame.p50) > 1.2"})
@@ -203,9 +210,11 @@ void judge_rule(const CompareRule& rule, const FigureMap& ma, const FigureMap& m
   if (rule.left == CompareRule::Left::kDelta) left = vb - va;
   const bool ratio_of_zero = rule.left == CompareRule::Left::kRatio && va == 0.0;  // no ratio to a zero
   if (rule.left == CompareRule::Left::kRatio && !ratio_of_zero) left = vb / va;
-  const std::string detail = rule.path + ": " + general(va) + " -> " + general(vb) + " (" +
-                             (rule.left == CompareRule::Left::kRatio ? (ratio_of_zero ? "no ratio to 0" : "x" + general(left))
-                                                                     : signed_number(vb - va)) + ")";
+  const std::string detail =
+      rule.path + ": " + general(va) + " -> " + general(vb) + " (" +
+      (rule.left == CompareRule::Left::kRatio ? (ratio_of_zero ? "no ratio to 0" : "x" + general(left))
+                                              : signed_number(vb - va)) +
+      ")";
   if (ratio_of_zero || !std::isfinite(left) || !holds(left, rule.op, rule.threshold)) {
     c.outcomes.push_back({rule.text, "ok", detail});
     return;
@@ -286,7 +295,8 @@ std::string machine_line(const Comparison& c) {
   if (c.same_machine) return "Timing rules judged: both runs carry the same machine fingerprint.";
   if (not_judged == 0) return "Different machines (or no fingerprint): no timing rule to judge.";
   return "Timing rules not judged (" + std::to_string(not_judged) +
-         "): the runs do not carry the same machine fingerprint; timings of different machines are reported, not compared.";
+         "): the runs do not carry the same machine fingerprint; timings of different machines are reported, not "
+         "compared.";
 }
 
 }  // namespace
@@ -302,7 +312,8 @@ std::string comparison_markdown(const Comparison& c) {
     md << "### Configuration differences (" << c.config_differences.size() << ")\n\n";
     if (fold) md << "<details><summary>" << c.config_differences.size() << " settings differ</summary>\n\n";
     md << "| setting | A | B |\n|---|---|---|\n";
-    for (const auto& d : c.config_differences) md << "| " << cell(d.path) << " | " << cell(d.a) << " | " << cell(d.b) << " |\n";
+    for (const auto& d : c.config_differences)
+      md << "| " << cell(d.path) << " | " << cell(d.a) << " | " << cell(d.b) << " |\n";
     md << (fold ? "\n</details>\n\n" : "\n");
   }
   md << machine_line(c) << "\n\n";
@@ -316,8 +327,10 @@ std::string comparison_markdown(const Comparison& c) {
   }
   const Tables t = tables_of(c);
   md << "### Headline figures\n\n| figure | A | B | delta |\n|---|---:|---:|---:|\n";
-  for (const auto& r : t.headline) md << "| " << cell(r[0]) << " | " << r[1] << " | " << r[2] << " | " << r[3] << " |\n";
-  md << "\n<details><summary>Rules (" << c.outcomes.size() << ")</summary>\n\n| rule | outcome | figures |\n|---|---|---|\n";
+  for (const auto& r : t.headline)
+    md << "| " << cell(r[0]) << " | " << r[1] << " | " << r[2] << " | " << r[3] << " |\n";
+  md << "\n<details><summary>Rules (" << c.outcomes.size()
+     << ")</summary>\n\n| rule | outcome | figures |\n|---|---|---|\n";
   for (const auto& o : c.outcomes) md << "| " << cell(o.rule) << " | " << o.status << " | " << cell(o.detail) << " |\n";
   md << "\n</details>\n\n";
   md << t.changed.size() << " of " << c.metrics.size() << " figures differ";
@@ -327,7 +340,8 @@ std::string comparison_markdown(const Comparison& c) {
   if (!t.changed.empty()) {
     md << "<details><summary>Every figure that differs (" << t.changed.size() << ")</summary>\n\n"
        << "| figure | A | B | delta |\n|---|---:|---:|---:|\n";
-    for (const auto& r : t.changed) md << "| " << cell(r[0]) << " | " << r[1] << " | " << r[2] << " | " << r[3] << " |\n";
+    for (const auto& r : t.changed)
+      md << "| " << cell(r[0]) << " | " << r[1] << " | " << r[2] << " | " << r[3] << " |\n";
     md << "\n</details>\n";
   }
   return md.str();
@@ -343,9 +357,11 @@ std::string comparison_html(const Comparison& c) {
   if (c.config_differences.empty()) {
     h << "<p>Same configuration.</p>\n";
   } else {
-    h << "<h2>Configuration differences (" << c.config_differences.size() << ")</h2><table><tr><th>setting</th><th>A</th><th>B</th></tr>\n";
+    h << "<h2>Configuration differences (" << c.config_differences.size()
+      << ")</h2><table><tr><th>setting</th><th>A</th><th>B</th></tr>\n";
     for (const auto& d : c.config_differences)
-      h << "<tr><td>" << xml_escape(d.path) << "</td><td>" << xml_escape(d.a) << "</td><td>" << xml_escape(d.b) << "</td></tr>\n";
+      h << "<tr><td>" << xml_escape(d.path) << "</td><td>" << xml_escape(d.a) << "</td><td>" << xml_escape(d.b)
+        << "</td></tr>\n";
     h << "</table>\n";
   }
   h << "<p>" << xml_escape(machine_line(c)) << "</p>\n";
@@ -368,7 +384,8 @@ std::string comparison_html(const Comparison& c) {
   };
   h << "<h2>Headline figures</h2>";
   table(t.headline);
-  h << "<details><summary>Rules (" << c.outcomes.size() << ")</summary><table><tr><th>rule</th><th>outcome</th><th>figures</th></tr>\n";
+  h << "<details><summary>Rules (" << c.outcomes.size()
+    << ")</summary><table><tr><th>rule</th><th>outcome</th><th>figures</th></tr>\n";
   for (const auto& o : c.outcomes)
     h << "<tr><td>" << xml_escape(o.rule) << "</td><td class=\"" << (o.status == "regression" ? "bad" : "") << "\">"
       << o.status << "</td><td>" << xml_escape(o.detail) << "</td></tr>\n";
@@ -386,9 +403,9 @@ std::string comparison_junit(const Comparison& c) {
   std::size_t failures = 0, skipped = 0;
   for (const auto& o : c.outcomes) failures += o.status == "regression", skipped += o.status == "not judged";
   std::ostringstream x;
-  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites tests=\"" << c.outcomes.size() << "\" failures=\"" << failures
-    << "\" skipped=\"" << skipped << "\">\n  <testsuite name=\"compare\" tests=\"" << c.outcomes.size() << "\" failures=\""
-    << failures << "\" skipped=\"" << skipped << "\">\n";
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites tests=\"" << c.outcomes.size() << "\" failures=\""
+    << failures << "\" skipped=\"" << skipped << "\">\n  <testsuite name=\"compare\" tests=\"" << c.outcomes.size()
+    << "\" failures=\"" << failures << "\" skipped=\"" << skipped << "\">\n";
   for (const auto& o : c.outcomes) {
     x << "    <testcase classname=\"stvl-bench.compare\" name=\"" << xml_escape(o.rule) << "\">";
     if (o.status == "regression") x << "<failure message=\"" << xml_escape(o.detail) << "\"/>";

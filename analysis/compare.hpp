@@ -31,7 +31,8 @@ CompareRule parse_compare_rule(const std::string& text);
 
 // The defaults: F1, precision and recall (mean) down by more than 0.01, costmap precision down by more than
 // 0.02, any new phantom (final or at any evaluation), and the filter, clear, mark and whole-frame median (p50)
-// times more than 20 % slower (medians: a few slow frames moved clear's mean x1.69 while its median fell). Without ground truth (two replays of recordings) only the timing rules.
+// times more than 20 % slower (medians: a few slow frames moved clear's mean x1.69 while its median fell). Without
+// ground truth (two replays of recordings) only the timing rules.
 std::vector<CompareRule> default_compare_rules(bool ground_truth = true);
 
 // A replay's metrics.json (stvl-bench replay: "kind": "replay", no evaluation).
@@ -57,11 +58,11 @@ struct ConfigDifference {
 };
 
 struct Comparison {
-  std::string a_name, b_name;         // what was compared (paths)
+  std::string a_name, b_name;                        // what was compared (paths)
   std::vector<ConfigDifference> config_differences;  // shown first: figures of different settings differ anyway
-  bool same_machine = false;          // both fingerprints present and equal: timing rules judged
-  std::vector<RuleOutcome> outcomes;  // one per rule, in order
-  std::vector<MetricDelta> metrics;   // every numeric figure in both, in A's order (per-evaluation snapshots aside)
+  bool same_machine = false;                         // both fingerprints present and equal: timing rules judged
+  std::vector<RuleOutcome> outcomes;                 // one per rule, in order
+  std::vector<MetricDelta> metrics;  // every numeric figure in both, in A's order (per-evaluation snapshots aside)
   std::vector<std::string> only_in_a, only_in_b;  // numeric figures in one run only
   std::vector<Regression> regressions;
   bool regressed() const { return !regressions.empty(); }

@@ -56,10 +56,10 @@ NoiseStats compute_noise_stats(const sensors::DepthImage& first, const sensors::
   s.left_band_geometric_px = sensors::left_band_geometric_px(first, intrinsics.fx, options.baseline_m);
   s.holes = sensors::discontinuity_holes(first, options.min_jump_m, intrinsics.fx, options.baseline_m);
   const double intel_at_1m_m = intel_rms_m(1.0, intrinsics.fx, options);
-  s.plane_fit_rms = sensors::plane_fit_rms_m(first, options.bin_centres_m, options.bin_half_width_m, 12, 0.25, 5,
-                                             intel_at_1m_m);
-  s.temporal_sigma = sensors::temporal_sigma_m(first, second, options.bin_centres_m, options.bin_half_width_m, 100,
-                                               intel_at_1m_m);
+  s.plane_fit_rms =
+      sensors::plane_fit_rms_m(first, options.bin_centres_m, options.bin_half_width_m, 12, 0.25, 5, intel_at_1m_m);
+  s.temporal_sigma =
+      sensors::temporal_sigma_m(first, second, options.bin_centres_m, options.bin_half_width_m, 100, intel_at_1m_m);
   return s;
 }
 
@@ -67,7 +67,10 @@ nlohmann::json to_json(const NoiseStats& s, double fx_px, const NoiseStatsOption
   const auto& h = s.holes;
   return {{"invalid_fraction", s.invalid_fraction},
           {"edge_bands_px",
-           {{"left", s.bands.left_px}, {"right", s.bands.right_px}, {"top", s.bands.top_px}, {"bottom", s.bands.bottom_px}}},
+           {{"left", s.bands.left_px},
+            {"right", s.bands.right_px},
+            {"top", s.bands.top_px},
+            {"bottom", s.bands.bottom_px}}},
           {"left_band_geometric_px", number(s.left_band_geometric_px)},
           {"discontinuity_holes",
            {{"runs", h.runs},
@@ -94,7 +97,8 @@ std::string noise_table_header(const std::vector<std::string>& names) {
 }
 
 std::string figure_row(const std::string& label, const std::vector<NoiseStats>& stats,
-                       const std::function<double(const NoiseStats&)>& value, const char* format, double formula = NAN) {
+                       const std::function<double(const NoiseStats&)>& value, const char* format,
+                       double formula = NAN) {
   std::string out = "| " + label + " |";
   for (const auto& s : stats) out += " " + cell(value(s), format) + " |";
   return out + " " + cell(formula, format) + " |\n";
@@ -103,20 +107,28 @@ std::string figure_row(const std::string& label, const std::vector<NoiseStats>& 
 // The image's rows: invalid pixels, the edge bands, invalid pixels at discontinuities and the shadows.
 std::string band_and_shadow_rows(const std::vector<NoiseStats>& stats) {
   std::string out;
-  out += figure_row("invalid pixels (%)", stats, [](const NoiseStats& s) { return 100.0 * s.invalid_fraction; }, "%.1f");
-  out += figure_row("left band (px)", stats, [](const NoiseStats& s) { return s.bands.left_px; }, "%.0f");
-  out += figure_row("left band, geometric fx*b/z (px)", stats, [](const NoiseStats& s) { return s.left_band_geometric_px; },
-                    "%.1f");
-  out += figure_row("right / top / bottom band (px)", stats,
-                    [](const NoiseStats& s) { return s.bands.right_px + s.bands.top_px + s.bands.bottom_px; }, "%.0f");
-  out += figure_row("invalid at discontinuities (% of inner invalid)", stats,
-                    [](const NoiseStats& s) { return 100.0 * s.holes.fraction_of_invalid; }, "%.1f");
-  out += figure_row("of them background on the left (%)", stats, [](const NoiseStats& s) {
-    return 100.0 * double(s.holes.far_left_px) / double(s.holes.far_left_px + s.holes.far_right_px);
-  }, "%.1f");
-  out += figure_row("shadow run, median (px)", stats, [](const NoiseStats& s) { return s.holes.median_run_px; }, "%.0f");
-  out += figure_row("shadow, geometric median (px)", stats, [](const NoiseStats& s) { return s.holes.median_geometric_px; },
-                    "%.1f");
+  out += figure_row(
+      "invalid pixels (%)", stats, [](const NoiseStats& s) { return 100.0 * s.invalid_fraction; }, "%.1f");
+  out += figure_row(
+      "left band (px)", stats, [](const NoiseStats& s) { return s.bands.left_px; }, "%.0f");
+  out += figure_row(
+      "left band, geometric fx*b/z (px)", stats, [](const NoiseStats& s) { return s.left_band_geometric_px; }, "%.1f");
+  out += figure_row(
+      "right / top / bottom band (px)", stats,
+      [](const NoiseStats& s) { return s.bands.right_px + s.bands.top_px + s.bands.bottom_px; }, "%.0f");
+  out += figure_row(
+      "invalid at discontinuities (% of inner invalid)", stats,
+      [](const NoiseStats& s) { return 100.0 * s.holes.fraction_of_invalid; }, "%.1f");
+  out += figure_row(
+      "of them background on the left (%)", stats,
+      [](const NoiseStats& s) {
+        return 100.0 * double(s.holes.far_left_px) / double(s.holes.far_left_px + s.holes.far_right_px);
+      },
+      "%.1f");
+  out += figure_row(
+      "shadow run, median (px)", stats, [](const NoiseStats& s) { return s.holes.median_run_px; }, "%.0f");
+  out += figure_row(
+      "shadow, geometric median (px)", stats, [](const NoiseStats& s) { return s.holes.median_geometric_px; }, "%.1f");
   return out;
 }
 
@@ -154,8 +166,8 @@ std::string depth_bin_rows(const std::vector<NoiseStats>& stats, double fx_px, c
 
 }  // namespace
 
-std::string noise_stats_table(const std::vector<std::string>& names, const std::vector<NoiseStats>& stats,
-                              double fx_px, const NoiseStatsOptions& options) {
+std::string noise_stats_table(const std::vector<std::string>& names, const std::vector<NoiseStats>& stats, double fx_px,
+                              const NoiseStatsOptions& options) {
   return noise_table_header(names) + band_and_shadow_rows(stats) + depth_bin_rows(stats, fx_px, options);
 }
 

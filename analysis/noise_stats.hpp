@@ -40,7 +40,7 @@ nlohmann::json to_json(const NoiseStats& stats, double fx_px, const NoiseStatsOp
 
 // Side by side: one column per named camera, a last column with Intel's formula where it applies (at the bin's
 // centre; each camera's depth-bin cells give their ratio to it, each sample at its own depth, and their mean depth).
-std::string noise_stats_table(const std::vector<std::string>& names, const std::vector<NoiseStats>& stats,
-                              double fx_px, const NoiseStatsOptions& options);
+std::string noise_stats_table(const std::vector<std::string>& names, const std::vector<NoiseStats>& stats, double fx_px,
+                              const NoiseStatsOptions& options);
 
 }  // namespace stvl::analysis

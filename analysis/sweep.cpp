@@ -7,20 +7,20 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
+#include "analysis/sweep_page.hpp"
+#include "analysis/sweep_worlds.hpp"
 #include "common/atomic_file.hpp"
 #include "common/enum_names.hpp"
 #include "common/markup.hpp"
-#include "analysis/sweep_page.hpp"
-#include "analysis/sweep_worlds.hpp"
 
 extern char** environ;
 
@@ -37,7 +37,8 @@ std::string trim(const std::string& text) {
 // A folder-name-safe form of "KEY=VALUE": letters, digits and ._=- kept, the rest '-'.
 std::string safe(const std::string& text) {
   std::string out;
-  for (char c : text) out += std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '=' || c == '-' ? c : '-';
+  for (char c : text)
+    out += std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '=' || c == '-' ? c : '-';
   return out;
 }
 
@@ -68,7 +69,8 @@ std::string csv_field(const std::string& text) {
 }  // namespace
 
 const std::vector<std::string>& sweep_run_options() {
-  static const std::vector<std::string> options = {"voxel-size", "filter", "device", "memory", "duration", "noise", "gl"};
+  static const std::vector<std::string> options = {"voxel-size", "filter", "device", "memory",
+                                                   "duration",   "noise",  "gl"};
   return options;
 }
 
@@ -123,7 +125,8 @@ std::vector<std::uint64_t> parse_seeds(const std::string& text) {
       continue;
     }
     const std::uint64_t first = number(part.substr(0, dots)), last = number(part.substr(dots + 2));
-    if (last < first || last - first >= 10000) throw std::invalid_argument("--seeds " + text + ": a range must run upwards, at most 10000 seeds");
+    if (last < first || last - first >= 10000)
+      throw std::invalid_argument("--seeds " + text + ": a range must run upwards, at most 10000 seeds");
     for (std::uint64_t s = first; s <= last; ++s) seeds.push_back(s);
   }
   if (seeds.empty()) throw std::invalid_argument("--seeds " + text + ": no seed");
@@ -137,8 +140,9 @@ std::vector<SweepWorld> prepare_worlds(const std::string& binary, const std::str
   if (spec.rfind("generate:", 0) == 0) {
     for (const std::uint64_t seed : parse_seeds(spec.substr(9))) {
       const std::string label = "generate:" + std::to_string(seed);
-      makes.push_back({label, {binary, "world", "generate", "--seed", std::to_string(seed), "--out",
-                               (root / ("generate_" + std::to_string(seed))).string()}});
+      makes.push_back({label,
+                       {binary, "world", "generate", "--seed", std::to_string(seed), "--out",
+                        (root / ("generate_" + std::to_string(seed))).string()}});
     }
   } else {
     std::stringstream list(spec);
@@ -159,8 +163,9 @@ std::vector<SweepWorld> prepare_worlds(const std::string& binary, const std::str
         continue;
       }
       const std::string label = "map:" + fs::path(file).stem().string();
-      makes.push_back({label, {binary, "world", "from-map", file, "--out",
-                               (root / ("map_" + safe(fs::path(file).stem().string()))).string()}});
+      makes.push_back({label,
+                       {binary, "world", "from-map", file, "--out",
+                        (root / ("map_" + safe(fs::path(file).stem().string()))).string()}});
     }
   }
   for (const auto& [label, argv] : makes) {
@@ -186,7 +191,8 @@ std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std
   std::size_t count = (seeds.empty() ? 1 : seeds.size()) * std::max<std::size_t>(1, worlds.size());
   if (count > max_points) throw std::invalid_argument("sweep: more than " + std::to_string(max_points) + " points");
   for (const auto& axis : axes) {
-    if (axis.values.empty()) throw std::invalid_argument("sweep: the axis " + axis.key + " has no value: the grid is empty");
+    if (axis.values.empty())
+      throw std::invalid_argument("sweep: the axis " + axis.key + " has no value: the grid is empty");
     if (count > max_points / axis.values.size())
       throw std::invalid_argument("sweep: more than " + std::to_string(max_points) + " points");
     count *= axis.values.size();
@@ -221,10 +227,14 @@ std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std
   return points;
 }
 
-std::vector<std::string> point_command(const std::string& binary, const std::string& scenario, const std::string& out_dir,
-                                       const SweepPoint& point) {
-  std::vector<std::string> argv = {binary, "run", point.scenario.empty() ? scenario : point.scenario, "--out",
-                                   (fs::path(out_dir) / point.name).string(), "--no-progress"};
+std::vector<std::string> point_command(const std::string& binary, const std::string& scenario,
+                                       const std::string& out_dir, const SweepPoint& point) {
+  std::vector<std::string> argv = {binary,
+                                   "run",
+                                   point.scenario.empty() ? scenario : point.scenario,
+                                   "--out",
+                                   (fs::path(out_dir) / point.name).string(),
+                                   "--no-progress"};
   for (const auto& s : point.sets) {
     const std::size_t equals = s.find('=');
     if (s.rfind("--", 0) == 0) {
@@ -262,8 +272,8 @@ std::vector<std::string> emit_sweep(const std::string& engine, const std::string
   };
   nlohmann::json grid = {{"scenario", scenario}, {"points", nlohmann::json::array()}};
   for (const auto& p : points) {
-    nlohmann::json point = {{"name", p.name}, {"sets", p.sets},
-                            {"command", shell_line(point_command(binary, scenario, dir.string(), p))}};
+    nlohmann::json point = {
+        {"name", p.name}, {"sets", p.sets}, {"command", shell_line(point_command(binary, scenario, dir.string(), p))}};
     if (p.seed) point["seed"] = *p.seed;
     if (!p.world.empty()) point["world"] = p.world, point["make_world"] = p.make_world;
     grid["points"].push_back(point);
@@ -278,17 +288,20 @@ std::vector<std::string> emit_sweep(const std::string& engine, const std::string
       std::string args;
       for (const auto& arg : point_command(binary, scenario, dir.string(), p)) {
         std::string escaped;
-        for (char c : arg) escaped += c == '"' || c == '\\' || c == '$' || c == ';' ? std::string("\\") + c : std::string(1, c);
+        for (char c : arg)
+          escaped += c == '"' || c == '\\' || c == '$' || c == ';' ? std::string("\\") + c : std::string(1, c);
         args += " \"" + escaped + "\"";
       }
-      tests += "add_test(sweep." + p.name + args + ")\nset_tests_properties(sweep." + p.name + " PROPERTIES LABELS sweep)\n";
+      tests +=
+          "add_test(sweep." + p.name + args + ")\nset_tests_properties(sweep." + p.name + " PROPERTIES LABELS sweep)\n";
     }
     write("CTestTestfile.cmake", tests);
   }
   if (engine == "slurm") {
     std::ostringstream script;
     script << "#!/bin/bash\n"
-           << "# stvl-bench sweep as a Slurm job array: task i runs line i + 1 of jobs.txt. Submit: sbatch " << (dir / "sweep.sbatch").string() << "\n"
+           << "# stvl-bench sweep as a Slurm job array: task i runs line i + 1 of jobs.txt. Submit: sbatch "
+           << (dir / "sweep.sbatch").string() << "\n"
            << "#SBATCH --job-name=stvl-sweep\n"
            << "#SBATCH --array=0-" << (points.empty() ? 0 : points.size() - 1) << "\n"
            << "#SBATCH --cpus-per-task=2\n"
@@ -315,7 +328,10 @@ int run_sweep_locally(const std::string& binary, const std::string& scenario, co
     if (pid <= 0) return;
     --running;
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 2;
-    std::printf("sweep: %s %s\n", names[pid].c_str(), code == 0 ? "passed" : code == 1 ? "FAILED a check" : "ERROR (see its .log)");
+    std::printf("sweep: %s %s\n", names[pid].c_str(),
+                code == 0   ? "passed"
+                : code == 1 ? "FAILED a check"
+                            : "ERROR (see its .log)");
     std::fflush(stdout);
     worst = std::max(worst, std::min(code, 2));
   };
@@ -348,7 +364,8 @@ namespace {
 
 nlohmann::json read_sweep_grid(const fs::path& grid_path, const std::string& dir_text) {
   std::error_code error;
-  if (!fs::is_regular_file(grid_path, error)) throw std::invalid_argument(dir_text + ": no sweep.json (not a sweep folder)");
+  if (!fs::is_regular_file(grid_path, error))
+    throw std::invalid_argument(dir_text + ": no sweep.json (not a sweep folder)");
   try {
     std::ifstream in(grid_path);
     return nlohmann::json::parse(in);
@@ -423,7 +440,8 @@ std::string sweep_csv_line(nlohmann::json& row, const nlohmann::json& axes, bool
   for (const auto& axis : axes) csv += "," + csv_field(row["sets"].value(axis.get<std::string>(), ""));
   csv += "," + row.value("seed", std::string()) + "," + row["state"].get<std::string>();
   for (const auto& [figure, path] : headline())
-    csv += "," + (row.contains("figures") && row["figures"].contains(figure) ? row["figures"][figure].dump() : std::string());
+    csv += "," +
+           (row.contains("figures") && row["figures"].contains(figure) ? row["figures"][figure].dump() : std::string());
   return csv + "\n";
 }
 
@@ -432,7 +450,8 @@ std::string sweep_csv_line(nlohmann::json& row, const nlohmann::json& axes, bool
 nlohmann::json collect_sweep(const std::string& dir_text, const std::string& chart_js_path) {
   const fs::path dir = dir_text;
   nlohmann::json grid = read_sweep_grid(dir / "sweep.json", dir_text);
-  nlohmann::json table = {{"scenario", grid.value("scenario", "")}, {"axes", nlohmann::json::array()}, {"rows", nlohmann::json::array()}};
+  nlohmann::json table = {
+      {"scenario", grid.value("scenario", "")}, {"axes", nlohmann::json::array()}, {"rows", nlohmann::json::array()}};
   if (!grid["points"].empty())
     for (const auto& set : grid["points"][0]["sets"]) table["axes"].push_back(sweep_key_of(set.get<std::string>()));
   const bool worlds = !grid["points"].empty() && grid["points"][0].contains("world");

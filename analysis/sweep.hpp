@@ -37,12 +37,12 @@ std::vector<SweepWorld> prepare_worlds(const std::string& binary, const std::str
 
 struct SweepPoint {
   std::size_t index = 0;
-  std::string world;     // its world's label (a --worlds axis), or empty
-  std::string scenario;  // the scenario it runs when not the sweep's own (a --worlds axis)
+  std::string world;       // its world's label (a --worlds axis), or empty
+  std::string scenario;    // the scenario it runs when not the sweep's own (a --worlds axis)
   std::string make_world;  // the command that made that scenario, or empty
-  std::string name;  // its folder: "003_map.voxel_size=0.05_seed=2" (safe characters; axes of one value left out)
-  std::vector<std::string> sets;             // "KEY=VALUE" per axis, in axis order ("--voxel-size=0.05" for options)
-  std::optional<std::uint64_t> seed;         // absent without --seeds
+  std::string name;        // its folder: "003_map.voxel_size=0.05_seed=2" (safe characters; axes of one value left out)
+  std::vector<std::string> sets;      // "KEY=VALUE" per axis, in axis order ("--voxel-size=0.05" for options)
+  std::optional<std::uint64_t> seed;  // absent without --seeds
 };
 
 // "KEY=V1,V2,..." to an axis; commas inside [] or {} do not split ("robot.start=[0, 0, 0],[1, 0, 0]").
@@ -59,8 +59,8 @@ std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std
 
 // The argument vector of a point's run: BIN run SCENARIO --out OUT_DIR/NAME --no-progress [--set ...] [--seed S]
 // (the point's own scenario when it has one).
-std::vector<std::string> point_command(const std::string& binary, const std::string& scenario, const std::string& out_dir,
-                                       const SweepPoint& point);
+std::vector<std::string> point_command(const std::string& binary, const std::string& scenario,
+                                       const std::string& out_dir, const SweepPoint& point);
 // One shell command line (arguments single-quoted).
 std::string shell_line(const std::vector<std::string>& argv);
 
@@ -83,6 +83,7 @@ int run_sweep_locally(const std::string& binary, const std::string& scenario, co
 // chart_js_path when that file exists: F1 and filter ms per point, grouped by the other axes). Returns the
 // table. Throws std::invalid_argument when DIR has no sweep.json; points without metrics.json are rows with
 // "missing" and no figures.
-nlohmann::json collect_sweep(const std::string& dir, const std::string& chart_js_path = "/usr/share/javascript/chart.js/chart.min.js");
+nlohmann::json collect_sweep(const std::string& dir,
+                             const std::string& chart_js_path = "/usr/share/javascript/chart.js/chart.min.js");
 
 }  // namespace stvl::analysis

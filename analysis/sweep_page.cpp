@@ -40,7 +40,8 @@ nlohmann::json chart_config(const nlohmann::json& table, const std::string& figu
     if (std::find(labels.begin(), labels.end(), x) == labels.end()) labels.push_back(x);
     std::string line;
     for (std::size_t a = 1; a < axes.size(); ++a)
-      line += (line.empty() ? "" : ", ") + axes[a].get<std::string>() + "=" + row["sets"][axes[a].get<std::string>()].get<std::string>();
+      line += (line.empty() ? "" : ", ") + axes[a].get<std::string>() + "=" +
+              row["sets"][axes[a].get<std::string>()].get<std::string>();
     if (!row.contains("figures") || !row["figures"].contains(figure) || !row["figures"][figure].is_number()) continue;
     auto& cell = series[line.empty() ? figure : line][x];
     cell.first += row["figures"][figure].get<double>();
@@ -55,8 +56,12 @@ nlohmann::json chart_config(const nlohmann::json& table, const std::string& figu
       data.push_back(it == cells.end() ? nlohmann::json() : nlohmann::json(it->second.first / it->second.second));
     }
     const char* c = kColours[colour++ % std::size(kColours)];
-    datasets.push_back({{"label", line}, {"data", data}, {"borderColor", c}, {"backgroundColor", c},
-                        {"borderWidth", 2}, {"pointRadius", 4}});
+    datasets.push_back({{"label", line},
+                        {"data", data},
+                        {"borderColor", c},
+                        {"backgroundColor", c},
+                        {"borderWidth", 2},
+                        {"pointRadius", 4}});
   }
   return {{"type", "line"},
           {"data", {{"labels", labels}, {"datasets", datasets}}},
@@ -64,13 +69,15 @@ nlohmann::json chart_config(const nlohmann::json& table, const std::string& figu
            {{"animation", false},
             {"maintainAspectRatio", false},
             {"layout", {{"padding", 8}}},
-            {"plugins", {{"title", {{"display", true}, {"text", figure + " (mean over seeds)"}, {"font", {{"size", 15}}}}}}},
+            {"plugins",
+             {{"title", {{"display", true}, {"text", figure + " (mean over seeds)"}, {"font", {{"size", 15}}}}}}},
             {"scales",
              {{"x", {{"title", {{"display", true}, {"text", x_key}}}}},
               {"y", {{"title", {{"display", true}, {"text", figure}}}}}}}}}};
 }
 
-std::string sweep_html(const nlohmann::json& table, const std::vector<std::string>& columns, const std::string& chart_js_path) {
+std::string sweep_html(const nlohmann::json& table, const std::vector<std::string>& columns,
+                       const std::string& chart_js_path) {
   std::size_t passed = 0, failed = 0, missing = 0;
   for (const auto& row : table["rows"]) {
     const std::string state = row["state"].get<std::string>();
@@ -83,16 +90,17 @@ std::string sweep_html(const nlohmann::json& table, const std::vector<std::strin
        ".charts{display:flex;flex-wrap:wrap;gap:2em;margin:1.5em 0}.chart{position:relative;width:min(760px,95vw);"
        "height:380px}.wide{overflow-x:auto;max-width:100%}.passed{color:#1a7f37}.failed{color:#c62828;font-weight:bold}"
        ".missing{color:#8a6d00}</style></head><body>\n<h1>stvl-bench sweep</h1><p>"
-    << xml_escape(table["scenario"].get<std::string>()) << ": " << table["rows"].size() << " points, <span class=\"passed\">"
-    << passed << " passed</span>, <span class=\"failed\">" << failed << " failed</span>, <span class=\"missing\">"
-    << missing << " missing</span>.</p>\n";
+    << xml_escape(table["scenario"].get<std::string>()) << ": " << table["rows"].size()
+    << " points, <span class=\"passed\">" << passed << " passed</span>, <span class=\"failed\">" << failed
+    << " failed</span>, <span class=\"missing\">" << missing << " missing</span>.</p>\n";
   std::ifstream chart_js(chart_js_path);
   if (chart_js) {
     const std::string js((std::istreambuf_iterator<char>(chart_js)), {});
     h << "<div class=\"charts\"><div class=\"chart\"><canvas id=\"f1\"></canvas></div><div class=\"chart\"><canvas "
          "id=\"filter_ms\"></canvas></div></div>\n"
-      << "<script>" << js << "</script>\n<script>\nnew Chart(document.getElementById('f1'), " << script_safe(chart_config(table, "f1").dump())
-      << ");\nnew Chart(document.getElementById('filter_ms'), " << script_safe(chart_config(table, "filter_ms_mean").dump()) << ");\n</script>\n";
+      << "<script>" << js << "</script>\n<script>\nnew Chart(document.getElementById('f1'), "
+      << script_safe(chart_config(table, "f1").dump()) << ");\nnew Chart(document.getElementById('filter_ms'), "
+      << script_safe(chart_config(table, "filter_ms_mean").dump()) << ");\n</script>\n";
   } else {
     h << "<p>(No charts: " << xml_escape(chart_js_path) << " is not installed; apt install libjs-chart.js.)</p>\n";
   }
@@ -105,19 +113,23 @@ std::string sweep_html(const nlohmann::json& table, const std::vector<std::strin
   h << "</tr>\n";
   for (const auto& row : table["rows"]) {
     const std::string point = row["point"].get<std::string>(), state = row["state"].get<std::string>();
-    h << "<tr><td>" << (state == "missing" ? xml_escape(point)
-                                           : "<a href=\"" + xml_escape(point) + "/report.html\">" + xml_escape(point) + "</a>")
+    h << "<tr><td>"
+      << (state == "missing" ? xml_escape(point)
+                             : "<a href=\"" + xml_escape(point) + "/report.html\">" + xml_escape(point) + "</a>")
       << "</td>";
     if (worlds) h << "<td>" << xml_escape(row.value("world", std::string())) << "</td>";
-    for (const auto& axis : table["axes"]) h << "<td>" << xml_escape(row["sets"].value(axis.get<std::string>(), "")) << "</td>";
+    for (const auto& axis : table["axes"])
+      h << "<td>" << xml_escape(row["sets"].value(axis.get<std::string>(), "")) << "</td>";
     std::string failing;
     for (const auto& c : row.value("failed_checks", nlohmann::json::array()))
       failing += (failing.empty() ? ": " : ", ") + c.value("name", std::string());
     h << "<td>" << row.value("seed", std::string()) << "</td><td class=\"" << state << "\" title=\"";
-    for (const auto& c : row.value("failed_checks", nlohmann::json::array())) h << xml_escape(c.value("message", std::string())) << "&#10;";
+    for (const auto& c : row.value("failed_checks", nlohmann::json::array()))
+      h << xml_escape(c.value("message", std::string())) << "&#10;";
     h << "\">" << state << xml_escape(failing) << "</td>";
     for (const auto& figure : columns)
-      h << "<td class=\"n\">" << (row.contains("figures") && row["figures"].contains(figure) ? short_number(row["figures"][figure]) : "")
+      h << "<td class=\"n\">"
+        << (row.contains("figures") && row["figures"].contains(figure) ? short_number(row["figures"][figure]) : "")
         << "</td>";
     h << "</tr>\n";
   }
@@ -134,7 +146,8 @@ std::string sweep_junit(const nlohmann::json& table) {
     << failures << "\" errors=\"" << errors << "\">\n  <testsuite name=\"sweep." << suite << "\" tests=\""
     << table["rows"].size() << "\" failures=\"" << failures << "\" errors=\"" << errors << "\">\n";
   for (const auto& row : table["rows"]) {
-    x << "    <testcase classname=\"stvl-bench.sweep." << suite << "\" name=\"" << xml_escape(row["point"].get<std::string>()) << "\">";
+    x << "    <testcase classname=\"stvl-bench.sweep." << suite << "\" name=\""
+      << xml_escape(row["point"].get<std::string>()) << "\">";
     if (row["state"] == "missing") {
       x << "<error message=\"the point did not run (no metrics.json; see its .log)\"/>";
     } else if (row["state"] == "failed") {
@@ -143,7 +156,8 @@ std::string sweep_junit(const nlohmann::json& table) {
         names += (names.empty() ? "" : ", ") + c.value("name", std::string());
         details += c.value("name", std::string()) + ": " + c.value("message", std::string()) + "\n";
       }
-      x << "<failure message=\"failed: " << xml_escape(names.empty() ? "the run" : names) << "\">" << xml_escape(details) << "</failure>";
+      x << "<failure message=\"failed: " << xml_escape(names.empty() ? "the run" : names) << "\">"
+        << xml_escape(details) << "</failure>";
     }
     x << "</testcase>\n";
   }

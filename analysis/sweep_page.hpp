@@ -14,7 +14,8 @@ namespace stvl::analysis {
 nlohmann::json chart_config(const nlohmann::json& table, const std::string& figure);
 // sweep.html of a collect_sweep() table; `columns` the figures of each row, Chart.js inlined from chart_js_path
 // when it exists.
-std::string sweep_html(const nlohmann::json& table, const std::vector<std::string>& columns, const std::string& chart_js_path);
+std::string sweep_html(const nlohmann::json& table, const std::vector<std::string>& columns,
+                       const std::string& chart_js_path);
 // JUnit XML: one testcase per point, a failure naming its failed checks, an error for a point that did not run.
 std::string sweep_junit(const nlohmann::json& table);
 

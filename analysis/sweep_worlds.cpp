@@ -63,8 +63,11 @@ nlohmann::json figure_over_worlds(const Rows& rows, const std::string& figure) {
   double sum = 0;
   for (const auto& v : values) sum += v.first;
   const auto& worst = higher_is_worse(figure) ? values.back() : values.front();
-  return {{"n", values.size()}, {"mean", sum / static_cast<double>(values.size())},
-          {"p5", rank(0.05)}, {"p95", rank(0.95)}, {"worst", worst.first},
+  return {{"n", values.size()},
+          {"mean", sum / static_cast<double>(values.size())},
+          {"p5", rank(0.05)},
+          {"p95", rank(0.95)},
+          {"worst", worst.first},
           {"worst_world", worst.second->value("world", std::string())},
           {"reproduce", reproduce(*worst.second)}};
 }
@@ -81,7 +84,8 @@ nlohmann::json check_over_worlds(const Rows& rows, const std::string& check) {
     held += status == "pass";
     if (status == "fail" && !failing) failing = row;
   }
-  return {{"held", held}, {"evaluated", evaluated},
+  return {{"held", held},
+          {"evaluated", evaluated},
           {"share", evaluated ? static_cast<double>(held) / static_cast<double>(evaluated) : 0.0},
           {"first_failing_world", failing ? failing->value("world", std::string()) : ""},
           {"reproduce", failing ? reproduce(*failing) : ""}};
@@ -101,7 +105,9 @@ nlohmann::json over_worlds(const nlohmann::json& table) {
   nlohmann::json out = {{"groups", nlohmann::json::array()}};
   for (const auto& g : order) {
     const auto& rows = groups[g];
-    nlohmann::json group = {{"group", g}, {"worlds", rows.size()}, {"figures", nlohmann::json::object()},
+    nlohmann::json group = {{"group", g},
+                            {"worlds", rows.size()},
+                            {"figures", nlohmann::json::object()},
                             {"checks", nlohmann::json::object()}};
     std::vector<std::string> figures, checks;
     names_in(rows, figures, checks);
@@ -116,15 +122,17 @@ nlohmann::json over_worlds(const nlohmann::json& table) {
 std::string over_worlds_html(const nlohmann::json& summary) {
   std::ostringstream h;
   for (const auto& group : summary["groups"]) {
-    h << "<h2>Over " << group["worlds"].get<std::size_t>() << " worlds: " << xml_escape(group["group"].get<std::string>())
+    h << "<h2>Over " << group["worlds"].get<std::size_t>()
+      << " worlds: " << xml_escape(group["group"].get<std::string>())
       << "</h2>\n<div class=\"wide\"><table><tr><th>figure</th><th>worlds</th><th>mean</th><th>p5</th><th>p95</th>"
          "<th>worst</th><th>worst world</th><th>reproduce it</th></tr>\n";
     for (const auto& [name, f] : group["figures"].items())
-      h << "<tr><td>" << xml_escape(name) << "</td><td class=\"n\">" << f["n"].get<std::size_t>() << "</td><td class=\"n\">"
-        << general(f["mean"].get<double>(), 4) << "</td><td class=\"n\">" << general(f["p5"].get<double>(), 4)
-        << "</td><td class=\"n\">" << general(f["p95"].get<double>(), 4) << "</td><td class=\"n\">"
-        << general(f["worst"].get<double>(), 4) << "</td><td>" << xml_escape(f["worst_world"].get<std::string>())
-        << "</td><td><code>" << xml_escape(f["reproduce"].get<std::string>()) << "</code></td></tr>\n";
+      h << "<tr><td>" << xml_escape(name) << "</td><td class=\"n\">" << f["n"].get<std::size_t>()
+        << "</td><td class=\"n\">" << general(f["mean"].get<double>(), 4) << "</td><td class=\"n\">"
+        << general(f["p5"].get<double>(), 4) << "</td><td class=\"n\">" << general(f["p95"].get<double>(), 4)
+        << "</td><td class=\"n\">" << general(f["worst"].get<double>(), 4) << "</td><td>"
+        << xml_escape(f["worst_world"].get<std::string>()) << "</td><td><code>"
+        << xml_escape(f["reproduce"].get<std::string>()) << "</code></td></tr>\n";
     h << "</table></div>\n<div class=\"wide\"><table><tr><th>check</th><th>holds in</th><th>share</th>"
          "<th>first failing world</th><th>reproduce it</th></tr>\n";
     for (const auto& [name, c] : group["checks"].items())

@@ -34,8 +34,8 @@ Eigen::Matrix3Xf load_cloud(const std::string& path) {
   }
   in.read(reinterpret_cast<char*>(&count), sizeof(count));
   if (count > (size - 16) / 12 || 16 + count * 12 != size) {
-    throw std::invalid_argument("load_cloud: '" + path + "' declares " + std::to_string(count) +
-                                " points but holds " + std::to_string(size) + " bytes (expected 16 + 12 * count)");
+    throw std::invalid_argument("load_cloud: '" + path + "' declares " + std::to_string(count) + " points but holds " +
+                                std::to_string(size) + " bytes (expected 16 + 12 * count)");
   }
   if (count >= std::numeric_limits<std::uint32_t>::max()) {
     throw std::invalid_argument("load_cloud: '" + path + "' has too many points: " + std::to_string(count));

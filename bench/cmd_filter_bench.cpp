@@ -13,12 +13,12 @@
 #include "bench/filter_bench.hpp"
 #include "bench/pcl_peer.hpp"
 #include "common/atomic_file.hpp"
+#include "config/scenario.hpp"
 #include "pipeline/pipeline.hpp"
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
 #include "sim/simulator.hpp"
 #include "tools/command.hpp"
-#include "config/scenario.hpp"
 
 namespace stvl::bench {
 namespace {
@@ -76,16 +76,20 @@ int filter_bench(const FilterBenchCli& o) {
   const auto clouds = render_clouds(scenario, o.clouds);
   if (!o.save_clouds.empty()) {
     ensure_writable_directory(o.save_clouds);
-    for (const auto& c : clouds) save_cloud((std::filesystem::path(o.save_clouds) / (c.name + ".stvlcld")).string(), c.points);
+    for (const auto& c : clouds)
+      save_cloud((std::filesystem::path(o.save_clouds) / (c.name + ".stvlcld")).string(), c.points);
   }
-  std::printf("filter-bench: %d clouds of %dx%d rendered from %s (noise %s), %d threads (0: all cores), %d repetitions after %d warm-up\n",
-              o.clouds, scenario.camera().intrinsics.width, scenario.camera().intrinsics.height, scenario.pipeline.world_path.c_str(),
-              scenario.camera().noise.enabled ? "on" : "off", o.threads, o.repetitions, o.warmup);
+  std::printf(
+      "filter-bench: %d clouds of %dx%d rendered from %s (noise %s), %d threads (0: all cores), %d repetitions after "
+      "%d warm-up\n",
+      o.clouds, scenario.camera().intrinsics.width, scenario.camera().intrinsics.height,
+      scenario.pipeline.world_path.c_str(), scenario.camera().noise.enabled ? "on" : "off", o.threads, o.repetitions,
+      o.warmup);
   std::vector<FilterBenchRow> rows;
   std::string baseline = "voxel/cpu";
   if (o.peer == "pcl") {
-    // The bench's filters and PCL's back to back for each cloud and voxel size, so that the ratio compares like with like on
-    // a machine whose speed drifts.
+    // The bench's filters and PCL's back to back for each cloud and voxel size, so that the ratio compares like with
+    // like on a machine whose speed drifts.
     baseline = "pcl2/cpu";
     for (const auto& cloud : clouds) {
       for (double voxel_m : o.voxel_sizes_m) {
@@ -105,7 +109,8 @@ int filter_bench(const FilterBenchCli& o) {
 const tools::CommandRegistration kFilterBench("filter-bench", [](CLI::App& app) {
   auto o = std::make_shared<FilterBenchCli>();
   auto* cmd = app.add_subcommand("filter-bench", "Benchmark the filters on clouds rendered from the corridor");
-  cmd->add_option("--scenario", o->scenario, "Scenario whose world, path and camera make the clouds (default: the default scenario)");
+  cmd->add_option("--scenario", o->scenario,
+                  "Scenario whose world, path and camera make the clouds (default: the default scenario)");
   cmd->add_option("--clouds", o->clouds, "Number of rendered clouds")->capture_default_str();
   cmd->add_option("--voxel", o->voxel_sizes_m, "Voxel sizes in m")->delimiter(',')->capture_default_str();
   cmd->add_option("--filters", o->filters, "Filters: voxel, csnb")->delimiter(',')->capture_default_str();

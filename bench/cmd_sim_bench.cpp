@@ -9,7 +9,8 @@ namespace stvl::bench {
 namespace {
 
 const tools::CommandRegistration kSimBench("sim-bench", [](CLI::App& app) {
-  auto* cmd = app.add_subcommand("sim-bench", "Physics throughput: steps per second with the robot driving the corridor");
+  auto* cmd =
+      app.add_subcommand("sim-bench", "Physics throughput: steps per second with the robot driving the corridor");
   auto o = std::make_shared<SimBenchOptions>();
   o->world_path = std::string(STVL_SOURCE_DIR) + "/worlds/office_corridor.xml";
   cmd->add_option("--world", o->world_path, "MJCF world with the robot")->capture_default_str();

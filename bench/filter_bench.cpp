@@ -11,7 +11,8 @@ using filter::Device;
 using filter::FilterType;
 using filter::MemoryMode;
 
-std::vector<FilterBenchRow> run_filter_bench(const std::vector<BenchmarkCloud>& clouds, const FilterBenchConfig& config) {
+std::vector<FilterBenchRow> run_filter_bench(const std::vector<BenchmarkCloud>& clouds,
+                                             const FilterBenchConfig& config) {
   std::vector<FilterBenchRow> rows;
   struct Variant {
     Device device;
@@ -21,7 +22,8 @@ std::vector<FilterBenchRow> run_filter_bench(const std::vector<BenchmarkCloud>& 
   std::vector<Variant> variants;
   if (config.cpu) variants.push_back({Device::kCpu, MemoryMode::kCopy, "cpu"});
   if (config.cuda && filter::cuda_available()) {
-    for (MemoryMode mode : config.memory_modes) variants.push_back({Device::kCuda, mode, std::string("cuda/") + to_string(mode)});
+    for (MemoryMode mode : config.memory_modes)
+      variants.push_back({Device::kCuda, mode, std::string("cuda/") + to_string(mode)});
   }
   for (const BenchmarkCloud& cloud : clouds) {
     for (double voxel_size_m : config.voxel_sizes_m) {
@@ -38,8 +40,9 @@ std::vector<FilterBenchRow> run_filter_bench(const std::vector<BenchmarkCloud>& 
           fc.csnb.voxel_size_m = voxel_size_m;
           filter::Filter under_test(fc);
           std::size_t out_points = 0;
-          const auto [mean, sd] = time_ms([&] { out_points = static_cast<std::size_t>(under_test.apply(cloud.points).cols()); },
-                                          config.warmup, config.repetitions);
+          const auto [mean, sd] =
+              time_ms([&] { out_points = static_cast<std::size_t>(under_test.apply(cloud.points).cols()); },
+                      config.warmup, config.repetitions);
           rows.push_back({cloud.name, std::string(to_string(type)) + "/" + variant.label, voxel_size_m,
                           static_cast<std::size_t>(cloud.points.cols()), out_points, mean, sd});
         }
@@ -49,7 +52,8 @@ std::vector<FilterBenchRow> run_filter_bench(const std::vector<BenchmarkCloud>& 
   return rows;
 }
 
-void print_filter_bench_table(std::ostream& out, const std::vector<FilterBenchRow>& rows, const std::string& baseline_method) {
+void print_filter_bench_table(std::ostream& out, const std::vector<FilterBenchRow>& rows,
+                              const std::string& baseline_method) {
   out << "| cloud | method | voxel m | points in | points out | mean ms | std ms | x " << baseline_method << " |\n"
       << "|---|---|---:|---:|---:|---:|---:|---:|\n";
   char line[512];

@@ -41,7 +41,8 @@ struct FilterBenchRow {
   double std_ms = 0.0;
 };
 
-std::vector<FilterBenchRow> run_filter_bench(const std::vector<BenchmarkCloud>& clouds, const FilterBenchConfig& config);
+std::vector<FilterBenchRow> run_filter_bench(const std::vector<BenchmarkCloud>& clouds,
+                                             const FilterBenchConfig& config);
 
 // Markdown table; "x baseline" is the baseline row's mean / this row's mean, the baseline being the row
 // with method == baseline_method for the same cloud and voxel size (blank when there is none).

@@ -50,7 +50,8 @@ std::vector<Voxel> prefill(std::size_t count, double voxel_size_m) {
   voxels.reserve(count);
   const int y0 = static_cast<int>(std::floor(-20.0 / voxel_size_m));
   for (std::size_t i = 0; i < count; ++i) {
-    const int along = static_cast<int>(i % 100), across = static_cast<int>((i / 100) % 100), up = static_cast<int>(i / 10000);
+    const int along = static_cast<int>(i % 100), across = static_cast<int>((i / 100) % 100),
+              up = static_cast<int>(i / 10000);
     voxels.push_back({{across - 50, y0 + along, up}, 0.0});
   }
   return voxels;
@@ -62,7 +63,8 @@ void MapBenchOptions::validate() const {
   StvlConfig config;
   config.voxel_size_m = voxel_size_m;
   config.validate();
-  if (frames < 1 || frames > 100000) throw std::invalid_argument("frames = " + std::to_string(frames) + " must lie in [1, 100000]");
+  if (frames < 1 || frames > 100000)
+    throw std::invalid_argument("frames = " + std::to_string(frames) + " must lie in [1, 100000]");
   if (sizes.empty()) throw std::invalid_argument("sizes is empty");
   if (threads < 0 || threads > 1024)
     throw std::invalid_argument("threads = " + std::to_string(threads) + " must lie in [0, 1024]");
@@ -110,8 +112,11 @@ MapBenchResult run_map_bench(const MapBenchOptions& options) {
       full_clear.push_back(time_once_ms([&] { full.clear(obs, frame.time_s); }));
       full.mark(frame.points_W, frame.T_world_camera, source, frame.time_s);
       ray_clear.push_back(time_once_ms([&] { raycast.clear(obs, frame.time_s); }));
-      ray_mark.push_back(time_once_ms([&] { raycast.mark(frame.points_W, frame.T_world_camera, source, frame.time_s); }));
-      if (octomap) octomap_insert.push_back(octomap->insert_ms(frame.points_W, frame.T_world_camera.translation(), kFrameMaxRangeM));
+      ray_mark.push_back(
+          time_once_ms([&] { raycast.mark(frame.points_W, frame.T_world_camera, source, frame.time_s); }));
+      if (octomap)
+        octomap_insert.push_back(
+            octomap->insert_ms(frame.points_W, frame.T_world_camera.translation(), kFrameMaxRangeM));
     }
     row.octomap_insert_ms = median(octomap_insert, 0.0);  // 0 without OctoMap
     row.mark_ms = median(mark);
@@ -121,9 +126,10 @@ MapBenchResult run_map_bench(const MapBenchOptions& options) {
     row.raycast_mark_ms = median(ray_mark);
     row.final_voxels = ours.size();
     const auto a = ours.voxels(), b = full.voxels();
-    row.full_walk_matches = a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const Voxel& x, const Voxel& y) {
-                              return x.key == y.key && x.time_s == y.time_s;
-                            });
+    row.full_walk_matches =
+        a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const Voxel& x, const Voxel& y) {
+          return x.key == y.key && x.time_s == y.time_s;
+        });
     result.rows.push_back(row);
   }
 
@@ -135,8 +141,8 @@ void print_map_bench(const MapBenchResult& r, std::ostream& out) {
   out << std::fixed << std::setprecision(3);
   out << "map-bench: voxel_size " << r.options.voxel_size_m << " m, " << r.options.frames << " frames, "
       << std::setprecision(0) << r.points_per_frame << " points/frame (424x240 D435-like, voxel-filtered), seed "
-      << r.options.seed << ", "
-      << (r.options.threads > 0 ? std::to_string(r.options.threads) : std::string("all")) << " threads\n"
+      << r.options.seed << ", " << (r.options.threads > 0 ? std::to_string(r.options.threads) : std::string("all"))
+      << " threads\n"
       << "median ms per frame; ratios against the first size in the same run\n\n";
   out << std::setprecision(3);
   out << "| prefilled voxels | mark | clear (ours) | clear (full walk) | full/ours | ours vs first | full vs first "

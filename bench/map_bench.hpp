@@ -14,15 +14,15 @@ struct MapBenchOptions {
   int frames = 60;
   std::vector<std::size_t> sizes = {10'000, 100'000, 1'000'000};  // pre-filled voxels outside the view
   std::uint64_t seed = 1;
-  bool octomap = true;  // run the OctoMap peer when available
-  int threads = 0;      // threads for the map's parallel ray walks (0: all cores); OctoMap's insert is serial
+  bool octomap = true;    // run the OctoMap peer when available
+  int threads = 0;        // threads for the map's parallel ray walks (0: all cores); OctoMap's insert is serial
   void validate() const;  // throws std::invalid_argument
 };
 
 struct MapBenchRow {
   std::size_t prefilled_voxels = 0;
-  double mark_ms = 0.0;          // medians per frame
-  double clear_ms = 0.0;         // bounded walk (the bench's)
+  double mark_ms = 0.0;   // medians per frame
+  double clear_ms = 0.0;  // bounded walk (the bench's)
   double full_walk_clear_ms = 0.0;
   double raycast_clear_ms = 0.0;
   double raycast_mark_ms = 0.0;

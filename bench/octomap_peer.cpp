@@ -33,7 +33,8 @@ struct OctomapPeer::Impl {};
 bool OctomapPeer::available() { return false; }
 
 OctomapPeer::OctomapPeer(double) {
-  throw std::runtime_error("OctoMap peer: stvl-bench was built without liboctomap (install liboctomap-dev and rebuild)");
+  throw std::runtime_error(
+      "OctoMap peer: stvl-bench was built without liboctomap (install liboctomap-dev and rebuild)");
 }
 
 double OctomapPeer::insert_ms(const Eigen::Matrix3Xf&, const Eigen::Vector3d&, double) { return 0.0; }

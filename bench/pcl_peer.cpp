@@ -16,7 +16,7 @@ namespace stvl::bench {
 bool pcl_peer_available() { return true; }
 
 std::vector<FilterBenchRow> run_pcl_peer(const std::vector<BenchmarkCloud>& clouds,
-                                        const std::vector<double>& voxel_sizes_m, int warmup, int repetitions) {
+                                         const std::vector<double>& voxel_sizes_m, int warmup, int repetitions) {
   std::vector<FilterBenchRow> rows;
   for (const auto& cloud : clouds) {
     pcl::PointCloud<pcl::PointXYZ>::Ptr xyz(new pcl::PointCloud<pcl::PointXYZ>);
@@ -42,7 +42,8 @@ std::vector<FilterBenchRow> run_pcl_peer(const std::vector<BenchmarkCloud>& clou
       grid.setInputCloud(xyz);
       grid.setLeafSize(leaf, leaf, leaf);
       const auto [mean, std] = time_ms([&] { grid.filter(out); }, warmup, repetitions);
-      rows.push_back({cloud.name, "pclxyz/cpu", voxel, static_cast<std::size_t>(cloud.points.cols()), out.size(), mean, std});
+      rows.push_back(
+          {cloud.name, "pclxyz/cpu", voxel, static_cast<std::size_t>(cloud.points.cols()), out.size(), mean, std});
     }
   }
   return rows;
@@ -51,8 +52,9 @@ std::vector<FilterBenchRow> run_pcl_peer(const std::vector<BenchmarkCloud>& clou
 bool pcl_peer_available() { return false; }
 
 std::vector<FilterBenchRow> run_pcl_peer(const std::vector<BenchmarkCloud>&, const std::vector<double>&, int, int) {
-  throw std::runtime_error("--peer pcl: stvl-bench was built without PCL (install libpcl-dev with "
-                           "scripts/install-deps.sh --with-pcl and rebuild)");
+  throw std::runtime_error(
+      "--peer pcl: stvl-bench was built without PCL (install libpcl-dev with "
+      "scripts/install-deps.sh --with-pcl and rebuild)");
 }
 #endif
 

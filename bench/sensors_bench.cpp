@@ -159,7 +159,8 @@ Result measure(const std::string& world_path, stvl::sensors::GlBackend backend,
 }  // namespace
 
 void SensorsBenchOptions::validate() const {
-  if (frames < 1 || frames > 1000) throw std::invalid_argument("frames = " + std::to_string(frames) + " must lie in [1, 1000]");
+  if (frames < 1 || frames > 1000)
+    throw std::invalid_argument("frames = " + std::to_string(frames) + " must lie in [1, 1000]");
   if (backends.empty()) throw std::invalid_argument("no GL backend given");
   for (const std::string& b : backends) sensors::parse_gl_backend(b);  // throws naming a bad one
 }
@@ -186,12 +187,14 @@ void run_sensors_bench(const SensorsBenchOptions& options) {
         try {
           std::string name;
           const Result r = measure(world_path, parse_gl_backend(backend_arg), k, options.frames, name);
-          std::printf("%-7s %4dx%-3d %11.1f %19.1f %9.2f %17.2f %9.2f %6.1f%% %8.0f\n", name.c_str(), k.width,
-                      k.height, r.render_fps, r.full_fps, r.noise_ms, r.noise_one_pass_ms, r.cloud_ms,
-                      100.0 * r.valid_fraction, r.points);
+          std::printf("%-7s %4dx%-3d %11.1f %19.1f %9.2f %17.2f %9.2f %6.1f%% %8.0f\n", name.c_str(), k.width, k.height,
+                      r.render_fps, r.full_fps, r.noise_ms, r.noise_one_pass_ms, r.cloud_ms, 100.0 * r.valid_fraction,
+                      r.points);
           if (r.peer_ms >= 0.0) {
-            std::printf("        render %.2f ms vs the old readback (colour writes, float depth) %.2f ms, ratio %.3f, "
-                        "pixels differing %ld\n", r.render_ms, r.peer_ms, r.render_ms / r.peer_ms, r.peer_differing_pixels);
+            std::printf(
+                "        render %.2f ms vs the old readback (colour writes, float depth) %.2f ms, ratio %.3f, "
+                "pixels differing %ld\n",
+                r.render_ms, r.peer_ms, r.render_ms / r.peer_ms, r.peer_differing_pixels);
           }
           std::printf("        3 cameras of one instant: one after another %.2f ms, concurrently %.2f ms, ratio %.3f\n",
                       r.three_apart_ms, r.three_together_ms, r.three_together_ms / r.three_apart_ms);

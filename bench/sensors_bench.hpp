@@ -10,7 +10,7 @@ namespace stvl::bench {
 struct SensorsBenchOptions {
   std::string world_path;  // empty: a built-in 3 m wide corridor with boxes, cylinders and spheres
   std::vector<std::string> backends{"osmesa", "egl"};  // "osmesa", "egl" or "auto"
-  int frames = 300;  // timed frames per row (1..1000: 1 cm apart along +x), after 10 warm-up frames
+  int frames = 300;       // timed frames per row (1..1000: 1 cm apart along +x), after 10 warm-up frames
   void validate() const;  // throws std::invalid_argument
 };
 

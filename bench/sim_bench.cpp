@@ -35,9 +35,10 @@ SimBenchResult run_sim_bench(const SimBenchOptions& options) {
 }
 
 void print_sim_bench(const SimBenchOptions& options, const SimBenchResult& r) {
-  std::printf("world %s: %ld steps (%.1f s simulated) in %.3f s wall: %.0f steps/s, %.1fx real time; robot at x=%.2f y=%.2f\n",
-              options.world_path.c_str(), r.steps, r.simulated_s, r.wall_s, r.steps / r.wall_s, r.simulated_s / r.wall_s,
-              r.final_x_m, r.final_y_m);
+  std::printf(
+      "world %s: %ld steps (%.1f s simulated) in %.3f s wall: %.0f steps/s, %.1fx real time; robot at x=%.2f y=%.2f\n",
+      options.world_path.c_str(), r.steps, r.simulated_s, r.wall_s, r.steps / r.wall_s, r.simulated_s / r.wall_s,
+      r.final_x_m, r.final_y_m);
 }
 
 }  // namespace stvl::bench

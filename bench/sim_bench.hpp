@@ -5,7 +5,7 @@
 namespace stvl::bench {
 
 struct SimBenchOptions {
-  std::string world_path;  // MJCF world with the robot; a path containing "l_corridor" drives the L-turn
+  std::string world_path;    // MJCF world with the robot; a path containing "l_corridor" drives the L-turn
   double duration_s = 20.0;  // simulated time
   void validate() const;     // throws std::invalid_argument
 };

@@ -28,7 +28,9 @@ std::uint64_t hash3(std::uint64_t seed, std::uint64_t a, std::uint64_t b) {
 double uniform_open0(std::uint64_t seed, std::uint64_t a, std::uint64_t b) {
   return (double(hash3(seed, a, b) >> 11) + 0.5) * 0x1.0p-53;
 }
-double uniform(std::uint64_t seed, std::uint64_t a, std::uint64_t b) { return double(hash3(seed, a, b) >> 11) * 0x1.0p-53; }
+double uniform(std::uint64_t seed, std::uint64_t a, std::uint64_t b) {
+  return double(hash3(seed, a, b) >> 11) * 0x1.0p-53;
+}
 
 // Slab test; the entry distance, or infinity when the ray misses the box or starts inside it.
 double ray_box(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const CorridorBox& b) {
@@ -75,7 +77,8 @@ void cast_points(const SyntheticCamera& camera, const Eigen::Isometry3d& T_world
       const Eigen::Vector3d d_W = R * ray_C;
       const double depth = cast_ray(o, d_W);  // ray_C.z = 1, so t is the depth along the optical axis
       if (!(depth > camera.min_range_m && depth < camera.max_range_m)) continue;
-      const std::uint64_t counter = (frame * height + static_cast<std::uint64_t>(v)) * width + static_cast<std::uint64_t>(u);
+      const std::uint64_t counter =
+          (frame * height + static_cast<std::uint64_t>(v)) * width + static_cast<std::uint64_t>(u);
       const double u1 = uniform_open0(seed, counter, 1), u2 = uniform(seed, counter, 2);
       const double gauss = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
       sink(Eigen::Vector3d(o + d_W * (depth + camera.noise_per_m * depth * depth * gauss)));
@@ -111,10 +114,11 @@ double cast_corridor_ray(const Eigen::Vector3d& origin_W, const Eigen::Vector3d&
   return cast_ray(origin_W, direction_W);
 }
 
-SyntheticCamera SyntheticCamera::from_fov(int width_px, int height_px, double horizontal_fov_rad, double vertical_fov_rad) {
+SyntheticCamera SyntheticCamera::from_fov(int width_px, int height_px, double horizontal_fov_rad,
+                                          double vertical_fov_rad) {
   if (width_px <= 0 || height_px <= 0 || width_px > 8192 || height_px > 8192) {
-    throw std::invalid_argument("synthetic camera: image size must be 1..8192 px, got " + std::to_string(width_px) + "x" +
-                                std::to_string(height_px));
+    throw std::invalid_argument("synthetic camera: image size must be 1..8192 px, got " + std::to_string(width_px) +
+                                "x" + std::to_string(height_px));
   }
   SyntheticCamera camera;
   camera.width_px = width_px;
@@ -130,8 +134,9 @@ Eigen::Matrix3Xf cast_corridor_cloud(const SyntheticCamera& camera, const Eigen:
                                      std::uint64_t seed, std::uint64_t frame) {
   std::vector<float> xyz;
   xyz.reserve(static_cast<std::size_t>(camera.width_px) * camera.height_px * 3);
-  cast_points(camera, T_world_camera, seed, frame,
-              [&](const Eigen::Vector3d& p) { xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())}); });
+  cast_points(camera, T_world_camera, seed, frame, [&](const Eigen::Vector3d& p) {
+    xyz.insert(xyz.end(), {float(p.x()), float(p.y()), float(p.z())});
+  });
   return Eigen::Map<const Eigen::Matrix3Xf>(xyz.data(), 3, static_cast<Eigen::Index>(xyz.size() / 3));
 }
 
@@ -140,8 +145,8 @@ Eigen::Matrix3Xf make_corridor_cloud(std::uint64_t seed, int width_px, int heigh
   const double pitch = 0.12;  // looking slightly down
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
   // Columns: the optical x (right), y (down) and z (forward) axes in the world.
-  T_world_camera.linear() << 1.0, 0.0, 0.0,  //
-      0.0, -std::sin(pitch), std::cos(pitch),    //
+  T_world_camera.linear() << 1.0, 0.0, 0.0,    //
+      0.0, -std::sin(pitch), std::cos(pitch),  //
       0.0, -std::cos(pitch), -std::sin(pitch);
   T_world_camera.translation() = Eigen::Vector3d(0.1, 0.0, 1.0);
   return cast_corridor_cloud(camera, T_world_camera, seed);
@@ -164,7 +169,8 @@ SyntheticFrame synthetic_corridor_frame(std::uint64_t seed, int frame, double vo
   out.T_world_camera.translation() = Eigen::Vector3d(0.05 * jitter(4), 0.03 * frame, 0.5);
   std::vector<Eigen::Vector3d> points;
   points.reserve(static_cast<std::size_t>(camera.width_px) * camera.height_px);
-  cast_points(camera, out.T_world_camera, seed, std::uint64_t(frame), [&](const Eigen::Vector3d& p) { points.push_back(p); });
+  cast_points(camera, out.T_world_camera, seed, std::uint64_t(frame),
+              [&](const Eigen::Vector3d& p) { points.push_back(p); });
   out.points_W = voxel_centroids(points, voxel_size_m);
   return out;
 }

@@ -33,13 +33,14 @@ struct SyntheticCamera {
   int width_px = 848;
   int height_px = 480;
   double fx_px = 0.0, fy_px = 0.0, cx_px = 0.0, cy_px = 0.0;
-  double min_range_m = 0.2;   // a pixel is kept when min_range_m < depth < max_range_m (depth along z)
+  double min_range_m = 0.2;  // a pixel is kept when min_range_m < depth < max_range_m (depth along z)
   double max_range_m = 10.0;
   double noise_per_m = 0.001;  // depth noise: Gaussian, sigma = noise_per_m * depth^2
 
   // fx from the horizontal FOV, fy from the vertical one (fy = fx when vertical_fov_rad is 0: square pixels),
   // principal point at the image centre. Throws std::invalid_argument for a size outside 1..8192 px.
-  static SyntheticCamera from_fov(int width_px, int height_px, double horizontal_fov_rad, double vertical_fov_rad = 0.0);
+  static SyntheticCamera from_fov(int width_px, int height_px, double horizontal_fov_rad,
+                                  double vertical_fov_rad = 0.0);
 };
 
 // One camera frame of the corridor in the world frame: a point per pixel whose depth lies in the camera's

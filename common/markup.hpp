@@ -23,7 +23,8 @@ inline std::string xml_escape(const std::string& text) {
 // For a script or JSON inlined in a <script> element: every "</" becomes "<\/", so nothing in it ends the element
 // (the same string to JavaScript and to JSON).
 inline std::string script_safe(std::string text) {
-  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.replace(at, 2, "<\\/");
+  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3))
+    text.replace(at, 2, "<\\/");
   return text;
 }
 

@@ -18,7 +18,8 @@ void append_to_string(png_structp png, png_bytep data, png_size_t length) {
 
 int samples_per_pixel(PngFormat format) {
   switch (format) {
-    case PngFormat::kGray16: case PngFormat::kGray8: return 1;
+    case PngFormat::kGray16:
+    case PngFormat::kGray8: return 1;
     case PngFormat::kGrayAlpha8: return 2;
     case PngFormat::kRgb8: return 3;
     case PngFormat::kRgba8: return 4;
@@ -28,7 +29,8 @@ int samples_per_pixel(PngFormat format) {
 
 int color_type(PngFormat format) {
   switch (format) {
-    case PngFormat::kGray16: case PngFormat::kGray8: return PNG_COLOR_TYPE_GRAY;
+    case PngFormat::kGray16:
+    case PngFormat::kGray8: return PNG_COLOR_TYPE_GRAY;
     case PngFormat::kGrayAlpha8: return PNG_COLOR_TYPE_GRAY_ALPHA;
     case PngFormat::kRgb8: return PNG_COLOR_TYPE_RGB;
     case PngFormat::kRgba8: return PNG_COLOR_TYPE_RGB_ALPHA;
@@ -78,8 +80,8 @@ std::string encode_png(int width, int height, PngFormat format, const void* pixe
     throw std::runtime_error("libpng: encoding failed");
   }
   png_set_write_fn(png, &bytes, append_to_string, nullptr);
-  png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), gray16 ? 16 : 8, color_type(format), PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-               PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), gray16 ? 16 : 8, color_type(format),
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   if (compression_level >= 0) png_set_compression_level(png, compression_level);
   png_write_info(png, info);
   for (int y = 0; y < height; ++y) {

@@ -8,8 +8,8 @@
 namespace stvl {
 
 enum class PngFormat {
-  kGray16,  // one std::uint16_t per pixel (host order; PNG stores it big-endian)
-  kRgb8,    // three std::uint8_t per pixel
+  kGray16,      // one std::uint16_t per pixel (host order; PNG stores it big-endian)
+  kRgb8,        // three std::uint8_t per pixel
   kGray8,       // one std::uint8_t per pixel
   kGrayAlpha8,  // two std::uint8_t per pixel: grey, alpha
   kRgba8,       // four std::uint8_t per pixel
@@ -38,8 +38,8 @@ Gray16Image read_png_gray16(const std::filesystem::path& path);
 struct PngImage {
   int width = 0;
   int height = 0;
-  int channels = 0;   // 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
-  int bit_depth = 0;  // 8 or 16: samples lie in 0 .. 2^bit_depth - 1
+  int channels = 0;                    // 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
+  int bit_depth = 0;                   // 8 or 16: samples lie in 0 .. 2^bit_depth - 1
   std::vector<std::uint16_t> samples;  // row-major, top row first, `channels` samples per pixel
 };
 

@@ -40,7 +40,8 @@ StagedDirectory::~StagedDirectory() {
 }
 
 fs::path StagedDirectory::redirect(const fs::path& p) const {
-  const fs::path relative = fs::absolute(p).lexically_normal().lexically_relative(fs::absolute(final_).lexically_normal());
+  const fs::path relative =
+      fs::absolute(p).lexically_normal().lexically_relative(fs::absolute(final_).lexically_normal());
   if (relative.empty() || *relative.begin() == ".." || relative == ".") return p;
   return staging_ / relative;
 }
@@ -57,7 +58,8 @@ void StagedDirectory::commit() {
       if (error) {
         std::error_code ignored;
         fs::rename(old, final_, ignored);
-        throw std::runtime_error("cannot move " + staging_.string() + " to " + final_.string() + ": " + error.message());
+        throw std::runtime_error("cannot move " + staging_.string() + " to " + final_.string() + ": " +
+                                 error.message());
       }
       fs::remove_all(old, error);
     } else {
@@ -65,7 +67,8 @@ void StagedDirectory::commit() {
     }
   } else {
     fs::rename(staging_, final_, error);
-    if (error) throw std::runtime_error("cannot move " + staging_.string() + " to " + final_.string() + ": " + error.message());
+    if (error)
+      throw std::runtime_error("cannot move " + staging_.string() + " to " + final_.string() + ": " + error.message());
   }
   done_ = true;
 }
@@ -83,8 +86,9 @@ void StagedDirectory::abandon(const std::string& why) noexcept {
       fs::remove_all(staging_, error);
       return;
     }
-    std::ofstream(staging_ / "INCOMPLETE") << "This run did not complete; " << final_.string()
-                                           << " was left as it was.\n" << why << "\n";
+    std::ofstream(staging_ / "INCOMPLETE")
+        << "This run did not complete; " << final_.string() << " was left as it was.\n"
+        << why << "\n";
     const fs::path incomplete = final_.string() + ".incomplete";
     fs::remove_all(incomplete, error);
     fs::rename(staging_, incomplete, error);

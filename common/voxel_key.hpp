@@ -1,6 +1,6 @@
 #pragma once
-// Integer voxel and cell keys, shared by sim/ (ground truth), mapping/ (the map) and evaluation/. Voxel index = floor(p / voxel_size_m) per axis: voxel k covers
-// [k * size, (k + 1) * size) on each axis, so the origin is a voxel corner.
+// Integer voxel and cell keys, shared by sim/ (ground truth), mapping/ (the map) and evaluation/. Voxel index = floor(p
+// / voxel_size_m) per axis: voxel k covers [k * size, (k + 1) * size) on each axis, so the origin is a voxel corner.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

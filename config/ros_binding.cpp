@@ -119,13 +119,15 @@ const RosObservationSource* bind_sources(const RosStvlLayer& layer, std::vector<
   }
   for (const auto& c : cameras)
     if (c.sources.empty())
-      throw std::invalid_argument(layer.file + ": " + layer.layer_name + ": no enabled observation source is bound to camera '" +
-                                  c.name + "' (bind one through its topic /" + c.name + "/... or its sensor_frame)");
+      throw std::invalid_argument(layer.file + ": " + layer.layer_name +
+                                  ": no enabled observation source is bound to camera '" + c.name +
+                                  "' (bind one through its topic /" + c.name + "/... or its sensor_frame)");
   return first;
 }
 
 // The bench's filter from the first source's: STVL's height band and, with filter voxel, its VoxelGrid.
-void derive_filter_from(const RosStvlLayer& layer, const RosObservationSource& first, pipeline::PipelineConfig& config) {
+void derive_filter_from(const RosStvlLayer& layer, const RosObservationSource& first,
+                        pipeline::PipelineConfig& config) {
   filter::FilterConfig& f = config.filter;
   const layer::HeightBand band = pipeline::marking_band(config);
   f.passthrough = {band.min_m, band.max_m};

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/pipeline.hpp"
 #include "config/ros_lint.hpp"
 #include "config/ros_params.hpp"
+#include "pipeline/pipeline.hpp"
 
 namespace stvl::config {
 
@@ -19,8 +19,9 @@ int bound_camera_index(const RosObservationSource& source, const std::vector<pip
 // Replaces config.map's STVL parameters (voxel_size, voxel_decay, decay_model, mark_threshold) and every
 // camera's sources with the layer's; when `derive_filter`, config.filter follows the sources' common
 // `filter` (passthrough: the marking band only; voxel: a voxel grid at the layer's voxel_size with
-// voxel_min_points ignored as STVL's PCL ignores it, then the band; none: neither). Throws std::invalid_argument "file:line: key: ..." for a
-// source bound to no camera, a camera left without a source, and sources whose filters differ.
+// voxel_min_points ignored as STVL's PCL ignores it, then the band; none: neither). Throws std::invalid_argument
+// "file:line: key: ..." for a source bound to no camera, a camera left without a source, and sources whose filters
+// differ.
 void apply_ros_layer(const RosStvlLayer& layer, pipeline::PipelineConfig& config, bool derive_filter);
 
 // Each bound source's camera (name, FOV, mount, range), for lint_ros_stvl_layer().

@@ -41,9 +41,7 @@ class Linter {
     const int line = key_line(map, key);
     return line > 0 ? line : fallback;
   }
-  std::string version() const {
-    return nodes_.flavour == RosFlavour::kRos1 ? "STVL (ROS 1)" : "STVL (ROS 2)";
-  }
+  std::string version() const { return nodes_.flavour == RosFlavour::kRos1 ? "STVL (ROS 1)" : "STVL (ROS 2)"; }
 
   void layer_keys() {
     std::vector<std::string> sources;
@@ -83,7 +81,8 @@ class Linter {
       if (k == "voxel_filter" && nodes_.flavour != RosFlavour::kRos1) {
         add(line, dotted(prefix, k),
             "ROS 2 STVL ignores voxel_filter (ROS 1 melodic's key) and applies `filter` (default passthrough); "
-            "voxel_filter: true silently has no effect (STVL issue #188: CPU use exploded)", filter);
+            "voxel_filter: true silently has no effect (STVL issue #188: CPU use exploded)",
+            filter);
       } else if (k == "voxel_filter" && !node["filter"]) {
         add(line, dotted(prefix, k),
             "melodic-devel reads voxel_filter, noetic-devel ignores it and applies `filter` (default passthrough)",
@@ -122,7 +121,8 @@ class Linter {
     if (layer_.map.voxel_decay_s < 0.0)
       add(line_or(n, "voxel_decay", fallback), dotted(nodes_.layer_path, "voxel_decay"),
           "voxel_decay = " + general(layer_.map.voxel_decay_s) + (n["voxel_decay"] ? "" : " (STVL's default)") +
-              ": every voxel is removed at the next update, before the costmap is built, so the layer never marks a cell",
+              ": every voxel is removed at the next update, before the costmap is built, so the layer never marks a "
+              "cell",
           "voxel_decay: 15.0 (STVL's example)");
     if (layer_.resolution_m && std::abs(*layer_.resolution_m - layer_.map.voxel_size_m) > kLengthEpsilon_m)
       add(line_or(n, "voxel_size", fallback), dotted(nodes_.layer_path, "voxel_size"),
@@ -144,7 +144,8 @@ class Linter {
     integer_doubles(node, prefix, stvl_double_key_names(StvlScope::kSource, kReadByRos2));
     if (s.filter == RosSourceFilter::kNone && !s.filter_text.empty() && s.filter_text != "none")
       add(line_or(node, "filter", s.line), dotted(prefix, "filter"),
-          "filter = '" + s.filter_text + "': STVL (ros2 403d9ed, noetic-devel 5e06daf) knows passthrough and voxel; any "
+          "filter = '" + s.filter_text +
+              "': STVL (ros2 403d9ed, noetic-devel 5e06daf) knows passthrough and voxel; any "
               "other string applies no filter, so no height band and every height marks (passthrough_relative and "
               "voxel_relative are the ros2 branch's, PR #304; noetic-devel does not know them)",
           "filter: passthrough (or voxel)");
@@ -172,7 +173,8 @@ class Linter {
           "sensor_frame: <camera>_link (x forward, z up), or model_type: 0");
     if (v.clearing && v.model == mapping::ClearingModel::kDepthCamera && !optical)
       add(line_or(node, "sensor_frame", s.line), dotted(prefix, "sensor_frame"),
-          "sensor_frame = '" + s.sensor_frame + "': STVL builds the depth camera's frustum along that frame's z axis, "
+          "sensor_frame = '" + s.sensor_frame +
+              "': STVL builds the depth camera's frustum along that frame's z axis, "
               "and by its name it is not an optical frame (z forward): with x forward and z up (a camera link) "
               "the frustum looks at the ceiling",
           "sensor_frame: <camera>_depth_optical_frame, or leave it empty (the cloud's frame)");
@@ -243,12 +245,13 @@ class Linter {
     const auto& b = best->stvl;
     const std::string plane =
         "STVL's depth-camera frustum puts its far plane at max_z·cos(h/2)·cos(v/2) = " + general(b.max_z_m) +
-        " × cos(" + general(b.horizontal_fov_rad / 2.0) + ") × cos(" + general(b.vertical_fov_rad / 2.0) + ") = " +
-        cm(far) + " m along the optical axis, not at max_z";
-    const std::string beyond = ": voxels marked between " + cm(far) + " and " + general(range) +
-                               " m are never reached by frustum acceleration (decay_acceleration), only voxel_decay removes them";
-    const std::string raise = "max_z: " + general(cm_up(geo::stvl_radial_for_depth(range, b.horizontal_fov_rad,
-                                                                                   b.vertical_fov_rad)));
+        " × cos(" + general(b.horizontal_fov_rad / 2.0) + ") × cos(" + general(b.vertical_fov_rad / 2.0) +
+        ") = " + cm(far) + " m along the optical axis, not at max_z";
+    const std::string beyond =
+        ": voxels marked between " + cm(far) + " and " + general(range) +
+        " m are never reached by frustum acceleration (decay_acceleration), only voxel_decay removes them";
+    const std::string raise =
+        "max_z: " + general(cm_up(geo::stvl_radial_for_depth(range, b.horizontal_fov_rad, b.vertical_fov_rad)));
     const YAML::Node node = nodes_.layer[m.name];
     const std::string prefix = dotted(nodes_.layer_path, m.name);
     if (best == &m)
@@ -259,8 +262,8 @@ class Linter {
       add(line_or(node, "obstacle_range", m.line), dotted(prefix, "obstacle_range"),
           "obstacle_range = " + general(range) + " m marks past the clearing frustum of " + where(*best) +
               ", the same camera's source reaching farthest: " + plane + beyond,
-          raise + " on " + best->name + " (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: " +
-              general(cm_down(far)));
+          raise + " on " + best->name +
+              " (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: " + general(cm_down(far)));
   }
 
   // Heights (world z) the camera marks within obstacle_range that no clearing frustum of it contains at any
@@ -268,10 +271,10 @@ class Linter {
   void heights_never_cleared(const RosObservationSource& m, const std::vector<const RosObservationSource*>& clearing,
                              const BoundCamera& camera) {
     const geo::CameraHeight pose{camera.height_m, camera.pitch_rad, camera.roll_rad};
-    const double range = camera.max_range_m > 0.0 ? std::min(m.stvl.obstacle_range_m, camera.max_range_m)
-                                                  : m.stvl.obstacle_range_m;
+    const double range =
+        camera.max_range_m > 0.0 ? std::min(m.stvl.obstacle_range_m, camera.max_range_m) : m.stvl.obstacle_range_m;
     geo::HeightRange marked = geo::view_heights(pose, camera.hfov_rad, camera.vfov_rad, range);
-    marked.min_m = std::max(marked.min_m, 0.0);  // nothing below the floor
+    marked.min_m = std::max(marked.min_m, 0.0);            // nothing below the floor
     const bool band = m.filter != RosSourceFilter::kNone;  // filter none applies no height band (STVL's buffer)
     if (band) {
       marked.min_m = std::max(marked.min_m, m.stvl.min_obstacle_height_m);
@@ -310,8 +313,8 @@ class Linter {
     if (!(real_rad > 0.0) || std::abs(written_rad - real_rad) <= kFovTolerance * real_rad) return;
     add(line_or(node, k, s.line), dotted(prefix, k),
         k + " = " + general(written_rad) + " rad is more than 5 % off the bound camera's " + general(real_rad) +
-            " rad: STVL's clearing frustum " + (written_rad > real_rad ? "clears voxels the camera cannot see"
-                                                                       : "leaves the edges of the view uncleared"),
+            " rad: STVL's clearing frustum " +
+            (written_rad > real_rad ? "clears voxels the camera cannot see" : "leaves the edges of the view uncleared"),
         k + ": " + general(real_rad));
   }
 

@@ -9,8 +9,8 @@ namespace stvl::config {
 
 struct LintFinding {
   std::string file;
-  int line = 0;          // 1-based
-  std::string key;       // dotted, as ROS names the parameter ("stvl_layer.pointcloud.voxel_filter")
+  int line = 0;     // 1-based
+  std::string key;  // dotted, as ROS names the parameter ("stvl_layer.pointcloud.voxel_filter")
   std::string what_stvl_does;
   std::string write_instead;
 };

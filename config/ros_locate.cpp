@@ -14,10 +14,10 @@ constexpr int kMaxDepth = 4;  // nav2: node namespace, node name, ros__parameter
 // One layer named in a costmap's plugin list (or a bare layer mapping).
 struct Candidate {
   LayerNodes nodes;
-  std::string plugin;       // pluginlib type as written
-  int line = 1;             // line of its entry in the plugin list (of its mapping when bare)
-  std::string plugin_key;   // dotted key of the plugin type, for messages
-  int plugins_line = 1;     // the costmap's plugin list
+  std::string plugin;      // pluginlib type as written
+  int line = 1;            // line of its entry in the plugin list (of its mapping when bare)
+  std::string plugin_key;  // dotted key of the plugin type, for messages
+  int plugins_line = 1;    // the costmap's plugin list
   std::string plugins_key;
 };
 
@@ -158,7 +158,9 @@ int key_line(const YAML::Node& map, const std::string& key) {
   return 0;
 }
 
-std::string dotted(const std::string& prefix, const std::string& key) { return prefix.empty() ? key : prefix + "." + key; }
+std::string dotted(const std::string& prefix, const std::string& key) {
+  return prefix.empty() ? key : prefix + "." + key;
+}
 
 LayerNodes locate_layer(const YAML::Node& root, const std::string& file, const std::string& layer,
                         const std::string& costmap) {
@@ -178,7 +180,9 @@ LayerNodes locate_layer(const YAML::Node& root, const std::string& file, const s
 
   std::vector<Candidate> chosen;
   for (const auto& c : in_costmap)
-    if (layer.empty() ? is_stvl(c.plugin) : (c.nodes.layer_name == layer || (c.nodes.flavour == RosFlavour::kBare && c.nodes.layer_name.empty())))
+    if (layer.empty()
+            ? is_stvl(c.plugin)
+            : (c.nodes.layer_name == layer || (c.nodes.flavour == RosFlavour::kBare && c.nodes.layer_name.empty())))
       chosen.push_back(c);
   if (chosen.empty())
     fail(file, first.plugins_line, first.plugins_key,

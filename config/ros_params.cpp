@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-#include <type_traits>
 #include <stdexcept>
+#include <type_traits>
 
 #include "config/ros_params_detail.hpp"
 #include "config/stvl_keys.hpp"
@@ -218,7 +218,8 @@ ReadLayer read_layer(const std::string& path, const std::string& layer, const st
   const int sources_line = std::max(1, key_line(nodes.layer, "observation_sources"));
   for (const auto& name : split_words(sources)) out.sources.push_back(read_source(nodes, m, name, path, sources_line));
   if (out.sources.empty())
-    fail_at(path, sources_line, dotted(nodes.layer_path, "observation_sources"), "names no source: STVL reads no sensor");
+    fail_at(path, sources_line, dotted(nodes.layer_path, "observation_sources"),
+            "names no source: STVL reads no sensor");
   return result;
 }
 

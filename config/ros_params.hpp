@@ -23,13 +23,13 @@ enum class RosSourceFilter { kNone, kPassthrough, kVoxel };
 
 // One entry of observation_sources.
 struct RosObservationSource {
-  std::string name;       // e.g. "pointcloud"
-  int line = 0;           // 1-based line of its mapping's key
+  std::string name;                                            // e.g. "pointcloud"
+  int line = 0;                                                // 1-based line of its mapping's key
   std::string data_type = "PointCloud2", topic, sensor_frame;  // topic defaults to the name in ROS 1, "" in ROS 2
   // obstacle_range defaults to 2.5 m in ROS 2, 3.0 m in ROS 1; expected_update_rate and observation_persistence
   // are read into it too (the pipeline's source buffers apply them)
   mapping::ObservationSource stvl;
-  int model_type = 0;                   // 0 depth camera, 1 STVL's 3D lidar model (stvl.model)
+  int model_type = 0;                                      // 0 depth camera, 1 STVL's 3D lidar model (stvl.model)
   RosSourceFilter filter = RosSourceFilter::kPassthrough;  // STVL's default in every version
   std::string filter_text = "passthrough";  // `filter` as written (lint names a string STVL does not know)
   // passthrough_relative / voxel_relative (ROS 2 files: the ros2 branch's relative filters, PR #304 as 22f7927):
@@ -43,9 +43,9 @@ struct RosObservationSource {
 struct RosStvlLayer {
   std::string file, layer_name, costmap_name;  // costmap_name "" for a bare file or a ROS 1 file's root
   RosFlavour flavour = RosFlavour::kRos2;
-  mapping::StvlConfig map;      // voxel_size, voxel_decay, decay_model, mark_threshold
-  int decay_model_code = 0;     // as written: 0 linear, 1 exponential, any other persistent
-  int combination_method = 1;   // 0 overwrite, 1 max
+  mapping::StvlConfig map;     // voxel_size, voxel_decay, decay_model, mark_threshold
+  int decay_model_code = 0;    // as written: 0 linear, 1 exponential, any other persistent
+  int combination_method = 1;  // 0 overwrite, 1 max
   bool update_footprint_enabled = true;
   bool track_unknown_space = false;  // STVL's default is the costmap's track_unknown_space
   bool mapping_mode = false, publish_voxel_map = false, enabled = true;

@@ -9,12 +9,12 @@
 #include <memory>
 #include <sstream>
 
-#include "mapping/footprint.hpp"
-#include "sim/world.hpp"
 #include "config/ros_binding.hpp"
 #include "config/scenario_detail.hpp"
 #include "config/stvl_keys.hpp"
 #include "config/yaml_reader.hpp"
+#include "mapping/footprint.hpp"
+#include "sim/world.hpp"
 
 namespace stvl::config {
 namespace {
@@ -44,7 +44,9 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   robot.get("loop", s.pipeline.path.loop);  // soak (issue #270): a patrol that never ends
   read_urdf_robot(robot, s, base_dir);
   if (plan) plan_on_map(*map_world, robot, s);
-  validate_keys({{"waypoints", &robot, "waypoints"}, {"waypoint", &robot, "waypoints"}, {"cruise_speed_mps", &robot, "speed_mps"}},
+  validate_keys({{"waypoints", &robot, "waypoints"},
+                 {"waypoint", &robot, "waypoints"},
+                 {"cruise_speed_mps", &robot, "speed_mps"}},
                 [&] { sim::PathFollower(s.pipeline.sim.follower).set_path(s.pipeline.path); });
   if (robot.has("camera_mount")) {
     auto mount = robot.map("camera_mount");
@@ -122,7 +124,8 @@ void read_moving_bodies(YamlMap& root, Scenario& s) {
 }
 
 // `src`; the FOV angles stay unset (the camera's) unless given.
-void read_observation(YamlMap& o, mapping::ObservationSource& src, std::optional<double>& hfov, std::optional<double>& vfov) {
+void read_observation(YamlMap& o, mapping::ObservationSource& src, std::optional<double>& hfov,
+                      std::optional<double>& vfov) {
   read_source_keys(o, src, kReadByScenario, {"horizontal_fov_angle", "vertical_fov_angle"});
   read_clearing_model(o, src);
   get_optional(o, "horizontal_fov_angle", hfov);
@@ -178,7 +181,8 @@ void read_ros_params(YamlMap& map, Scenario& s, const std::string& base_dir) {
   for (const char* key : {"voxel_size", "voxel_decay", "decay_model", "mark_threshold", "observation",
                           "update_footprint_enabled", "robot_radius", "footprint"})
     if (map.has(key))
-      map.fail(map.raw(key), key, "comes from the ROS parameter file (map.ros_params: " + ref.path + "); remove it here");
+      map.fail(map.raw(key), key,
+               "comes from the ROS parameter file (map.ros_params: " + ref.path + "); remove it here");
   s.ros_params = ref;
 }
 
@@ -212,7 +216,8 @@ void read_footprint(YamlMap& map, Scenario& s) {
     }
     s.footprint_source = "map.footprint";
   }
-  if (m.clear_footprint_voxels_below_m > 0.0 && m.footprint_B.empty() && !map.has("ros_params") && !s.pipeline.urdf_robot)
+  if (m.clear_footprint_voxels_below_m > 0.0 && m.footprint_B.empty() && !map.has("ros_params") &&
+      !s.pipeline.urdf_robot)
     map.fail(map.raw("clear_footprint_voxels_below"), "clear_footprint_voxels_below",
              "needs the robot's footprint (map.robot_radius or map.footprint)");
 }
@@ -235,9 +240,12 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   map.get("costmap_band", band);
   map.get("costmap_timing", timing);
   validate_keys({{"decay_model", &map, "decay_model"}}, [&] { m.decay_model = mapping::parse_decay_model(decay); });
-  validate_keys({{"clearing_mode", &map, "clearing_mode"}}, [&] { m.clearing_mode = mapping::parse_clearing_mode(mode); });
-  validate_keys({{"clearing_walk", &map, "clearing_walk"}}, [&] { m.clearing_walk = mapping::parse_clearing_walk(walk); });
-  validate_keys({{"mark_rounding", &map, "mark_rounding"}}, [&] { m.mark_rounding = mapping::parse_mark_rounding(rounding); });
+  validate_keys({{"clearing_mode", &map, "clearing_mode"}},
+                [&] { m.clearing_mode = mapping::parse_clearing_mode(mode); });
+  validate_keys({{"clearing_walk", &map, "clearing_walk"}},
+                [&] { m.clearing_walk = mapping::parse_clearing_walk(walk); });
+  validate_keys({{"mark_rounding", &map, "mark_rounding"}},
+                [&] { m.mark_rounding = mapping::parse_mark_rounding(rounding); });
   validate_keys({{"frustum_geometry", &map, "frustum_geometry"}},
                 [&] { m.frustum_geometry = mapping::parse_frustum_geometry(geometry); });
   validate_keys({{"update_grouping", &map, "update_grouping"}},
@@ -253,9 +261,12 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
   m.expiry_leaves_per_update = static_cast<std::size_t>(expiry_leaves);
   map.get("publish_period_s", s.outputs.publish_period_s);
   require_range(map, "publish_period_s", s.outputs.publish_period_s,
-                std::isfinite(s.outputs.publish_period_s) && s.outputs.publish_period_s > 0, "must be finite and > 0 s");
-  validate_keys({{"voxel_size", &map, "voxel_size"}, {"voxel_decay", &map, "voxel_decay"},
-                 {"decay_model", &map, "decay_model"}, {"mark_threshold", &map, "mark_threshold"},
+                std::isfinite(s.outputs.publish_period_s) && s.outputs.publish_period_s > 0,
+                "must be finite and > 0 s");
+  validate_keys({{"voxel_size", &map, "voxel_size"},
+                 {"voxel_decay", &map, "voxel_decay"},
+                 {"decay_model", &map, "decay_model"},
+                 {"mark_threshold", &map, "mark_threshold"},
                  {"update_frequency", &map, "update_frequency"}},
                 [&] { m.validate(); });
   read_footprint(map, s);
@@ -280,23 +291,24 @@ void read_evaluation(YamlMap e, Scenario& s) {
   e.get("soak_sample_every_s", s.outputs.soak_sample_every_s);
   e.finish();
   require_range(e, "soak_sample_every_s", s.outputs.soak_sample_every_s,
-                std::isfinite(s.outputs.soak_sample_every_s) && s.outputs.soak_sample_every_s >= 0, "must be finite and >= 0 s");
+                std::isfinite(s.outputs.soak_sample_every_s) && s.outputs.soak_sample_every_s >= 0,
+                "must be finite and >= 0 s");
   require_range(e, "recall_window_s", ev.recall_window_s, std::isfinite(ev.recall_window_s) && ev.recall_window_s > 0,
                 "must be finite and > 0 s");
-  require_range(e, "evaluate_every_s", ev.evaluate_every_s, std::isfinite(ev.evaluate_every_s) && ev.evaluate_every_s > 0,
-                "must be finite and > 0 s");
+  require_range(e, "evaluate_every_s", ev.evaluate_every_s,
+                std::isfinite(ev.evaluate_every_s) && ev.evaluate_every_s > 0, "must be finite and > 0 s");
   require_range(e, "tolerance_voxels", ev.tolerance_voxels, ev.tolerance_voxels >= 0 && ev.tolerance_voxels <= 3,
                 "must lie in 0..3");
   require_range(e, "min_observed_voxels", ev.min_observed_voxels, ev.min_observed_voxels >= 1, "must be >= 1");
   require_range(e, "phantom_min_cells", ev.phantom_min_cells, ev.phantom_min_cells >= 1, "must be >= 1");
   require_range(e, "path_corridor_m", ev.path_corridor_m,
-                std::isfinite(ev.path_corridor_m) && ev.path_corridor_m >= 0 && ev.path_corridor_m <= 5, "must lie in [0, 5] m");
+                std::isfinite(ev.path_corridor_m) && ev.path_corridor_m >= 0 && ev.path_corridor_m <= 5,
+                "must lie in [0, 5] m");
   require_range(e, "phantom_clearance_m", ev.phantom_clearance_m,
                 std::isfinite(ev.phantom_clearance_m) && ev.phantom_clearance_m >= 0 && ev.phantom_clearance_m <= 1,
                 "must lie in [0, 1] m");
   require_range(e, "sample_depth_frames", s.outputs.sample_depth_frames,
-                s.outputs.sample_depth_frames >= 0 && s.outputs.sample_depth_frames <= 100,
-                "must lie in 0..100");
+                s.outputs.sample_depth_frames >= 0 && s.outputs.sample_depth_frames <= 100, "must lie in 0..100");
 }
 
 void read_checks(YamlMap c, Scenario& s) {
@@ -314,12 +326,9 @@ void read_checks(YamlMap c, Scenario& s) {
   c.get("all_obstacles_detected", ch.all_obstacles_detected);
   // Counts allowed at most (phantoms, cells, voxels).
   const std::pair<const char*, std::optional<int>*> counts[] = {
-      {"phantom_obstacles_max", &ch.phantom_obstacles_max},
-      {"costmap_ghosts_max", &ch.costmap_ghosts_max},
-      {"outage_cleared_max", &ch.outage_cleared_max},
-      {"hidden_false_clears_max", &ch.hidden_false_clears_max},
-      {"self_lethal_cells_max", &ch.self_lethal_cells_max},
-      {"path_free_lethal_max", &ch.path_free_lethal_max}};
+      {"phantom_obstacles_max", &ch.phantom_obstacles_max}, {"costmap_ghosts_max", &ch.costmap_ghosts_max},
+      {"outage_cleared_max", &ch.outage_cleared_max},       {"hidden_false_clears_max", &ch.hidden_false_clears_max},
+      {"self_lethal_cells_max", &ch.self_lethal_cells_max}, {"path_free_lethal_max", &ch.path_free_lethal_max}};
   for (const auto& [key, value] : counts) {
     get_optional(c, key, *value);
     if (*value) require_range(c, key, **value, **value >= 0, "must be >= 0");
@@ -336,10 +345,12 @@ void read_checks(YamlMap c, Scenario& s) {
     require_range(c, "accuracy_p90_max_m", *ch.accuracy_p90_max_m,
                   std::isfinite(*ch.accuracy_p90_max_m) && *ch.accuracy_p90_max_m > 0, "must be finite and > 0 m");
   if (ch.self_lethal_cells_max && s.pipeline.map.footprint_B.empty())
-    c.fail(c.raw("self_lethal_cells_max"), "self_lethal_cells_max", "needs the robot's footprint (map.robot_radius or map.footprint)");
+    c.fail(c.raw("self_lethal_cells_max"), "self_lethal_cells_max",
+           "needs the robot's footprint (map.robot_radius or map.footprint)");
 
-  for (const auto& [key, value] : {std::pair<const char*, std::optional<double>*>{"soak_rss_growth_max", &ch.soak_rss_growth_max},
-                                   {"soak_map_ms_growth_max", &ch.soak_map_ms_growth_max}}) {
+  for (const auto& [key, value] :
+       {std::pair<const char*, std::optional<double>*>{"soak_rss_growth_max", &ch.soak_rss_growth_max},
+        {"soak_map_ms_growth_max", &ch.soak_map_ms_growth_max}}) {
     get_optional(c, key, *value);
     if (!*value) continue;
     require_range(c, key, **value, std::isfinite(**value) && **value >= 0, "must be finite and >= 0");
@@ -354,14 +365,15 @@ std::shared_ptr<const worldgen::MapWorld> read_world(YamlMap& root, Scenario& s,
   std::string world;
   std::shared_ptr<const worldgen::MapWorld> map_world;  // nav2_map: the world built from a nav2 map instead
   if (root.has("nav2_map") && root.has("world"))
-    root.fail(root.raw("nav2_map"), "nav2_map", "give either world (an MJCF file) or nav2_map (a map to build one from), not both");
+    root.fail(root.raw("nav2_map"), "nav2_map",
+              "give either world (an MJCF file) or nav2_map (a map to build one from), not both");
   if (root.has("nav2_map")) map_world = read_nav2_map(root.map("nav2_map"), s, base_dir);
   else root.require("world", world);
   require_range(root, "world", "an empty path", map_world || !world.empty(), "must not be empty");
   if (!map_world)
     s.pipeline.world_path = std::filesystem::path(world).is_absolute()
-                       ? world
-                       : (std::filesystem::path(base_dir) / world).lexically_normal().string();
+                                ? world
+                                : (std::filesystem::path(base_dir) / world).lexically_normal().string();
   return map_world;
 }
 
@@ -377,7 +389,8 @@ void read_run_and_robot(YamlMap& root, Scenario& s, std::vector<std::optional<Ya
     s.duration_s = planned_duration_s(robot, s);
   if (s.pipeline.path.loop) {  // a looping path has no end to stop at
     if (root.has("stop_at_path_end") && s.stop_at_path_end)
-      root.fail(root.raw("stop_at_path_end"), "stop_at_path_end", "robot.loop never reaches an end; set it false or leave it out");
+      root.fail(root.raw("stop_at_path_end"), "stop_at_path_end",
+                "robot.loop never reaches an end; set it false or leave it out");
     s.stop_at_path_end = false;
   }
 }
@@ -396,16 +409,18 @@ void read_sensors_and_map(YamlMap& root, Scenario& s, const std::vector<std::opt
   observation.source.clearing = true;
   if (root.has("map")) read_map(root.map("map"), s, observation, base_dir);
   for (const auto& own : camera_overrides)
-    if (own && s.ros_params) own->fail(YAML::Node(), "", "the sources come from map.ros_params; remove this observation");
+    if (own && s.ros_params)
+      own->fail(YAML::Node(), "", "the sources come from map.ros_params; remove this observation");
   for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i)
     apply_observation(s.pipeline.cameras[i], observation, camera_overrides[i], s.pipeline.map.clearing_mode);
   if (s.ros_params) {
     const RosStvlLayer layer = load_ros_stvl_layer(s.ros_params->path, s.ros_params->layer, s.ros_params->costmap);
     apply_ros_layer(layer, s.pipeline, !root.has("filter"));
     const bool footprint = layer.footprint && !layer.footprint->empty();
-    s.footprint_source = footprint || layer.robot_radius_m
-                             ? std::string("ros_params ") + (footprint ? "footprint" : "robot_radius") + " (" + s.ros_params->path + ")"
-                             : "";
+    s.footprint_source =
+        footprint || layer.robot_radius_m
+            ? std::string("ros_params ") + (footprint ? "footprint" : "robot_radius") + " (" + s.ros_params->path + ")"
+            : "";
   }
 }
 
@@ -454,7 +469,8 @@ Scenario load_scenario(const std::string& path, const std::vector<std::string>& 
     for (const auto& assignment : sets) {
       const std::string key = ": " + assignment.substr(0, assignment.find('=')) + ": ";
       if (const std::size_t at = message.find(key); at != std::string::npos)
-        throw std::invalid_argument("--set " + assignment + ": " + message.substr(at + key.size()) + " (in " + path + ")");
+        throw std::invalid_argument("--set " + assignment + ": " + message.substr(at + key.size()) + " (in " + path +
+                                    ")");
     }
     throw;
   }
@@ -477,7 +493,8 @@ void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
   // Validated on a copy, so a rejected override leaves the scenario as it was.
   Scenario r = s;
   if (o.seed) r.pipeline.seed = *o.seed, r.pipeline.filter.csnb.seed = *o.seed, r.pipeline.sim.odometry.seed = *o.seed;
-  if (o.filter_type) override_option("--filter", [&] { r.pipeline.filter.type = filter::parse_filter_type(*o.filter_type); });
+  if (o.filter_type)
+    override_option("--filter", [&] { r.pipeline.filter.type = filter::parse_filter_type(*o.filter_type); });
   if (o.device) override_option("--device", [&] { r.pipeline.filter.device = filter::parse_device(*o.device); });
   if (o.memory) override_option("--memory", [&] { r.pipeline.filter.memory = filter::parse_memory_mode(*o.memory); });
   if (o.voxel_size_m) {
@@ -513,7 +530,8 @@ evaluation::EvaluationConfig evaluation_config(const Scenario& s) {
   e.robot_footprint_B = s.pipeline.map.footprint_B;
   e.footprint_clearing = s.pipeline.map.update_footprint_enabled;
   e.path_W = s.pipeline.path.waypoints_W;  // a looping path is closed: its last leg goes back to the first point
-  if (s.pipeline.path.loop && e.path_W.size() > 1 && e.path_W.back() != e.path_W.front()) e.path_W.push_back(e.path_W.front());
+  if (s.pipeline.path.loop && e.path_W.size() > 1 && e.path_W.back() != e.path_W.front())
+    e.path_W.push_back(e.path_W.front());
   return e;
 }
 

@@ -14,14 +14,14 @@ namespace stvl::config {
 
 // What a run writes besides its metrics.
 struct OutputConfig {
-  double publish_period_s = 1.0;  // map.publish_period_s: bag /stvl/voxel_grid and /stvl/costmap
-  int sample_depth_frames = 3;    // evaluation.sample_depth_frames: depth frames saved as PNG for the report
+  double publish_period_s = 1.0;     // map.publish_period_s: bag /stvl/voxel_grid and /stvl/costmap
+  int sample_depth_frames = 3;       // evaluation.sample_depth_frames: depth frames saved as PNG for the report
   double soak_sample_every_s = 0.0;  // evaluation.soak_sample_every_s: resources sampled (tools/soak.hpp); 0 off
 };
 
 // map.ros_params: the STVL layer comes from a ROS parameter file.
 struct RosParamsRef {
-  std::string path;  // resolved against the scenario file's folder
+  std::string path;            // resolved against the scenario file's folder
   std::string layer, costmap;  // "" = the only one
 };
 
@@ -75,6 +75,5 @@ struct ScenarioOverrides {
   std::optional<bool> noise;
 };
 void apply_overrides(Scenario& scenario, const ScenarioOverrides& overrides);
-
 
 }  // namespace stvl::config

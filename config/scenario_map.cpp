@@ -19,11 +19,12 @@ std::shared_ptr<const worldgen::MapWorld> read_nav2_map(YamlMap map, Scenario& s
   map.require("file", file);
   require_range(map, "file", "an empty path", !file.empty(), "must not be empty");
   map.get("wall_height_m", wall_height_m);
-  require_range(map, "wall_height_m", wall_height_m, std::isfinite(wall_height_m) && wall_height_m > 0 && wall_height_m <= 10,
-                "must lie in (0, 10] m");
+  require_range(map, "wall_height_m", wall_height_m,
+                std::isfinite(wall_height_m) && wall_height_m > 0 && wall_height_m <= 10, "must lie in (0, 10] m");
   map.finish();
-  const std::string path =
-      std::filesystem::path(file).is_absolute() ? file : (std::filesystem::path(base_dir) / file).lexically_normal().string();
+  const std::string path = std::filesystem::path(file).is_absolute()
+                               ? file
+                               : (std::filesystem::path(base_dir) / file).lexically_normal().string();
   std::shared_ptr<worldgen::MapWorld> world;
   try {
     world = std::make_shared<worldgen::MapWorld>(worldgen::build_map_world(path, wall_height_m));
@@ -43,7 +44,8 @@ namespace {
 double robot_radius_m(const Scenario& s) {
   double radius_m = 0;
   if (s.pipeline.urdf_robot)
-    for (const Eigen::Vector2d& corner : s.pipeline.urdf_robot->footprint_B) radius_m = std::max(radius_m, corner.norm());
+    for (const Eigen::Vector2d& corner : s.pipeline.urdf_robot->footprint_B)
+      radius_m = std::max(radius_m, corner.norm());
   return radius_m > 0 ? radius_m : worldgen::robot_footprint_radius_m(worldgen::shipped_robot_xml());
 }
 
@@ -55,8 +57,8 @@ void plan_on_map(const worldgen::MapWorld& world, YamlMap& robot, Scenario& s) {
   if (robot.has("start")) start = Eigen::Vector2d(s.pipeline.start_pose.x_m, s.pipeline.start_pose.y_m);
   worldgen::PlannedPath path;
   try {
-    path = worldgen::plan_path(worldgen::map_drive_grid(world, radius_m), world.grid.cells, start, std::nullopt, "robot.start",
-                               "the farthest point from it");
+    path = worldgen::plan_path(worldgen::map_drive_grid(world, radius_m), world.grid.cells, start, std::nullopt,
+                               "robot.start", "the farthest point from it");
   } catch (const std::invalid_argument& e) {
     robot.fail(start ? robot.raw("start") : YAML::Node(), start ? "start" : "waypoints",
                std::string("planning robot.waypoints on ") + s.pipeline.world_path + ": " + e.what());
@@ -67,7 +69,8 @@ void plan_on_map(const worldgen::MapWorld& world, YamlMap& robot, Scenario& s) {
 
 double planned_duration_s(YamlMap& robot, const Scenario& s) {
   const auto& p = s.pipeline;
-  const double duration_s = worldgen::drive_duration_s(p.path.waypoints_W, p.path.cruise_speed_mps, p.start_pose.yaw_rad);
+  const double duration_s =
+      worldgen::drive_duration_s(p.path.waypoints_W, p.path.cruise_speed_mps, p.start_pose.yaw_rad);
   require_range(robot, "waypoints", "a planned drive of " + general(duration_s) + " s", duration_s <= 3600,
                 "needs more than a scenario's 3600 s; give robot.waypoints or robot.start nearer the end");
   return duration_s;
@@ -84,8 +87,10 @@ void read_nav2_costmap(YamlMap costmap, Scenario& s) {
   costmap.get("touch_cleared_cells", c.touch_cleared_cells);
   require_range(costmap, "width_m", c.width_m, c.width_m > 0.0, "must be > 0 m");
   require_range(costmap, "height_m", c.height_m, c.height_m > 0.0, "must be > 0 m");
-  validate_keys({{"width_m", &costmap, "width_m"}, {"height_m", &costmap, "height_m"},
-                 {"resolution_m", &costmap, "resolution_m"}, {"combination_method", &costmap, "combination_method"}},
+  validate_keys({{"width_m", &costmap, "width_m"},
+                 {"height_m", &costmap, "height_m"},
+                 {"resolution_m", &costmap, "resolution_m"},
+                 {"combination_method", &costmap, "combination_method"}},
                 [&] { c.validate(); });
   costmap.finish();
 }

@@ -11,8 +11,9 @@ namespace stvl::config::scenario_detail {
 namespace {
 
 std::string resolved(const std::string& path, const std::string& base_dir) {
-  return std::filesystem::path(path).is_absolute() ? path
-                                                   : (std::filesystem::path(base_dir) / path).lexically_normal().string();
+  return std::filesystem::path(path).is_absolute()
+             ? path
+             : (std::filesystem::path(base_dir) / path).lexically_normal().string();
 }
 
 }  // namespace
@@ -45,8 +46,10 @@ void read_urdf_robot(YamlMap& robot, Scenario& s, const std::string& base_dir) {
     if (w.left_joint.empty() != w.right_joint.empty())
       wheels.fail(wheels.raw(w.left_joint.empty() ? "right" : "left"), w.left_joint.empty() ? "right" : "left",
                   "name both wheel joints, left and right (or neither: then they are found)");
-    for (const auto& [key, value] : {std::pair<const char*, double>{"radius_m", w.radius_m}, {"separation_m", w.separation_m}})
-      require_range(wheels, key, value, std::isfinite(value) && value >= 0, "must be finite and >= 0 m (0: from the URDF)");
+    for (const auto& [key, value] :
+         {std::pair<const char*, double>{"radius_m", w.radius_m}, {"separation_m", w.separation_m}})
+      require_range(wheels, key, value, std::isfinite(value) && value >= 0,
+                    "must be finite and >= 0 m (0: from the URDF)");
   }
   std::string drive = sim::to_string(c.drive);
   robot.get("drive", drive);

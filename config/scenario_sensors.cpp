@@ -36,10 +36,16 @@ void read_camera_model(YamlMap& camera, pipeline::CameraConfig& c) {
   camera.get("rate_hz", c.intrinsics.rate_hz);
   YamlMap& k = in ? *in : camera;
   const char* k_key = in ? "fx" : "preset";
-  validate_keys({{k_key, &k, k_key}, {"width", &k, in ? "width" : "preset"}, {"height", &k, in ? "height" : "preset"},
-                 {"fx", &k, k_key}, {"fy", &k, in ? "fy" : "preset"}, {"cx", &k, in ? "cx" : "preset"},
-                 {"cy", &k, in ? "cy" : "preset"}, {"min_range_m", &camera, "min_range_m"},
-                 {"max_range_m", &camera, "max_range_m"}, {"rate_hz", &camera, "rate_hz"}},
+  validate_keys({{k_key, &k, k_key},
+                 {"width", &k, in ? "width" : "preset"},
+                 {"height", &k, in ? "height" : "preset"},
+                 {"fx", &k, k_key},
+                 {"fy", &k, in ? "fy" : "preset"},
+                 {"cx", &k, in ? "cx" : "preset"},
+                 {"cy", &k, in ? "cy" : "preset"},
+                 {"min_range_m", &camera, "min_range_m"},
+                 {"max_range_m", &camera, "max_range_m"},
+                 {"rate_hz", &camera, "rate_hz"}},
                 [&] { c.intrinsics.validate(); });
 }
 
@@ -71,11 +77,15 @@ void read_noise(YamlMap& camera, pipeline::CameraConfig& c) {
   noise.get("correlated_fraction", n.correlated_fraction);  // the bench's, 0 = off
   noise.get("correlated_cell_px", n.correlated_cell_px);
   noise.finish();
-  validate_keys({{"enabled", &noise, "enabled"}, {"baseline_m", &noise, "baseline_m"}, {"subpixel", &noise, "subpixel"},
-                 {"disparity_step_px", &noise, "disparity_step_px"}, {"edge_jump_m", &noise, "edge_jump_m"},
+  validate_keys({{"enabled", &noise, "enabled"},
+                 {"baseline_m", &noise, "baseline_m"},
+                 {"subpixel", &noise, "subpixel"},
+                 {"disparity_step_px", &noise, "disparity_step_px"},
+                 {"edge_jump_m", &noise, "edge_jump_m"},
                  {"edge_probability", &noise, "edge_probability"},
                  {"edge_invalid_fraction", &noise, "edge_invalid_fraction"},
-                 {"dropout_probability", &noise, "dropout_probability"}, {"holes_per_frame", &noise, "holes_per_frame"},
+                 {"dropout_probability", &noise, "dropout_probability"},
+                 {"holes_per_frame", &noise, "holes_per_frame"},
                  {"hole_max_radius_px", &noise, "hole_max_radius_px"},
                  {"left_band_margin_px", &noise, "left_band_margin_px"},
                  {"left_band_jitter_px", &noise, "left_band_jitter_px"},
@@ -214,7 +224,8 @@ void read_filter(YamlMap filter, Scenario& s) {
     v.get("min_points_per_voxel", f.voxel.min_points_per_voxel);
     require_range(v, "voxel_size_m", f.voxel.voxel_size_m,
                   std::isfinite(f.voxel.voxel_size_m) && f.voxel.voxel_size_m > 0, "must be finite and > 0 m");
-    require_range(v, "min_points_per_voxel", f.voxel.min_points_per_voxel, f.voxel.min_points_per_voxel >= 0, "must be >= 0");
+    require_range(v, "min_points_per_voxel", f.voxel.min_points_per_voxel, f.voxel.min_points_per_voxel >= 0,
+                  "must be >= 0");
     v.finish();
   }
   if (filter.has("csnb")) {
@@ -256,7 +267,8 @@ void read_clearing_model(YamlMap& o, mapping::ObservationSource& src) {
   if (o.has("model_type")) {
     int model = 0;
     o.get("model_type", model);
-    if (model != 0 && model != 1) o.fail(o.raw("model_type"), "model_type", "STVL knows 0 (depth camera) and 1 (3D lidar)");
+    if (model != 0 && model != 1)
+      o.fail(o.raw("model_type"), "model_type", "STVL knows 0 (depth camera) and 1 (3D lidar)");
     src.model = static_cast<mapping::ClearingModel>(model);
   }
   read_named(o, "sensor_frame", &mapping::parse_sensor_frame, src.sensor_frame);

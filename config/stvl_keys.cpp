@@ -14,7 +14,8 @@ constexpr unsigned kAll = kRos | kReadByScenario;
 StvlKey layer(const char* name, unsigned by, const char* unit, const char* ros2, const char* ros1) {
   return {name, StvlScope::kLayer, by, unit, ros2, ros1};
 }
-StvlKey number(const char* name, unsigned by, const char* unit, const char* ros2, const char* ros1, double Src::*field) {
+StvlKey number(const char* name, unsigned by, const char* unit, const char* ros2, const char* ros1,
+               double Src::*field) {
   return {name, StvlScope::kSource, by, unit, ros2, ros1, field, nullptr};
 }
 StvlKey flag(const char* name, unsigned by, const char* ros2, const char* ros1, bool Src::*field) {

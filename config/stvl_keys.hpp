@@ -20,10 +20,10 @@ enum StvlReader : unsigned {
 enum class StvlScope { kLayer, kSource };
 
 struct StvlKey {
-  const char* name;   // the YAML key, as STVL and the scenario write it
+  const char* name;  // the YAML key, as STVL and the scenario write it
   StvlScope scope;
-  unsigned read_by;   // StvlReader bits
-  const char* unit;   // "m", "s", "rad", "1/s^3", "" (flags, counts, names)
+  unsigned read_by;          // StvlReader bits
+  const char* unit;          // "m", "s", "rad", "1/s^3", "" (flags, counts, names)
   const char* default_ros2;  // STVL's declared default on the ros2 branch ("" none / not read)
   const char* default_ros1;  // on noetic-devel ("" none / not read)
   // The bench's source field it sets, when it is a plain number or flag of mapping::ObservationSource (null

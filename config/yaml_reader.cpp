@@ -9,15 +9,42 @@
 
 namespace stvl::config {
 
-template <> const char* YamlMap::type_name<bool>() { return "a boolean"; }
-template <> const char* YamlMap::type_name<int>() { return "an integer"; }
-template <> const char* YamlMap::type_name<std::uint64_t>() { return "a non-negative integer"; }
-template <> const char* YamlMap::type_name<double>() { return "a number"; }
-template <> const char* YamlMap::type_name<float>() { return "a number"; }
-template <> const char* YamlMap::type_name<std::string>() { return "a string"; }
-template <> const char* YamlMap::type_name<std::vector<double>>() { return "a list of numbers"; }
-template <> const char* YamlMap::type_name<std::vector<std::vector<double>>>() { return "a list of number lists"; }
-template <> const char* YamlMap::type_name<std::vector<std::string>>() { return "a list of strings"; }
+template <>
+const char* YamlMap::type_name<bool>() {
+  return "a boolean";
+}
+template <>
+const char* YamlMap::type_name<int>() {
+  return "an integer";
+}
+template <>
+const char* YamlMap::type_name<std::uint64_t>() {
+  return "a non-negative integer";
+}
+template <>
+const char* YamlMap::type_name<double>() {
+  return "a number";
+}
+template <>
+const char* YamlMap::type_name<float>() {
+  return "a number";
+}
+template <>
+const char* YamlMap::type_name<std::string>() {
+  return "a string";
+}
+template <>
+const char* YamlMap::type_name<std::vector<double>>() {
+  return "a list of numbers";
+}
+template <>
+const char* YamlMap::type_name<std::vector<std::vector<double>>>() {
+  return "a list of number lists";
+}
+template <>
+const char* YamlMap::type_name<std::vector<std::string>>() {
+  return "a list of strings";
+}
 
 namespace {
 int line_of(const YAML::Mark& mark) { return mark.is_null() || mark.line < 0 ? 1 : mark.line + 1; }
@@ -97,7 +124,8 @@ void YamlMap::finish() const {
     for (const auto& k : used_) known += (known.empty() ? "" : ", ") + k;
     const std::string nearest = nearest_name(key, {used_.begin(), used_.end()});
     fail(entry.first, key,
-         "unknown key" + (nearest.empty() ? std::string() : "; did you mean '" + nearest + "'?") + " (known: " + known + ")");
+         "unknown key" + (nearest.empty() ? std::string() : "; did you mean '" + nearest + "'?") + " (known: " + known +
+             ")");
   }
 }
 
@@ -127,7 +155,9 @@ std::string YamlMap::describe(const YAML::Node& node) {
 }
 
 void set_yaml_path(YAML::Node& root, const std::string& assignment) {
-  const auto fail = [&](const std::string& message) { throw std::invalid_argument("--set " + assignment + ": " + message); };
+  const auto fail = [&](const std::string& message) {
+    throw std::invalid_argument("--set " + assignment + ": " + message);
+  };
   const std::size_t equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0) fail("expected KEY=VALUE");
   const std::string path = assignment.substr(0, equals);

@@ -29,9 +29,9 @@ class YamlMap {
     if (!node) fail(YAML::Node(), key, "required key is missing");
     value = convert<T>(*node, key);
   }
-  YamlMap map(const std::string& key);                // a nested mapping (required)
+  YamlMap map(const std::string& key);  // a nested mapping (required)
   std::vector<YamlMap> list_of_maps(const std::string& key);
-  YAML::Node raw(const std::string& key);             // marks the key used; null node when absent
+  YAML::Node raw(const std::string& key);  // marks the key used; null node when absent
 
   // Throws on any key that was never read.
   void finish() const;

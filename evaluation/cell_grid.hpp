@@ -43,7 +43,7 @@ class CellGrid {
     if (!contains(c)) add(c, 1);
   }
   std::size_t size() const { return size_; }  // cells with a positive count
-  bool empty() const { return size_ == 0; }  // no cell present
+  bool empty() const { return size_ == 0; }   // no cell present
   // The box's corners, inclusive (hi < lo: no box).
   CellKey lo() const { return lo_; }
   CellKey hi() const {
@@ -66,7 +66,7 @@ class CellGrid {
       }
   }
   std::vector<CellKey> cells() const;  // present cells, tile by tile
-  CellSet to_set() const;  // the present cells as a CellSet
+  CellSet to_set() const;              // the present cells as a CellSet
 
  private:
   static constexpr int kTileBits = 6, kTile = 1 << kTileBits;

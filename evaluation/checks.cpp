@@ -43,7 +43,8 @@ void add_mean_checks(const ChecksConfig& c, const EvaluationMean& mean, const st
   mean_check("costmap_precision", "mean costmap precision", mean.costmap_precision, c.costmap_precision_min);
   mean_check("costmap_recall", "mean costmap recall", mean.costmap_recall, c.costmap_recall_min);
   if (c.camera_recall_min && !averaged) r.push_back(not_evaluated("camera_recall", kNoMean));
-  if (c.camera_recall_min && averaged) r.push_back(camera_recall_check(mean.camera_recall, camera_names, *c.camera_recall_min));
+  if (c.camera_recall_min && averaged)
+    r.push_back(camera_recall_check(mean.camera_recall, camera_names, *c.camera_recall_min));
 }
 
 CheckResult all_obstacles_detected_check(const std::vector<ObstacleResult>& obstacles) {
@@ -92,7 +93,8 @@ void add_costmap_checks(const ChecksConfig& c, const evaluation::EvaluationSumma
                      std::to_string(mean.max_self_ring) + " in the ring) at one evaluation, allowed " +
                      std::to_string(allowed)});
   }
-  if (c.path_free_lethal_max) r.push_back(path_free_lethal_check(mean, static_cast<std::size_t>(*c.path_free_lethal_max)));
+  if (c.path_free_lethal_max)
+    r.push_back(path_free_lethal_check(mean, static_cast<std::size_t>(*c.path_free_lethal_max)));
 }
 
 // The checks of clearing and accuracy: clearing latency, p90 distance to the surface, voxels cleared while hidden.
@@ -100,19 +102,19 @@ void add_clearing_checks(const ChecksConfig& c, const evaluation::EvaluationSumm
   if (c.clearing_latency_max_s) {
     const auto& cl = e.clearing;
     const bool ok = cl.not_cleared == 0 && cl.max_latency_s <= *c.clearing_latency_max_s;
-    r.push_back(cl.stale_voxels_seen_through == 0
-                    ? not_evaluated("clearing_latency", "not evaluated: no stale voxel of a moved body was seen through")
-                    : CheckResult{"clearing_latency", ok,
-                                  "max latency " + fixed(cl.max_latency_s, 3) + " s, required <= " +
-                                      fixed(*c.clearing_latency_max_s, 3) + " s (" + std::to_string(cl.not_cleared) +
-                                      " never cleared)"});
+    r.push_back(
+        cl.stale_voxels_seen_through == 0
+            ? not_evaluated("clearing_latency", "not evaluated: no stale voxel of a moved body was seen through")
+            : CheckResult{"clearing_latency", ok,
+                          "max latency " + fixed(cl.max_latency_s, 3) +
+                              " s, required <= " + fixed(*c.clearing_latency_max_s, 3) + " s (" +
+                              std::to_string(cl.not_cleared) + " never cleared)"});
   }
   if (c.accuracy_p90_max_m)
-    r.push_back(e.accuracy.count == 0
-                    ? not_evaluated("accuracy_p90", "not evaluated: no mapped voxel")
-                    : CheckResult{"accuracy_p90", e.accuracy.p90_m <= *c.accuracy_p90_max_m,
-                                  "p90 distance to the true surface " + fixed(e.accuracy.p90_m, 4) + " m, required <= " +
-                                      fixed(*c.accuracy_p90_max_m, 4) + " m"});
+    r.push_back(e.accuracy.count == 0 ? not_evaluated("accuracy_p90", "not evaluated: no mapped voxel")
+                                      : CheckResult{"accuracy_p90", e.accuracy.p90_m <= *c.accuracy_p90_max_m,
+                                                    "p90 distance to the true surface " + fixed(e.accuracy.p90_m, 4) +
+                                                        " m, required <= " + fixed(*c.accuracy_p90_max_m, 4) + " m"});
   if (c.hidden_false_clears_max) {
     const auto& o = e.occlusion;
     r.push_back({"hidden_false_clears", o.hidden_false_clears <= static_cast<std::size_t>(*c.hidden_false_clears_max),
@@ -147,7 +149,8 @@ std::vector<CheckResult> outage_checks(const ChecksConfig& c, const std::vector<
                  outages.empty() ? "no camera has an outage"
                                  : std::to_string(cleared) + " of " + std::to_string(watched) +
                                        " true voxels only the stopped cameras had seen left the map during their "
-                                       "outages, allowed " + std::to_string(*c.outage_cleared_max)});
+                                       "outages, allowed " +
+                                       std::to_string(*c.outage_cleared_max)});
   }
   if (c.outage_resume_max_s) {
     std::string late;
@@ -162,7 +165,7 @@ std::vector<CheckResult> outage_checks(const ChecksConfig& c, const std::vector<
                  outages.empty() ? "no camera has an outage"
                  : late.empty()  ? "every stopped camera's recall back to 90 % of its value before within " +
                                       fixed(*c.outage_resume_max_s, 2) + " s of the outage's end"
-                                 : late + " (allowed " + fixed(*c.outage_resume_max_s, 2) + " s)"});
+                                : late + " (allowed " + fixed(*c.outage_resume_max_s, 2) + " s)"});
   }
   return r;
 }
@@ -177,8 +180,9 @@ std::vector<CheckResult> soak_checks(const ChecksConfig& c, const SoakSeries& so
     for (std::size_t i = 0; i < samples.size() && end_of_lap == samples.size(); ++i)
       if (samples[i].t_s + kTimeEpsilon_s >= *soak.first_lap_end_s) end_of_lap = i;
   const std::string too_short =
-      !soak.first_lap_end_s ? "the first lap was not completed (" + std::to_string(samples.size()) + " samples)"
-                            : "no sample after the one closing the first lap (t = " + fixed(*soak.first_lap_end_s, 1) + " s)";
+      !soak.first_lap_end_s
+          ? "the first lap was not completed (" + std::to_string(samples.size()) + " samples)"
+          : "no sample after the one closing the first lap (t = " + fixed(*soak.first_lap_end_s, 1) + " s)";
   const bool comparable = end_of_lap + 1 < samples.size();
   const auto percent = [](double fraction) { return fixed(100.0 * fraction, 1) + " %"; };
   if (c.soak_rss_growth_max) {
@@ -190,16 +194,19 @@ std::vector<CheckResult> soak_checks(const ChecksConfig& c, const SoakSeries& so
                                          [](const SoakSample& a, const SoakSample& b) { return a.rss_mb < b.rss_mb; });
       const double growth = base.rss_mb > 0 ? peak->rss_mb / base.rss_mb - 1.0 : INFINITY;
       r.push_back({"soak_rss_growth", growth <= *c.soak_rss_growth_max,
-                   "resident memory at most " + fixed(peak->rss_mb, 1) + " MiB (t = " + fixed(peak->t_s, 0) + " s) vs " +
-                       fixed(base.rss_mb, 1) + " MiB at the end of the first lap (t = " + fixed(base.t_s, 0) +
-                       " s): " + percent(growth) + ", allowed " + percent(*c.soak_rss_growth_max)});
+                   "resident memory at most " + fixed(peak->rss_mb, 1) + " MiB (t = " + fixed(peak->t_s, 0) +
+                       " s) vs " + fixed(base.rss_mb, 1) +
+                       " MiB at the end of the first lap (t = " + fixed(base.t_s, 0) + " s): " + percent(growth) +
+                       ", allowed " + percent(*c.soak_rss_growth_max)});
     }
   }
   if (c.soak_map_ms_growth_max) {
     // As many of the last samples as one lap spans, all after the sample that closes the first lap.
-    const std::size_t window = soak.first_lap_end_s && soak.sample_every_s > 0
-                                   ? std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(*soak.first_lap_end_s / soak.sample_every_s - kWholeCountEpsilon)))
-                                   : 1;
+    const std::size_t window =
+        soak.first_lap_end_s && soak.sample_every_s > 0
+            ? std::max<std::size_t>(1, static_cast<std::size_t>(
+                                           std::ceil(*soak.first_lap_end_s / soak.sample_every_s - kWholeCountEpsilon)))
+            : 1;
     if (!comparable) {
       r.push_back({"soak_map_ms_growth", false, too_short});
     } else if (samples.size() - end_of_lap - 1 < window) {
@@ -209,14 +216,15 @@ std::vector<CheckResult> soak_checks(const ChecksConfig& c, const SoakSeries& so
     } else {
       // CPU time: wall-clock ms of the same frames swing by a factor 2 with the load of a shared machine.
       double cpu = 0.0, wall = 0.0;
-      for (std::size_t i = samples.size() - window; i < samples.size(); ++i) cpu += samples[i].map_cpu_ms, wall += samples[i].map_ms;
+      for (std::size_t i = samples.size() - window; i < samples.size(); ++i)
+        cpu += samples[i].map_cpu_ms, wall += samples[i].map_ms;
       cpu /= static_cast<double>(window), wall /= static_cast<double>(window);
       const double growth = soak.first_lap_map_cpu_ms > 0 ? cpu / soak.first_lap_map_cpu_ms - 1.0 : INFINITY;
       r.push_back({"soak_map_ms_growth", growth <= *c.soak_map_ms_growth_max,
                    "map cost " + fixed(cpu, 3) + " ms CPU per frame over the last " + std::to_string(window) +
-                       " samples vs " + fixed(soak.first_lap_map_cpu_ms, 3) + " ms over the first lap: " + percent(growth) +
-                       ", allowed " + percent(*c.soak_map_ms_growth_max) + " (wall clock " + fixed(wall, 3) + " vs " +
-                       fixed(soak.first_lap_map_ms, 3) + " ms)"});
+                       " samples vs " + fixed(soak.first_lap_map_cpu_ms, 3) + " ms over the first lap: " +
+                       percent(growth) + ", allowed " + percent(*c.soak_map_ms_growth_max) + " (wall clock " +
+                       fixed(wall, 3) + " vs " + fixed(soak.first_lap_map_ms, 3) + " ms)"});
     }
   }
   return r;
@@ -224,14 +232,16 @@ std::vector<CheckResult> soak_checks(const ChecksConfig& c, const SoakSeries& so
 
 CheckResult robot_upright_check(bool upright, double time_s, double tilt_rad) {
   if (upright) return {"robot_upright", true, "the robot stayed upright on the floor"};
-  return {"robot_upright", false,
-          "the robot fell over or left the world at t = " + fixed(time_s, 2) + " s (tilt " + fixed(tilt_rad, 2) + " rad)"};
+  return {
+      "robot_upright", false,
+      "the robot fell over or left the world at t = " + fixed(time_s, 2) + " s (tilt " + fixed(tilt_rad, 2) + " rad)"};
 }
 
 CheckResult path_completed_check(bool completed, double time_s, double duration_s, double cut_short_from_s,
                                  bool required_when_cut_short, const std::string& blocked) {
   if (!completed && cut_short_from_s > 0 && !required_when_cut_short)
-    return not_evaluated("path_completed", "not evaluated: the path's end was not reached within " + fixed(duration_s, 1) +
+    return not_evaluated("path_completed", "not evaluated: the path's end was not reached within " +
+                                               fixed(duration_s, 1) +
                                                " s, the run cut short by --duration (the scenario runs " +
                                                fixed(cut_short_from_s, 1) + " s; --require-path fails on it)");
   return {"path_completed", completed,
@@ -242,8 +252,9 @@ CheckResult path_completed_check(bool completed, double time_s, double duration_
 
 std::string blocked_diagnosis(const Eigen::Vector2d& at_W, double since_s, const Eigen::Vector2d& path_end_W,
                               const std::vector<std::string>& touching) {
-  std::string text = "blocked at (" + fixed(at_W.x(), 2) + ", " + fixed(at_W.y(), 2) + ") m since t = " + fixed(since_s, 1) +
-                     " s, " + fixed((path_end_W - at_W).norm(), 2) + " m short of the path's end, touching ";
+  std::string text = "blocked at (" + fixed(at_W.x(), 2) + ", " + fixed(at_W.y(), 2) +
+                     ") m since t = " + fixed(since_s, 1) + " s, " + fixed((path_end_W - at_W).norm(), 2) +
+                     " m short of the path's end, touching ";
   if (touching.empty()) return text + "nothing";
   for (std::size_t i = 0; i < touching.size(); ++i) text += (i ? ", " : "") + touching[i];
   return text;

@@ -39,7 +39,6 @@ struct ChecksConfig {
   std::optional<double> soak_map_ms_growth_max;  // per-frame map cost of the last lap's samples vs the first lap
 };
 
-
 struct CheckResult {
   std::string name;
   bool passed = false;
@@ -71,7 +70,8 @@ inline constexpr int kDefaultPathFreeLethalMax = 0;
 // all_obstacles_detected, phantom_obstacles, costmap_ghosts, self_lethal_cells, path_free_lethal,
 // clearing_latency, accuracy_p90, hidden_false_clears), in that order. The mean figures' checks are not
 // evaluated when no snapshot was averaged (summary.mean.snapshots == 0), all_obstacles_detected when no
-// obstacle was observed, clearing_latency when no stale voxel was seen through, accuracy_p90 without voxels. camera_names name the cameras by index in messages.
+// obstacle was observed, clearing_latency when no stale voxel was seen through, accuracy_p90 without voxels.
+// camera_names name the cameras by index in messages.
 std::vector<CheckResult> evaluation_checks(const ChecksConfig& checks, const evaluation::EvaluationSummary& summary,
                                            const std::vector<std::string>& camera_names = {});
 

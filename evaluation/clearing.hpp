@@ -32,7 +32,7 @@ class ClearingLatency {
 
  private:
   std::unordered_map<VoxelKey, double, VoxelKeyHash> first_seen_s_;  // tracked: seen through, still in the map
-  std::vector<double> latencies_s_;                                   // cleared
+  std::vector<double> latencies_s_;                                  // cleared
 };
 
 }  // namespace stvl::evaluation

@@ -20,11 +20,11 @@ struct EvaluationConfig {
   bool costmap_every_voxel = true;
 
   // YAML evaluation.*, same names.
-  double recall_window_s = 2.0;     // recall counts truth voxels the noise-free camera saw this recently
-  double evaluate_every_s = 1.0;    // cadence of the full comparison (snapshots)
-  int tolerance_voxels = 1;         // a match lies within this many voxels (cells in 2D), Chebyshev
-  int min_observed_voxels = 3;      // an obstacle counts as observed once this many of its voxels were seen
-  int phantom_min_cells = 2;        // lethal components smaller than this are not called phantoms
+  double recall_window_s = 2.0;   // recall counts truth voxels the noise-free camera saw this recently
+  double evaluate_every_s = 1.0;  // cadence of the full comparison (snapshots)
+  int tolerance_voxels = 1;       // a match lies within this many voxels (cells in 2D), Chebyshev
+  int min_observed_voxels = 3;    // an obstacle counts as observed once this many of its voxels were seen
+  int phantom_min_cells = 2;      // lethal components smaller than this are not called phantoms
   // A lethal component is a phantom when no true footprint cell centre lies within this distance of one of
   // its cell centres (Chebyshev, rounded up to whole cells). Metres, so that the meaning does not change
   // with the voxel size; 0.10 m is below a small robot's inflation radius.

@@ -76,7 +76,8 @@ EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double 
     m.max_self_inside = std::max(m.max_self_inside, s.self_marking.inside);
     m.max_self_ring = std::max(m.max_self_ring, s.self_marking.ring);
     m.max_self_lethal = std::max(m.max_self_lethal, s.self_marking.total());
-    if (s.path_block.cells > m.max_path_block.cells) m.max_path_block = s.path_block, m.max_path_block_time_s = s.time_s;
+    if (s.path_block.cells > m.max_path_block.cells)
+      m.max_path_block = s.path_block, m.max_path_block_time_s = s.time_s;
   }
   std::size_t n = 0, with_mapped = 0;
   double phantoms = 0;
@@ -84,10 +85,8 @@ EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double 
     if (s.time_s < warm_up_end && snapshots.size() > 1) continue;
     ++n;
     if (s.mapped_voxels > 0) m.precision += s.precision, ++with_mapped;
-    if (s.observed_truth_voxels > 0)
-      m.recall += s.recall, m.f1 += s.f1, m.iou += s.iou;
-    else
-      ++m.empty_snapshots;
+    if (s.observed_truth_voxels > 0) m.recall += s.recall, m.f1 += s.f1, m.iou += s.iou;
+    else ++m.empty_snapshots;
     m.costmap_precision += s.costmap_precision, m.costmap_recall += s.costmap_recall;
     m.mapped_voxels += s.mapped_voxels, m.observed_truth_voxels += s.observed_truth_voxels;
     m.lethal_cells += s.lethal_cells;
@@ -219,9 +218,8 @@ void Evaluator::after_update(double time_s, const mapping::VoxelMap& map, const 
   // mode cleared_keys holds what the acceleration removed: observe_hidden_clears() looks at those.)
   if (map.config().clearing_mode == mapping::ClearingMode::kRaycast)
     for (const VoxelKey& k : cleared_keys) false_clears_ += truth_.contains(k) && !map.contains(k);
-  clearing_.after_update(time_s, [&](const VoxelKey& k) {
-    return map.lookup(voxel_center(k, config_.voxel_size_m)).has_value();
-  });
+  clearing_.after_update(
+      time_s, [&](const VoxelKey& k) { return map.lookup(voxel_center(k, config_.voxel_size_m)).has_value(); });
 }
 
 void Evaluator::observe_hidden_clears(double time_s, const CameraView& view, const mapping::VoxelMap& map,
@@ -288,7 +286,8 @@ CellGrid Evaluator::project_lethal(const mapping::VoxelMap& map, CellGrid& colum
   }
   columns = column_counts(map, options.min_obstacle_height_m, options.max_obstacle_height_m);
   options.resolution_m = config_.voxel_size_m;
-  if (config_.footprint_clearing) options.free_polygon_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
+  if (config_.footprint_clearing)
+    options.free_polygon_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
   return lethal_cells(map.project_costmap(options), config_.voxel_size_m);
 }
 
@@ -297,14 +296,17 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellGrid& leth
   const double cell_m = config_.voxel_size_m;
   std::optional<ScopedMsTimer> timer(std::in_place, times_.costmap_ms);
   const CellGrid& footprint = truth_.footprint();
-  const std::vector<Eigen::Vector2d> footprint_W = mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
+  const std::vector<Eigen::Vector2d> footprint_W =
+      mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
   if (!map.empty()) {
     CellSet freed;
     if (config_.footprint_clearing && !footprint_W.empty())
-      for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m)) freed.insert({x, y});
+      for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m))
+        freed.insert({x, y});
     snap.projection = guard_projection(columns, std::max(map.config().mark_threshold, 1), lethal, freed);
   }
-  snap.self_marking = count_self_marking(lethal, footprint_W, cell_m, config_.self_ring_m, footprint, config_.tolerance_voxels);
+  snap.self_marking =
+      count_self_marking(lethal, footprint_W, cell_m, config_.self_ring_m, footprint, config_.tolerance_voxels);
   CostmapMatches m = match_costmap(lethal, footprint, observed_cells, config_.tolerance_voxels);
   snap.path_block = lethal_near_path(m.false_positive, config_.path_W, cell_m, config_.path_corridor_m);
   timer.emplace(times_.phantoms_ms);

@@ -13,9 +13,9 @@
 #include "evaluation/clearing.hpp"
 #include "evaluation/config.hpp"
 #include "evaluation/mapped_index.hpp"
-#include "evaluation/seen_voxels.hpp"
 #include "evaluation/metrics.hpp"
 #include "evaluation/occlusion.hpp"
+#include "evaluation/seen_voxels.hpp"
 #include "evaluation/truth.hpp"
 #include "mapping/voxel_map.hpp"
 #include "sensors/camera.hpp"
@@ -39,7 +39,7 @@ struct EvaluationSnapshot {
   std::size_t lethal_cells = 0;
   double costmap_precision = 0, costmap_recall = 0;
   int phantom_obstacles = 0;
-  std::vector<Phantom> phantoms;  // phantom_obstacles of them, sorted by position
+  std::vector<Phantom> phantoms;      // phantom_obstacles of them, sorted by position
   std::vector<CameraRecall> cameras;  // by camera index (config.cameras of them)
   ProjectionGuard projection;         // the costmap against the voxels it was projected from
   SelfMarking self_marking;           // lethal cells on the robot (config.robot_footprint_B; 0 without one)
@@ -56,8 +56,8 @@ struct EvaluationMean {
   std::size_t empty_snapshots = 0;
   std::size_t mapped_voxels = 0, observed_truth_voxels = 0, lethal_cells = 0;  // means, rounded down
   double precision = 0, recall = 0, f1 = 0, iou = 0, costmap_precision = 0, costmap_recall = 0;
-  double phantom_obstacles = 0;   // mean
-  int max_phantom_obstacles = 0;  // the most at one snapshot
+  double phantom_obstacles = 0;       // mean
+  int max_phantom_obstacles = 0;      // the most at one snapshot
   std::vector<double> camera_recall;  // mean recall per camera index
   // The projection guard's worst counts over every snapshot (warm-up included).
   std::size_t max_lethal_without_voxels = 0, max_columns_without_lethal = 0;
@@ -79,9 +79,9 @@ struct EvaluationSummary {
   TruthSummary truth;
   std::vector<EvaluationSnapshot> snapshots;
   EvaluationMean mean;
-  EvaluationSnapshot final;  // at the end of the run
+  EvaluationSnapshot final;               // at the end of the run
   std::vector<ObstacleResult> obstacles;  // sorted by body name
-  DistanceStats accuracy;    // mapped voxel centre to the nearest true surface, all snapshots pooled
+  DistanceStats accuracy;                 // mapped voxel centre to the nearest true surface, all snapshots pooled
   ClearingResult clearing;
   std::size_t observed_off_truth_voxels = 0;  // noise-free hits outside every truth voxel (render vs geometry)
   // Truth voxels (static, or of a moving body where it is now) that ray-cast clearing removed and the same
@@ -115,13 +115,13 @@ struct TopDown {
 // Wall-clock milliseconds spent in each phase of the evaluation, summed over the run (profiling only: never
 // part of a result that is compared).
 struct PhaseTimes {
-  double observe_ms = 0;           // observe(): the noise-free view, per frame
-  double clearing_ms = 0;          // observe_clearing() and after_update(), per frame
-  double truth_ms = 0;             // moving bodies re-voxelized (inside the two above and evaluate())
-  double mapped_ms = 0;            // evaluate(): mapped voxels against truth, and their surface distances
-  double observed_ms = 0;          // evaluate(): observed truth against the map, per body
-  double costmap_ms = 0;           // evaluate(): projection (beside mapped and observed), footprints, 2D matching
-  double phantoms_ms = 0;          // evaluate(): connected lethal groups
+  double observe_ms = 0;   // observe(): the noise-free view, per frame
+  double clearing_ms = 0;  // observe_clearing() and after_update(), per frame
+  double truth_ms = 0;     // moving bodies re-voxelized (inside the two above and evaluate())
+  double mapped_ms = 0;    // evaluate(): mapped voxels against truth, and their surface distances
+  double observed_ms = 0;  // evaluate(): observed truth against the map, per body
+  double costmap_ms = 0;   // evaluate(): projection (beside mapped and observed), footprints, 2D matching
+  double phantoms_ms = 0;  // evaluate(): connected lethal groups
   std::size_t frames = 0, evaluations = 0;
 };
 
@@ -179,7 +179,7 @@ class Evaluator {
   Truth truth_;
   std::map<std::string, ObstacleResult> obstacles_;
   int body_of(SeenVoxels::Entry& seen) const;  // truth_.body_of(key), the static half remembered
-  SeenVoxels last_seen_;  // observed truth candidates -> last time
+  SeenVoxels last_seen_;                       // observed truth candidates -> last time
   // The same per camera, when there are several (one camera's is last_seen_ itself).
   std::vector<SeenVoxels> last_seen_by_camera_;
   VoxelSet off_truth_keys_;

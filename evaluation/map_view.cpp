@@ -11,7 +11,8 @@ namespace {
 
 // About max_points of `points`, chosen by a hash of their voxel keys (spread evenly over the map, unlike every
 // k-th in key order, which leaves stripes) and the same in every run.
-Eigen::Matrix3Xf thinned(const std::vector<VoxelKey>& keys, const std::vector<Eigen::Vector3f>& points, std::size_t max_points) {
+Eigen::Matrix3Xf thinned(const std::vector<VoxelKey>& keys, const std::vector<Eigen::Vector3f>& points,
+                         std::size_t max_points) {
   const std::uint64_t keep_per_1024 =
       points.size() <= max_points ? 1024 : std::max<std::uint64_t>(1, 1024 * max_points / points.size());
   std::vector<Eigen::Vector3f> kept;
@@ -24,8 +25,7 @@ Eigen::Matrix3Xf thinned(const std::vector<VoxelKey>& keys, const std::vector<Ei
 
 }  // namespace
 
-MapView make_map_view(const mapping::VoxelMap& map, const Truth& truth, int tolerance_voxels,
-                      std::size_t max_points) {
+MapView make_map_view(const mapping::VoxelMap& map, const Truth& truth, int tolerance_voxels, std::size_t max_points) {
   MapView view;
   view.voxel_size_m = map.voxel_size_m();
   std::vector<Eigen::Vector3f> good, bad, truth_points;

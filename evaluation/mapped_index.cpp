@@ -12,7 +12,9 @@ constexpr int kDim = 8;
 
 VoxelKey origin_of(const VoxelKey& k) { return {k.x & ~(kDim - 1), k.y & ~(kDim - 1), k.z & ~(kDim - 1)}; }
 int offset_of(const VoxelKey& k) { return ((k.x & 7) << 6) | ((k.y & 7) << 3) | (k.z & 7); }
-VoxelKey key_at(const VoxelKey& origin, int i) { return {origin.x + (i >> 6), origin.y + ((i >> 3) & 7), origin.z + (i & 7)}; }
+VoxelKey key_at(const VoxelKey& origin, int i) {
+  return {origin.x + (i >> 6), origin.y + ((i >> 3) & 7), origin.z + (i & 7)};
+}
 
 // Calls f(i) for every set bit of m, in increasing order.
 template <class F>
@@ -94,10 +96,8 @@ void MappedIndex::visit_leaf(Leaf& leaf, const std::uint64_t* on, Truth& truth, 
   for_each_bit(todo_moving, [&](int i) {
     set_bit(leaf.moving_done, i);
     const std::uint64_t bit = std::uint64_t{1} << (i & 63);
-    if (truth.near_moving(key_at(origin, i)))
-      leaf.moving_near[i >> 6] |= bit;
-    else
-      leaf.moving_near[i >> 6] &= ~bit;
+    if (truth.near_moving(key_at(origin, i))) leaf.moving_near[i >> 6] |= bit;
+    else leaf.moving_near[i >> 6] &= ~bit;
   });
   for_each_bit(todo_distance, [&](int i) { distance_todo_.push_back({&leaf, i}); });
 }
@@ -116,18 +116,17 @@ void MappedIndex::compute_distances(const Truth& truth) {
           key_at(distance_todo_[t].first->origin, distance_todo_[t].second), &found[t].fixed);
   };
   if (found.size() < 256) compute(0, found.size());
-  else tbb::parallel_for(tbb::blocked_range<std::size_t>(0, found.size(), 64),
-                         [&](const tbb::blocked_range<std::size_t>& r) { compute(r.begin(), r.end()); });
+  else
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, found.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) { compute(r.begin(), r.end()); });
   for (std::size_t t = 0; t < found.size(); ++t) {
     Leaf& leaf = *distance_todo_[t].first;
     const int i = distance_todo_[t].second;
     leaf.distance_id[i] = found[t].d_m ? intern(*found[t].d_m) : kNoDistance;
     set_bit(leaf.distance_done, i);
     const std::uint64_t bit = std::uint64_t{1} << (i & 63);
-    if (found[t].fixed)
-      leaf.distance_fixed[i >> 6] |= bit;
-    else
-      leaf.distance_fixed[i >> 6] &= ~bit;
+    if (found[t].fixed) leaf.distance_fixed[i >> 6] |= bit;
+    else leaf.distance_fixed[i >> 6] &= ~bit;
   }
   distance_todo_.clear();
 }
@@ -136,8 +135,8 @@ void MappedIndex::count_matches(VoxelMatches& counts) {
   for (const Leaf* leaf = first_; leaf; leaf = leaf->next) {
     for (int w = 0; w < 8; ++w) {
       counts.mapped += static_cast<std::size_t>(__builtin_popcountll(leaf->on[w]));
-      counts.matched_mapped += static_cast<std::size_t>(__builtin_popcountll(
-          leaf->on[w] & (leaf->static_near[w] | (leaf->moving_near[w] & leaf->moving_done[w]))));
+      counts.matched_mapped += static_cast<std::size_t>(
+          __builtin_popcountll(leaf->on[w] & (leaf->static_near[w] | (leaf->moving_near[w] & leaf->moving_done[w]))));
     }
     for_each_bit(leaf->on, [&](int i) {
       if (leaf->distance_id[i] != kNoDistance) ++counts_[leaf->distance_id[i]];

@@ -40,9 +40,9 @@ class MappedIndex {
  private:
   using Mask = std::array<std::uint64_t, 8>;
   struct Leaf {
-    Mask on{};                       // the map's voxels at the last match()
-    Mask static_done{}, static_near{};  // truth.near_static(), once per voxel
-    Mask moving_done{}, moving_near{};  // truth.near_moving(), at `version`
+    Mask on{};                               // the map's voxels at the last match()
+    Mask static_done{}, static_near{};       // truth.near_static(), once per voxel
+    Mask moving_done{}, moving_near{};       // truth.near_moving(), at `version`
     Mask distance_done{}, distance_fixed{};  // distance_id valid (at `version`, or for good where fixed)
     std::size_t version = 0;
     std::size_t stamp = 0;  // the last match() that saw the leaf in the map
@@ -61,13 +61,13 @@ class MappedIndex {
   const Leaf* leaf_of(const VoxelKey& key) const;
 
   std::unordered_map<VoxelKey, Leaf, VoxelKeyHash> leaves_;  // by origin
-  Leaf* first_ = nullptr;  // the last walk's first leaf
+  Leaf* first_ = nullptr;                                    // the last walk's first leaf
   std::size_t stamp_ = 0;
-  std::vector<double> distances_;        // distinct distances, by id
-  std::vector<std::size_t> counts_;      // pooled count per id
+  std::vector<double> distances_;    // distinct distances, by id
+  std::vector<std::size_t> counts_;  // pooled count per id
   std::unordered_map<double, std::uint32_t> distance_ids_;
   std::vector<std::pair<Leaf*, int>> distance_todo_;  // walk(): the voxels whose distance is to compute
-  mutable const Leaf* last_leaf_ = nullptr;  // near(): neighbours mostly share a leaf
+  mutable const Leaf* last_leaf_ = nullptr;           // near(): neighbours mostly share a leaf
   mutable VoxelKey last_origin_{1, 1, 1};
 };
 

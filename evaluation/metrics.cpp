@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <limits>
+#include <numeric>
 #include <tuple>
 
 namespace stvl::evaluation {
@@ -31,7 +31,8 @@ VoxelScores voxel_scores(const VoxelMatches& m) {
   return s;
 }
 
-void update_obstacle(ObstacleResult& o, std::size_t observed_voxels, std::size_t matched_voxels, int min_observed_voxels) {
+void update_obstacle(ObstacleResult& o, std::size_t observed_voxels, std::size_t matched_voxels,
+                     int min_observed_voxels) {
   o.observed_voxels = std::max(o.observed_voxels, observed_voxels);
   if (observed_voxels < static_cast<std::size_t>(min_observed_voxels)) return;
   o.observed = true;
@@ -106,7 +107,8 @@ CellGrid column_counts(const mapping::VoxelMap& map, double min_z_m, double max_
 
 ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellGrid& lethal, double min_z_m, double max_z_m,
                                  const CellSet& freed) {
-  return guard_projection(column_counts(map, min_z_m, max_z_m), std::max(map.config().mark_threshold, 1), lethal, freed);
+  return guard_projection(column_counts(map, min_z_m, max_z_m), std::max(map.config().mark_threshold, 1), lethal,
+                          freed);
 }
 
 ProjectionGuard guard_projection(const CellGrid& counts, int needed, const CellGrid& lethal, const CellSet& freed) {
@@ -134,7 +136,8 @@ SelfMarking count_self_marking(const CellGrid& lethal, const std::vector<Eigen::
   SelfMarking self;
   if (footprint_W.size() < 3) return self;
   CellSet inside;
-  for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m)) inside.insert({x, y});
+  for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m))
+    inside.insert({x, y});
   const auto is_self = [&](const CellKey& c) { return lethal.contains(c) && !truth_footprint.near(c, tol); };
   for (const auto& c : inside) self.inside += is_self(c);
   Eigen::AlignedBox2d box;
@@ -228,7 +231,9 @@ DistanceStats distance_stats(std::vector<double> d) {
   stats.count = d.size();
   if (d.empty()) return stats;
   std::sort(d.begin(), d.end());
-  const auto at = [&](double q) { return d[std::min(d.size() - 1, static_cast<std::size_t>(q * (d.size() - 1) + 0.5))]; };
+  const auto at = [&](double q) {
+    return d[std::min(d.size() - 1, static_cast<std::size_t>(q * (d.size() - 1) + 0.5))];
+  };
   stats.mean_m = std::accumulate(d.begin(), d.end(), 0.0) / d.size();
   stats.median_m = at(0.5);
   stats.p90_m = at(0.9);
@@ -241,7 +246,9 @@ DistanceStats distance_stats_of_counts(const std::map<double, std::size_t>& coun
   DistanceStats stats;
   for (const auto& [d, n] : counts) stats.count += n;
   if (stats.count == 0) return stats;
-  const auto rank = [&](double q) { return std::min(stats.count - 1, static_cast<std::size_t>(q * (stats.count - 1) + 0.5)); };
+  const auto rank = [&](double q) {
+    return std::min(stats.count - 1, static_cast<std::size_t>(q * (stats.count - 1) + 0.5));
+  };
   const std::size_t median = rank(0.5), p90 = rank(0.9), p99 = rank(0.99);
   double sum = 0.0;
   std::size_t below = 0;  // values before the current one

@@ -32,7 +32,7 @@ bool near_voxel(const VoxelSet& set, const VoxelKey& key, int tol);
 // 3D: precision = matched mapped / mapped, recall = matched observed truth / observed truth,
 // F1 = 2PR / (P + R), IoU = matched truth / (observed truth + unmatched mapped). Empty denominators give 0.
 struct VoxelMatches {
-  std::size_t mapped = 0, matched_mapped = 0;  // mapped voxels, and those within tol of a truth voxel
+  std::size_t mapped = 0, matched_mapped = 0;         // mapped voxels, and those within tol of a truth voxel
   std::size_t observed_truth = 0, matched_truth = 0;  // observed truth voxels, and those within tol of a mapped one
 };
 struct VoxelScores {
@@ -73,8 +73,8 @@ CellGrid lethal_cells(const mapping::Costmap2D& costmap, double cell_m);
 // (cell of the voxel size) should be lethal exactly where it holds >= max(mark_threshold, 1) voxels whose centre
 // z lies in [min_z_m, max_z_m].
 struct ProjectionGuard {
-  std::size_t lethal_without_voxels = 0;  // lethal cells whose column holds too few voxels in the band
-  std::size_t columns_without_lethal = 0; // columns with enough voxels in the band and no lethal cell
+  std::size_t lethal_without_voxels = 0;   // lethal cells whose column holds too few voxels in the band
+  std::size_t columns_without_lethal = 0;  // columns with enough voxels in the band and no lethal cell
 };
 // freed: cells the costmap set free on purpose (STVL's footprint clearing); their columns are not counted.
 ProjectionGuard guard_projection(const mapping::VoxelMap& map, const CellGrid& lethal, double min_z_m, double max_z_m,

@@ -13,8 +13,9 @@ VoxelSight voxel_sight(const VoxelKey& key, double voxel_size_m, const sensors::
   bool behind = false;
   for (int sample = 0; sample < 9; ++sample) {
     // Sample 0 is the centre, 1..8 the corners.
-    const Eigen::Vector3d offset = sample == 0 ? Eigen::Vector3d(0.5, 0.5, 0.5)
-                                               : Eigen::Vector3d((sample - 1) & 1, ((sample - 1) >> 1) & 1, ((sample - 1) >> 2) & 1);
+    const Eigen::Vector3d offset =
+        sample == 0 ? Eigen::Vector3d(0.5, 0.5, 0.5)
+                    : Eigen::Vector3d((sample - 1) & 1, ((sample - 1) >> 1) & 1, ((sample - 1) >> 2) & 1);
     const Eigen::Vector3d p_C = T_camera_world * (lo_W + offset * voxel_size_m);
     const auto pixel = sensors::project_to_pixel(intrinsics, p_C);
     if (!pixel) continue;
@@ -43,7 +44,8 @@ void HiddenClears::after_update(double time_s, const std::vector<VoxelKey>& clea
     ++(s == VoxelSight::kBehindSurface ? totals_.behind_surface : totals_.out_of_view);
     if (!totals_.first_s) totals_.first_s = time_s;
     OcclusionBody& body = bodies_[bodies[static_cast<std::size_t>(b)]->body_name].body;
-    if (body.hidden_false_clears++ == 0) body.name = bodies[static_cast<std::size_t>(b)]->body_name, body.first_s = time_s;
+    if (body.hidden_false_clears++ == 0)
+      body.name = bodies[static_cast<std::size_t>(b)]->body_name, body.first_s = time_s;
     body.last_s = time_s;
     hit.push_back(b);
   }

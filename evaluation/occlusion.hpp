@@ -52,7 +52,8 @@ class HiddenClears {
   // the index in bodies of the one holding key, -1 for none; in_map(key): the map holds key after the update;
   // sight(key): what the camera saw of it in this frame.
   void after_update(double time_s, const std::vector<VoxelKey>& cleared,
-                    const std::vector<const truth::BodyVoxels*>& bodies, const std::function<int(const VoxelKey&)>& body_of,
+                    const std::vector<const truth::BodyVoxels*>& bodies,
+                    const std::function<int(const VoxelKey&)>& body_of,
                     const std::function<bool(const VoxelKey&)>& in_map,
                     const std::function<VoxelSight(const VoxelKey&)>& sight);
   // The totals over every update so far, with the bodies sorted by name.

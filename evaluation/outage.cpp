@@ -33,7 +33,8 @@ void OutageMonitor::observe(std::size_t camera, double time_s, const std::vector
     if (a.result.camera_index != camera) continue;
     const OutageWindow& w = a.result.window;
     if (time_s >= w.from_s && time_s < w.to_s) ++a.result.frames_in_window;
-    if (time_s >= w.to_s && a.result.first_marking_frame_s < 0 && marking_points > 0) a.result.first_marking_frame_s = time_s;
+    if (time_s >= w.to_s && a.result.first_marking_frame_s < 0 && marking_points > 0)
+      a.result.first_marking_frame_s = time_s;
   }
 }
 

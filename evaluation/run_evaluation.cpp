@@ -70,10 +70,10 @@ void RunEvaluation::after_update(const pipeline::Frame& f, const layer::UpdateRe
 RunVerdict RunEvaluation::finish(const RunEnd& end, const sim::World& world, const mapping::VoxelMap& map) {
   RunVerdict v;
   v.checks.push_back(end.fell ? robot_upright_check(false, end.fell_at_s, end.tilt_rad)
-                             : robot_upright_check(true, end.time_s, 0.0));
-  if (end.path_required && !end.fell) v.checks.push_back(path_completed_check(end.path_done, end.time_s, end.duration_s,
-                                                                      end.cut_short_from_s,
-                                                                      end.path_required_when_cut_short, end.blocked));
+                              : robot_upright_check(true, end.time_s, 0.0));
+  if (end.path_required && !end.fell)
+    v.checks.push_back(path_completed_check(end.path_done, end.time_s, end.duration_s, end.cut_short_from_s,
+                                            end.path_required_when_cut_short, end.blocked));
   if (end.frames == 0) return v;
   v.evaluation = evaluator_.finish(end.time_s, world, map);
   v.top_down = evaluator_.top_down();

@@ -20,16 +20,16 @@ namespace stvl::evaluation {
 
 // How the run ended, as the run loop saw it.
 struct RunEnd {
-  std::size_t frames = 0;       // frames taken
-  double time_s = 0;            // simulated time of the last frame
-  bool fell = false;            // the robot fell over or left the world at fell_at_s, tilted by tilt_rad
+  std::size_t frames = 0;  // frames taken
+  double time_s = 0;       // simulated time of the last frame
+  bool fell = false;       // the robot fell over or left the world at fell_at_s, tilted by tilt_rad
   double fell_at_s = 0, tilt_rad = 0;
-  bool path_required = false;   // the scenario stops at the path's end (and so must reach it)
+  bool path_required = false;  // the scenario stops at the path's end (and so must reach it)
   bool path_done = false;
   double duration_s = 0;        // the scenario's duration
   double cut_short_from_s = 0;  // > 0: --duration shortened the run from this many seconds
   bool path_required_when_cut_short = false;
-  std::string blocked;          // blocked_diagnosis() when the robot stopped short of the path's end
+  std::string blocked;  // blocked_diagnosis() when the robot stopped short of the path's end
   SoakSeries soak;
 };
 
@@ -37,7 +37,7 @@ struct RunEnd {
 struct RunVerdict {
   EvaluationSummary evaluation;  // empty when no frame was taken
   TopDown top_down;
-  PhaseTimes phases;             // wall-clock totals per phase (profiling only)
+  PhaseTimes phases;  // wall-clock totals per phase (profiling only)
   MapView map_view;
   std::vector<OutageResult> outages;
   // robot_upright, path_completed (when required), then evaluation, outage and soak checks (frames > 0).

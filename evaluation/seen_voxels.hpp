@@ -42,7 +42,7 @@ class SeenVoxels {
   }
   // Forgets every voxel last seen before oldest_s.
   void forget_before(double oldest_s);
-  std::vector<Entry>& entries() { return entries_; }  // sorted by key
+  std::vector<Entry>& entries() { return entries_; }    // sorted by key
   std::size_t size() const { return entries_.size(); }  // voxels remembered
 
  private:

@@ -1,8 +1,8 @@
 #pragma once
 // A long run's resources (issue #270, memory that grows over a long shift): every sample_every_s of simulated
-// time the map's voxel and leaf counts, the process's resident memory and the mean per-frame map cost (clear + mark) since
-// the previous sample. Resident memory and times measure the machine, not the run: metrics.json keeps them
-// under timing_ms, out of the determinism check.
+// time the map's voxel and leaf counts, the process's resident memory and the mean per-frame map cost (clear + mark)
+// since the previous sample. Resident memory and times measure the machine, not the run: metrics.json keeps them under
+// timing_ms, out of the determinism check.
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -14,9 +14,9 @@ namespace stvl::evaluation {
 struct SoakSample {
   double t_s = 0.0;
   std::size_t voxels = 0;
-  std::size_t leaves = 0;  // the map's 8^3 leaf nodes (its memory, but for the tree above them)
-  double rss_mb = 0.0;  // resident memory, MiB
-  double map_ms = 0.0;  // mean clear + mark ms per frame since the previous sample
+  std::size_t leaves = 0;   // the map's 8^3 leaf nodes (its memory, but for the tree above them)
+  double rss_mb = 0.0;      // resident memory, MiB
+  double map_ms = 0.0;      // mean clear + mark ms per frame since the previous sample
   double map_cpu_ms = 0.0;  // the same in CPU time (layer::UpdateReport::cpu_ms)
 };
 

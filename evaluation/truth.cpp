@@ -25,15 +25,16 @@ bool in_band(const VoxelKey& k, const EvaluationConfig& c) {
 }
 
 std::vector<truth::BodyVoxels> voxelize_in_band(const std::vector<truth::ObstacleGeom>& geoms,
-                                               const EvaluationConfig& c) {
+                                                const EvaluationConfig& c) {
   truth::VoxelizeOptions options;
   options.voxel_size_m = c.voxel_size_m;
   options.bounds_W = Eigen::AlignedBox3d(Eigen::Vector3d(-1e6, -1e6, c.min_obstacle_height_m),
                                          Eigen::Vector3d(1e6, 1e6, c.max_obstacle_height_m));
   std::vector<truth::BodyVoxels> bodies = truth::voxelize_bodies(geoms, options);
   for (auto& body : bodies)
-    body.voxels.erase(std::remove_if(body.voxels.begin(), body.voxels.end(), [&](const VoxelKey& k) { return !in_band(k, c); }),
-                      body.voxels.end());
+    body.voxels.erase(
+        std::remove_if(body.voxels.begin(), body.voxels.end(), [&](const VoxelKey& k) { return !in_band(k, c); }),
+        body.voxels.end());
   return bodies;
 }
 
@@ -68,8 +69,8 @@ Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(
   for (std::size_t b = 0; b < static_bodies_.size(); ++b)  // a key in several bodies keeps the first
     for (const auto& k : static_bodies_[b].voxels) static_truth_.insert(k, static_cast<int>(b));
   std::vector<CellKey> cells;
-  for (const auto& body : truth::footprints(statics, config_.voxel_size_m, config_.min_obstacle_height_m,
-                                          config_.max_obstacle_height_m))
+  for (const auto& body :
+       truth::footprints(statics, config_.voxel_size_m, config_.min_obstacle_height_m, config_.max_obstacle_height_m))
     cells.insert(cells.end(), body.cells.begin(), body.cells.end());
   static_footprint_ = CellGrid::of(cells);
   update(world);
@@ -155,13 +156,14 @@ const CellGrid& Truth::footprint() const {
   footprint_version_ = version_;
   std::vector<CellKey> moving;
   for (const auto& body : truth::footprints(dynamic_geoms_, config_.voxel_size_m, config_.min_obstacle_height_m,
-                                          config_.max_obstacle_height_m))
+                                            config_.max_obstacle_height_m))
     moving.insert(moving.end(), body.cells.begin(), body.cells.end());
   if (std::all_of(moving.begin(), moving.end(), [&](const CellKey& c) { return static_footprint_.covers(c); })) {
     footprint_ = static_footprint_;  // one copy of the static box
   } else {
     std::vector<CellKey> corners = moving;  // a box for the static cells and the moving ones
-    if (!static_footprint_.empty()) corners.push_back(static_footprint_.lo()), corners.push_back(static_footprint_.hi());
+    if (!static_footprint_.empty())
+      corners.push_back(static_footprint_.lo()), corners.push_back(static_footprint_.hi());
     footprint_ = CellGrid::covering(corners);
     static_footprint_.for_each([&](const CellKey& c, int) { footprint_.insert(c); });
   }

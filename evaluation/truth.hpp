@@ -82,7 +82,7 @@ class Truth {
   VoxelSet dynamic_near_;  // dynamic_truth_ grown by tolerance_voxels
   std::unordered_map<VoxelKey, int, VoxelKeyHash> dynamic_body_of_;
   CellGrid static_footprint_;
-  mutable CellGrid footprint_;             // footprint() at footprint_version_
+  mutable CellGrid footprint_;  // footprint() at footprint_version_
   mutable std::size_t footprint_version_ = 0;
   VoxelSet vacated_;
   // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so a distance tests a few geoms.

@@ -79,7 +79,7 @@ class VoxelMaskSet {
 
   std::unordered_map<VoxelKey, Leaf, VoxelKeyHash> leaves_;
   std::unordered_map<VoxelKey, int, VoxelKeyHash> mixed_;  // the keys of leaves with several labels
-  mutable VoxelKey last_origin_{1, 1, 1};  // no leaf's origin
+  mutable VoxelKey last_origin_{1, 1, 1};                  // no leaf's origin
   mutable const Leaf* last_ = nullptr;
 };
 

@@ -133,9 +133,12 @@ void run_parallel(int parts, void (*fn)(void*, int), void* context) {
   // One task per part. Isolated: while this thread waits for the parts it runs none but these, never an outer
   // task that could enter a filter again on this thread (and its thread_local buffers).
   tbb::this_task_arena::isolate([&] {
-    tbb::parallel_for(tbb::blocked_range<int>(0, parts, 1), [&](const tbb::blocked_range<int>& range) {
-      for (int t = range.begin(); t != range.end(); ++t) fn(context, t);
-    }, tbb::simple_partitioner());
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, parts, 1),
+        [&](const tbb::blocked_range<int>& range) {
+          for (int t = range.begin(); t != range.end(); ++t) fn(context, t);
+        },
+        tbb::simple_partitioner());
   });
 #else
   static Pool pool;

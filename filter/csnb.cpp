@@ -114,8 +114,8 @@ const std::uint64_t* sort_by_cube(Workspace& w, const float* p, std::size_t n, s
     }
     segments[t] = {out, count};
   });
-  return detail::radix_sort_segments(segments, w.items.data(), w.scratch.data(), 32, 32 + key_bits,
-                                     [](std::uint64_t v) { return v; }, threads);
+  return detail::radix_sort_segments(
+      segments, w.items.data(), w.scratch.data(), 32, 32 + key_bits, [](std::uint64_t v) { return v; }, threads);
 }
 
 // The sorted points (w.points, w.column) and the cube table (w.cube_key with a sentinel, w.cube_begin): a cube
@@ -198,7 +198,8 @@ std::size_t random_order(Workspace& w, std::size_t m, std::uint64_t seed, int th
         }
       });
   w.order.assign(w.items.begin(), w.items.begin() + order_size);
-  detail::radix_sort(w.order, w.scratch, 32, 64, [](std::uint64_t v) { return v; }, threads);
+  detail::radix_sort(
+      w.order, w.scratch, 32, 64, [](std::uint64_t v) { return v; }, threads);
   return order_size;
 }
 
@@ -282,8 +283,13 @@ Eigen::Matrix3Xf csnb(const Eigen::Matrix3Xf& points, const CsnbConfig& config, 
   const std::uint32_t never = avx2 ? kNeverAvx2 : kNeverPlain;
   init_candidates(w, order_size, never, threads);
   const int side = 2 * layout.reach + 1;
-  Counter counter{w.candidates.data(), w.cube_begin.data(), w.spans.data(),
-                  detail::csnb_rows(layout), layout.reach + layout.reach * side, layout.radius_sq, config.max_neighbours};
+  Counter counter{w.candidates.data(),
+                  w.cube_begin.data(),
+                  w.spans.data(),
+                  detail::csnb_rows(layout),
+                  layout.reach + layout.reach * side,
+                  layout.radius_sq,
+                  config.max_neighbours};
   find_sure(w, counter, cubes, std::uint32_t(order_size), avx2, threads);
   settle_sparse_and_list_unsure(w, m, order_size, never);
   walk(w, counter, order_size, static_cast<std::size_t>(config.batch_size), never, avx2, threads);

@@ -29,10 +29,10 @@ namespace stvl::filter {
 // max_neighbours only through other anchors (at most 26 when edge >= d). Output: the kept points in (cube,
 // index) order; the same on CPU and CUDA for the same seed.
 struct CsnbConfig {
-  double voxel_size_m = 0.05;    // distance threshold; the cube edge is at least this
-  int max_neighbours = 4;        // count threshold
-  int batch_size = 1000;         // K
-  int grid_exponent = 0;         // n: 0 = auto (edge = voxel_size_m, n from the extent), else 4..9
+  double voxel_size_m = 0.05;  // distance threshold; the cube edge is at least this
+  int max_neighbours = 4;      // count threshold
+  int batch_size = 1000;       // K
+  int grid_exponent = 0;       // n: 0 = auto (edge = voxel_size_m, n from the extent), else 4..9
   std::uint64_t seed = 1;
 };
 

@@ -81,7 +81,8 @@ Filter::Filter(FilterConfig config) : config_(config) {
   if (!cuda_available(&reason)) {
     if (config_.device == Device::kCuda) throw std::runtime_error("filter: device 'cuda' unavailable: " + reason);
     static std::once_flag notice;
-    std::call_once(notice, [&] { std::fprintf(stderr, "stvl filter: no usable GPU (%s); running on the CPU\n", reason.c_str()); });
+    std::call_once(
+        notice, [&] { std::fprintf(stderr, "stvl filter: no usable GPU (%s); running on the CPU\n", reason.c_str()); });
     return;
   }
   cuda_ = std::make_unique<cuda::Context>();
@@ -104,8 +105,7 @@ Eigen::Matrix3Xf Filter::apply(const Eigen::Matrix3Xf& points_W) {
                        : voxel_grid(in, config_.voxel, config_.cpu_threads);
     case FilterType::kCsnb:
       return use_cuda_ ? cuda_->csnb(in, config_.csnb, config_.memory) : csnb(in, config_.csnb, config_.cpu_threads);
-    default:
-      return passed;
+    default: return passed;
   }
 }
 

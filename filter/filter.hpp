@@ -45,7 +45,9 @@ struct FilterConfig {
   int cpu_threads = 0;  // 0: std::thread::hardware_concurrency()
 };
 
-namespace cuda { class Context; }
+namespace cuda {
+class Context;
+}
 
 // Holds the GPU workspace between frames. kAuto without a GPU runs on the CPU and prints one notice per
 // process to stderr; kCuda without a GPU throws std::runtime_error. Not thread-safe.

@@ -81,11 +81,11 @@ struct Table {
 // Kept per calling thread between calls: fresh multi-megabyte buffers would page-fault on every frame.
 template <class Key>
 struct Workspace {
-  std::vector<Key> keys;                                 // of the finite points, in index order
-  std::vector<KeyPoint<Key>> items;                      // grouped by bucket (the key's high bits)
-  std::vector<std::vector<KeyPoint<Key>>> scratch;       // per worker, for splitting one bucket
-  std::vector<Table> tables;                             // per worker
-  std::vector<std::vector<float>> centroids;             // per worker, x y z
+  std::vector<Key> keys;                            // of the finite points, in index order
+  std::vector<KeyPoint<Key>> items;                 // grouped by bucket (the key's high bits)
+  std::vector<std::vector<KeyPoint<Key>>> scratch;  // per worker, for splitting one bucket
+  std::vector<Table> tables;                        // per worker
+  std::vector<std::vector<float>> centroids;        // per worker, x y z
 };
 
 // One voxel's centroid, appended to `out` when it has at least min_points points. Every path of the reduction
@@ -203,13 +203,14 @@ std::vector<std::size_t> finite_offsets(const float* p, std::size_t n, std::size
 // 1. The keys of the finite points (w.keys), and per part how many of its points fall in each bucket (the
 // key's bits above low_bits): count[t * buckets + d].
 template <class Key>
-void count_keys(const GridInput& in, Workspace<Key>& w, std::size_t buckets, int low_bits, std::vector<std::uint32_t>& count) {
+void count_keys(const GridInput& in, Workspace<Key>& w, std::size_t buckets, int low_bits,
+                std::vector<std::uint32_t>& count) {
   w.keys.resize(in.finite);
   w.items.resize(in.finite);
   count.assign(in.parts * buckets, 0);
   Keys32 layout32;
-  const bool all_32_bit = std::is_same_v<Key, std::uint32_t> && in.finite == in.n && keys32_supported() &&
-                          make_keys32(in.layout, layout32);
+  const bool all_32_bit =
+      std::is_same_v<Key, std::uint32_t> && in.finite == in.n && keys32_supported() && make_keys32(in.layout, layout32);
   const float* p = in.p;
   detail::parallel_for(in.n, in.parts, [&](std::size_t b, std::size_t e, int t) {
     std::uint32_t* c = count.data() + t * buckets;
@@ -339,7 +340,8 @@ Eigen::Matrix3Xf voxel_grid(const Eigen::Matrix3Xf& points, const VoxelGridConfi
   const detail::VoxelLayout layout = detail::make_voxel_layout(bounds, config.voxel_size_m, n);
   const std::size_t min_points = static_cast<std::size_t>(std::max(config.min_points_per_voxel, 1));
   const int parts = detail::parts_for(n, threads);
-  const GridInput in{points.data(), n, bounds.finite, layout, parts, finite_offsets(points.data(), n, bounds.finite, parts)};
+  const GridInput in{points.data(), n,     bounds.finite,
+                     layout,        parts, finite_offsets(points.data(), n, bounds.finite, parts)};
   if (layout.key_bits <= 32) return reduce_to_centroids<std::uint32_t>(in, min_points, threads);
   return reduce_to_centroids<std::uint64_t>(in, min_points, threads);
 }

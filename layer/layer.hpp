@@ -45,7 +45,8 @@ struct UpdateReport {
   // Voxels the updates' clearing removed: the rays (ray-cast mode) or the frustum's acceleration (frustum mode), and
   // those of the footprint voxel clearing; not those that expired by plain decay.
   std::vector<VoxelKey> cleared_keys;
-  std::size_t footprint_voxels_cleared = 0;  // voxels removed inside the robot's footprint (clear_footprint_voxels_below)
+  std::size_t footprint_voxels_cleared =
+      0;  // voxels removed inside the robot's footprint (clear_footprint_voxels_below)
   // Readings of earlier frames the updates applied again from the buffers (observation_persistence, or a stopped
   // sensor's buffer, as STVL applies every buffer at every update).
   std::size_t reapplied_readings = 0;
@@ -63,7 +64,8 @@ struct SourceStatus {
   std::vector<StaleSpan> stale;        // in time order; the last one may end at the time asked for (still stale)
   std::size_t reapplied_readings = 0;  // readings applied at a later update than their own frame's
   double max_reapplied_age_s = 0;      // the oldest of those at the update that applied it
-  double reapplied_max_distance_m = 0;  // farthest a re-applied reading's optical centre lay from the camera's pose then
+  double reapplied_max_distance_m =
+      0;  // farthest a re-applied reading's optical centre lay from the camera's pose then
 };
 
 class Layer {

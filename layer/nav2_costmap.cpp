@@ -23,12 +23,9 @@ Eigen::Vector2i to_cell_clamped(const Costmap2D& m, const Eigen::Vector2d& p_W) 
   const int size[2] = {m.width, m.height};
   for (int a = 0; a < 2; ++a) {
     const double w = p_W[a], origin = m.origin_m[a];
-    if (w < origin)
-      cell[a] = 0;
-    else if (w >= m.resolution_m * size[a] + origin)
-      cell[a] = size[a] - 1;
-    else
-      cell[a] = static_cast<int>((w - origin) / m.resolution_m);
+    if (w < origin) cell[a] = 0;
+    else if (w >= m.resolution_m * size[a] + origin) cell[a] = size[a] - 1;
+    else cell[a] = static_cast<int>((w - origin) / m.resolution_m);
   }
   return cell;
 }

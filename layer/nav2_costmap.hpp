@@ -16,13 +16,12 @@
 
 namespace stvl::layer {
 
-
 struct Nav2CostmapConfig {
-  double width_m = 0.0;   // YAML map.nav2_costmap.width_m (nav2's width); 0: not modelled
-  double height_m = 0.0;  // height_m
-  double resolution_m = 0.05;     // resolution_m
-  bool rolling_window = true;     // rolling_window
-  int combination_method = 1;     // combination_method: 1 max, 0 overwrite (STVL's key)
+  double width_m = 0.0;              // YAML map.nav2_costmap.width_m (nav2's width); 0: not modelled
+  double height_m = 0.0;             // height_m
+  double resolution_m = 0.05;        // resolution_m
+  bool rolling_window = true;        // rolling_window
+  int combination_method = 1;        // combination_method: 1 max, 0 overwrite (STVL's key)
   bool track_unknown_space = false;  // track_unknown_space: the default cell NO_INFORMATION instead of FREE
   bool touch_cleared_cells = true;   // touch_cleared_cells: STVL since #200/#203; false models STVL before (#199)
   bool enabled() const { return width_m > 0.0 && height_m > 0.0; }

@@ -32,12 +32,12 @@ struct SensorConfig {
 
 // One sensor frame as the layer takes it and its sources keep it (STVL's buffered observation).
 struct Observation {
-  std::size_t sensor_index = 0;  // into the layer's sensors
-  double time_s = 0;             // the stamp (simulated or recorded time)
+  std::size_t sensor_index = 0;                                      // into the layer's sensors
+  double time_s = 0;                                                 // the stamp (simulated or recorded time)
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
   Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();    // the robot at time_s
-  Eigen::Matrix3Xf decimated_W;  // after the voxel grid or CSNB: clears
-  Eigen::Matrix3Xf marking_W;    // decimated and inside the passthrough band: marks
+  Eigen::Matrix3Xf decimated_W;                                      // after the voxel grid or CSNB: clears
+  Eigen::Matrix3Xf marking_W;                                        // decimated and inside the passthrough band: marks
   // With a band in base_link (STVL's relative filters): marking_W's points in base_link, column for column (the
   // points the relative filters band, before they go to the global frame); empty otherwise.
   Eigen::Matrix3Xf marking_B;

@@ -25,7 +25,8 @@ class SourceBuffer {
  public:
   // Empty, last updated at created_s; observation_persistence_s and expected_update_rate_s as above (seconds).
   SourceBuffer(double observation_persistence_s, double expected_update_rate_s, double created_s = 0.0)
-      : persistence_s_(observation_persistence_s), expected_update_rate_s_(expected_update_rate_s),
+      : persistence_s_(observation_persistence_s),
+        expected_update_rate_s_(expected_update_rate_s),
         last_updated_s_(created_s) {}
 
   // A reading (not null) arrives at its time_s (its own time: the bench has no transport delay).

@@ -24,9 +24,8 @@ void require_finite(const char* field, double value) {
 namespace {
 // STVL's numeric codes are accepted too: "0", "1", "-1" and "2" (see config.hpp).
 constexpr EnumName<DecayModel> kDecayModelNames[] = {
-    {DecayModel::kLinear, "linear"},       {DecayModel::kExponential, "exponential"},
-    {DecayModel::kPersistent, "persistent"}, {DecayModel::kLinear, "0"},
-    {DecayModel::kExponential, "1"},       {DecayModel::kPersistent, "-1"},
+    {DecayModel::kLinear, "linear"}, {DecayModel::kExponential, "exponential"}, {DecayModel::kPersistent, "persistent"},
+    {DecayModel::kLinear, "0"},      {DecayModel::kExponential, "1"},           {DecayModel::kPersistent, "-1"},
     {DecayModel::kPersistent, "2"}};
 }  // namespace
 
@@ -42,26 +41,30 @@ constexpr EnumName<MarkRounding> kMarkRoundingNames[] = {{MarkRounding::kFloor, 
                                                          {MarkRounding::kStvl, "stvl"}};
 constexpr EnumName<FrustumGeometry> kFrustumGeometryNames[] = {{FrustumGeometry::kIdeal, "ideal"},
                                                                {FrustumGeometry::kStvl, "stvl"}};
-constexpr EnumName<SensorFrame> kSensorFrameNames[] = {{SensorFrame::kOptical, "optical"}, {SensorFrame::kLink, "link"}};
+constexpr EnumName<SensorFrame> kSensorFrameNames[] = {{SensorFrame::kOptical, "optical"},
+                                                       {SensorFrame::kLink, "link"}};
 }  // namespace
 
 SensorFrame parse_sensor_frame(const std::string& text) { return parse_enum(text, kSensorFrameNames, "sensor_frame"); }
 std::string to_string(SensorFrame frame) { return enum_name(frame, kSensorFrameNames); }
 
-constexpr EnumName<ZReference> kZReferenceNames[] = {{ZReference::kGlobal, "global"}, {ZReference::kBaseLink, "base_link"}};
-ZReference parse_z_reference(const std::string& text) { return parse_enum(text, kZReferenceNames, "z_reference_frame"); }
+constexpr EnumName<ZReference> kZReferenceNames[] = {{ZReference::kGlobal, "global"},
+                                                     {ZReference::kBaseLink, "base_link"}};
+ZReference parse_z_reference(const std::string& text) {
+  return parse_enum(text, kZReferenceNames, "z_reference_frame");
+}
 std::string to_string(ZReference frame) { return enum_name(frame, kZReferenceNames); }
 
 Eigen::Isometry3d T_optical_sensor(SensorFrame frame) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   if (frame == SensorFrame::kLink)  // link x = optical z, link y = -optical x, link z = -optical y
-    T.linear() << 0, -1, 0,
-                  0, 0, -1,
-                  1, 0, 0;
+    T.linear() << 0, -1, 0, 0, 0, -1, 1, 0, 0;
   return T;
 }
 
-ClearingMode parse_clearing_mode(const std::string& text) { return parse_enum(text, kClearingModeNames, "clearing_mode"); }
+ClearingMode parse_clearing_mode(const std::string& text) {
+  return parse_enum(text, kClearingModeNames, "clearing_mode");
+}
 std::string to_string(ClearingMode mode) { return enum_name(mode, kClearingModeNames); }
 constexpr EnumName<UpdateGrouping> kUpdateGroupingNames[] = {{UpdateGrouping::kInstant, "instant"},
                                                              {UpdateGrouping::kCameraFrame, "camera_frame"}};
@@ -79,9 +82,13 @@ CostmapTiming parse_costmap_timing(const std::string& text) {
   return parse_enum(text, kCostmapTimingNames, "costmap_timing");
 }
 std::string to_string(CostmapTiming timing) { return enum_name(timing, kCostmapTimingNames); }
-ClearingWalk parse_clearing_walk(const std::string& text) { return parse_enum(text, kClearingWalkNames, "clearing_walk"); }
+ClearingWalk parse_clearing_walk(const std::string& text) {
+  return parse_enum(text, kClearingWalkNames, "clearing_walk");
+}
 std::string to_string(ClearingWalk walk) { return enum_name(walk, kClearingWalkNames); }
-MarkRounding parse_mark_rounding(const std::string& text) { return parse_enum(text, kMarkRoundingNames, "mark_rounding"); }
+MarkRounding parse_mark_rounding(const std::string& text) {
+  return parse_enum(text, kMarkRoundingNames, "mark_rounding");
+}
 std::string to_string(MarkRounding rounding) { return enum_name(rounding, kMarkRoundingNames); }
 FrustumGeometry parse_frustum_geometry(const std::string& text) {
   return parse_enum(text, kFrustumGeometryNames, "frustum_geometry");
@@ -94,7 +101,8 @@ void StvlConfig::validate() const {
   require_finite("voxel_decay", voxel_decay_s);
   if (voxel_decay_s < 0.0) reject("voxel_decay", voxel_decay_s, "must be >= 0 s");
   const int model = static_cast<int>(decay_model);
-  if (model != 0 && model != 1 && model != -1) reject("decay_model", model, "must be linear, exponential or persistent");
+  if (model != 0 && model != 1 && model != -1)
+    reject("decay_model", model, "must be linear, exponential or persistent");
   if (mark_threshold < 0) reject("mark_threshold", mark_threshold, "must be >= 0");
   require_finite("update_frequency", update_frequency_hz);
   if (update_frequency_hz < 0.0 || update_frequency_hz > 1000.0)
@@ -117,7 +125,8 @@ void StvlConfig::validate() const {
   if (clear_footprint_voxels_below_m < 0.0 || clear_footprint_voxels_below_m > 3.0)
     reject("clear_footprint_voxels_below", clear_footprint_voxels_below_m, "must lie in [0, 3] m");
   if (clear_footprint_voxels_below_m > 0.0 && footprint_B.empty())
-    reject("clear_footprint_voxels_below", clear_footprint_voxels_below_m, "needs the robot's footprint (robot_radius or footprint)");
+    reject("clear_footprint_voxels_below", clear_footprint_voxels_below_m,
+           "needs the robot's footprint (robot_radius or footprint)");
 }
 
 void ObservationSource::validate() const {
@@ -150,7 +159,8 @@ void ObservationSource::validate() const {
   require_finite("decay_acceleration", decay_acceleration_per_s3);
   if (decay_acceleration_per_s3 < 0.0) reject("decay_acceleration", decay_acceleration_per_s3, "must be >= 0");
   require_finite("expected_update_rate", expected_update_rate_s);
-  if (expected_update_rate_s < 0.0) reject("expected_update_rate", expected_update_rate_s, "must be >= 0 s (0: never checked)");
+  if (expected_update_rate_s < 0.0)
+    reject("expected_update_rate", expected_update_rate_s, "must be >= 0 s (0: never checked)");
   require_finite("observation_persistence", observation_persistence_s);
   if (observation_persistence_s < 0.0)
     reject("observation_persistence", observation_persistence_s, "must be >= 0 s (0: the latest reading only)");

@@ -86,21 +86,21 @@ std::string to_string(CostmapTiming timing);
 struct StvlConfig {
   // Accepted range [0.01, 1.0] m (STVL's usable range is 0.02..0.2): below 1 cm one 10 m frustum holds
   // over 10^9 voxels; above 1 m the map is useless for a ground robot.
-  double voxel_size_m = 0.05;        // YAML voxel_size
+  double voxel_size_m = 0.05;  // YAML voxel_size
   // STVL declares -1.0 (which makes linear voxels expire at once); negative values are rejected here and
   // the default is the 15 s used in STVL's example configuration.
-  double voxel_decay_s = 15.0;       // YAML voxel_decay
+  double voxel_decay_s = 15.0;  // YAML voxel_decay
   DecayModel decay_model = DecayModel::kLinear;
   // A costmap cell is lethal where its column holds >= max(mark_threshold, 1) voxels (STVL compares
   // count >= mark_threshold over columns that hold at least one voxel, so 0 behaves like 1).
   int mark_threshold = 0;
   ClearingMode clearing_mode = ClearingMode::kFrustum;
   ClearingWalk clearing_walk = ClearingWalk::kBounded;
-  MarkRounding mark_rounding = MarkRounding::kStvl;             // YAML map.mark_rounding; floor is the bench's
-  FrustumGeometry frustum_geometry = FrustumGeometry::kStvl;    // YAML map.frustum_geometry; ideal is the bench's
-  UpdateGrouping update_grouping = UpdateGrouping::kInstant;    // YAML map.update_grouping; camera_frame is the bench's
-  CostmapBand costmap_band = CostmapBand::kEveryVoxel;          // YAML map.costmap_band; marking_band is the bench's
-  CostmapTiming costmap_timing = CostmapTiming::kStvl;          // YAML map.costmap_timing; after_mark is the bench's
+  MarkRounding mark_rounding = MarkRounding::kStvl;           // YAML map.mark_rounding; floor is the bench's
+  FrustumGeometry frustum_geometry = FrustumGeometry::kStvl;  // YAML map.frustum_geometry; ideal is the bench's
+  UpdateGrouping update_grouping = UpdateGrouping::kInstant;  // YAML map.update_grouping; camera_frame is the bench's
+  CostmapBand costmap_band = CostmapBand::kEveryVoxel;        // YAML map.costmap_band; marking_band is the bench's
+  CostmapTiming costmap_timing = CostmapTiming::kStvl;        // YAML map.costmap_timing; after_mark is the bench's
   // nav2's costmap update_frequency (YAML map.update_frequency, or the costmap's own key in a ROS parameter file):
   // STVL's layer updates at every tick k / update_frequency_hz, frames or not (the ticks since the last frame run
   // when the next frame arrives, at their own times), applying every source's buffer (persistence 0: its newest
@@ -149,20 +149,20 @@ struct ObservationSource {
   bool marking = true;
   bool clearing = false;
   // Field (YAML key): meaning.
-  double obstacle_range_m = 2.5;         // obstacle_range: points farther than this from the optical centre are not marked
-  double min_obstacle_height_m = 0.0;    // min_obstacle_height: world z band for marking, inclusive
-  double max_obstacle_height_m = 3.0;    // max_obstacle_height
+  double obstacle_range_m = 2.5;  // obstacle_range: points farther than this from the optical centre are not marked
+  double min_obstacle_height_m = 0.0;  // min_obstacle_height: world z band for marking, inclusive
+  double max_obstacle_height_m = 3.0;  // max_obstacle_height
   // Whether the band above applies (no YAML key): STVL's buffer applies it through its passthrough or voxel
   // filter; a ROS parameter file's `filter` none (any other string) applies none, and every height marks.
   bool height_band = true;
   // z_reference_frame: the frame the band's z is in. With base_link, mark() applies no band itself: the source's
   // buffer cloud (pipeline::source_marking_W) was banded in base_link before.
   ZReference z_reference = ZReference::kGlobal;
-  double horizontal_fov_rad = 1.04;      // horizontal_fov_angle: full angle, (0, pi)
-  double vertical_fov_rad = 0.7;         // vertical_fov_angle: full angle, (0, pi)
-  double min_z_m = 0.0;                  // min_z: frustum near plane along the optical axis, >= 0
-  double max_z_m = 10.0;                 // max_z: frustum far plane (and the ray-cast clearing range)
-  double decay_acceleration_per_s3 = 0.0;  // decay_acceleration: >= 0, 1/s^3
+  double horizontal_fov_rad = 1.04;                   // horizontal_fov_angle: full angle, (0, pi)
+  double vertical_fov_rad = 0.7;                      // vertical_fov_angle: full angle, (0, pi)
+  double min_z_m = 0.0;                               // min_z: frustum near plane along the optical axis, >= 0
+  double max_z_m = 10.0;                              // max_z: frustum far plane (and the ray-cast clearing range)
+  double decay_acceleration_per_s3 = 0.0;             // decay_acceleration: >= 0, 1/s^3
   ClearingModel model = ClearingModel::kDepthCamera;  // model_type: 0 or 1; with 1, horizontal_fov_angle up to 2 pi
   double vertical_fov_padding_m = 0.0;  // vertical_fov_padding: >= 0, model_type 1 only (shrinks the cone by metres)
   SensorFrame sensor_frame = SensorFrame::kOptical;  // sensor_frame: optical | link (ROS files: the frame's name)
@@ -175,7 +175,7 @@ struct ObservationSource {
   // 0 = never checked. observation_persistence: readings are kept this long before the source's last reading
   // (not before now: during an outage nothing is dropped) and applied again at every map update; 0 = the
   // latest only, which STVL keeps and applies again at every update until a new one arrives.
-  double expected_update_rate_s = 0.0;   // expected_update_rate: >= 0 s
+  double expected_update_rate_s = 0.0;     // expected_update_rate: >= 0 s
   double observation_persistence_s = 0.0;  // observation_persistence: >= 0 s
   // drop_when_not_current (the bench's; STVL applies a stale buffer at every update): while the source is not current
   // (expected_update_rate exceeded) its buffered readings are not applied again at other cameras' updates.

@@ -18,8 +18,8 @@ std::optional<std::uint8_t> Costmap2D::at_world(double x_m, double y_m) const {
 void write_costmap(const Costmap2D& costmap, const std::string& base_path) {
   if (costmap.width <= 0 || costmap.height <= 0 ||
       costmap.cells.size() != static_cast<std::size_t>(costmap.width) * costmap.height)
-    throw std::invalid_argument("costmap is empty or its cells do not match " + std::to_string(costmap.width) +
-                                "x" + std::to_string(costmap.height));
+    throw std::invalid_argument("costmap is empty or its cells do not match " + std::to_string(costmap.width) + "x" +
+                                std::to_string(costmap.height));
   std::string pgm = "P5\n" + std::to_string(costmap.width) + " " + std::to_string(costmap.height) + "\n255\n";
   const std::size_t header = pgm.size();
   pgm.resize(header + costmap.cells.size());

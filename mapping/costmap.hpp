@@ -16,8 +16,8 @@ constexpr std::uint8_t kCostLethal = 254;
 constexpr std::uint8_t kCostUnknown = 255;
 
 struct CostmapOptions {
-  double resolution_m = 0.0;                      // per cell; 0 = the map's voxel size
-  std::optional<Eigen::AlignedBox2d> bounds_W;    // x/y extent; default: the occupied voxels' extent
+  double resolution_m = 0.0;                    // per cell; 0 = the map's voxel size
+  std::optional<Eigen::AlignedBox2d> bounds_W;  // x/y extent; default: the occupied voxels' extent
   // Voxels count toward a column when their centre z lies in this band (inclusive).
   double min_obstacle_height_m = -std::numeric_limits<double>::infinity();
   double max_obstacle_height_m = std::numeric_limits<double>::infinity();

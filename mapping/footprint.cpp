@@ -62,10 +62,12 @@ std::vector<std::array<int, 2>> footprint_cells(const std::vector<Eigen::Vector2
     int x = x0, y = y0, error = steps / 2;
     for (int s = 0; s <= steps; ++s) {
       add(x, y);
-      if (x_major) x += sx; else y += sy;
+      if (x_major) x += sx;
+      else y += sy;
       error -= minor;
       if (error < 0) {
-        if (x_major) y += sy; else x += sx;
+        if (x_major) y += sy;
+        else x += sx;
         error += steps;
       }
     }

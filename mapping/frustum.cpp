@@ -6,13 +6,12 @@
 namespace stvl::mapping {
 
 void validate_pose(const Eigen::Isometry3d& T_world_camera) {
-  if (!T_world_camera.matrix().allFinite())
-    throw std::invalid_argument("T_world_camera holds a non-finite value");
+  if (!T_world_camera.matrix().allFinite()) throw std::invalid_argument("T_world_camera holds a non-finite value");
   const Eigen::Matrix3d R = T_world_camera.linear();
   const double error = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (error > 1e-6 || R.determinant() < 0.0)
-    throw std::invalid_argument("T_world_camera rotation is not a proper rotation (|R^T R - I| = " +
-                                std::to_string(error) + ")");
+    throw std::invalid_argument(
+        "T_world_camera rotation is not a proper rotation (|R^T R - I| = " + std::to_string(error) + ")");
 }
 
 namespace {
@@ -20,7 +19,9 @@ namespace {
 constexpr double kStvlCullMargin_m = 1e-6;
 
 // STVL's dot product (DepthCameraFrustum::Dot): x, y, z summed left to right.
-inline double stvl_dot(const Eigen::Vector3d& n, const Eigen::Vector3d& p) { return n[0] * p[0] + n[1] * p[1] + n[2] * p[2]; }
+inline double stvl_dot(const Eigen::Vector3d& n, const Eigen::Vector3d& p) {
+  return n[0] * p[0] + n[1] * p[1] + n[2] * p[2];
+}
 
 // STVL's frustum corners in the camera frame (ComputePlaneNormals): the four corner rays, Y rotation first then X,
 // as Affine3d products on doubles; pt[2k] at min_z_m, pt[2k + 1] at max_z_m.
@@ -61,7 +62,8 @@ DepthCameraFrustum::DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, 
   validate_pose(T_world_camera);
   if (geometry != FrustumGeometry::kIdeal && geometry != FrustumGeometry::kStvl)
     throw std::invalid_argument("frustum geometry " + std::to_string(static_cast<int>(geometry)) + " is unknown");
-  if (geometry == FrustumGeometry::kStvl) build_stvl(T_world_camera, horizontal_fov_rad, vertical_fov_rad, min_z_m, max_z_m);
+  if (geometry == FrustumGeometry::kStvl)
+    build_stvl(T_world_camera, horizontal_fov_rad, vertical_fov_rad, min_z_m, max_z_m);
   else build_ideal(T_world_camera, horizontal_fov_rad, vertical_fov_rad, min_z_m, max_z_m);
 }
 
@@ -74,10 +76,12 @@ void DepthCameraFrustum::build_stvl(const Eigen::Isometry3d& T_world_camera, dou
     return v;
   };
   const Eigen::Vector3d far_C = unit((pt[7] - pt[5]).cross(pt[1] - pt[7]));
-  const std::array<Eigen::Vector3d, 6> normals_C = {
-      unit((pt[3] - pt[1]).cross(pt[1] - pt[0])), unit((pt[5] - pt[3]).cross(pt[3] - pt[2])),
-      unit((pt[7] - pt[5]).cross(pt[5] - pt[4])), unit((pt[1] - pt[7]).cross(pt[7] - pt[6])),
-      far_C,                                      -far_C};
+  const std::array<Eigen::Vector3d, 6> normals_C = {unit((pt[3] - pt[1]).cross(pt[1] - pt[0])),
+                                                    unit((pt[5] - pt[3]).cross(pt[3] - pt[2])),
+                                                    unit((pt[7] - pt[5]).cross(pt[5] - pt[4])),
+                                                    unit((pt[1] - pt[7]).cross(pt[7] - pt[6])),
+                                                    far_C,
+                                                    -far_C};
   const std::array<Eigen::Vector3d, 6> anchors_C = {pt[0], pt[2], pt[4], pt[6], pt[7], pt[2]};
   for (std::size_t i = 0; i < 6; ++i) {
     stvl_normals_W_[i] = unit(R * normals_C[i]);  // VectorWithPt3D::TransformFrames
@@ -97,12 +101,12 @@ void DepthCameraFrustum::build_ideal(const Eigen::Isometry3d& T_world_camera, do
   const double ch = std::cos(horizontal_fov_rad / 2), sh = std::sin(horizontal_fov_rad / 2);
   const double cv = std::cos(vertical_fov_rad / 2), sv = std::sin(vertical_fov_rad / 2);
   const std::array<Eigen::Vector4d, 6> planes_C = {
-      Eigen::Vector4d(0, 0, 1, -min_z_m),   // near
-      Eigen::Vector4d(0, 0, -1, max_z_m),   // far
-      Eigen::Vector4d(-ch, 0, sh, 0),     // right: x <= z tan(h/2)
-      Eigen::Vector4d(ch, 0, sh, 0),      // left
-      Eigen::Vector4d(0, -cv, sv, 0),     // bottom (y down)
-      Eigen::Vector4d(0, cv, sv, 0),      // top
+      Eigen::Vector4d(0, 0, 1, -min_z_m),  // near
+      Eigen::Vector4d(0, 0, -1, max_z_m),  // far
+      Eigen::Vector4d(-ch, 0, sh, 0),      // right: x <= z tan(h/2)
+      Eigen::Vector4d(ch, 0, sh, 0),       // left
+      Eigen::Vector4d(0, -cv, sv, 0),      // bottom (y down)
+      Eigen::Vector4d(0, cv, sv, 0),       // top
   };
   for (std::size_t i = 0; i < planes_C.size(); ++i) {
     const Eigen::Vector3d n_W = R * planes_C[i].head<3>();

@@ -20,9 +20,8 @@ namespace stvl::mapping {
 class DepthCameraFrustum {
  public:
   // Throws std::invalid_argument for bad FOV/range or a non-finite pose.
-  DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, double horizontal_fov_rad,
-                     double vertical_fov_rad, double min_z_m, double max_z_m,
-                     FrustumGeometry geometry = FrustumGeometry::kIdeal);
+  DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, double horizontal_fov_rad, double vertical_fov_rad,
+                     double min_z_m, double max_z_m, FrustumGeometry geometry = FrustumGeometry::kIdeal);
   DepthCameraFrustum(const Eigen::Isometry3d& T_world_camera, const ObservationSource& source,
                      FrustumGeometry geometry = FrustumGeometry::kIdeal);
 

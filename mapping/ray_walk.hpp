@@ -44,8 +44,8 @@ void walk_ray_blocks(const Eigen::Vector3d& s_vox, const Eigen::Vector3d& e_vox,
 
 namespace detail {
 
-constexpr std::int64_t kOne = std::int64_t{1} << 52;       // t = 1
-constexpr std::int64_t kTCap = std::int64_t{1} << 58;      // q()'s cap
+constexpr std::int64_t kOne = std::int64_t{1} << 52;                       // t = 1
+constexpr std::int64_t kTCap = std::int64_t{1} << 58;                      // q()'s cap
 constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();  // an axis that is never stepped
 
 struct RayAxes {

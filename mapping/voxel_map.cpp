@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "mapping/detail/voxel_map_impl.hpp"
-#include "mapping/frustum.hpp"
 #include "mapping/footprint.hpp"
+#include "mapping/frustum.hpp"
 
 namespace stvl::mapping {
 
@@ -86,7 +86,8 @@ std::size_t VoxelMap::mark(const Eigen::Matrix3Xf& points_W, const Eigen::Isomet
     const double dx = p_W.x() - origin_W.x(), dy = p_W.y() - origin_W.y(), dz = p_W.z() - origin_W.z();
     const float distance_sq_m2 = static_cast<float>(dx * dx + dy * dy + dz * dz);
     if (distance_sq_m2 > range_sq_m2 || distance_sq_m2 < kMinMarkDistanceSq_m2) continue;
-    if (source.height_band && source.z_reference == ZReference::kGlobal && (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m))
+    if (source.height_band && source.z_reference == ZReference::kGlobal &&
+        (p_W.z() < source.min_obstacle_height_m || p_W.z() > source.max_obstacle_height_m))
       continue;
     Coord key;
     if (!impl_->mark_key(p_W, key)) continue;
@@ -167,9 +168,7 @@ VoxelKey VoxelMap::mark_key_of(const Eigen::Vector3d& p_W) const {
   return {key.x(), key.y(), key.z()};
 }
 
-Eigen::Vector3d VoxelMap::center_of(const VoxelKey& key) const {
-  return impl_->centre_W(Coord(key.x, key.y, key.z));
-}
+Eigen::Vector3d VoxelMap::center_of(const VoxelKey& key) const { return impl_->centre_W(Coord(key.x, key.y, key.z)); }
 
 std::optional<double> VoxelMap::lookup(const Eigen::Vector3d& p_W) const {
   Coord key;
@@ -196,9 +195,7 @@ std::vector<VoxelKey> VoxelMap::voxel_keys() const {
   return keys;
 }
 
-bool VoxelMap::contains(const VoxelKey& key) const {
-  return impl_->grid->tree().isValueOn(Coord(key.x, key.y, key.z));
-}
+bool VoxelMap::contains(const VoxelKey& key) const { return impl_->grid->tree().isValueOn(Coord(key.x, key.y, key.z)); }
 
 void VoxelMap::for_each_key(const std::function<void(const VoxelKey&)>& visit) const {
   for (auto it = impl_->grid->cbeginValueOn(); it; ++it) {
@@ -208,7 +205,8 @@ void VoxelMap::for_each_key(const std::function<void(const VoxelKey&)>& visit) c
 }
 
 void VoxelMap::for_each_leaf(const std::function<void(const VoxelKey&, const std::uint64_t*)>& visit) const {
-  static_assert(detail::LeafT::DIM == 8 && detail::LeafT::NodeMaskType::WORD_COUNT == 8, "8^3 leaves, 8 words of 64 bits");
+  static_assert(detail::LeafT::DIM == 8 && detail::LeafT::NodeMaskType::WORD_COUNT == 8,
+                "8^3 leaves, 8 words of 64 bits");
   std::uint64_t on[8];
   for (auto leaf = impl_->grid->tree().cbeginLeaf(); leaf; ++leaf) {
     const auto& mask = leaf->getValueMask();
@@ -259,13 +257,15 @@ void VoxelMap::for_each_key_in(const VoxelKey& lo, const VoxelKey& hi,
 Eigen::Matrix3Xf VoxelMap::voxel_centers() const {
   const auto keys = voxel_keys();
   Eigen::Matrix3Xf centres_W(3, static_cast<Eigen::Index>(keys.size()));
-  for (std::size_t i = 0; i < keys.size(); ++i) centres_W.col(static_cast<Eigen::Index>(i)) = center_of(keys[i]).cast<float>();
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    centres_W.col(static_cast<Eigen::Index>(i)) = center_of(keys[i]).cast<float>();
   return centres_W;
 }
 
 void VoxelMap::set_voxels(const std::vector<Voxel>& voxels) {
   for (const Voxel& v : voxels)
-    if (!std::isfinite(v.time_s)) throw std::invalid_argument("voxel time_s = " + std::to_string(v.time_s) + " is not finite");
+    if (!std::isfinite(v.time_s))
+      throw std::invalid_argument("voxel time_s = " + std::to_string(v.time_s) + " is not finite");
   auto accessor = impl_->grid->getAccessor();
   const bool indexed = impl_->uses_expiry_index();
   for (const Voxel& v : voxels) {

@@ -89,9 +89,9 @@ class VoxelMap {
   std::size_t size() const;  // active voxels
   bool empty() const { return size() == 0; }
   std::optional<double> lookup(const Eigen::Vector3d& p_W) const;  // time of the voxel holding p_W
-  bool contains(const VoxelKey& key) const;                         // the voxel is in the map
-  VoxelKey key_of(const Eigen::Vector3d& p_W) const;       // floor, whatever mark_rounding says
-  VoxelKey mark_key_of(const Eigen::Vector3d& p_W) const;  // the key mark() gives p_W (config.mark_rounding)
+  bool contains(const VoxelKey& key) const;                        // the voxel is in the map
+  VoxelKey key_of(const Eigen::Vector3d& p_W) const;               // floor, whatever mark_rounding says
+  VoxelKey mark_key_of(const Eigen::Vector3d& p_W) const;          // the key mark() gives p_W (config.mark_rounding)
   Eigen::Vector3d center_of(const VoxelKey& key) const;
   std::vector<VoxelKey> voxel_keys() const;  // sorted lexicographically (x, y, z)
   // Calls visit(key) for every voxel, in the tree's order (not sorted; cheaper than voxel_keys()).
@@ -107,9 +107,10 @@ class VoxelMap {
   // [min_z_m, max_z_m] (at least one), a leaf's 64 columns at a time (popcounts of its masks): a column spanning
   // several leaves comes once per leaf. With config.costmap_timing stvl, voxels that mark() created since the
   // last clear() are left out (STVL's costmap is built before its marks).
-  void for_each_column(double min_z_m, double max_z_m, const std::function<void(int x, int y, int voxels)>& visit) const;
-  std::vector<Voxel> voxels() const;                // sorted by key
-  Eigen::Matrix3Xf voxel_centers() const;           // in voxel_keys() order
+  void for_each_column(double min_z_m, double max_z_m,
+                       const std::function<void(int x, int y, int voxels)>& visit) const;
+  std::vector<Voxel> voxels() const;       // sorted by key
+  Eigen::Matrix3Xf voxel_centers() const;  // in voxel_keys() order
   std::size_t leaf_count() const;
 
   // Inserts voxels directly (benchmarks, tests): key -> time.

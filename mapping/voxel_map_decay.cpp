@@ -80,7 +80,7 @@ void VoxelMap::Impl::delete_empty_leaves(std::vector<Coord>& leaf_origins) {
 // inline: called once per voxel by the walks below, as it was when it lived in the class body.
 template <typename Iter>
 inline bool VoxelMap::Impl::decay_voxel(Iter& it, const std::vector<Frustum>& frustums, double time_s,
-                                 double* new_value_s, bool* by_frustum) const {
+                                        double* new_value_s, bool* by_frustum) const {
   const double value_s = *it;
   const double age_s = time_s - value_s;
   const double time_left_s = base_time_left_s(age_s);
@@ -164,10 +164,8 @@ void VoxelMap::Impl::frustum_pass(const std::vector<Frustum>& frustums, double t
         oldest_s = std::min(oldest_s, value_s);
       }
     }
-    if (leaf->isEmpty())
-      emptied.push_back(leaf->origin());
-    else if (indexed)
-      schedule(leaf->origin(), oldest_s + config.voxel_decay_s);
+    if (leaf->isEmpty()) emptied.push_back(leaf->origin());
+    else if (indexed) schedule(leaf->origin(), oldest_s + config.voxel_decay_s);
   }
   delete_empty_leaves(emptied);
 }
@@ -200,10 +198,8 @@ void VoxelMap::Impl::expiry_pass(double time_s, ClearStats& stats, std::vector<V
         oldest_s = std::min(oldest_s, *v);
       }
     }
-    if (leaf->isEmpty())
-      emptied.push_back(origin);
-    else
-      schedule(origin, oldest_s + config.voxel_decay_s);
+    if (leaf->isEmpty()) emptied.push_back(origin);
+    else schedule(origin, oldest_s + config.voxel_decay_s);
   }
   delete_empty_leaves(emptied);
 }

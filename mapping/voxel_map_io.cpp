@@ -30,7 +30,8 @@ void VoxelMap::save_vdb(const std::string& path) const {
   out->insertMeta("clearing_walk", openvdb::StringMetadata(to_string(c.clearing_walk)));
   out->insertMeta("mark_rounding", openvdb::StringMetadata(to_string(c.mark_rounding)));
   out->insertMeta("frustum_geometry", openvdb::StringMetadata(to_string(c.frustum_geometry)));
-  out->insertMeta("expiry_leaves_per_update", openvdb::Int64Metadata(static_cast<openvdb::Int64>(c.expiry_leaves_per_update)));
+  out->insertMeta("expiry_leaves_per_update",
+                  openvdb::Int64Metadata(static_cast<openvdb::Int64>(c.expiry_leaves_per_update)));
   out->insertMeta("latest_time_s", openvdb::DoubleMetadata(impl_->latest_time_s));
   write_via_temporary(path, [&](const std::filesystem::path& temp) {
     try {
@@ -66,7 +67,8 @@ VoxelMap VoxelMap::load_vdb(const std::string& path) {
       auto m = grid->getMetadata<openvdb::StringMetadata>(name);
       return m ? m->value() : fallback;
     };
-    if (!grid->getMetadata<openvdb::DoubleMetadata>("voxel_size")) throw std::invalid_argument("voxel_size metadata missing");
+    if (!grid->getMetadata<openvdb::DoubleMetadata>("voxel_size"))
+      throw std::invalid_argument("voxel_size metadata missing");
     config.voxel_size_m = meta_double("voxel_size", config.voxel_size_m);
     config.voxel_decay_s = meta_double("voxel_decay", config.voxel_decay_s);
     config.decay_model = parse_decay_model(meta_string("decay_model", to_string(config.decay_model)));

@@ -15,15 +15,15 @@ namespace stvl::mapping {
 
 using detail::Coord;
 using detail::GridT;
-using detail::LeafT;
 using detail::leaf_origin;
+using detail::LeafT;
 
 namespace {
 
 // Dense table of leaf pointers over a cube of blocks, so the ray walk finds a block's leaf by indexing.
 struct LeafTable {
   Coord min_block;
-  int n = 0;  // blocks per axis; 0 = not built (too large)
+  int n = 0;                     // blocks per axis; 0 = not built (too large)
   double free_radius_vox = 0.0;  // no leaf lies nearer than this to the centre
   std::vector<const LeafT*> leaves;
   bool covers(const Coord& block) const {
@@ -84,42 +84,41 @@ struct Walked {
 
 // The rays from the optical centre origin_W (s_vox in voxels) to each point of `points` (cut at max_z_m), walked
 // in parallel; rays only read the tree (one accessor per chunk), each thread collecting the active voxels passed.
-void walk_rays(const Eigen::Matrix3Xf& points, const GridT& grid, const LeafTable& table, const Eigen::Vector3d& origin_W,
-               const Eigen::Vector3d& s_vox, double max_z_m, double voxel_size_m,
+void walk_rays(const Eigen::Matrix3Xf& points, const GridT& grid, const LeafTable& table,
+               const Eigen::Vector3d& origin_W, const Eigen::Vector3d& s_vox, double max_z_m, double voxel_size_m,
                tbb::enumerable_thread_specific<Walked>& walked) {
   const double max_range_sq_m2 = max_z_m * max_z_m;
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, points.cols(), 1024),
                     [&](const tbb::blocked_range<Eigen::Index>& range) {
-    Walked& mine = walked.local();
-    auto accessor = grid.getConstAccessor();
-    auto leaf_at = [&](const VoxelKey& block) -> const LeafT* {
-      const Coord origin(block.x, block.y, block.z);
-      return table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
-    };
-    auto collect = [&](const LeafT* leaf, const VoxelKey& key) {
-      ++mine.visited;
-      const openvdb::Index offset = ((key.x & 7) << 6) | ((key.y & 7) << 3) | (key.z & 7);
-      if (leaf->isValueOn(offset)) mine.hits.push_back({leaf, offset});
-    };
-    for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
-      Eigen::Vector3d p_W = points.col(i).cast<double>();
-      if (!p_W.allFinite()) continue;
-      const double length_sq_m2 = (p_W - origin_W).squaredNorm();
-      if (length_sq_m2 < 1e-18) continue;
-      if (length_sq_m2 > max_range_sq_m2)
-        p_W = origin_W + (p_W - origin_W) * (max_z_m / std::sqrt(length_sq_m2));
-      // The walk stops before the point's voxel floor(e_vox), the key mark() gives it.
-      const Eigen::Vector3d e_vox = p_W / voxel_size_m;
-      // Every block nearer than free_radius_vox is empty: skip that part of the ray (or all of it).
-      const double length_vox = (e_vox - s_vox).norm();
-      if (length_vox < table.free_radius_vox) continue;
-      if (table.free_radius_vox > 1.0)
-        walk_ray_blocks(s_vox + (e_vox - s_vox) * ((table.free_radius_vox - 0.5) / length_vox), e_vox, leaf_at,
-                        collect);
-      else
-        walk_ray_blocks(s_vox, e_vox, leaf_at, collect);
-    }
-  });
+                      Walked& mine = walked.local();
+                      auto accessor = grid.getConstAccessor();
+                      auto leaf_at = [&](const VoxelKey& block) -> const LeafT* {
+                        const Coord origin(block.x, block.y, block.z);
+                        return table.covers(origin) ? table.at(origin) : accessor.probeConstLeaf(origin);
+                      };
+                      auto collect = [&](const LeafT* leaf, const VoxelKey& key) {
+                        ++mine.visited;
+                        const openvdb::Index offset = ((key.x & 7) << 6) | ((key.y & 7) << 3) | (key.z & 7);
+                        if (leaf->isValueOn(offset)) mine.hits.push_back({leaf, offset});
+                      };
+                      for (Eigen::Index i = range.begin(); i != range.end(); ++i) {
+                        Eigen::Vector3d p_W = points.col(i).cast<double>();
+                        if (!p_W.allFinite()) continue;
+                        const double length_sq_m2 = (p_W - origin_W).squaredNorm();
+                        if (length_sq_m2 < 1e-18) continue;
+                        if (length_sq_m2 > max_range_sq_m2)
+                          p_W = origin_W + (p_W - origin_W) * (max_z_m / std::sqrt(length_sq_m2));
+                        // The walk stops before the point's voxel floor(e_vox), the key mark() gives it.
+                        const Eigen::Vector3d e_vox = p_W / voxel_size_m;
+                        // Every block nearer than free_radius_vox is empty: skip that part of the ray (or all of it).
+                        const double length_vox = (e_vox - s_vox).norm();
+                        if (length_vox < table.free_radius_vox) continue;
+                        if (table.free_radius_vox > 1.0)
+                          walk_ray_blocks(s_vox + (e_vox - s_vox) * ((table.free_radius_vox - 0.5) / length_vox), e_vox,
+                                          leaf_at, collect);
+                        else walk_ray_blocks(s_vox, e_vox, leaf_at, collect);
+                      }
+                    });
 }
 
 // Clears the voxels the rays passed, counted once per voxel (clearing is idempotent, so the result does not depend

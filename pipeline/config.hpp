@@ -56,7 +56,8 @@ struct PipelineConfig {
   // Depth noise (per camera and frame; camera 0 uses it as it is, camera c > 0 a seed derived from it and c);
   // the filter's and odometry's seeds are their own.
   std::uint64_t seed = 1;
-  sim::SimulatorConfig sim;  // the robot's controller and odometry (its camera_mount moves the model's camera site only)
+  sim::SimulatorConfig
+      sim;  // the robot's controller and odometry (its camera_mount moves the model's camera site only)
   sim::Pose2D start_pose;
   sim::Path path;
   std::vector<sim::MocapTrack> moving_bodies;

@@ -46,7 +46,7 @@ struct Frame {
   Eigen::Matrix3Xf points_C;
   Eigen::Index point_count = 0;
   auto cloud_C() const { return points_C.leftCols(point_count); }  // the valid points (a view of points_C)
-  Eigen::Matrix3Xf cloud_W;  // the same points in the world frame
+  Eigen::Matrix3Xf cloud_W;                                        // the same points in the world frame
   // What the layer takes (a new one per frame: the layer's buffers keep it): time_s, the poses, the decimated
   // cloud (clears), the marking cloud (decimated and inside the passthrough band), marking_B, no_return_W.
   std::shared_ptr<layer::Observation> observation;

@@ -9,11 +9,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "common/stopwatch.hpp"
 #include "common/splitmix.hpp"
+#include "common/stopwatch.hpp"
 #include "pipeline/sensing.hpp"
-#include "sim/urdf_robot.hpp"
 #include "sensors/depth_renderer.hpp"
+#include "sim/urdf_robot.hpp"
 
 namespace stvl::pipeline {
 namespace {
@@ -43,7 +43,8 @@ void check_inside_world(const PipelineConfig& c, const sim::World& world) {
     if (extent.contains(p)) return;
     std::ostringstream text;
     text << what << " " << describe(p) << " m lies outside the world's extent, x " << extent.min().x() << " .. "
-         << extent.max().x() << " m, y " << extent.min().y() << " .. " << extent.max().y() << " m (" << c.world_path << ")";
+         << extent.max().x() << " m, y " << extent.min().y() << " .. " << extent.max().y() << " m (" << c.world_path
+         << ")";
     throw std::invalid_argument(text.str());
   };
   check({c.start_pose.x_m, c.start_pose.y_m}, "robot.start");
@@ -143,7 +144,9 @@ layer::StvlLayerConfig layer_config(const PipelineConfig& config) {
   return layer;
 }
 
-layer::HeightBand marking_band(const PipelineConfig& config) { return layer::marking_band(layer_config(config).sensors); }
+layer::HeightBand marking_band(const PipelineConfig& config) {
+  return layer::marking_band(layer_config(config).sensors);
+}
 
 filter::FilterConfig decimation_config(filter::FilterConfig config) {
   config.passthrough_enabled = false;
@@ -174,8 +177,7 @@ struct Pipeline::Camera {
   std::future<void> drawing;
 };
 
-Pipeline::Pipeline(PipelineConfig config)
-    : config_(std::move(config)) {
+Pipeline::Pipeline(PipelineConfig config) : config_(std::move(config)) {
   validate_cameras(config_);
   sim_ = make_simulator(config_);
   check_inside_world(config_, sim_->world());

@@ -40,7 +40,7 @@ class Pipeline {
   // step().
   const Frame& step();
 
-  const PipelineConfig& config() const { return config_; }  // as given to the constructor
+  const PipelineConfig& config() const { return config_; }   // as given to the constructor
   const sim::Simulator& simulator() const { return *sim_; }  // the world and robot it steps
   // Frames of camera `camera` not taken because they fell in one of its outages.
   std::size_t skipped_frames(std::size_t camera) const;

@@ -52,7 +52,8 @@ Sensing::Sensing(const PipelineConfig& config)
   for (const auto& camera : config_.cameras) {
     double range_m = 0.0;
     for (const auto& source : camera.sources)
-      if (source.params.clearing && source.params.clear_on_no_return) range_m = std::max(range_m, source.params.max_z_m);
+      if (source.params.clearing && source.params.clear_on_no_return)
+        range_m = std::max(range_m, source.params.max_z_m);
     no_return_range_m_.push_back(range_m);
   }
 }

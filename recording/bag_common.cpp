@@ -30,11 +30,13 @@ void decode_depth(const ImageView& image, const sensors::CameraIntrinsics& k, do
                   const std::string& info_topic, sensors::DepthImage& out) {
   const int bpp = depth_bytes_per_pixel(image.encoding, at);
   if (image.width == 0 || image.height == 0) {
-    throw std::invalid_argument(at + ": empty image (" + std::to_string(image.width) + "x" + std::to_string(image.height) + ")");
+    throw std::invalid_argument(at + ": empty image (" + std::to_string(image.width) + "x" +
+                                std::to_string(image.height) + ")");
   }
   if (int(image.width) != k.width || int(image.height) != k.height) {
     throw std::invalid_argument(at + ": image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                                " but " + info_topic + " says " + std::to_string(k.width) + "x" + std::to_string(k.height));
+                                " but " + info_topic + " says " + std::to_string(k.width) + "x" +
+                                std::to_string(k.height));
   }
   const std::size_t row_bytes = std::size_t(image.width) * bpp;
   if (image.step < row_bytes) {
@@ -42,8 +44,8 @@ void decode_depth(const ImageView& image, const sensors::CameraIntrinsics& k, do
                                 " bytes = " + std::to_string(row_bytes));
   }
   if (image.size < std::size_t(image.step) * image.height) {
-    throw std::invalid_argument(at + ": data has " + std::to_string(image.size) + " bytes < step x height = " +
-                                std::to_string(std::size_t(image.step) * image.height));
+    throw std::invalid_argument(at + ": data has " + std::to_string(image.size) +
+                                " bytes < step x height = " + std::to_string(std::size_t(image.step) * image.height));
   }
   const bool swap = image.is_bigendian != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__);
   out.width = k.width, out.height = k.height;
@@ -90,10 +92,12 @@ void PoseResolver::add_transform(const std::string& path, const std::string& top
 }
 
 void PoseResolver::add_odometry(const std::string& path, const std::string& topic, double stamp_s,
-                                const std::string& frame, const std::string& child, const double p[3], const double q[4]) {
+                                const std::string& frame, const std::string& child, const double p[3],
+                                const double q[4]) {
   if (odom_.samples.empty()) odom_frame_ = strip_slash(frame), base_frame_ = strip_slash(child);
-  odom_.samples.emplace_back(stamp_s, rigid_from_quaternion(p[0], p[1], p[2], q[0], q[1], q[2], q[3],
-                                                            path + ": " + topic + " pose at t = " + std::to_string(stamp_s) + " s"));
+  odom_.samples.emplace_back(
+      stamp_s, rigid_from_quaternion(p[0], p[1], p[2], q[0], q[1], q[2], q[3],
+                                     path + ": " + topic + " pose at t = " + std::to_string(stamp_s) + " s"));
 }
 
 void PoseResolver::resolve(RecordingInfo& info, const RecordingOptions& options) {
@@ -115,7 +119,8 @@ void PoseResolver::resolve(RecordingInfo& info, const RecordingOptions& options)
       const auto e = tf_.edges.find(f);
       all_static = all_static && e != tf_.edges.end() && e->second.is_static;
     }
-    if (!base_frame_.empty() && tf_.links(base_frame_, camera) && all_static) T_base_camera_ = tf_.lookup(base_frame_, camera, 0.0);
+    if (!base_frame_.empty() && tf_.links(base_frame_, camera) && all_static)
+      T_base_camera_ = tf_.lookup(base_frame_, camera, 0.0);
     info.pose_source = PoseSource::kOdometry;
     return;
   }
@@ -181,9 +186,7 @@ void PoseResolver::pose_at(const RecordingInfo& info, const RecordingOptions& op
         T_fixed_camera = T_fixed_base * T_base_camera_;
         return;
       }
-      default:
-        T_fixed_base = options.T_fixed_base;
-        T_fixed_camera = options.T_fixed_base * options.T_base_camera;
+      default: T_fixed_base = options.T_fixed_base; T_fixed_camera = options.T_fixed_base * options.T_base_camera;
     }
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(where + ": frame " + std::to_string(index) + " (frame_id '" + info.camera_frame +

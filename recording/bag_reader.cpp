@@ -17,8 +17,8 @@
 #include <set>
 #include <stdexcept>
 
-#include "recording/detail.hpp"
 #include "recording/bag_common.hpp"
+#include "recording/detail.hpp"
 
 namespace stvl::recording::detail {
 namespace {
@@ -28,7 +28,6 @@ constexpr double kTimeTolerance_s = 1e-6;
 bool ends_with(const std::string& text, const std::string& tail) {
   return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
 }
-
 
 double to_seconds(const ros::Time& t) { return t.toSec(); }
 
@@ -103,16 +102,18 @@ class BagRecording final : public Recording {
   }
 
   // Throws std::invalid_argument unless the bag has `topic` of `type` (naming the nearest topic when it is missing).
-  void require_topic(const TopicTypes& types, const std::string& topic, const std::string& type, const char* option) const {
+  void require_topic(const TopicTypes& types, const std::string& topic, const std::string& type,
+                     const char* option) const {
     const auto it = types.find(topic);
     if (it == types.end()) {
       std::vector<std::string> same_type;  // the nearest of the expected type, else of all
-      for (const auto& [t, ty] : types) if (ty == type) same_type.push_back(t);
+      for (const auto& [t, ty] : types)
+        if (ty == type) same_type.push_back(t);
       const std::string near = nearest_name(topic, same_type.empty() ? topic_names(types) : same_type);
-      throw std::invalid_argument(info_.path + ": no topic " + topic + " (" + option + ")" +
-                                  (same_type.empty() ? ", the bag has no " + type + " topic" : std::string()) +
-                                  (near.empty() ? std::string(", the bag has no topics")
-                                                : ", nearest existing topic: " + near));
+      throw std::invalid_argument(
+          info_.path + ": no topic " + topic + " (" + option + ")" +
+          (same_type.empty() ? ", the bag has no " + type + " topic" : std::string()) +
+          (near.empty() ? std::string(", the bag has no topics") : ", nearest existing topic: " + near));
     }
     if (it->second != type) {
       throw std::invalid_argument(info_.path + ": topic " + topic + " is " + it->second + ", expected " + type);
@@ -152,9 +153,11 @@ class BagRecording final : public Recording {
       }
     }
     if (candidates.empty()) {
-      throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
+      throw std::invalid_argument(info_.path +
+                                  ": no depth topic (looked for */depth/image_rect_raw, "
                                   "*/aligned_depth_to_color/image_raw, /device_N/sensor_N/Depth_N/image/data; "
-                                  "the bag has: " + join(topic_names(types)) + "); name one with --depth-topic");
+                                  "the bag has: " +
+                                  join(topic_names(types)) + "); name one with --depth-topic");
     }
     if (candidates.size() > 1) {
       throw std::invalid_argument(info_.path + ": several depth topics: " + join(candidates) +
@@ -278,8 +281,8 @@ class BagRecording final : public Recording {
   }
 
   const sensors::CameraIntrinsics& intrinsics_at(double t) const {
-    auto it = std::upper_bound(infos_.begin(), infos_.end(), t,
-                               [](double time, const auto& s) { return time < s.first; });
+    auto it =
+        std::upper_bound(infos_.begin(), infos_.end(), t, [](double time, const auto& s) { return time < s.first; });
     return it == infos_.begin() ? infos_.front().second : (it - 1)->second;
   }
 

@@ -30,8 +30,9 @@ bool glob_match(const char* pattern, const char* text) {
   if (*pattern == '*') return glob_match(pattern + 1, text) || (*text && glob_match(pattern, text + 1));
   return *text == *pattern && glob_match(pattern + 1, text + 1);
 }
-const char* const kDefaultTopics[] = {"/clock", "/tf", "/tf_static", "/odom", "/ground_truth/*", "/*/depth/image_rect_raw",
-                                      "/*/depth/camera_info", "/stvl/*"};
+const char* const kDefaultTopics[] = {
+    "/clock", "/tf", "/tf_static", "/odom", "/ground_truth/*", "/*/depth/image_rect_raw", "/*/depth/camera_info",
+    "/stvl/*"};
 }  // namespace
 
 BagTopics::BagTopics(const std::string& spec) : spec_(spec.empty() ? "all" : spec) {
@@ -49,7 +50,8 @@ BagTopics::BagTopics(const std::string& spec) : spec_(spec.empty() ? "all" : spe
     } else if (!item.empty() && item[0] == '/') {
       patterns_.push_back(item);
     } else {
-      throw std::invalid_argument("--bag-topics: '" + item + "' is neither a topic (/name, '*' as a wildcard) nor all or default");
+      throw std::invalid_argument("--bag-topics: '" + item +
+                                  "' is neither a topic (/name, '*' as a wildcard) nor all or default");
     }
     start = end + 1;
   }

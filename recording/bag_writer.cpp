@@ -6,12 +6,12 @@
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 
-#include <memory>
-#include <vector>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
+#include <memory>
+#include <vector>
 
 #include <boost/make_shared.hpp>
 #include <cmath>
@@ -130,9 +130,10 @@ void require_image_size(int width, int height, std::size_t size, const char* wha
 }  // namespace
 
 namespace {
-constexpr EnumName<BagCompression> kCompressionNames[] = {
-    {BagCompression::kNone, "none"}, {BagCompression::kBz2, "bz2"}, {BagCompression::kLz4, "lz4"},
-    {BagCompression::kZstd, "zstd"}};
+constexpr EnumName<BagCompression> kCompressionNames[] = {{BagCompression::kNone, "none"},
+                                                          {BagCompression::kBz2, "bz2"},
+                                                          {BagCompression::kLz4, "lz4"},
+                                                          {BagCompression::kZstd, "zstd"}};
 }  // namespace
 
 BagCompression parse_bag_compression(const std::string& name) {
@@ -201,7 +202,8 @@ BagWriter::BagWriter(std::string path, BagCompression compression)
     : path_(std::move(path)), impl_(std::make_unique<Impl>()) {
   if (path_.empty()) throw std::invalid_argument("BagWriter: empty output path");
   if (compression == BagCompression::kZstd)
-    throw std::invalid_argument("ROS 1 bags have no zstd compression (none, bz2 or lz4; zstd is for --bag-format ros2)");
+    throw std::invalid_argument(
+        "ROS 1 bags have no zstd compression (none, bz2 or lz4; zstd is for --bag-format ros2)");
   impl_->active_path = path_ + ".active";
   try {
     impl_->bag->open(impl_->active_path, rosbag::bagmode::Write);
@@ -209,17 +211,10 @@ BagWriter::BagWriter(std::string path, BagCompression compression)
     throw std::runtime_error("cannot create bag '" + impl_->active_path + "': " + e.what());
   }
   switch (compression) {
-    case BagCompression::kNone:
-      impl_->bag->setCompression(rosbag::compression::Uncompressed);
-      break;
-    case BagCompression::kBz2:
-      impl_->bag->setCompression(rosbag::compression::BZ2);
-      break;
-    case BagCompression::kLz4:
-      impl_->bag->setCompression(rosbag::compression::LZ4);
-      break;
-    case BagCompression::kZstd:
-      break;  // refused above
+    case BagCompression::kNone: impl_->bag->setCompression(rosbag::compression::Uncompressed); break;
+    case BagCompression::kBz2: impl_->bag->setCompression(rosbag::compression::BZ2); break;
+    case BagCompression::kLz4: impl_->bag->setCompression(rosbag::compression::LZ4); break;
+    case BagCompression::kZstd: break;  // refused above
   }
   impl_->open = true;
 }
@@ -313,8 +308,8 @@ void BagWriter::write_camera_info(double t_s, const sensors::CameraIntrinsics& i
   if (width <= 0 || height <= 0) {
     throw std::invalid_argument("BagWriter: camera_info size must be positive");
   }
-  if (!(fx_px > 0.0) || !(fy_px > 0.0) || !std::isfinite(fx_px) || !std::isfinite(fy_px) ||
-      !std::isfinite(cx_px) || !std::isfinite(cy_px)) {
+  if (!(fx_px > 0.0) || !(fy_px > 0.0) || !std::isfinite(fx_px) || !std::isfinite(fy_px) || !std::isfinite(cx_px) ||
+      !std::isfinite(cy_px)) {
     throw std::invalid_argument("BagWriter: camera_info needs finite intrinsics with fx, fy > 0");
   }
   const std::string topic = camera_topic(camera, "depth/camera_info");
@@ -344,8 +339,8 @@ void BagWriter::write_points_stamped(const std::string& topic, double t_s, doubl
 void BagWriter::write_cloud(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
                             const Eigen::Matrix3Xf& points, bool latched) {
   if (topic.size() < 2 || topic.front() != '/') {
-    throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points, got '" +
-                                topic + "'");
+    throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points, got '" + topic +
+                                "'");
   }
   if (frame_id.empty()) throw std::invalid_argument("BagWriter: empty frame_id for " + topic);
   const ros::Time stamp = to_ros_time(stamp_s);
@@ -379,7 +374,7 @@ std::vector<std::int8_t> occupancy_values(const mapping::Costmap2D& costmap) {
   std::vector<std::int8_t> data(costmap.cells.size());
   for (std::size_t i = 0; i < data.size(); ++i) {
     const int c = costmap.cells[i];
-    data[i] = static_cast<std::int8_t>(c == mapping::kCostUnknown ? -1
+    data[i] = static_cast<std::int8_t>(c == mapping::kCostUnknown  ? -1
                                        : c == mapping::kCostLethal ? 100
                                        : c == 253                  ? 99
                                        : c == mapping::kCostFree   ? 0

@@ -30,7 +30,9 @@ inline constexpr const char* kCameraOpticalFrame = "camera_depth_optical_frame";
 // ("camera" gives the names above and /camera/depth/...).
 inline std::string camera_link_frame(const std::string& camera) { return camera + "_link"; }
 inline std::string camera_optical_frame(const std::string& camera) { return camera + "_depth_optical_frame"; }
-inline std::string camera_topic(const std::string& camera, const std::string& what) { return "/" + camera + "/" + what; }
+inline std::string camera_topic(const std::string& camera, const std::string& what) {
+  return "/" + camera + "/" + what;
+}
 
 enum class BagCompression { kNone, kBz2, kLz4, kZstd };  // ROS 1: none, bz2, lz4; ROS 2 (MCAP chunks): none, lz4, zstd
 enum class BagFormat { kRos1, kRos2 };
@@ -125,10 +127,11 @@ class BagWriter : public BagSink {
   void write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
                          const std::vector<std::uint16_t>& depth_mm, const std::string& camera = "camera") override;
   // /<camera>/depth/camera_info: plumb_bob with zero distortion, K, R = I, P = [K | 0].
-  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics, const std::string& camera = "camera") override;
+  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics,
+                         const std::string& camera = "camera") override;
   // sensor_msgs/PointCloud2 with fields x y z float32, unorganized (height 1); is_dense when all finite.
-  void write_points(const std::string& topic, double t_s, const std::string& frame_id,
-                    const Eigen::Matrix3Xf& points, bool latched = false) override;
+  void write_points(const std::string& topic, double t_s, const std::string& frame_id, const Eigen::Matrix3Xf& points,
+                    bool latched = false) override;
   void write_points_stamped(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
                             const Eigen::Matrix3Xf& points) override;
   // /stvl/costmap nav_msgs/OccupancyGrid, frame map, row-major from the origin cell; costs translated as

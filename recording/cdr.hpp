@@ -58,9 +58,11 @@ class CdrWriter {
 // ends before a field or a length runs past its end.
 class CdrReader {
  public:
-  CdrReader(const std::uint8_t* data, std::size_t size, std::string what) : data_(data), size_(size), what_(std::move(what)) {
+  CdrReader(const std::uint8_t* data, std::size_t size, std::string what)
+      : data_(data), size_(size), what_(std::move(what)) {
     if (size < 4) fail("shorter than the 4-byte CDR header");
-    if (data[0] != 0 || data[1] > 1) fail("not plain CDR (encapsulation " + std::to_string(data[0]) + "," + std::to_string(data[1]) + ")");
+    if (data[0] != 0 || data[1] > 1)
+      fail("not plain CDR (encapsulation " + std::to_string(data[0]) + "," + std::to_string(data[1]) + ")");
     swap_ = data[1] == 0;  // CDR_BE
     pos_ = 4;
   }
@@ -71,7 +73,8 @@ class CdrReader {
     need(sizeof(T));
     std::uint8_t b[sizeof(T)];
     std::memcpy(b, data_ + pos_, sizeof(T));
-    if (swap_) for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
+    if (swap_)
+      for (std::size_t i = 0; i < sizeof(T) / 2; ++i) std::swap(b[i], b[sizeof(T) - 1 - i]);
     T value;
     std::memcpy(&value, b, sizeof(T));
     pos_ += sizeof(T);
@@ -96,7 +99,8 @@ class CdrReader {
   // A sequence's count, checked against the bytes left (each element at least min_element_bytes).
   std::uint32_t get_count(std::size_t min_element_bytes) {
     const std::uint32_t n = get<std::uint32_t>();
-    if (min_element_bytes && n > (size_ - pos_) / min_element_bytes) fail("a sequence of " + std::to_string(n) + " elements runs past the end");
+    if (min_element_bytes && n > (size_ - pos_) / min_element_bytes)
+      fail("a sequence of " + std::to_string(n) + " elements runs past the end");
     return n;
   }
   template <typename T>
@@ -104,14 +108,16 @@ class CdrReader {
     for (std::size_t i = 0; i < n; ++i) out[i] = get<T>();
   }
   [[noreturn]] void fail(const std::string& why) const {
-    throw std::invalid_argument(what_ + ": message too short or malformed at byte " + std::to_string(pos_) + ": " + why);
+    throw std::invalid_argument(what_ + ": message too short or malformed at byte " + std::to_string(pos_) + ": " +
+                                why);
   }
 
  private:
   void align(std::size_t n) { pos_ = 4 + ((pos_ - 4 + n - 1) / n) * n; }
   void need(std::size_t n) const {
     if (pos_ > size_ || n > size_ - pos_)
-      fail("needs " + std::to_string(n) + " more bytes, " + std::to_string(pos_ > size_ ? 0 : size_ - pos_) + " left of " + std::to_string(size_));
+      fail("needs " + std::to_string(n) + " more bytes, " + std::to_string(pos_ > size_ ? 0 : size_ - pos_) +
+           " left of " + std::to_string(size_));
   }
   const std::uint8_t* data_;
   std::size_t size_, pos_ = 0;

@@ -59,8 +59,8 @@ class McapWriter {
 // One record of the data section as the reader hands it out.
 struct McapRecord {
   enum Kind { kSchema, kChannel, kMessage, kMetadata } kind = kMessage;
-  McapSchema schema;    // kSchema
-  McapChannel channel;  // kChannel
+  McapSchema schema;             // kSchema
+  McapChannel channel;           // kChannel
   std::uint16_t channel_id = 0;  // kMessage
   std::uint64_t log_time_ns = 0, publish_time_ns = 0;
   std::vector<std::uint8_t> data;  // kMessage

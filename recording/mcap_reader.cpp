@@ -117,7 +117,8 @@ bool McapReader::next_outer() {
   const std::string at = path_ + ": record at byte " + std::to_string(s.offset);
   if (s.offset + 9 > data_end_) {
     if (!complete_ && s.offset < size_)
-      warning_ = path_ + ": file cut short at byte " + std::to_string(size_) + " (no footer): read up to its last whole record, at byte " + std::to_string(s.offset);
+      warning_ = path_ + ": file cut short at byte " + std::to_string(size_) +
+                 " (no footer): read up to its last whole record, at byte " + std::to_string(s.offset);
     else if (complete_ && s.offset != data_end_)
       throw std::invalid_argument(at + ": record header runs past the data section");
     s.done = true;
@@ -132,7 +133,8 @@ bool McapReader::next_outer() {
     if (complete_)
       throw std::invalid_argument(at + ": length " + std::to_string(length) + " runs past the end of the file (" +
                                   std::to_string(size_) + " bytes)");
-    warning_ = path_ + ": file cut short at byte " + std::to_string(size_) + ": read up to its last whole record, at byte " + std::to_string(s.offset);
+    warning_ = path_ + ": file cut short at byte " + std::to_string(size_) +
+               ": read up to its last whole record, at byte " + std::to_string(s.offset);
     s.done = true;
     return false;
   }
@@ -173,8 +175,7 @@ bool parse(std::uint8_t op, const std::uint8_t* p, std::size_t n, const std::str
       r.kind = McapRecord::kMetadata;
       r.metadata_name = f.str(), r.metadata = f.map();
       return true;
-    default:
-      return false;  // attachments, indexes and unknown opcodes are skipped
+    default: return false;  // attachments, indexes and unknown opcodes are skipped
   }
 }
 }  // namespace
@@ -184,8 +185,10 @@ bool McapReader::next(McapRecord& r) {
   for (;;) {
     // Records inside the open chunk first.
     if (s.chunk_at < s.chunk.size()) {
-      const std::string at = path_ + ": chunk at byte " + std::to_string(s.chunk_offset) + ", record at " + std::to_string(s.chunk_at);
-      if (s.chunk.size() - s.chunk_at < 9) throw std::invalid_argument(at + ": record header runs past the chunk's end");
+      const std::string at =
+          path_ + ": chunk at byte " + std::to_string(s.chunk_offset) + ", record at " + std::to_string(s.chunk_at);
+      if (s.chunk.size() - s.chunk_at < 9)
+        throw std::invalid_argument(at + ": record header runs past the chunk's end");
       const auto* p = reinterpret_cast<const std::uint8_t*>(s.chunk.data()) + s.chunk_at;
       std::uint64_t length = 0;
       std::memcpy(&length, p + 1, 8);

@@ -15,9 +15,19 @@ namespace {
 
 constexpr char kMagic[] = "\x89MCAP0\r\n";
 enum Op : std::uint8_t {
-  kHeader = 0x01, kFooter = 0x02, kSchema = 0x03, kChannel = 0x04, kMessage = 0x05, kChunk = 0x06,
-  kMessageIndex = 0x07, kChunkIndex = 0x08, kStatistics = 0x0B, kMetadata = 0x0C, kMetadataIndex = 0x0D,
-  kSummaryOffset = 0x0E, kDataEnd = 0x0F
+  kHeader = 0x01,
+  kFooter = 0x02,
+  kSchema = 0x03,
+  kChannel = 0x04,
+  kMessage = 0x05,
+  kChunk = 0x06,
+  kMessageIndex = 0x07,
+  kChunkIndex = 0x08,
+  kStatistics = 0x0B,
+  kMetadata = 0x0C,
+  kMetadataIndex = 0x0D,
+  kSummaryOffset = 0x0E,
+  kDataEnd = 0x0F
 };
 
 // Little-endian record fields.
@@ -93,7 +103,8 @@ std::string mcap_decompress(const std::string& compression, const std::uint8_t* 
     const std::size_t n = ZSTD_decompress(out.data(), out.size(), data, size);
     if (ZSTD_isError(n)) throw std::invalid_argument(what + ": zstd: " + ZSTD_getErrorName(n));
     if (n != uncompressed_size)
-      throw std::invalid_argument(what + ": zstd gave " + std::to_string(n) + " bytes, expected " + std::to_string(uncompressed_size));
+      throw std::invalid_argument(what + ": zstd gave " + std::to_string(n) + " bytes, expected " +
+                                  std::to_string(uncompressed_size));
   } else if (compression == "lz4") {
     LZ4F_dctx* ctx = nullptr;
     if (LZ4F_isError(LZ4F_createDecompressionContext(&ctx, LZ4F_VERSION))) throw std::runtime_error("lz4: no context");
@@ -158,7 +169,8 @@ McapWriter::~McapWriter() {
 void McapWriter::write(const std::string& bytes) {
   if (std::fwrite(bytes.data(), 1, bytes.size(), s_->file) != bytes.size())
     throw std::runtime_error("writing '" + s_->path + "' failed: " + std::strerror(errno));
-  if (!s_->closed) s_->data_crc = crc32(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), s_->data_crc);
+  if (!s_->closed)
+    s_->data_crc = crc32(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), s_->data_crc);
   offset_ += bytes.size();
 }
 
@@ -202,7 +214,8 @@ void McapWriter::write_message(std::uint16_t channel_id, std::uint64_t log_time_
     s_->chunk += channel_record(c);
   }
   Buf b;
-  b.put(channel_id), b.put(static_cast<std::uint32_t>(s_->counts[channel_id])), b.put(log_time_ns), b.put(publish_time_ns);
+  b.put(channel_id), b.put(static_cast<std::uint32_t>(s_->counts[channel_id])), b.put(log_time_ns),
+      b.put(publish_time_ns);
   s_->index[channel_id].emplace_back(log_time_ns, s_->chunk.size());
   Buf head;
   head.put(std::uint8_t(kMessage)), head.put(static_cast<std::uint64_t>(b.b.size() + data.size()));
@@ -219,9 +232,12 @@ void McapWriter::flush_chunk() {
   if (s_->chunk.empty()) return;
   const auto& raw = s_->chunk;
   const std::string compressed = mcap_compress(s_->compression, raw);
-  const std::string name = s_->compression == McapCompression::kZstd ? "zstd" : s_->compression == McapCompression::kLz4 ? "lz4" : "";
+  const std::string name = s_->compression == McapCompression::kZstd  ? "zstd"
+                           : s_->compression == McapCompression::kLz4 ? "lz4"
+                                                                      : "";
   Buf c;
-  c.put(s_->chunk_start == ~0ull ? 0 : s_->chunk_start), c.put(s_->chunk_end), c.put(static_cast<std::uint64_t>(raw.size()));
+  c.put(s_->chunk_start == ~0ull ? 0 : s_->chunk_start), c.put(s_->chunk_end),
+      c.put(static_cast<std::uint64_t>(raw.size()));
   c.put(crc32(reinterpret_cast<const std::uint8_t*>(raw.data()), raw.size()));
   c.str(name);
   c.put(static_cast<std::uint64_t>(compressed.size()));
@@ -240,7 +256,8 @@ void McapWriter::flush_chunk() {
     write(record(kMessageIndex, m.b));
   }
   Buf ci;
-  ci.put(s_->chunk_start == ~0ull ? 0 : s_->chunk_start), ci.put(s_->chunk_end), ci.put(chunk_offset), ci.put(chunk_length);
+  ci.put(s_->chunk_start == ~0ull ? 0 : s_->chunk_start), ci.put(s_->chunk_end), ci.put(chunk_offset),
+      ci.put(chunk_length);
   ci.str(offsets.b);  // Map<uint16, uint64> with its byte length
   ci.put(offset_ - index_start);
   ci.str(name);
@@ -310,7 +327,8 @@ void McapWriter::close() {
     crc = crc32(reinterpret_cast<const std::uint8_t*>(r.data()), r.size(), crc);
   }
   Buf footer;
-  footer.put(std::uint8_t(kFooter)), footer.put(std::uint64_t(20)), footer.put(summary_start), footer.put(offsets_start);
+  footer.put(std::uint8_t(kFooter)), footer.put(std::uint64_t(20)), footer.put(summary_start),
+      footer.put(offsets_start);
   crc = crc32(reinterpret_cast<const std::uint8_t*>(footer.b.data()), footer.b.size(), crc);
   footer.put(crc);
   write(footer.b + std::string(kMagic, 8));

@@ -42,7 +42,8 @@ std::optional<PngHeader> read_png_header(const fs::path& path) {
 bool name_less(const fs::path& a, const fs::path& b) {
   const std::string sa = a.stem().string(), sb = b.stem().string();
   auto numeric = [](const std::string& s) {
-    return !s.empty() && s.size() < 19 && std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
+    return !s.empty() && s.size() < 19 &&
+           std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isdigit(c); });
   };
   const bool na = numeric(sa), nb = numeric(sb);
   if (na != nb) return na;
@@ -70,7 +71,8 @@ YAML::Node load_yaml(const fs::path& path) {
   }
 }
 
-double number(const YAML::Node& map, const std::string& key, const fs::path& file, std::optional<double> fallback = {}) {
+double number(const YAML::Node& map, const std::string& key, const fs::path& file,
+              std::optional<double> fallback = {}) {
   const YAML::Node node = map[key];
   if (!node) {
     if (fallback) return *fallback;
@@ -84,7 +86,8 @@ double number(const YAML::Node& map, const std::string& key, const fs::path& fil
   }
 }
 
-std::vector<double> matrix_data(const YAML::Node& map, const std::string& key, std::size_t count, const fs::path& file) {
+std::vector<double> matrix_data(const YAML::Node& map, const std::string& key, std::size_t count,
+                                const fs::path& file) {
   const YAML::Node data = map[key] ? map[key]["data"] : YAML::Node();
   if (!data || !data.IsSequence() || data.size() != count) {
     throw std::invalid_argument(file.string() + ": " + key + ".data: expected " + std::to_string(count) + " numbers");
@@ -202,8 +205,7 @@ class PngFolderRecording final : public Recording {
       if (!header) throw std::invalid_argument(name + ": mixed files: not a PNG");
       if (header->bit_depth != 16 || header->color_type != 0) {
         throw std::invalid_argument(name + ": mixed files: a " + std::to_string(header->bit_depth) + "-bit " +
-                                    (header->color_type == 0 ? "grey" : "colour") +
-                                    " PNG, expected 16-bit grey depth");
+                                    (header->color_type == 0 ? "grey" : "colour") + " PNG, expected 16-bit grey depth");
       }
       const auto& k = calibration(i).intrinsics;
       if (header->width != k.width || header->height != k.height) {
@@ -219,7 +221,8 @@ class PngFolderRecording final : public Recording {
   void read_intrinsics_yaml(const fs::path& file) {
     const YAML::Node root = load_yaml(file);
     if (!root.IsMap()) throw std::invalid_argument(file.string() + ": expected a mapping of width, height, fx, ...");
-    static const std::vector<std::string> kKeys = {"width", "height", "fx", "fy", "cx", "cy", "depth_scale_m", "rate_hz"};
+    static const std::vector<std::string> kKeys = {"width", "height",        "fx",     "fy", "cx",
+                                                   "cy",    "depth_scale_m", "rate_hz"};
     for (const auto& kv : root) {
       const std::string key = kv.first.as<std::string>();
       if (std::find(kKeys.begin(), kKeys.end(), key) == kKeys.end()) {
@@ -235,8 +238,8 @@ class PngFolderRecording final : public Recording {
     if (!std::isfinite(rate_hz) || !(rate_hz > 0)) throw std::invalid_argument(file.string() + ": rate_hz must be > 0");
     FrameCalibration c;
     c.intrinsics = make_intrinsics(number(root, "width", file), number(root, "height", file), number(root, "fx", file),
-                                   number(root, "fy", file), number(root, "cx", file), number(root, "cy", file), rate_hz,
-                                   options_, file.string());
+                                   number(root, "fy", file), number(root, "cx", file), number(root, "cy", file),
+                                   rate_hz, options_, file.string());
     c.T_base_camera = options_.T_base_camera;
     calib_.push_back(c);
   }

@@ -35,9 +35,12 @@ std::unique_ptr<Recording> open_recording(const std::string& path, const Recordi
   in.read(magic, 16);
   const std::string head(magic, static_cast<std::size_t>(in.gcount()));
   if (head.compare(0, 13, "#ROSBAG V2.0\n") == 0) return detail::open_bag(path, options);
-  if (head.compare(0, 5, "\x89MCAP") == 0 || head.compare(0, 15, "SQLite format 3") == 0) return detail::open_ros2(path, options);
-  throw std::invalid_argument(path + ": not a recording: neither a ROS 1 bag ('#ROSBAG V2.0'), an MCAP file (bad magic: "
-                              "no \\x89MCAP0\\r\\n), a rosbag2 sqlite3 file, nor a folder of depth PNGs or rosbag2 files");
+  if (head.compare(0, 5, "\x89MCAP") == 0 || head.compare(0, 15, "SQLite format 3") == 0)
+    return detail::open_ros2(path, options);
+  throw std::invalid_argument(
+      path +
+      ": not a recording: neither a ROS 1 bag ('#ROSBAG V2.0'), an MCAP file (bad magic: "
+      "no \\x89MCAP0\\r\\n), a rosbag2 sqlite3 file, nor a folder of depth PNGs or rosbag2 files");
 }
 
 namespace detail {

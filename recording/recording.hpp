@@ -52,26 +52,27 @@ const char* to_string(PoseSource source);
 
 struct RecordingInfo {
   std::string path;
-  std::string format;        // "ros1 bag (realsense-ros)", "ros1 bag (librealsense)", "png folder"
+  std::string format;                   // "ros1 bag (realsense-ros)", "ros1 bag (librealsense)", "png folder"
   std::string depth_topic, info_topic;  // bags only
-  std::string encoding;      // "16UC1", "mono16", "32FC1", "png16"
+  std::string encoding;                 // "16UC1", "mono16", "32FC1", "png16"
   double depth_unit_m = 0.001;  // metres per count of 16-bit depth (librealsense's Depth Units; 0.001 otherwise)
-  std::string camera_frame;  // the images' frame_id (bags), "camera" otherwise
-  std::string fixed_frame;   // the frame poses are in ("odom", "map", ..., or "world" for static poses)
+  std::string camera_frame;     // the images' frame_id (bags), "camera" otherwise
+  std::string fixed_frame;      // the frame poses are in ("odom", "map", ..., or "world" for static poses)
   PoseSource pose_source = PoseSource::kStatic;
-  std::size_t frame_count = 0;  // depth frames in the recording
-  sensors::CameraIntrinsics intrinsics;  // of the first frame (min/max range from the options)
+  std::size_t frame_count = 0;              // depth frames in the recording
+  sensors::CameraIntrinsics intrinsics;     // of the first frame (min/max range from the options)
   double start_time_s = 0, end_time_s = 0;  // recorded stamps of the first and last depth frame
 };
 
 struct RecordedFrame {
-  std::size_t index = 0;     // 0, 1, ... in recorded order
-  double stamp_s = 0;        // the recording's own time (header stamp or timestamps file)
-  double time_s = 0;         // stamp_s - info().start_time_s: 0 for the first frame
-  sensors::DepthImage depth; // metres along the optical axis, 0 = invalid
+  std::size_t index = 0;      // 0, 1, ... in recorded order
+  double stamp_s = 0;         // the recording's own time (header stamp or timestamps file)
+  double time_s = 0;          // stamp_s - info().start_time_s: 0 for the first frame
+  sensors::DepthImage depth;  // metres along the optical axis, 0 = invalid
   sensors::CameraIntrinsics intrinsics;
   Eigen::Isometry3d T_fixed_camera = Eigen::Isometry3d::Identity();  // optical frame (z forward, x right, y down)
-  Eigen::Isometry3d T_fixed_base = Eigen::Isometry3d::Identity();    // base_link (T_fixed_camera * inverse of base -> camera)
+  Eigen::Isometry3d T_fixed_base =
+      Eigen::Isometry3d::Identity();  // base_link (T_fixed_camera * inverse of base -> camera)
 };
 
 class Recording {

@@ -41,7 +41,8 @@ void require_finite(const Eigen::Isometry3d& T, const char* name) {
 
 class Ros2BagWriter final : public BagSink {
  public:
-  Ros2BagWriter(std::string folder, BagCompression compression) : folder_(std::move(folder)), active_(folder_ + ".active") {
+  Ros2BagWriter(std::string folder, BagCompression compression)
+      : folder_(std::move(folder)), active_(folder_ + ".active") {
     if (folder_.empty()) throw std::invalid_argument("BagWriter: empty output path");
     McapCompression c = McapCompression::kZstd;
     if (compression == BagCompression::kNone) c = McapCompression::kNone;
@@ -51,7 +52,8 @@ class Ros2BagWriter final : public BagSink {
     compression_ = compression;
     std::error_code ec;
     if (fs::exists(folder_, ec) &&
-        (!fs::is_directory(folder_, ec) || (!fs::is_empty(folder_, ec) && !fs::exists(fs::path(folder_) / "metadata.yaml", ec))))
+        (!fs::is_directory(folder_, ec) ||
+         (!fs::is_empty(folder_, ec) && !fs::exists(fs::path(folder_) / "metadata.yaml", ec))))
       throw std::runtime_error("cannot write rosbag2 folder '" + folder_ + "': it exists and is not a rosbag2 folder");
     fs::remove_all(active_, ec);
     if (!fs::create_directories(active_, ec) && ec)
@@ -79,7 +81,8 @@ class Ros2BagWriter final : public BagSink {
     CdrWriter w(buf_);
     w.put(static_cast<std::uint32_t>(2 * cameras.size()));
     for (const auto& c : cameras) {
-      require_finite(c.T_base_camera_link, "T_base_camera_link"), require_finite(c.T_camera_link_optical, "T_camera_link_optical");
+      require_finite(c.T_base_camera_link, "T_base_camera_link"),
+          require_finite(c.T_camera_link_optical, "T_camera_link_optical");
       put_transform(w, t, kBaseFrame, camera_link_frame(c.camera), c.T_base_camera_link);
       put_transform(w, t, camera_link_frame(c.camera), camera_optical_frame(c.camera), c.T_camera_link_optical);
     }
@@ -87,7 +90,8 @@ class Ros2BagWriter final : public BagSink {
   }
   void write_odometry(double t_s, const Eigen::Isometry3d& T_odom_base, double v_mps, double omega_radps) override {
     require_finite(T_odom_base, "T_odom_base");
-    if (!std::isfinite(v_mps) || !std::isfinite(omega_radps)) throw std::invalid_argument("BagWriter: odometry twist is not finite");
+    if (!std::isfinite(v_mps) || !std::isfinite(omega_radps))
+      throw std::invalid_argument("BagWriter: odometry twist is not finite");
     const auto t = stamp_ns(t_s);
     CdrWriter w(buf_);
     put_header(w, t, kOdomFrame);
@@ -111,8 +115,8 @@ class Ros2BagWriter final : public BagSink {
   void write_depth_image(double t_s, const sensors::CameraIntrinsics& k, const std::vector<std::uint16_t>& depth_mm,
                          const std::string& camera) override {
     if (k.width <= 0 || k.height <= 0 || depth_mm.size() != std::size_t(k.width) * std::size_t(k.height))
-      throw std::invalid_argument("BagWriter: depth image has " + std::to_string(depth_mm.size()) + " values, expected " +
-                                  std::to_string(k.width) + "x" + std::to_string(k.height));
+      throw std::invalid_argument("BagWriter: depth image has " + std::to_string(depth_mm.size()) +
+                                  " values, expected " + std::to_string(k.width) + "x" + std::to_string(k.height));
     const auto t = stamp_ns(t_s);
     CdrWriter w(buf_);
     put_header(w, t, camera_optical_frame(camera));
@@ -136,9 +140,9 @@ class Ros2BagWriter final : public BagSink {
     const double K[9] = {k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1}, R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     const double P[12] = {k.fx, 0, k.cx, 0, 0, k.fy, k.cy, 0, 0, 0, 1, 0};
     w.put_array(K, 9), w.put_array(R, 9), w.put_array(P, 12);
-    w.put(std::uint32_t(0)), w.put(std::uint32_t(0));                         // binning
-    for (int i = 0; i < 4; ++i) w.put(std::uint32_t(0));                     // roi
-    w.put(std::uint8_t(0));                                                  // do_rectify
+    w.put(std::uint32_t(0)), w.put(std::uint32_t(0));     // binning
+    for (int i = 0; i < 4; ++i) w.put(std::uint32_t(0));  // roi
+    w.put(std::uint8_t(0));                               // do_rectify
     write(camera_topic(camera, "depth/camera_info"), "sensor_msgs/msg/CameraInfo", t);
   }
   void write_points(const std::string& topic, double t_s, const std::string& frame_id, const Eigen::Matrix3Xf& points,
@@ -152,7 +156,8 @@ class Ros2BagWriter final : public BagSink {
   void write_cloud(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
                    const Eigen::Matrix3Xf& points, bool latched) {
     if (topic.size() < 2 || topic.front() != '/')
-      throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points, got '" + topic + "'");
+      throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points, got '" + topic +
+                                  "'");
     if (frame_id.empty()) throw std::invalid_argument("BagWriter: empty frame_id for " + topic);
     const auto n = static_cast<std::uint32_t>(points.cols());
     CdrWriter w(buf_);
@@ -170,7 +175,8 @@ class Ros2BagWriter final : public BagSink {
     write(topic, "sensor_msgs/msg/PointCloud2", stamp_ns(t_s), latched);
   }
   void write_costmap(double t_s, const mapping::Costmap2D& costmap) override {
-    if (costmap.width <= 0 || costmap.height <= 0 || costmap.cells.size() != std::size_t(costmap.width) * costmap.height)
+    if (costmap.width <= 0 || costmap.height <= 0 ||
+        costmap.cells.size() != std::size_t(costmap.width) * costmap.height)
       throw std::invalid_argument("BagWriter: costmap size disagrees with its cells");
     if (!(costmap.resolution_m > 0.0) || !std::isfinite(costmap.resolution_m) || !costmap.origin_m.allFinite())
       throw std::invalid_argument("BagWriter: costmap needs a finite origin and a resolution > 0");
@@ -199,7 +205,8 @@ class Ros2BagWriter final : public BagSink {
     std::error_code ec;
     fs::remove_all(folder_, ec);
     fs::rename(active_, folder_, ec);
-    if (ec) throw std::runtime_error("BagWriter: cannot rename '" + active_ + "' to '" + folder_ + "': " + ec.message());
+    if (ec)
+      throw std::runtime_error("BagWriter: cannot rename '" + active_ + "' to '" + folder_ + "': " + ec.message());
   }
   std::uint64_t bytes_written() const override { return mcap_ ? mcap_->bytes_written() : final_size_; }
   const std::string& path() const override { return folder_; }
@@ -217,7 +224,9 @@ class Ros2BagWriter final : public BagSink {
     w.put(static_cast<std::int32_t>(ns / kWholeNanosecondsPerSecond));
     w.put(static_cast<std::uint32_t>(ns % kWholeNanosecondsPerSecond));
   }
-  static void put_header(CdrWriter& w, std::uint64_t ns, const std::string& frame) { put_time(w, ns), w.put_string(frame); }
+  static void put_header(CdrWriter& w, std::uint64_t ns, const std::string& frame) {
+    put_time(w, ns), w.put_string(frame);
+  }
   static void put_pose(CdrWriter& w, const Eigen::Isometry3d& T) {
     const Eigen::Quaterniond q = Eigen::Quaterniond(T.linear()).normalized();
     const double v[7] = {T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()};
@@ -254,14 +263,15 @@ class Ros2BagWriter final : public BagSink {
     for (const auto& [name, t] : topics_) {
       total += t.count;
       topics += "    - topic_metadata:\n        name: " + name + "\n        type: " + t.type +
-                "\n        serialization_format: cdr\n        offered_qos_profiles:\n" + qos_yaml(t.latched, "          ") +
-                "\n      message_count: " + std::to_string(t.count) + "\n";
+                "\n        serialization_format: cdr\n        offered_qos_profiles:\n" +
+                qos_yaml(t.latched, "          ") + "\n      message_count: " + std::to_string(t.count) + "\n";
     }
     const std::string times = "      starting_time:\n        nanoseconds_since_epoch: " + std::to_string(start) +
                               "\n      duration:\n        nanoseconds: " + std::to_string(duration) + "\n";
     return "rosbag2_bagfile_information:\n  version: 9\n  storage_identifier: mcap\n  duration:\n    nanoseconds: " +
            std::to_string(duration) + "\n  starting_time:\n    nanoseconds_since_epoch: " + std::to_string(start) +
-           "\n  message_count: " + std::to_string(total) + "\n  topics_with_message_count:" + (topics.empty() ? " []\n" : "\n" + topics) +
+           "\n  message_count: " + std::to_string(total) +
+           "\n  topics_with_message_count:" + (topics.empty() ? " []\n" : "\n" + topics) +
            "  compression_format: \"\"\n  compression_mode: \"\"\n  relative_file_paths:\n    - " + file_name_ +
            "\n  files:\n    - path: " + file_name_ + "\n" + times + "      message_count: " + std::to_string(total) +
            "\n  custom_data: ~\n  ros_distro: jazzy\n";

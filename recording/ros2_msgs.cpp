@@ -21,7 +21,8 @@ const std::map<std::string, std::string>& definitions() {
       {"sensor_msgs/Image",
        "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\nuint32 step\n"
        "uint8[] data\n"},
-      {"sensor_msgs/RegionOfInterest", "uint32 x_offset\nuint32 y_offset\nuint32 height\nuint32 width\nbool do_rectify\n"},
+      {"sensor_msgs/RegionOfInterest",
+       "uint32 x_offset\nuint32 y_offset\nuint32 height\nuint32 width\nbool do_rectify\n"},
       {"sensor_msgs/CameraInfo",
        "std_msgs/Header header\nuint32 height\nuint32 width\nstring distortion_model\nfloat64[] d\nfloat64[9] k\n"
        "float64[9] r\nfloat64[12] p\nuint32 binning_x\nuint32 binning_y\nRegionOfInterest roi\n"},
@@ -46,14 +47,16 @@ const std::map<std::string, std::string>& definitions() {
        "std_msgs/Header header\nstring child_frame_id\ngeometry_msgs/PoseWithCovariance pose\n"
        "geometry_msgs/TwistWithCovariance twist\n"},
       {"nav_msgs/MapMetaData",
-       "builtin_interfaces/Time map_load_time\nfloat32 resolution\nuint32 width\nuint32 height\ngeometry_msgs/Pose origin\n"},
+       "builtin_interfaces/Time map_load_time\nfloat32 resolution\nuint32 width\nuint32 height\ngeometry_msgs/Pose "
+       "origin\n"},
       {"nav_msgs/OccupancyGrid", "std_msgs/Header header\nMapMetaData info\nint8[] data\n"},
   };
   return defs;
 }
 
-const std::set<std::string> kPrimitives = {"bool", "byte", "char", "int8", "uint8", "int16", "uint16", "int32",
-                                           "uint32", "int64", "uint64", "float32", "float64", "string", "wstring"};
+const std::set<std::string> kPrimitives = {"bool",   "byte",    "char",    "int8",   "uint8",
+                                           "int16",  "uint16",  "int32",   "uint32", "int64",
+                                           "uint64", "float32", "float64", "string", "wstring"};
 
 struct Field {
   std::string type, name;
@@ -68,7 +71,8 @@ std::string base_type(const std::string& type) {
 
 // Parses one section of ros2msg text; false for a line that is not a field, a constant or a comment.
 bool parse_line(std::string line, Field& field, bool& empty) {
-  static const std::regex kField(R"(^\s*([A-Za-z][A-Za-z0-9_]*(?:/(?:msg/)?[A-Za-z][A-Za-z0-9_]*)?(?:<=\d+)?(?:\[(?:<=)?\d*\])?)\s+([A-Za-z][A-Za-z0-9_]*)\s*(=.*|\s+\S.*)?$)");
+  static const std::regex kField(
+      R"(^\s*([A-Za-z][A-Za-z0-9_]*(?:/(?:msg/)?[A-Za-z][A-Za-z0-9_]*)?(?:<=\d+)?(?:\[(?:<=)?\d*\])?)\s+([A-Za-z][A-Za-z0-9_]*)\s*(=.*|\s+\S.*)?$)");
   const auto hash = line.find('#');
   if (hash != std::string::npos && line.find('=') == std::string::npos) line.erase(hash);
   empty = line.find_first_not_of(" \t\r") == std::string::npos;
@@ -136,8 +140,8 @@ void check_ros2_schema(const std::string& type, const std::string& definition, c
     Field f;
     bool empty = false;
     if (!parse_line(line, f, empty)) {
-      throw std::invalid_argument(what + ": the schema of " + type + " does not parse (line " + std::to_string(line_no) +
-                                  ": '" + line.substr(0, 80) + "')");
+      throw std::invalid_argument(what + ": the schema of " + type + " does not parse (line " +
+                                  std::to_string(line_no) + ": '" + line.substr(0, 80) + "')");
     }
     if (!empty && in_main && !f.constant) main_fields.push_back(f.name);
   }

@@ -59,8 +59,9 @@ class Ros2Recording final : public Recording {
         if (short_type(info.type) == type) same.push_back(t);
       }
       const std::string near = nearest_name(topic, same.empty() ? all : same);
-      throw std::invalid_argument(info_.path + ": no topic " + topic + " (" + option + ")" +
-                                  (near.empty() ? std::string(", the recording has no topics") : ", nearest existing topic: " + near));
+      throw std::invalid_argument(
+          info_.path + ": no topic " + topic + " (" + option + ")" +
+          (near.empty() ? std::string(", the recording has no topics") : ", nearest existing topic: " + near));
     }
     if (short_type(it->second.type) != type)
       throw std::invalid_argument(info_.path + ": topic " + topic + " is " + it->second.type + ", expected " + type);
@@ -88,7 +89,8 @@ class Ros2Recording final : public Recording {
     }
     info_.intrinsics = intrinsics_at(info_.start_time_s);
     poses_.resolve(info_, options_);
-    Eigen::Isometry3d T_fixed_camera, T_fixed_base;  // the first frame's pose now: a recording without one fails at open
+    Eigen::Isometry3d T_fixed_camera,
+        T_fixed_base;  // the first frame's pose now: a recording without one fails at open
     poses_.pose_at(info_, options_, where(), info_.start_time_s, 0, T_fixed_camera, T_fixed_base);
   }
 
@@ -108,11 +110,13 @@ class Ros2Recording final : public Recording {
           (ends_with(t, "/depth/image_rect_raw") || ends_with(t, "/aligned_depth_to_color/image_raw")))
         candidates.push_back(t);
     if (candidates.empty())
-      throw std::invalid_argument(info_.path + ": no depth topic (looked for */depth/image_rect_raw, "
-                                  "*/aligned_depth_to_color/image_raw; the recording has: " + join(names) +
-                                  "); name one with --depth-topic");
+      throw std::invalid_argument(info_.path +
+                                  ": no depth topic (looked for */depth/image_rect_raw, "
+                                  "*/aligned_depth_to_color/image_raw; the recording has: " +
+                                  join(names) + "); name one with --depth-topic");
     if (candidates.size() > 1)
-      throw std::invalid_argument(info_.path + ": several depth topics: " + join(candidates) + "; choose one with --depth-topic");
+      throw std::invalid_argument(info_.path + ": several depth topics: " + join(candidates) +
+                                  "; choose one with --depth-topic");
     info_.depth_topic = candidates.front();
   }
 
@@ -136,7 +140,8 @@ class Ros2Recording final : public Recording {
   void read_message(const Ros2Topic& t, const std::uint8_t* data, std::size_t size, bool& first, double& last_stamp) {
     const std::string what = info_.path + ": " + t.name;
     if (t.name == info_.depth_topic) {
-      const ImageMsg image = decode_image(data, size, what + " (frame " + std::to_string(info_.frame_count) + ")", true);
+      const ImageMsg image =
+          decode_image(data, size, what + " (frame " + std::to_string(info_.frame_count) + ")", true);
       if (first) {
         info_.encoding = image.encoding;
         depth_bytes_per_pixel(image.encoding, where());
@@ -152,7 +157,8 @@ class Ros2Recording final : public Recording {
                                                              options_.rate_hz, options_, what + " k"));
     } else if ((t.name == "/tf" || t.name == "/tf_static") && short_type(t.type) == "tf2_msgs/TFMessage") {
       for (const auto& tf : decode_tf(data, size, what))
-        poses_.add_transform(info_.path, t.name, t.name == "/tf_static", tf.parent, tf.child, tf.stamp.seconds(), tf.t, tf.q);
+        poses_.add_transform(info_.path, t.name, t.name == "/tf_static", tf.parent, tf.child, tf.stamp.seconds(), tf.t,
+                             tf.q);
     } else if (t.name == options_.odom_topic) {
       const OdometryMsg m = decode_odometry(data, size, what);
       poses_.add_odometry(info_.path, t.name, m.stamp.seconds(), m.frame_id, m.child_frame_id, m.p, m.q);
@@ -160,7 +166,8 @@ class Ros2Recording final : public Recording {
   }
 
   const sensors::CameraIntrinsics& intrinsics_at(double t) const {
-    auto it = std::upper_bound(infos_.begin(), infos_.end(), t, [](double time, const auto& s) { return time < s.first; });
+    auto it =
+        std::upper_bound(infos_.begin(), infos_.end(), t, [](double time, const auto& s) { return time < s.first; });
     return it == infos_.begin() ? infos_.front().second : (it - 1)->second;
   }
 

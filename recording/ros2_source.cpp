@@ -28,7 +28,8 @@ std::string magic_of(const std::string& path) {
 void check_type(const std::string& where, const std::string& topic, const std::string& type) {
   static const std::regex kType(R"(^[A-Za-z][A-Za-z0-9_]*/msg/[A-Za-z][A-Za-z0-9_]*$)");
   if (!std::regex_match(type, kType))
-    throw std::invalid_argument(where + ": topic " + topic + " has unknown type '" + type + "' (expected pkg/msg/Type)");
+    throw std::invalid_argument(where + ": topic " + topic + " has unknown type '" + type +
+                                "' (expected pkg/msg/Type)");
 }
 
 // The storage files a rosbag2 folder's metadata.yaml names; throws for FILE compression or a missing file.
@@ -43,7 +44,8 @@ std::vector<std::string> files_named_in_metadata(const std::string& path, const 
   }
   if (!info) throw std::invalid_argument(yaml.string() + ": no rosbag2_bagfile_information");
   if (info["compression_mode"] && info["compression_mode"].as<std::string>() == "FILE")
-    throw std::invalid_argument(yaml.string() + ": compression_mode FILE (whole files compressed) is not read; "
+    throw std::invalid_argument(yaml.string() +
+                                ": compression_mode FILE (whole files compressed) is not read; "
                                 "decompress the files first (zstd -d) and drop the mode from metadata.yaml");
   if (const auto files = info["relative_file_paths"])
     for (const auto& f : files) paths.push_back((fs::path(path) / f.as<std::string>()).string());
@@ -133,7 +135,10 @@ void Ros2Source::open_db3(File& file) {
     if (!tables.count(t)) throw std::invalid_argument(p + ": not a rosbag2 sqlite3 file: no " + t + " table");
   Statement st(file.db, "SELECT id, name, type, serialization_format FROM topics", p);
   while (sqlite3_step(st.s) == SQLITE_ROW) {
-    const auto text = [&](int i) { const auto* c = sqlite3_column_text(st.s, i); return c ? std::string(reinterpret_cast<const char*>(c)) : std::string(); };
+    const auto text = [&](int i) {
+      const auto* c = sqlite3_column_text(st.s, i);
+      return c ? std::string(reinterpret_cast<const char*>(c)) : std::string();
+    };
     Ros2Topic t{text(1), text(2), 0};
     check_type(p, t.name, t.type);
     if (text(3) != "cdr")
@@ -160,8 +165,10 @@ void Ros2Source::scan(const std::string* topic, const Visit& f) {
 }
 
 bool Ros2Source::scan_db3(File& file, const std::string* topic, const Visit& f, bool counting) {
-  Statement st(file.db, std::string("SELECT topic_id, timestamp, data FROM messages") +
-                            (topic ? " WHERE topic_id = ?" : "") + " ORDER BY timestamp, id", file.path);
+  Statement st(file.db,
+               std::string("SELECT topic_id, timestamp, data FROM messages") + (topic ? " WHERE topic_id = ?" : "") +
+                   " ORDER BY timestamp, id",
+               file.path);
   if (topic) {
     std::int64_t id = -1;
     for (const auto& [i, name] : file.topic_by_id)
@@ -172,11 +179,13 @@ bool Ros2Source::scan_db3(File& file, const std::string* topic, const Visit& f, 
   while ((rc = sqlite3_step(st.s)) == SQLITE_ROW) {
     const auto it = file.topic_by_id.find(sqlite3_column_int64(st.s, 0));
     if (it == file.topic_by_id.end())
-      throw std::invalid_argument(file.path + ": a message of topic id " + std::to_string(sqlite3_column_int64(st.s, 0)) + ", which topics lacks");
+      throw std::invalid_argument(file.path + ": a message of topic id " +
+                                  std::to_string(sqlite3_column_int64(st.s, 0)) + ", which topics lacks");
     auto& t = topics_.at(it->second);
     if (counting) ++t.count;
     const auto* data = static_cast<const std::uint8_t*>(sqlite3_column_blob(st.s, 2));
-    if (!f(t, sqlite3_column_int64(st.s, 1), data, static_cast<std::size_t>(sqlite3_column_bytes(st.s, 2)))) return false;
+    if (!f(t, sqlite3_column_int64(st.s, 1), data, static_cast<std::size_t>(sqlite3_column_bytes(st.s, 2))))
+      return false;
   }
   if (rc != SQLITE_DONE) throw std::invalid_argument(file.path + ": " + sqlite3_errmsg(file.db));
   return true;
@@ -195,7 +204,8 @@ bool Ros2Source::scan_mcap(File& file, const std::string* topic, const Visit& f,
     } else if (r.kind == McapRecord::kMessage) {
       const auto c = channels.find(r.channel_id);
       if (c == channels.end())
-        throw std::invalid_argument(file.path + ": a message on channel " + std::to_string(r.channel_id) + ", which was never defined");
+        throw std::invalid_argument(file.path + ": a message on channel " + std::to_string(r.channel_id) +
+                                    ", which was never defined");
       if (topic && c->second != *topic) continue;
       auto& t = topics_.at(c->second);
       if (counting) ++t.count;
@@ -208,11 +218,13 @@ bool Ros2Source::scan_mcap(File& file, const std::string* topic, const Visit& f,
   return true;
 }
 
-void Ros2Source::add_mcap_channel(const File& file, const McapChannel& channel, const std::map<std::uint16_t, McapSchema>& schemas,
+void Ros2Source::add_mcap_channel(const File& file, const McapChannel& channel,
+                                  const std::map<std::uint16_t, McapSchema>& schemas,
                                   std::map<std::uint16_t, std::string>& channels) {
   const std::string where = file.path + ": channel " + channel.topic;
   const auto s = schemas.find(channel.schema_id);
-  if (s == schemas.end()) throw std::invalid_argument(where + ": no schema (id " + std::to_string(channel.schema_id) + ")");
+  if (s == schemas.end())
+    throw std::invalid_argument(where + ": no schema (id " + std::to_string(channel.schema_id) + ")");
   if (channel.message_encoding != "cdr")
     throw std::invalid_argument(where + ": message encoding '" + channel.message_encoding + "', expected cdr");
   if (s->second.encoding != "ros2msg")

@@ -28,7 +28,8 @@ class Ros2Source {
   const std::string& format() const { return format_; }  // "rosbag2 (mcap)", "rosbag2 (sqlite3)"
   // Every message (topic == nullptr) or those of one topic, in storage order; f returns false to stop. The
   // topics are complete after the first full pass. Warnings (a file cut short) go to warnings().
-  using Visit = std::function<bool(const Ros2Topic& topic, std::int64_t time_ns, const std::uint8_t* data, std::size_t size)>;
+  using Visit =
+      std::function<bool(const Ros2Topic& topic, std::int64_t time_ns, const std::uint8_t* data, std::size_t size)>;
   void scan(const std::string* topic, const Visit& f);
   const std::map<std::string, Ros2Topic>& topics() const { return topics_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
@@ -48,7 +49,8 @@ class Ros2Source {
   bool scan_db3(File& file, const std::string* topic, const Visit& f, bool counting);
   bool scan_mcap(File& file, const std::string* topic, const Visit& f, bool counting);
   // An MCAP channel's topic into topics_ and channels (by channel id), its schema checked.
-  void add_mcap_channel(const File& file, const McapChannel& channel, const std::map<std::uint16_t, McapSchema>& schemas,
+  void add_mcap_channel(const File& file, const McapChannel& channel,
+                        const std::map<std::uint16_t, McapSchema>& schemas,
                         std::map<std::uint16_t, std::string>& channels);
   std::vector<std::unique_ptr<File>> files_;
   std::string path_, format_;

@@ -36,8 +36,8 @@ struct PoseSeries {
         t > samples.back().first + kTfTimeTolerance_s) {
       return std::nullopt;
     }
-    auto it = std::lower_bound(samples.begin(), samples.end(), t,
-                               [](const auto& s, double time) { return s.first < time; });
+    auto it =
+        std::lower_bound(samples.begin(), samples.end(), t, [](const auto& s, double time) { return s.first < time; });
     if (it == samples.end()) return samples.back().second;
     if (it == samples.begin() || it->first - t <= kTfTimeTolerance_s) return it->second;
     const auto& a = *(it - 1);
@@ -61,7 +61,8 @@ struct TfBuffer {
 
   bool has(const std::string& frame) const {
     if (edges.count(frame)) return true;
-    for (const auto& [child, e] : edges) if (e.parent == frame) return true;
+    for (const auto& [child, e] : edges)
+      if (e.parent == frame) return true;
     return false;
   }
   std::string root_of(std::string frame) const {

@@ -33,5 +33,4 @@ std::string encode_png(const RgbImage& image);
 // Writes atomically (temporary name, then rename).
 void write_png(const std::filesystem::path& path, const RgbImage& image);
 
-
 }  // namespace stvl::report

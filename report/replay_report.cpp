@@ -5,12 +5,12 @@
 #include "common/atomic_file.hpp"
 #include "common/markup.hpp"
 #include "common/units.hpp"
-#include "report/raster.hpp"
-#include "run/replay.hpp"
-#include "report/report.hpp"
 #include "report/machine.hpp"
-#include "report/report_sections.hpp"
+#include "report/raster.hpp"
+#include "report/report.hpp"
 #include "report/report_page.hpp"
+#include "report/report_sections.hpp"
+#include "run/replay.hpp"
 
 namespace stvl::report {
 namespace {
@@ -22,7 +22,9 @@ RgbImage costmap_image(const mapping::Costmap2D& c, const std::vector<Eigen::Vec
   for (int iy = 0; iy < c.height; ++iy)
     for (int ix = 0; ix < c.width; ++ix) {
       const std::uint8_t v = c.at(ix, iy);
-      const Rgb color = v == mapping::kCostLethal ? Rgb{0, 0, 0} : v == mapping::kCostUnknown ? Rgb{205, 205, 205} : Rgb{255, 255, 255};
+      const Rgb color = v == mapping::kCostLethal    ? Rgb{0, 0, 0}
+                        : v == mapping::kCostUnknown ? Rgb{205, 205, 205}
+                                                     : Rgb{255, 255, 255};
       const int y = (c.height - 1 - iy) * scale;
       image.fill_rect(ix * scale, y, ix * scale + scale - 1, y + scale - 1, color);
     }
@@ -47,7 +49,8 @@ void write_replay_head(std::ostream& h, const recording::RecordingInfo& info, co
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench replay: " << xml_escape(info.path)
     << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
        "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}img{max-width:100%;border:1px solid #ddd}"
-       ".notice{background:#fff4d6;border:1px solid #e0b84a;padding:0.6em 1em}" << legend_css() << "</style>\n"
+       ".notice{background:#fff4d6;border:1px solid #e0b84a;padding:0.6em 1em}"
+    << legend_css() << "</style>\n"
     << interactive_head_html(scripts) << "</head><body>\n";
   h << "<h1>Replay of " << xml_escape(std::filesystem::path(info.path).filename().string()) << "</h1>\n"
     << "<p class=\"notice\"><b>No ground truth.</b> This is a recording, not a simulation: nothing here says whether "
@@ -92,13 +95,17 @@ void write_recording_table(std::ostream& h, const ReplayResult& r) {
 // The interactive map view of every final voxel (no truth to colour them by) and the stage series.
 std::string replay_map_html(const ReplayResult& r, const ReportScripts& scripts) {
   std::ostringstream caption;
-  caption << "Every voxel of the final map in blue (" << r.map_view.unjudged << (r.map_view.unjudged_W.cols() < Eigen::Index(r.map_view.unjudged)
-                                                                                    ? ", thinned for the browser by a hash of the voxel key"
-                                                                                    : "")
+  caption << "Every voxel of the final map in blue (" << r.map_view.unjudged
+          << (r.map_view.unjudged_W.cols() < Eigen::Index(r.map_view.unjudged)
+                  ? ", thinned for the browser by a hash of the voxel key"
+                  : "")
           << "), the camera's base in black; no truth to colour them by.";
   PageSeries series;
-  series.stages = {{"cloud", &r.times.cloud}, {"filter", &r.times.filter}, {"clear", &r.times.clear},
-                   {"mark", &r.times.mark},   {"bag", &r.times.bag}};
+  series.stages = {{"cloud", &r.times.cloud},
+                   {"filter", &r.times.filter},
+                   {"clear", &r.times.clear},
+                   {"mark", &r.times.mark},
+                   {"bag", &r.times.bag}};
   series.points_raw = &r.points_raw, series.points_filtered = &r.points_filtered, series.map_voxels = &r.map_voxels;
   series.path_W = &r.path_W, series.view = &r.map_view;
   return interactive_body_html(series, caption.str(), scripts);
@@ -112,7 +119,8 @@ void write_recorded_frames(std::ostream& h, const ReplayResult& r, const std::fi
     std::snprintf(name, sizeof name, "depth_%05zu_color.png", index);
     h << "<img src=\"" << png_file_data_uri(out / "frames" / name) << "\" width=\"424\" alt=\"" << name << "\"> ";
   }
-  h << "<p class=\"legend\">Depth <span class=\"turbo\"></span> from " << significant(r.pipeline.cameras.front().intrinsics.min_range_m)
+  h << "<p class=\"legend\">Depth <span class=\"turbo\"></span> from "
+    << significant(r.pipeline.cameras.front().intrinsics.min_range_m)
     << " m (dark blue) to 6 m and beyond (dark red); black: no depth.</p>\n";
 }
 
@@ -179,7 +187,8 @@ void write_replay_report(const ReplayResult& r, const std::filesystem::path& out
   write_recording_table(h, r);
   h << replay_map_html(r, scripts);
   if (costmap) {
-    h << "<h2>Costmap</h2><p><img src=\"" << png_file_data_uri(out / "costmap.png") << "\" alt=\"costmap\" style=\"image-rendering:pixelated\"></p>"
+    h << "<h2>Costmap</h2><p><img src=\"" << png_file_data_uri(out / "costmap.png")
+      << "\" alt=\"costmap\" style=\"image-rendering:pixelated\"></p>"
          "<p>Black: lethal; white: free; grey: unknown; blue: the camera's base over the recording.</p>\n";
   }
   write_recorded_frames(h, r, out);

@@ -10,9 +10,9 @@
 #include "common/markup.hpp"
 #include "report/machine.hpp"
 #include "report/raster.hpp"
+#include "report/report_page.hpp"
 #include "report/report_sections.hpp"
 #include "run/bag_recorder.hpp"
-#include "report/report_page.hpp"
 #include "sim/urdf_robot.hpp"
 
 namespace stvl::report {
@@ -23,7 +23,9 @@ nlohmann::json stage_stats(std::vector<double> ms) {
   if (ms.empty()) return {{"mean", 0.0}, {"p50", 0.0}, {"p95", 0.0}};
   const double mean = mean_of(ms);
   std::sort(ms.begin(), ms.end());
-  const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * (ms.size() - 1) + 0.5))]; };
+  const auto at = [&](double q) {
+    return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * (ms.size() - 1) + 0.5))];
+  };
   return {{"mean", mean}, {"p50", at(0.5)}, {"p95", at(0.95)}};
 }
 
@@ -56,13 +58,15 @@ nlohmann::json mean_json(const evaluation::EvaluationMean& m) {
   nlohmann::json j = mean_figures_json(m);
   j["evaluated"] = m.snapshots > 0;
   if (m.snapshots == 0)
-    for (const char* key : {"precision", "recall", "f1", "iou", "costmap_precision", "costmap_recall", "phantom_obstacles",
-                            "mapped_voxels", "observed_truth_voxels", "lethal_cells"})
+    for (const char* key : {"precision", "recall", "f1", "iou", "costmap_precision", "costmap_recall",
+                            "phantom_obstacles", "mapped_voxels", "observed_truth_voxels", "lethal_cells"})
       j[key] = nullptr;
   const auto& block = m.max_path_block;
   j["max_path_free_lethal"] = block.cells;
-  j["max_path_free_lethal_at"] = {{"time_s", m.max_path_block_time_s}, {"first_x_m", block.first_x_m},
-                                  {"first_y_m", block.first_y_m}, {"first_along_m", block.first_along_m}};
+  j["max_path_free_lethal_at"] = {{"time_s", m.max_path_block_time_s},
+                                  {"first_x_m", block.first_x_m},
+                                  {"first_y_m", block.first_y_m},
+                                  {"first_along_m", block.first_along_m}};
   return j;
 }
 
@@ -89,9 +93,13 @@ nlohmann::json mean_figures_json(const evaluation::EvaluationMean& m) {
 nlohmann::json phases_json(const evaluation::PhaseTimes& p) {
   const double frames = std::max<double>(1.0, static_cast<double>(p.frames));
   nlohmann::json j = {{"frames", p.frames}, {"evaluations", p.evaluations}};
-  for (const auto& [name, ms] : {std::pair<const char*, double>{"observe", p.observe_ms}, {"clearing", p.clearing_ms},
-                                 {"truth_update", p.truth_ms}, {"mapped", p.mapped_ms}, {"observed", p.observed_ms},
-                                 {"costmap", p.costmap_ms}, {"phantoms", p.phantoms_ms}})
+  for (const auto& [name, ms] : {std::pair<const char*, double>{"observe", p.observe_ms},
+                                 {"clearing", p.clearing_ms},
+                                 {"truth_update", p.truth_ms},
+                                 {"mapped", p.mapped_ms},
+                                 {"observed", p.observed_ms},
+                                 {"costmap", p.costmap_ms},
+                                 {"phantoms", p.phantoms_ms}})
     j[name] = {{"total", ms}, {"per_frame", ms / frames}};
   return j;
 }
@@ -100,7 +108,8 @@ nlohmann::json phases_json(const evaluation::PhaseTimes& p) {
 nlohmann::json final_json(const evaluation::EvaluationSnapshot& s) {
   nlohmann::json j = snapshot_json(s);
   j["phantoms"] = nlohmann::json::array();
-  for (const evaluation::Phantom& p : s.phantoms) j["phantoms"].push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
+  for (const evaluation::Phantom& p : s.phantoms)
+    j["phantoms"].push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
   return j;
 }
 
@@ -109,7 +118,9 @@ nlohmann::json final_json(const evaluation::EvaluationSnapshot& s) {
 nlohmann::json filter_json(const filter::FilterConfig& f, const std::string& device) {
   const bool pass = f.passthrough_enabled || f.type == filter::FilterType::kPassthrough;
   const bool decimates = f.type == filter::FilterType::kVoxel || f.type == filter::FilterType::kCsnb;
-  nlohmann::json j = {{"type", decimates ? filter::to_string(f.type) : pass ? "passthrough" : "none"},
+  nlohmann::json j = {{"type", decimates ? filter::to_string(f.type)
+                               : pass    ? "passthrough"
+                                         : "none"},
                       {"device", device},
                       {"decimation", decimates ? filter::to_string(f.type) : "none"},
                       {"passthrough", pass}};
@@ -121,13 +132,19 @@ nlohmann::json filter_json(const filter::FilterConfig& f, const std::string& dev
 nlohmann::json map_json(const mapping::StvlConfig& m) {
   nlohmann::json footprint = nlohmann::json::array();
   for (const auto& p : m.footprint_B) footprint.push_back({p.x(), p.y()});
-  return {{"voxel_size", m.voxel_size_m}, {"voxel_decay", m.voxel_decay_s}, {"decay_model", static_cast<int>(m.decay_model)},
-          {"mark_threshold", m.mark_threshold}, {"update_frequency", m.update_frequency_hz},
-          {"clearing_mode", mapping::to_string(m.clearing_mode)}, {"mark_rounding", mapping::to_string(m.mark_rounding)},
+  return {{"voxel_size", m.voxel_size_m},
+          {"voxel_decay", m.voxel_decay_s},
+          {"decay_model", static_cast<int>(m.decay_model)},
+          {"mark_threshold", m.mark_threshold},
+          {"update_frequency", m.update_frequency_hz},
+          {"clearing_mode", mapping::to_string(m.clearing_mode)},
+          {"mark_rounding", mapping::to_string(m.mark_rounding)},
           {"frustum_geometry", mapping::to_string(m.frustum_geometry)},
           {"update_grouping", mapping::to_string(m.update_grouping)},
-          {"costmap_band", mapping::to_string(m.costmap_band)}, {"costmap_timing", mapping::to_string(m.costmap_timing)},
-          {"update_footprint_enabled", m.update_footprint_enabled}, {"footprint", footprint}};
+          {"costmap_band", mapping::to_string(m.costmap_band)},
+          {"costmap_timing", mapping::to_string(m.costmap_timing)},
+          {"update_footprint_enabled", m.update_footprint_enabled},
+          {"footprint", footprint}};
 }
 
 // evaluation.failure_modes.occlusion: occluded obstacles erased (STVL #134); null times: never.
@@ -135,10 +152,16 @@ nlohmann::json occlusion_json(const evaluation::OcclusionResult& o) {
   const auto time = [](const std::optional<double>& t) { return t ? nlohmann::json(*t) : nlohmann::json(); };
   nlohmann::json bodies = nlohmann::json::array();
   for (const auto& b : o.bodies)
-    bodies.push_back({{"name", b.name}, {"hidden_false_clears", b.hidden_false_clears}, {"first_s", b.first_s},
-                      {"last_s", b.last_s}, {"vanished_s", time(b.vanished_s)}});
-  return {{"hidden_false_clears", o.hidden_false_clears}, {"behind_surface", o.behind_surface},
-          {"out_of_view", o.out_of_view}, {"first_s", time(o.first_s)}, {"bodies", bodies}};
+    bodies.push_back({{"name", b.name},
+                      {"hidden_false_clears", b.hidden_false_clears},
+                      {"first_s", b.first_s},
+                      {"last_s", b.last_s},
+                      {"vanished_s", time(b.vanished_s)}});
+  return {{"hidden_false_clears", o.hidden_false_clears},
+          {"behind_surface", o.behind_surface},
+          {"out_of_view", o.out_of_view},
+          {"first_s", time(o.first_s)},
+          {"bodies", bodies}};
 }
 
 // The robot marking itself (STVL issue #214): lethal cells inside its footprint and in the ring around it.
@@ -166,10 +189,14 @@ nlohmann::json outage_json(const RunResult& r) {
     nlohmann::json outages = nlohmann::json::array(), sources = nlohmann::json::array();
     for (const auto& o : r.outages) {
       if (o.camera_index != c) continue;
-      outages.push_back({{"from_s", o.window.from_s}, {"to_s", o.window.to_s},
-                         {"frames_in_window", o.frames_in_window}, {"only_seen_voxels", o.only_seen_voxels},
-                         {"cleared", o.cleared}, {"first_cleared_s", o.first_cleared_s},
-                         {"first_marking_frame_s", o.first_marking_frame_s}, {"recall_before", o.recall_before},
+      outages.push_back({{"from_s", o.window.from_s},
+                         {"to_s", o.window.to_s},
+                         {"frames_in_window", o.frames_in_window},
+                         {"only_seen_voxels", o.only_seen_voxels},
+                         {"cleared", o.cleared},
+                         {"first_cleared_s", o.first_cleared_s},
+                         {"first_marking_frame_s", o.first_marking_frame_s},
+                         {"recall_before", o.recall_before},
                          {"recall_resumed_s", o.recall_resumed_s},
                          {"resume_fraction", evaluation::OutageResult::kResumeFraction}});
     }
@@ -181,15 +208,19 @@ nlohmann::json outage_json(const RunResult& r) {
         spans.push_back({{"from_s", span.from_s}, {"to_s", span.to_s}});
         stale_s += span.to_s - span.from_s;
       }
-      sources.push_back({{"source", st.source}, {"expected_update_rate_s", st.expected_update_rate_s},
+      sources.push_back({{"source", st.source},
+                         {"expected_update_rate_s", st.expected_update_rate_s},
                          {"first_stale_s", st.stale.empty() ? -1.0 : st.stale.front().from_s},
-                         {"stale_s", stale_s}, {"stale_spans", spans},
-                         {"reapplied_readings", st.reapplied_readings}, {"max_reapplied_age_s", st.max_reapplied_age_s},
+                         {"stale_s", stale_s},
+                         {"stale_spans", spans},
+                         {"reapplied_readings", st.reapplied_readings},
+                         {"max_reapplied_age_s", st.max_reapplied_age_s},
                          {"reapplied_max_distance_m", st.reapplied_max_distance_m}});
     }
     cameras.push_back({{"name", r.scenario.pipeline.cameras[c].name},
                        {"skipped_frames", c < r.skipped_frames.size() ? r.skipped_frames[c] : 0},
-                       {"outages", outages}, {"sources", sources}});
+                       {"outages", outages},
+                       {"sources", sources}});
   }
   return {{"cameras", cameras}};
 }
@@ -267,7 +298,8 @@ nlohmann::json truth_json(const evaluation::EvaluationSummary& e) {
 nlohmann::json checks_json(const RunResult& r) {
   nlohmann::json checks = nlohmann::json::array();
   for (const auto& c : r.checks)
-    checks.push_back({{"name", c.name}, {"passed", c.passed}, {"message", c.message}, {"status", evaluation::check_status(c)}});
+    checks.push_back(
+        {{"name", c.name}, {"passed", c.passed}, {"message", c.message}, {"status", evaluation::check_status(c)}});
   return checks;
 }
 
@@ -299,23 +331,20 @@ nlohmann::json evaluation_json(const RunResult& r) {
             {"false_clears", e.false_clears}}},
           {"observed_off_truth_voxels", e.observed_off_truth_voxels},
           {"failure_modes",
-           {{"outage", outage_json(r)}, {"occlusion", occlusion_json(e.occlusion)}, {"self_marking", self_marking_json(r)}}},
+           {{"outage", outage_json(r)},
+            {"occlusion", occlusion_json(e.occlusion)},
+            {"self_marking", self_marking_json(r)}}},
           {"cameras", camera_recall_json(r)}};
 }
 
 // metrics.json "timing_ms": every stage's statistics, the evaluation's phases and the stages per camera.
 nlohmann::json timing_json(const RunResult& r) {
   const auto& t = r.times;
-  return {{"render", stage_stats(t.render)},
-          {"noise", stage_stats(t.noise)},
-          {"cloud", stage_stats(t.cloud)},
-          {"filter", stage_stats(t.filter)},
-          {"clear", stage_stats(t.clear)},
-          {"mark", stage_stats(t.mark)},
-          {"evaluation", stage_stats(t.evaluation)},
-          {"bag", stage_stats(t.bag)},
-          {"frame", stage_stats(t.frame)},
-          {"evaluation_phases", phases_json(r.evaluation_phases)},
+  return {{"render", stage_stats(t.render)},         {"noise", stage_stats(t.noise)},
+          {"cloud", stage_stats(t.cloud)},           {"filter", stage_stats(t.filter)},
+          {"clear", stage_stats(t.clear)},           {"mark", stage_stats(t.mark)},
+          {"evaluation", stage_stats(t.evaluation)}, {"bag", stage_stats(t.bag)},
+          {"frame", stage_stats(t.frame)},           {"evaluation_phases", phases_json(r.evaluation_phases)},
           {"per_camera", camera_timing_json(r)}};
 }
 
@@ -326,10 +355,11 @@ void add_soak_json(const RunResult& r, nlohmann::json& metrics) {
     voxels.push_back({{"t_s", x.t_s}, {"voxels", x.voxels}, {"leaves", x.leaves}});
     resources.push_back({{"t_s", x.t_s}, {"rss_mb", x.rss_mb}, {"map_ms", x.map_ms}, {"map_cpu_ms", x.map_cpu_ms}});
   }
-  metrics["soak"] = {{"sample_every_s", r.soak.sample_every_s},
-                     {"laps", r.soak.laps},
-                     {"first_lap_end_s", r.soak.first_lap_end_s ? nlohmann::json(*r.soak.first_lap_end_s) : nlohmann::json()},
-                     {"samples", voxels}};
+  metrics["soak"] = {
+      {"sample_every_s", r.soak.sample_every_s},
+      {"laps", r.soak.laps},
+      {"first_lap_end_s", r.soak.first_lap_end_s ? nlohmann::json(*r.soak.first_lap_end_s) : nlohmann::json()},
+      {"samples", voxels}};
   metrics["timing_ms"]["soak"] = {{"first_lap_map_ms", r.soak.first_lap_map_ms},
                                   {"first_lap_map_cpu_ms", r.soak.first_lap_map_cpu_ms},
                                   {"samples", resources}};
@@ -380,16 +410,23 @@ std::string profile_table(const RunResult& r) {
       << " s (real-time factor " << r.real_time_factor << ")\n";
   out << "  stage          mean ms   p95 ms   share of the frame\n";
   for (const auto& [name, ms] : {std::pair<const char*, const std::vector<double>*>{"render", &t.render},
-                                 {"noise", &t.noise}, {"cloud", &t.cloud}, {"filter", &t.filter}, {"clear", &t.clear},
-                                 {"mark", &t.mark}, {"evaluation", &t.evaluation}, {"bag", &t.bag}, {"frame", &t.frame}}) {
+                                 {"noise", &t.noise},
+                                 {"cloud", &t.cloud},
+                                 {"filter", &t.filter},
+                                 {"clear", &t.clear},
+                                 {"mark", &t.mark},
+                                 {"evaluation", &t.evaluation},
+                                 {"bag", &t.bag},
+                                 {"frame", &t.frame}}) {
     const nlohmann::json s = stage_stats(*ms);
     char line[128];
-    std::snprintf(line, sizeof line, "  %-12s %9.2f %8.2f   %5.1f %%\n", name, s["mean"].get<double>(), s["p95"].get<double>(),
-                  frame_mean > 0 ? 100.0 * s["mean"].get<double>() / frame_mean : 0.0);
+    std::snprintf(line, sizeof line, "  %-12s %9.2f %8.2f   %5.1f %%\n", name, s["mean"].get<double>(),
+                  s["p95"].get<double>(), frame_mean > 0 ? 100.0 * s["mean"].get<double>() / frame_mean : 0.0);
     out << line;
   }
   const nlohmann::json phases = phases_json(r.evaluation_phases);
-  out << "  evaluation phases, ms per frame (" << r.evaluation_phases.evaluations << " evaluations; truth_update is also\n"
+  out << "  evaluation phases, ms per frame (" << r.evaluation_phases.evaluations
+      << " evaluations; truth_update is also\n"
       << "  counted inside clearing and the evaluate phases; costmap's projection runs beside mapped and observed):\n";
   for (const char* name : {"observe", "clearing", "truth_update", "mapped", "observed", "costmap", "phantoms"}) {
     char line[96];
@@ -404,17 +441,16 @@ std::string junit_xml(const RunResult& r) {
   for (const auto& c : r.checks) failures += c.evaluated && !c.passed, skipped += !c.evaluated;
   std::ostringstream x;
   x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-    << "<testsuites tests=\"" << r.checks.size() << "\" failures=\"" << failures << "\" skipped=\"" << skipped << "\">\n"
+    << "<testsuites tests=\"" << r.checks.size() << "\" failures=\"" << failures << "\" skipped=\"" << skipped
+    << "\">\n"
     << "  <testsuite name=\"" << xml_escape(r.scenario.name) << "\" tests=\"" << r.checks.size() << "\" failures=\""
     << failures << "\" skipped=\"" << skipped << "\" time=\"" << r.wall_time_s << "\">\n";
   for (const auto& c : r.checks) {
-    x << "    <testcase classname=\"stvl-bench." << xml_escape(r.scenario.name) << "\" name=\"" << xml_escape(c.name) << "\">";
-    if (!c.evaluated)
-      x << "<skipped message=\"" << xml_escape(c.message) << "\"/>";
-    else if (c.passed)
-      x << "<system-out>" << xml_escape(c.message) << "</system-out>";
-    else
-      x << "<failure message=\"" << xml_escape(c.message) << "\"/>";
+    x << "    <testcase classname=\"stvl-bench." << xml_escape(r.scenario.name) << "\" name=\"" << xml_escape(c.name)
+      << "\">";
+    if (!c.evaluated) x << "<skipped message=\"" << xml_escape(c.message) << "\"/>";
+    else if (c.passed) x << "<system-out>" << xml_escape(c.message) << "</system-out>";
+    else x << "<failure message=\"" << xml_escape(c.message) << "\"/>";
     x << "</testcase>\n";
   }
   x << "  </testsuite>\n</testsuites>\n";
@@ -427,7 +463,8 @@ namespace {
 void write_page_head(std::ostream& h, const RunResult& r, const nlohmann::json& metrics, const ReportScripts& scripts) {
   h << "<!doctype html><html><head><meta charset=\"utf-8\"><title>stvl-bench: " << xml_escape(r.scenario.name)
     << "</title><style>body{font-family:sans-serif;margin:2em;max-width:1900px}table{border-collapse:collapse}"
-       "td,th{border:1px solid #ccc;padding:3px 8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}.skip{color:#8a6d00}"
+       "td,th{border:1px solid #ccc;padding:3px "
+       "8px;text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}.skip{color:#8a6d00}"
        "img{max-width:100%;border:1px solid #ddd}"
     << legend_css() << "</style>\n"
     << interactive_head_html(scripts) << "</head><body>\n";
@@ -435,16 +472,18 @@ void write_page_head(std::ostream& h, const RunResult& r, const nlohmann::json& 
     << "</span></h1>\n<p>" << xml_escape(r.scenario.file) << ", seed " << r.scenario.pipeline.seed << ", " << r.frames
     << " frames, " << r.sim_time_s << " s simulated in " << r.wall_time_s << " s (real-time factor "
     << r.real_time_factor << "), voxel " << r.scenario.pipeline.map.voxel_size_m << " m, filter "
-    << metrics["filter"]["type"].get<std::string>() << " on " << r.filter_device << ", GL " << r.gl_backend << ", noise "
-    << (r.scenario.camera().noise.enabled ? "on" : "off") << ".</p>\n";
+    << metrics["filter"]["type"].get<std::string>() << " on " << r.filter_device << ", GL " << r.gl_backend
+    << ", noise " << (r.scenario.camera().noise.enabled ? "on" : "off") << ".</p>\n";
 }
 
 void write_checks_table(std::ostream& h, const RunResult& r) {
   h << "<h2>Checks</h2><table><tr><th>check</th><th>result</th><th>detail</th></tr>\n";
   for (const auto& c : r.checks)
     h << "<tr><td>" << xml_escape(c.name) << "</td><td class=\""
-      << (!c.evaluated ? "skip\">not evaluated" : c.passed ? "pass\">pass" : "fail\">FAIL") << "</td><td>"
-      << xml_escape(c.message) << "</td></tr>\n";
+      << (!c.evaluated ? "skip\">not evaluated"
+          : c.passed   ? "pass\">pass"
+                       : "fail\">FAIL")
+      << "</td><td>" << xml_escape(c.message) << "</td></tr>\n";
 }
 
 // "Map quality": the mean and final figures, the accuracy and how exact the truth is.
@@ -452,17 +491,20 @@ void write_map_quality(std::ostream& h, const RunResult& r) {
   const auto& e = r.evaluation;
   h << "</table>\n<h2>Map quality</h2><p>Tolerance " << r.scenario.evaluation.tolerance_voxels
     << " voxel(s); recall against surfaces seen by the noise-free camera within the last "
-    << r.scenario.evaluation.recall_window_s << " s.</p><table><tr><th></th><th>precision</th><th>recall</th><th>F1</th>"
+    << r.scenario.evaluation.recall_window_s
+    << " s.</p><table><tr><th></th><th>precision</th><th>recall</th><th>F1</th>"
        "<th>IoU</th><th>costmap precision</th><th>costmap recall</th><th>phantoms</th></tr>\n";
   const auto row = [&](const char* label, const auto& s, const std::string& phantoms) {
-    h << "<tr><td>" << label << "</td><td>" << s.precision << "</td><td>" << s.recall << "</td><td>" << s.f1 << "</td><td>"
-      << s.iou << "</td><td>" << s.costmap_precision << "</td><td>" << s.costmap_recall << "</td><td>" << phantoms
-      << "</td></tr>\n";
+    h << "<tr><td>" << label << "</td><td>" << s.precision << "</td><td>" << s.recall << "</td><td>" << s.f1
+      << "</td><td>" << s.iou << "</td><td>" << s.costmap_precision << "</td><td>" << s.costmap_recall << "</td><td>"
+      << phantoms << "</td></tr>\n";
   };
   if (e.mean.snapshots > 0)
-    row("mean", e.mean, fixed(e.mean.phantom_obstacles, 2) + " (at most " + std::to_string(e.mean.max_phantom_obstacles) + ")");
+    row("mean", e.mean,
+        fixed(e.mean.phantom_obstacles, 2) + " (at most " + std::to_string(e.mean.max_phantom_obstacles) + ")");
   else
-    h << "<tr><td>mean</td><td colspan=\"7\" class=\"skip\">not evaluated: no evaluation after the recall window</td></tr>\n";
+    h << "<tr><td>mean</td><td colspan=\"7\" class=\"skip\">not evaluated: no evaluation after the recall "
+         "window</td></tr>\n";
   row("final", e.final, std::to_string(e.final.phantom_obstacles));
   h << "</table><p>Distance of mapped voxel centres to the true surface: mean " << e.accuracy.mean_m << " m, median "
     << e.accuracy.median_m << " m, p90 " << e.accuracy.p90_m << " m, p99 " << e.accuracy.p99_m << " m.</p>\n";
@@ -480,7 +522,8 @@ void write_obstacles_and_clearing(std::ostream& h, const evaluation::EvaluationS
   h << "<h2>Obstacles</h2><table><tr><th>body</th><th>observed</th><th>detected</th><th>best recall</th></tr>\n";
   for (const auto& o : e.obstacles)
     h << "<tr><td>" << xml_escape(o.name) << "</td><td>" << (o.observed ? "yes" : "no") << "</td><td class=\""
-      << (o.detected ? "pass\">yes" : (o.observed ? "fail\">MISSED" : "\">-")) << "</td><td>" << o.best_recall << "</td></tr>\n";
+      << (o.detected ? "pass\">yes" : (o.observed ? "fail\">MISSED" : "\">-")) << "</td><td>" << o.best_recall
+      << "</td></tr>\n";
   h << "</table>\n<h2>Clearing</h2><p>" << e.clearing.stale_voxels_seen_through
     << " stale voxels of moved bodies were seen through; max latency " << e.clearing.max_latency_s << " s, mean "
     << e.clearing.mean_latency_s << " s, " << e.clearing.not_cleared << " never cleared; ray-cast clearing removed "
@@ -491,12 +534,14 @@ void write_obstacles_and_clearing(std::ostream& h, const evaluation::EvaluationS
 void write_soak_table(std::ostream& h, const RunResult& r) {
   h << "<h2>Soak</h2><p>" << r.soak.laps << " laps; first lap ended at "
     << (r.soak.first_lap_end_s ? fixed(*r.soak.first_lap_end_s, 1) + " s" : std::string("- (not completed)"))
-    << ", its map cost " << fixed(r.soak.first_lap_map_ms, 3) << " ms per frame (CPU " << fixed(r.soak.first_lap_map_cpu_ms, 3)
+    << ", its map cost " << fixed(r.soak.first_lap_map_ms, 3) << " ms per frame (CPU "
+    << fixed(r.soak.first_lap_map_cpu_ms, 3)
     << " ms).</p><table><tr><th>t s</th><th>voxels</th><th>leaves</th><th>resident MiB</th><th>map ms per frame</th>"
        "<th>map CPU ms per frame</th></tr>\n";
   for (const auto& x : r.soak.samples)
-    h << "<tr><td>" << fixed(x.t_s, 0) << "</td><td>" << x.voxels << "</td><td>" << x.leaves << "</td><td>" << fixed(x.rss_mb, 1) << "</td><td>"
-      << fixed(x.map_ms, 3) << "</td><td>" << fixed(x.map_cpu_ms, 3) << "</td></tr>\n";
+    h << "<tr><td>" << fixed(x.t_s, 0) << "</td><td>" << x.voxels << "</td><td>" << x.leaves << "</td><td>"
+      << fixed(x.rss_mb, 1) << "</td><td>" << fixed(x.map_ms, 3) << "</td><td>" << fixed(x.map_cpu_ms, 3)
+      << "</td></tr>\n";
   h << "</table>\n";
 }
 

@@ -36,8 +36,10 @@ nlohmann::json flat_points(const Eigen::Matrix3Xf& points) {
 nlohmann::json page_data(const PageSeries& p, const std::vector<evaluation::EvaluationSnapshot>& snapshots) {
   nlohmann::json stages = nlohmann::json::object();
   for (const auto& [name, ms] : p.stages) stages[name] = series(*ms, 0.001);
-  nlohmann::json quality = {{"t", nlohmann::json::array()}, {"f1", nlohmann::json::array()},
-                            {"precision", nlohmann::json::array()}, {"recall", nlohmann::json::array()}};
+  nlohmann::json quality = {{"t", nlohmann::json::array()},
+                            {"f1", nlohmann::json::array()},
+                            {"precision", nlohmann::json::array()},
+                            {"recall", nlohmann::json::array()}};
   for (const auto& s : snapshots) {
     quality["t"].push_back(rounded(s.time_s, 0.001));
     quality["f1"].push_back(rounded(s.f1, 1e-4));
@@ -64,7 +66,7 @@ nlohmann::json page_data(const PageSeries& p, const std::vector<evaluation::Eval
 PageSeries run_series(const RunResult& r) {
   const auto& t = r.times;
   PageSeries p;
-  p.stages = {{"render", &t.render}, {"noise", &t.noise}, {"cloud", &t.cloud}, {"filter", &t.filter},
+  p.stages = {{"render", &t.render}, {"noise", &t.noise}, {"cloud", &t.cloud},           {"filter", &t.filter},
               {"clear", &t.clear},   {"mark", &t.mark},   {"evaluation", &t.evaluation}, {"bag", &t.bag}};
   p.points_raw = &r.points_raw, p.points_filtered = &r.points_filtered, p.map_voxels = &r.map_voxels;
   p.path_W = &r.path_W, p.view = &r.map_view;
@@ -215,7 +217,8 @@ const char* const kMissingScripts =
 std::string body_html(const nlohmann::json& data, const std::vector<const char*>& charts, const std::string& caption) {
   std::ostringstream h;
   h << "<h2>Charts</h2>\n";
-  for (const char* id : charts) h << "<div class=\"chartbox\"><canvas class=\"chart\" id=\"" << id << "\"></canvas></div>\n";
+  for (const char* id : charts)
+    h << "<div class=\"chartbox\"><canvas class=\"chart\" id=\"" << id << "\"></canvas></div>\n";
   h << "<h2>The final map in 3D</h2><p>" << caption << " Drag to orbit, wheel to zoom, right-drag to pan.</p>\n"
     << "<canvas id=\"view3d\"></canvas>\n"
     << "<script type=\"application/json\" id=\"report-data\">" << script_safe(data.dump()) << "</script>\n"
@@ -230,11 +233,12 @@ std::string interactive_body_html(const RunResult& r, const ReportScripts& scrip
   const MapView& v = r.map_view;
   std::ostringstream caption;
   caption << "Voxels within " << r.scenario.evaluation.tolerance_voxels << " voxel of a true surface in green ("
-          << v.mapped_true << "), the others in red (" << v.mapped_false << "), the truth's voxels faint grey (" << v.truth
-          << "), the robot's path in black.";
+          << v.mapped_true << "), the others in red (" << v.mapped_false << "), the truth's voxels faint grey ("
+          << v.truth << "), the robot's path in black.";
   if (v.mapped_true_W.cols() < Eigen::Index(v.mapped_true) || v.mapped_false_W.cols() < Eigen::Index(v.mapped_false) ||
       v.truth_W.cols() < Eigen::Index(v.truth))
-    caption << " Thinned for the browser to about " << v.truth_W.cols() << " voxels per colour, chosen by a hash of the voxel key.";
+    caption << " Thinned for the browser to about " << v.truth_W.cols()
+            << " voxels per colour, chosen by a hash of the voxel key.";
   return body_html(page_data(run_series(r), r.evaluation.snapshots),
                    {"chart-stages", "chart-quality", "chart-points", "chart-voxels"}, caption.str());
 }

@@ -100,7 +100,9 @@ RgbImage top_down_image(const run::RunResult& r) {
   RgbImage image(std::max(1, cells_x * g.scale), g.map_height + kScaleStripPx);
   const int scale = g.scale;
   const auto px = [&](double x) { return static_cast<int>((x - g.bounds.min().x()) / td.cell_m * scale) + scale; };
-  const auto py = [&](double y) { return g.map_height - 1 - (static_cast<int>((y - g.bounds.min().y()) / td.cell_m * scale) + scale); };
+  const auto py = [&](double y) {
+    return g.map_height - 1 - (static_cast<int>((y - g.bounds.min().y()) / td.cell_m * scale) + scale);
+  };
   const auto paint = [&](const std::vector<stvl::CellKey>& cells, Rgb color) {
     for (const auto& c : cells) {
       const int x = px(c.x * td.cell_m), y = py((c.y + 1) * td.cell_m);
@@ -127,18 +129,19 @@ std::string top_down_html(const run::RunResult& r, const std::string& png_bytes,
   std::ostringstream h;
   h << "<h2>Top-down: truth vs map</h2>";
   if (zoom) h << "<p>Zoom <input type=\"range\" id=\"topdown-zoom\" min=\"1\" max=\"8\" step=\"0.5\" value=\"1\"></p>";
-  h << "<p class=\"legend\">" << swatch(kTrue, "lethal, on a true obstacle") << swatch(kFalse, "lethal where the truth is free")
-    << swatch(kMissed, "obstacle seen but not lethal") << swatch(kTruth, "true footprint (not seen)")
-    << swatch(kPath, "the robot's path") << "</p>\n";
+  h << "<p class=\"legend\">" << swatch(kTrue, "lethal, on a true obstacle")
+    << swatch(kFalse, "lethal where the truth is free") << swatch(kMissed, "obstacle seen but not lethal")
+    << swatch(kTruth, "true footprint (not seen)") << swatch(kPath, "the robot's path") << "</p>\n";
   h << "<div style=\"overflow:auto;max-height:75vh\"><img id=\"topdown\" src=\"" << png_data_uri(png_bytes)
     << "\" alt=\"top-down map\" style=\"max-width:100%;image-rendering:pixelated\"></div>";
   char scale[200];
-  std::snprintf(scale, sizeof scale,
-                "<p>Scale: the bar under the map is %s m; one cell is %s m (%d px); x to the right, y up, from (%s, %s) m "
-                "to (%s, %s) m.</p>\n",
-                significant(scale_bar_m(g.bounds.sizes().x())).c_str(), significant(r.top_down.cell_m).c_str(), g.scale,
-                significant(g.bounds.min().x()).c_str(), significant(g.bounds.min().y()).c_str(),
-                significant(g.bounds.max().x()).c_str(), significant(g.bounds.max().y()).c_str());
+  std::snprintf(
+      scale, sizeof scale,
+      "<p>Scale: the bar under the map is %s m; one cell is %s m (%d px); x to the right, y up, from (%s, %s) m "
+      "to (%s, %s) m.</p>\n",
+      significant(scale_bar_m(g.bounds.sizes().x())).c_str(), significant(r.top_down.cell_m).c_str(), g.scale,
+      significant(g.bounds.min().x()).c_str(), significant(g.bounds.min().y()).c_str(),
+      significant(g.bounds.max().x()).c_str(), significant(g.bounds.max().y()).c_str());
   h << scale;
   return h.str();
 }
@@ -155,7 +158,8 @@ std::string depth_frames_html(const run::RunResult& r, const std::filesystem::pa
   const auto& cams = r.scenario.pipeline.cameras;
   if (!cams.empty()) {
     // The colours of sensors::write_depth_png_colorized: turbo from the camera's minimum range to 6 m.
-    h << "<p class=\"legend\">Depth <span class=\"turbo\"></span> from " << significant(cams.front().intrinsics.min_range_m)
+    h << "<p class=\"legend\">Depth <span class=\"turbo\"></span> from "
+      << significant(cams.front().intrinsics.min_range_m)
       << " m (dark blue) to 6 m and beyond (dark red); black: no return. Noise as the map received it.</p>\n";
   }
   // Several cameras: a row per camera, its files named <camera>_depth_NNNNN.
@@ -174,14 +178,18 @@ std::string depth_frames_html(const run::RunResult& r, const std::filesystem::pa
 
 std::string map_contents_html(const run::RunResult& r) {
   const auto& map = r.scenario.pipeline.map;
-  const char* model = map.decay_model == mapping::DecayModel::kLinear        ? "linear: a voxel leaves"
-                      : map.decay_model == mapping::DecayModel::kExponential ? "exponential: a voxel leaves about"
-                                                                              : "persistent: voxels never decay and leave";
+  const char* model = map.decay_model == mapping::DecayModel::kLinear ? "linear: a voxel leaves"
+                      : map.decay_model == mapping::DecayModel::kExponential
+                          ? "exponential: a voxel leaves about"
+                          : "persistent: voxels never decay and leave";
   std::ostringstream h;
-  h << "<p>What the final map holds: STVL forgets. Each voxel carries the time it was last marked and leaves the map when "
-       "it decays (voxel_decay " << significant(map.voxel_decay_s) << " s, " << model
-    << (map.decay_model == mapping::DecayModel::kPersistent ? " only"
-                                                            : " " + significant(map.voxel_decay_s) + " s after its last mark, sooner")
+  h << "<p>What the final map holds: STVL forgets. Each voxel carries the time it was last marked and leaves the map "
+       "when "
+       "it decays (voxel_decay "
+    << significant(map.voxel_decay_s) << " s, " << model
+    << (map.decay_model == mapping::DecayModel::kPersistent
+            ? " only"
+            : " " + significant(map.voxel_decay_s) + " s after its last mark, sooner")
     << " when the camera's clearing frustum sweeps it). Surfaces passed long ago have decayed, so the 3D view and "
        "costmap show the last stretch of the drive, not every surface seen; the map quality above is averaged over the "
        "run's evaluations.</p>\n";
@@ -239,7 +247,10 @@ class FailureModeRows {
       const std::string status = it->second->value("status", it->second->value("passed", false) ? "pass" : "fail");
       if (status == "fail") cls = "fail";
       else if (cls.empty() && status == "pass") cls = "pass";
-      verdict += std::string(verdict.empty() ? "" : "; ") + name + ": " + (status == "not_evaluated" ? "not evaluated" : status == "pass" ? "pass" : "FAIL");
+      verdict += std::string(verdict.empty() ? "" : "; ") + name + ": " +
+                 (status == "not_evaluated" ? "not evaluated"
+                  : status == "pass"        ? "pass"
+                                            : "FAIL");
     }
     if (verdict.empty()) verdict = "not checked by this scenario", cls = "skip";
     h_ << "<tr><td>" << xml_escape(mode) << "</td><td>" << xml_escape(figure) << "</td><td>" << xml_escape(meaning)
@@ -251,27 +262,33 @@ class FailureModeRows {
   std::ostream& h_;
 };
 
-// The rows every run has, from metrics["evaluation"]: ghosts, a marked floor, clearing rays, costmap ghosts, stale voxels.
+// The rows every run has, from metrics["evaluation"]: ghosts, a marked floor, clearing rays, costmap ghosts, stale
+// voxels.
 void map_failure_rows(const FailureModeRows& rows, const nlohmann::json& e) {
   const nlohmann::json& mean = e.at("mean");
   rows.row("ghosts (phantom obstacles)",
-           count(e.at("final").at("phantom_obstacles")) + " at the end, at most " + count(mean.at("max_phantom_obstacles")) +
-               " at one evaluation",
+           count(e.at("final").at("phantom_obstacles")) + " at the end, at most " +
+               count(mean.at("max_phantom_obstacles")) + " at one evaluation",
            "lethal groups with no true obstacle near them: a planner detours around nothing", {"phantom_obstacles"});
   if (mean.contains("max_path_free_lethal"))
     rows.row("lethal where the truth is free, on the path (a floor marked)",
-             "at worst " + count(mean.at("max_path_free_lethal")) + " cells within the path's corridor; costmap precision " +
-                 (mean.at("costmap_precision").is_null() ? std::string("not evaluated") : significant(mean.at("costmap_precision").get<double>())),
-             "cells a robot must drive through marked lethal: the path is blocked", {"path_free_lethal", "costmap_precision"});
-  rows.row("rays clearing true voxels", count(e.at("clearing").at("false_clears")) + " true obstacle voxels removed by clearing",
+             "at worst " + count(mean.at("max_path_free_lethal")) +
+                 " cells within the path's corridor; costmap precision " +
+                 (mean.at("costmap_precision").is_null() ? std::string("not evaluated")
+                                                         : significant(mean.at("costmap_precision").get<double>())),
+             "cells a robot must drive through marked lethal: the path is blocked",
+             {"path_free_lethal", "costmap_precision"});
+  rows.row("rays clearing true voxels",
+           count(e.at("clearing").at("false_clears")) + " true obstacle voxels removed by clearing",
            "ray-cast clearing erasing what is there (rays grazing a surface); 0 with frustum clearing", {});
-  rows.row("costmap ghosts", "at worst " + count(mean.at("max_lethal_without_voxels")) + " lethal cells without voxels, " +
-                                 count(mean.at("max_columns_without_lethal")) + " voxel columns without a lethal cell",
+  rows.row("costmap ghosts",
+           "at worst " + count(mean.at("max_lethal_without_voxels")) + " lethal cells without voxels, " +
+               count(mean.at("max_columns_without_lethal")) + " voxel columns without a lethal cell",
            "the 2D costmap disagreeing with the voxels it is projected from", {"costmap_ghosts"});
   rows.row("stale voxels of moved bodies",
            count(e.at("clearing").at("stale_voxels_seen_through")) + " seen through, max latency " +
-               significant(e.at("clearing").at("max_latency_s").get<double>()) + " s, " + count(e.at("clearing").at("not_cleared")) +
-               " never cleared",
+               significant(e.at("clearing").at("max_latency_s").get<double>()) + " s, " +
+               count(e.at("clearing").at("not_cleared")) + " never cleared",
            "a body that moved away still blocks its old place until the camera clears it", {"clearing_latency"});
 }
 
@@ -280,7 +297,8 @@ void measured_failure_rows(const FailureModeRows& rows, const nlohmann::json& fm
   if (fm.contains("occlusion")) {
     const auto& o = fm.at("occlusion");
     std::size_t vanished = 0;
-    for (const auto& b : o.value("bodies", nlohmann::json::array())) vanished += !b.value("vanished_s", nlohmann::json()).is_null();
+    for (const auto& b : o.value("bodies", nlohmann::json::array()))
+      vanished += !b.value("vanished_s", nlohmann::json()).is_null();
     rows.row("occluded obstacles erased (STVL #134)",
              count(o.at("hidden_false_clears")) + " true voxels cleared while hidden; " + std::to_string(vanished) +
                  " bodies vanished from the map",
@@ -295,10 +313,12 @@ void measured_failure_rows(const FailureModeRows& rows, const nlohmann::json& fm
   if (fm.contains("outage")) {
     std::size_t outages = 0, cleared = 0, watched = 0;
     for (const auto& c : fm.at("outage").at("cameras"))
-      for (const auto& o : c.at("outages")) ++outages, cleared += o.value("cleared", 0u), watched += o.value("only_seen_voxels", 0u);
+      for (const auto& o : c.at("outages"))
+        ++outages, cleared += o.value("cleared", 0u), watched += o.value("only_seen_voxels", 0u);
     if (outages > 0)
-      rows.row("a camera that stops", std::to_string(outages) + " outages: " + std::to_string(cleared) + " of " +
-                                          std::to_string(watched) + " voxels only that camera had seen left the map",
+      rows.row("a camera that stops",
+               std::to_string(outages) + " outages: " + std::to_string(cleared) + " of " + std::to_string(watched) +
+                   " voxels only that camera had seen left the map",
                "what a stopped camera saw is forgotten or kept stale", {"outage_cleared", "outage_resume"});
   }
 }
@@ -341,13 +361,24 @@ nlohmann::json nav2_json(const run::RunResult& r) {
   std::size_t lethal = 0;
   for (auto cell : r.nav2_master->cells) lethal += cell == mapping::kCostLethal;
   nlohmann::json phantoms = nlohmann::json::array();
-  for (const evaluation::Phantom& p : r.nav2_truth.phantoms) phantoms.push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
-  return {{"width_m", c.width_m}, {"height_m", c.height_m}, {"resolution_m", c.resolution_m},
-          {"rolling_window", c.rolling_window}, {"combination_method", c.combination_method},
-          {"track_unknown_space", c.track_unknown_space}, {"touch_cleared_cells", c.touch_cleared_cells},
-          {"updates", g.updates}, {"updates_with_ghosts", g.updates_with_ghosts}, {"max_ghost_cells", g.max_cells},
-          {"max_ghost_at_s", g.max_at_s}, {"final_ghost_cells", g.last_cells}, {"final_lethal_cells", lethal},
-          {"final_false_lethal_cells", r.nav2_truth.false_lethal}, {"final_phantom_obstacles", r.nav2_truth.phantoms.size()}, {"final_phantoms", phantoms}};
+  for (const evaluation::Phantom& p : r.nav2_truth.phantoms)
+    phantoms.push_back({{"x_m", p.x_m}, {"y_m", p.y_m}, {"cells", p.cells}});
+  return {{"width_m", c.width_m},
+          {"height_m", c.height_m},
+          {"resolution_m", c.resolution_m},
+          {"rolling_window", c.rolling_window},
+          {"combination_method", c.combination_method},
+          {"track_unknown_space", c.track_unknown_space},
+          {"touch_cleared_cells", c.touch_cleared_cells},
+          {"updates", g.updates},
+          {"updates_with_ghosts", g.updates_with_ghosts},
+          {"max_ghost_cells", g.max_cells},
+          {"max_ghost_at_s", g.max_at_s},
+          {"final_ghost_cells", g.last_cells},
+          {"final_lethal_cells", lethal},
+          {"final_false_lethal_cells", r.nav2_truth.false_lethal},
+          {"final_phantom_obstacles", r.nav2_truth.phantoms.size()},
+          {"final_phantoms", phantoms}};
 }
 
 nlohmann::json camera_list_json(const config::Scenario& s) {
@@ -357,23 +388,35 @@ nlohmann::json camera_list_json(const config::Scenario& s) {
     nlohmann::json sources = nlohmann::json::array();
     for (std::size_t k = 0; k < c.sources.size(); ++k) {
       const auto& p = c.sources[k].params;
-      sources.push_back({{"name", c.sources[k].name}, {"marking", p.marking}, {"clearing", p.clearing},
-                         {"topic", run::source_cloud_topic(s.pipeline.cameras, i, k)},
-                         {"sensor_frame", p.sensor_frame == mapping::SensorFrame::kLink
-                                              ? recording::camera_link_frame(c.name)
-                                              : recording::camera_optical_frame(c.name)},
-                         {"model_type", static_cast<int>(p.model)}, {"vertical_fov_padding", p.vertical_fov_padding_m},
-                         {"obstacle_range", p.obstacle_range_m}, {"min_obstacle_height", p.min_obstacle_height_m},
-                         {"max_obstacle_height", p.max_obstacle_height_m}, {"height_band", p.height_band},
-                         {"z_reference_frame", p.z_reference == mapping::ZReference::kBaseLink ? recording::kBaseFrame : recording::kMapFrame},
-                         {"min_z", p.min_z_m}, {"max_z", p.max_z_m},
-                         {"horizontal_fov_angle", p.horizontal_fov_rad}, {"vertical_fov_angle", p.vertical_fov_rad},
-                         {"decay_acceleration", p.decay_acceleration_per_s3},
-                         {"observation_persistence", p.observation_persistence_s},
-                         {"expected_update_rate", p.expected_update_rate_s}});
+      sources.push_back(
+          {{"name", c.sources[k].name},
+           {"marking", p.marking},
+           {"clearing", p.clearing},
+           {"topic", run::source_cloud_topic(s.pipeline.cameras, i, k)},
+           {"sensor_frame", p.sensor_frame == mapping::SensorFrame::kLink ? recording::camera_link_frame(c.name)
+                                                                          : recording::camera_optical_frame(c.name)},
+           {"model_type", static_cast<int>(p.model)},
+           {"vertical_fov_padding", p.vertical_fov_padding_m},
+           {"obstacle_range", p.obstacle_range_m},
+           {"min_obstacle_height", p.min_obstacle_height_m},
+           {"max_obstacle_height", p.max_obstacle_height_m},
+           {"height_band", p.height_band},
+           {"z_reference_frame",
+            p.z_reference == mapping::ZReference::kBaseLink ? recording::kBaseFrame : recording::kMapFrame},
+           {"min_z", p.min_z_m},
+           {"max_z", p.max_z_m},
+           {"horizontal_fov_angle", p.horizontal_fov_rad},
+           {"vertical_fov_angle", p.vertical_fov_rad},
+           {"decay_acceleration", p.decay_acceleration_per_s3},
+           {"observation_persistence", p.observation_persistence_s},
+           {"expected_update_rate", p.expected_update_rate_s}});
     }
-    list.push_back({{"name", c.name}, {"width", c.intrinsics.width}, {"height", c.intrinsics.height},
-                    {"rate_hz", c.intrinsics.rate_hz}, {"noise", c.noise.enabled}, {"sources", sources}});
+    list.push_back({{"name", c.name},
+                    {"width", c.intrinsics.width},
+                    {"height", c.intrinsics.height},
+                    {"rate_hz", c.intrinsics.rate_hz},
+                    {"noise", c.noise.enabled},
+                    {"sources", sources}});
   }
   return list;
 }

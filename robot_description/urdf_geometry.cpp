@@ -17,7 +17,8 @@ bool below(const mjModel* m, int body, int root) {
 }
 
 // A circle's outline on the floor: the corners of the 32-gon around it (circumscribed), in the plane normal to axis.
-void add_circle(std::vector<Eigen::Vector2d>& out, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis, double r) {
+void add_circle(std::vector<Eigen::Vector2d>& out, const Eigen::Vector3d& centre, const Eigen::Vector3d& axis,
+                double r) {
   const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
   const double R = r / std::cos(M_PI / kCircleSides);
   for (int i = 0; i < kCircleSides; ++i) {
@@ -47,7 +48,8 @@ RobotExtent robot_extent(const mjModel* m, const mjData* d, int root_body, const
         break;
       case mjGEOM_CAPSULE:
         low -= cos_up * size[1] + size[0];
-        for (const double s : {-1.0, 1.0}) add_circle(outline, c + s * size[1] * axis, Eigen::Vector3d::UnitZ(), size[0]);
+        for (const double s : {-1.0, 1.0})
+          add_circle(outline, c + s * size[1] * axis, Eigen::Vector3d::UnitZ(), size[0]);
         break;
       case mjGEOM_CYLINDER:
         low -= cos_up * size[1] + sin_up * size[0];
@@ -56,9 +58,11 @@ RobotExtent robot_extent(const mjModel* m, const mjData* d, int root_body, const
       case mjGEOM_ELLIPSOID:
       case mjGEOM_BOX: {
         const Eigen::Vector3d half(size[0], size[1], size[2]);
-        low -= m->geom_type[g] == mjGEOM_BOX ? R.row(2).cwiseAbs().dot(half) : R.row(2).transpose().cwiseProduct(half).norm();
+        low -= m->geom_type[g] == mjGEOM_BOX ? R.row(2).cwiseAbs().dot(half)
+                                             : R.row(2).transpose().cwiseProduct(half).norm();
         for (int i = 0; i < 8; ++i)  // the box's corners (the ellipsoid's bounding box)
-          outline.push_back((c + R * half.cwiseProduct(Eigen::Vector3d(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1))).head<2>());
+          outline.push_back(
+              (c + R * half.cwiseProduct(Eigen::Vector3d(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1))).head<2>());
         break;
       }
       case mjGEOM_MESH: {
@@ -71,8 +75,7 @@ RobotExtent robot_extent(const mjModel* m, const mjData* d, int root_body, const
         }
         break;
       }
-      default:
-        continue;  // planes, height fields: not a robot's
+      default: continue;  // planes, height fields: not a robot's
     }
     if (low < e.lowest_z_m) {
       e.lowest_z_m = low;

@@ -4,15 +4,15 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <mujoco/mujoco.h>
+#include <Eigen/Geometry>
 
 namespace stvl::robot_description {
 
 struct RobotExtent {
-  double lowest_z_m = 0;         // the lowest point of any geom of the robot
-  std::string lowest_geom;       // whose it is (a name, or "geom N")
-  double wheels_lowest_z_m = 0;  // the lowest point of the wheel bodies' geoms (lowest_z_m without wheels)
+  double lowest_z_m = 0;                   // the lowest point of any geom of the robot
+  std::string lowest_geom;                 // whose it is (a name, or "geom N")
+  double wheels_lowest_z_m = 0;            // the lowest point of the wheel bodies' geoms (lowest_z_m without wheels)
   std::vector<Eigen::Vector2d> footprint;  // convex hull of every geom projected on x-y, counter-clockwise
 };
 

@@ -131,8 +131,11 @@ class Writer {
     for (std::size_t k = 0; k < link.collisions.size(); ++k) geom(link, k, joint && driven(joint->name));
     if (!joint) {  // robot.xml's camera sites and camera, moved at run time by DiffDriveRobot::set_camera_mount
       element("site", {{"name", "camera_link"}, {"pos", "0.1 0 0.5"}, {"size", "0.01"}, {"group", "2"}});
-      element("site", {{"name", "camera_depth_optical_frame"}, {"pos", "0.1 0 0.5"}, {"xyaxes", "0 -1 0 0 0 -1"},
-                       {"size", "0.01"}, {"group", "2"}});
+      element("site", {{"name", "camera_depth_optical_frame"},
+                       {"pos", "0.1 0 0.5"},
+                       {"xyaxes", "0 -1 0 0 0 -1"},
+                       {"size", "0.01"},
+                       {"group", "2"}});
       element("camera", {{"name", "camera_depth"}, {"pos", "0.1 0 0.5"}, {"xyaxes", "0 -1 0 0 0 1"}, {"fovy", "58"}});
     }
     for (const auto& j : urdf_.joints)
@@ -175,7 +178,8 @@ class Writer {
     const bool stand_in = moving && !carried;
     if (stand_in) out_.stand_in_inertials.push_back(link.name + ": " + problem);
     const double mass = stand_in ? kStandInMass_kg : 0.0, inertia = stand_in ? kStandInInertia_kgm2 : 0.0;
-    element("inertial", {{"pos", "0 0 0"}, {"mass", shortest_number(mass)},
+    element("inertial", {{"pos", "0 0 0"},
+                         {"mass", shortest_number(mass)},
                          {"diaginertia", shortest_numbers({inertia, inertia, inertia})}});
   }
 
@@ -226,9 +230,13 @@ class Writer {
     xml_.open("actuator");
     for (const auto& [name, joint] : {std::pair<const char*, std::string>{"left_wheel", options_.left_wheel_joint},
                                       {"right_wheel", options_.right_wheel_joint}})
-      element("velocity", {{"name", name}, {"joint", joint}, {"kv", shortest_number(wheel_gain())},
-                           {"ctrllimited", "true"}, {"ctrlrange", shortest_numbers({-rate, rate})},
-                           {"forcelimited", "true"}, {"forcerange", shortest_numbers({-torque, torque})}});
+      element("velocity", {{"name", name},
+                           {"joint", joint},
+                           {"kv", shortest_number(wheel_gain())},
+                           {"ctrllimited", "true"},
+                           {"ctrlrange", shortest_numbers({-rate, rate})},
+                           {"forcelimited", "true"},
+                           {"forcerange", shortest_numbers({-torque, torque})}});
     xml_.close();
   }
 
@@ -248,7 +256,8 @@ MjcfRobot urdf_to_mjcf(const UrdfModel& urdf, const MjcfRobotOptions& options) {
     bool ok = false;
     for (const auto& j : urdf.joints)
       ok = ok || (j.name == *name && (j.type == UrdfJointType::kContinuous || j.type == UrdfJointType::kRevolute));
-    if (!ok) throw std::invalid_argument(urdf.file + ": no continuous or revolute joint named '" + *name + "' to drive");
+    if (!ok)
+      throw std::invalid_argument(urdf.file + ": no continuous or revolute joint named '" + *name + "' to drive");
   }
   if (!(options.wheel_radius_m > 0)) throw std::invalid_argument("urdf_to_mjcf: wheel_radius_m must be > 0");
   MjcfRobot out;

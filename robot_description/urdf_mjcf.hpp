@@ -12,10 +12,10 @@
 namespace stvl::robot_description {
 
 struct MjcfRobotOptions {
-  double root_height_m = 0.0;  // the root body's z in the world at rest
+  double root_height_m = 0.0;                       // the root body's z in the world at rest
   std::string left_wheel_joint, right_wheel_joint;  // driven hinges; written with their axes along the root's +y
-  double wheel_radius_m = 0.05;                      // sets the actuators' gain, torque and speed ranges
-  double timestep_s = 0.002;                         // the worlds' timestep: the wheels' armature keeps kv stable
+  double wheel_radius_m = 0.05;                     // sets the actuators' gain, torque and speed ranges
+  double timestep_s = 0.002;                        // the worlds' timestep: the wheels' armature keeps kv stable
 };
 
 struct MjcfRobot {

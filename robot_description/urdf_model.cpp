@@ -24,9 +24,9 @@ namespace fs = std::filesystem;
 using tinyxml2::XMLElement;
 
 constexpr EnumName<UrdfJointType> kJointTypes[] = {
-    {UrdfJointType::kFixed, "fixed"},         {UrdfJointType::kRevolute, "revolute"},
+    {UrdfJointType::kFixed, "fixed"},           {UrdfJointType::kRevolute, "revolute"},
     {UrdfJointType::kContinuous, "continuous"}, {UrdfJointType::kPrismatic, "prismatic"},
-    {UrdfJointType::kFloating, "floating"},   {UrdfJointType::kPlanar, "planar"}};
+    {UrdfJointType::kFloating, "floating"},     {UrdfJointType::kPlanar, "planar"}};
 
 std::string lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -37,8 +37,7 @@ std::string lower(std::string text) {
 class Reader {
  public:
   Reader(std::string file, std::vector<std::string> package_path)
-      : file_(std::move(file)), package_path_(std::move(package_path)),
-        dir_(fs::path(file_).parent_path().string()) {}
+      : file_(std::move(file)), package_path_(std::move(package_path)), dir_(fs::path(file_).parent_path().string()) {}
 
   [[noreturn]] void fail(const XMLElement* e, const std::string& what) const {
     throw std::invalid_argument(file_ + ":" + std::to_string(e ? e->GetLineNum() : 0) + ": " + what);
@@ -143,10 +142,13 @@ class Reader {
     }
     const std::string ext = lower(fs::path(path).extension().string());
     if (ext == ".dae")
-      fail(mesh, "link '" + link + "': collision mesh '" + uri + "' is COLLADA (.dae); MuJoCo 2.2.2 reads STL and OBJ only: "
-                 "convert it (e.g. assimp export in.dae out.stl, or MeshLab) and name the STL or OBJ in <collision>");
+      fail(mesh,
+           "link '" + link + "': collision mesh '" + uri +
+               "' is COLLADA (.dae); MuJoCo 2.2.2 reads STL and OBJ only: "
+               "convert it (e.g. assimp export in.dae out.stl, or MeshLab) and name the STL or OBJ in <collision>");
     if (ext != ".stl" && ext != ".obj" && ext != ".msh")
-      fail(mesh, "link '" + link + "': collision mesh '" + uri + "' is neither STL nor OBJ (the formats MuJoCo 2.2.2 reads)");
+      fail(mesh,
+           "link '" + link + "': collision mesh '" + uri + "' is neither STL nor OBJ (the formats MuJoCo 2.2.2 reads)");
     if (ext == ".stl") {
       std::ifstream in(path, std::ios::binary);
       char header[84] = {};
@@ -155,8 +157,9 @@ class Reader {
       std::uint32_t faces = 0;
       std::memcpy(&faces, header + 80, sizeof faces);
       if (!in || faces < 1 || faces > 200000 || size != 84 + 50 * std::uintmax_t{faces})
-        fail(mesh, "link '" + link + "': collision mesh " + path + " is not a binary STL of 1 to 200000 triangles "
-                   "(an ASCII STL?); MuJoCo 2.2.2 reads binary STL only: convert it (e.g. with MeshLab or assimp)");
+        fail(mesh, "link '" + link + "': collision mesh " + path +
+                       " is not a binary STL of 1 to 200000 triangles "
+                       "(an ASCII STL?); MuJoCo 2.2.2 reads binary STL only: convert it (e.g. with MeshLab or assimp)");
     }
     return path;
   }
@@ -244,8 +247,8 @@ void check_tree(UrdfModel& model) {
     for (const std::string* end : {&j.parent, &j.child})
       if (!model.find_link(*end))
         throw std::invalid_argument(model.file + ":" + std::to_string(j.line) + ": joint '" + j.name + "': its " +
-                                    (end == &j.parent ? "parent" : "child") + " link '" + *end + "' is not in the file" +
-                                    links_nearest_first(model, *end));
+                                    (end == &j.parent ? "parent" : "child") + " link '" + *end +
+                                    "' is not in the file" + links_nearest_first(model, *end));
     if (j.parent == j.child)
       throw std::invalid_argument(model.file + ":" + std::to_string(j.line) + ": joint '" + j.name + "' joins link '" +
                                   j.parent + "' to itself (a loop); its child must be another link");
@@ -260,7 +263,8 @@ void check_tree(UrdfModel& model) {
     if (!parent_of.count(l.name)) roots.push_back(l.name);
   if (roots.size() > 1)
     throw std::invalid_argument(model.file + ": " + std::to_string(roots.size()) + " links have no parent (" +
-                                joined(roots) + "): join them to one tree (every link but the root is some joint's child)");
+                                joined(roots) +
+                                "): join them to one tree (every link but the root is some joint's child)");
   std::set<std::string> reached(roots.begin(), roots.end());
   for (std::vector<std::string> next = roots; !next.empty();) {
     std::vector<std::string> below;
@@ -288,7 +292,8 @@ void check_tree(UrdfModel& model) {
   }
   model.root = roots.front();
   if (model.root == "world")
-    throw std::invalid_argument(model.file + ": the root link is 'world' (a robot fixed to the ground); a driving robot "
+    throw std::invalid_argument(model.file +
+                                ": the root link is 'world' (a robot fixed to the ground); a driving robot "
                                 "needs a free root: remove the link 'world' and its joint");
 }
 
@@ -301,7 +306,8 @@ Eigen::Matrix3d rpy_to_matrix(const Eigen::Vector3d& rpy) {
 }
 
 double rest_position(const UrdfJoint& joint) {
-  const bool limited = joint.has_limits && (joint.type == UrdfJointType::kRevolute || joint.type == UrdfJointType::kPrismatic);
+  const bool limited =
+      joint.has_limits && (joint.type == UrdfJointType::kRevolute || joint.type == UrdfJointType::kPrismatic);
   return limited ? std::clamp(0.0, joint.lower, joint.upper) : 0.0;
 }
 
@@ -309,8 +315,7 @@ Eigen::Isometry3d T_parent_child(const UrdfJoint& joint, double position) {
   Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
   if (joint.type == UrdfJointType::kRevolute || joint.type == UrdfJointType::kContinuous)
     motion.linear() = Eigen::AngleAxisd(position, joint.axis).toRotationMatrix();
-  else if (joint.type == UrdfJointType::kPrismatic)
-    motion.translation() = position * joint.axis;
+  else if (joint.type == UrdfJointType::kPrismatic) motion.translation() = position * joint.axis;
   return joint.T_parent_joint * motion;
 }
 
@@ -336,7 +341,8 @@ Eigen::Isometry3d UrdfModel::T_root_link(const std::string& link) const {
   std::size_t depth = 0;
   for (const UrdfJoint* j = parent_joint(link); j; j = parent_joint(j->parent)) {
     T = T_parent_child(*j, rest_position(*j)) * T;
-    if (++depth > joints.size()) throw std::invalid_argument(file + ": the joints form a loop above link '" + link + "'");
+    if (++depth > joints.size())
+      throw std::invalid_argument(file + ": the joints form a loop above link '" + link + "'");
   }
   return T;
 }
@@ -344,13 +350,14 @@ Eigen::Isometry3d UrdfModel::T_root_link(const std::string& link) const {
 UrdfModel parse_urdf(const std::string& text, const std::string& file, const std::vector<std::string>& package_path) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS)
-    throw std::invalid_argument(file + ":" + std::to_string(doc.ErrorLineNum()) + ": malformed XML: " +
-                                doc.ErrorStr());
+    throw std::invalid_argument(file + ":" + std::to_string(doc.ErrorLineNum()) + ": malformed XML: " + doc.ErrorStr());
   const Reader reader(file, package_path);
   const XMLElement* robot = doc.RootElement();
   if (!robot || std::string(robot->Name()) != "robot")
-    reader.fail(robot, std::string("the root element is <") + (robot ? robot->Name() : "") +
-                           ">, expected <robot> (is this a URDF? a xacro file must be expanded first: xacro in.xacro > out.urdf)");
+    reader.fail(
+        robot,
+        std::string("the root element is <") + (robot ? robot->Name() : "") +
+            ">, expected <robot> (is this a URDF? a xacro file must be expanded first: xacro in.xacro > out.urdf)");
   UrdfModel model;
   model.file = file;
   model.name = robot->Attribute("name") ? robot->Attribute("name") : "";

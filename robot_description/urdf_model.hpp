@@ -17,9 +17,9 @@ enum class UrdfShape { kBox, kCylinder, kSphere, kMesh };
 struct UrdfGeometry {
   UrdfShape shape = UrdfShape::kBox;
   Eigen::Vector3d box_size_m = Eigen::Vector3d::Zero();  // kBox: full edge lengths, as URDF writes them
-  double radius_m = 0, length_m = 0;                      // kCylinder (axis along its z), kSphere
-  std::string mesh_uri;                                   // kMesh: as written in the file
-  std::string mesh_file;                                  // kMesh: the resolved absolute path (STL or OBJ)
+  double radius_m = 0, length_m = 0;                     // kCylinder (axis along its z), kSphere
+  std::string mesh_uri;                                  // kMesh: as written in the file
+  std::string mesh_file;                                 // kMesh: the resolved absolute path (STL or OBJ)
   Eigen::Vector3d mesh_scale = Eigen::Vector3d::Ones();
 };
 
@@ -49,7 +49,7 @@ struct UrdfJoint {
   UrdfJointType type = UrdfJointType::kFixed;
   std::string parent, child;
   Eigen::Isometry3d T_parent_joint = Eigen::Isometry3d::Identity();  // <origin>: the child's frame at position 0
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();                    // unit, in the joint (child) frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();                   // unit, in the joint (child) frame
   bool has_limits = false;
   double lower = 0, upper = 0;  // rad or m, when has_limits
   double damping = 0, friction = 0;
@@ -58,9 +58,9 @@ struct UrdfJoint {
 struct UrdfModel {
   std::string file;  // as given; every message starts with it
   std::string name;
-  std::vector<UrdfLink> links;    // file order
-  std::vector<UrdfJoint> joints;  // file order
-  std::string root;               // the one link no joint has as its child
+  std::vector<UrdfLink> links;       // file order
+  std::vector<UrdfJoint> joints;     // file order
+  std::string root;                  // the one link no joint has as its child
   std::vector<std::string> notices;  // what was skipped, one line each (a visual DAE mesh: the links)
 
   // The link or joint named so; null when there is none.

@@ -25,9 +25,12 @@ BagSettings bag_settings(const std::string& path, const std::string& format, con
 }
 
 BagRecorder::BagRecorder(const std::string& path, const BagSettings& settings,
-                         const std::vector<BagSink::CameraFrames>& cameras, const Eigen::Matrix3Xf* truth_voxel_centers_W)
-    : bag_(recording::make_bag_writer(path, settings.format, settings.compression)), topics_(settings.topics),
-      worker_(std::make_unique<SerialWorker>()), ground_truth_(truth_voxel_centers_W != nullptr) {
+                         const std::vector<BagSink::CameraFrames>& cameras,
+                         const Eigen::Matrix3Xf* truth_voxel_centers_W)
+    : bag_(recording::make_bag_writer(path, settings.format, settings.compression)),
+      topics_(settings.topics),
+      worker_(std::make_unique<SerialWorker>()),
+      ground_truth_(truth_voxel_centers_W != nullptr) {
   if (topics_.wants("/tf_static")) bag_->write_tf_static(cameras);
   if (truth_voxel_centers_W && topics_.wants("/ground_truth/occupancy"))
     bag_->write_points("/ground_truth/occupancy", 0.0, kMapFrame, *truth_voxel_centers_W, true);
@@ -72,21 +75,27 @@ void BagRecorder::record(const pipeline::Frame& f, const layer::UpdateReport& re
       const std::string topic = source_cloud_topic(cameras, applied.sensor_index, applied.source_index);
       if (!topics_.wants(topic)) continue;
       const auto& source = cameras.at(applied.sensor_index).sources.at(applied.source_index).params;
-      readings.push_back({topic, update.time_s, applied.reading->time_s, layer::source_marking_W(*applied.reading, source)});
+      readings.push_back(
+          {topic, update.time_s, applied.reading->time_s, layer::source_marking_W(*applied.reading, source)});
     }
   // Cameras whose frames share a time share its robot messages (tf would warn of repeated data).
   const bool robot_messages = !last_robot_time_s_ || f.time_s > *last_robot_time_s_;
   last_robot_time_s_ = f.time_s;
   // The lambda copies what each message needs; the frame is overwritten by the next step().
   const recording::BagTopics& w = topics_;
-  const bool want[] = {w.wants("/clock"), w.wants("/tf"), w.wants("/odom"), w.wants("/ground_truth/pose"),
-                       w.wants(camera_topic(camera, "depth/image_rect_raw")), w.wants(camera_topic(camera, "depth/camera_info")),
+  const bool want[] = {w.wants("/clock"),
+                       w.wants("/tf"),
+                       w.wants("/odom"),
+                       w.wants("/ground_truth/pose"),
+                       w.wants(camera_topic(camera, "depth/image_rect_raw")),
+                       w.wants(camera_topic(camera, "depth/camera_info")),
                        w.wants(camera_topic(camera, "depth/points"))};
-  worker_->submit([bag = bag_.get(), want = std::vector<bool>(std::begin(want), std::end(want)), t = f.time_s, T_world_base = f.T_world_base, T_map_odom = f.T_map_odom,
-                   T_odom_base = f.T_odom_base, v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics, camera,
-                   depth = f.depth, cloud_C = want[6] ? Eigen::Matrix3Xf(f.cloud_C()) : Eigen::Matrix3Xf(),
-                   readings = std::move(readings), voxels = std::move(voxels), want_voxels, costmap = std::move(costmap), robot_messages,
-                   ground_truth = ground_truth_] {
+  worker_->submit([bag = bag_.get(), want = std::vector<bool>(std::begin(want), std::end(want)), t = f.time_s,
+                   T_world_base = f.T_world_base, T_map_odom = f.T_map_odom, T_odom_base = f.T_odom_base,
+                   v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics, camera, depth = f.depth,
+                   cloud_C = want[6] ? Eigen::Matrix3Xf(f.cloud_C()) : Eigen::Matrix3Xf(),
+                   readings = std::move(readings), voxels = std::move(voxels), want_voxels,
+                   costmap = std::move(costmap), robot_messages, ground_truth = ground_truth_] {
     for (const auto& r : readings)
       if (r.update_s < t) bag->write_points_stamped(r.topic, r.update_s, r.stamp_s, kMapFrame, r.points_W);
     if (robot_messages) {

@@ -1,7 +1,8 @@
 #pragma once
-// A run's bag, ROS 1 or rosbag2 (recording::BagSink), with the topics BagTopics chooses: per frame the robot's topics (once per distinct time) and the frame's camera's topics, every publish period (and at the end) the
-// STVL map and costmap. Messages are packed on the frame loop's thread and written on a thread of their own.
-// A replayed recording writes the same topics but the ground truth's (it has none).
+// A run's bag, ROS 1 or rosbag2 (recording::BagSink), with the topics BagTopics chooses: per frame the robot's topics
+// (once per distinct time) and the frame's camera's topics, every publish period (and at the end) the STVL map and
+// costmap. Messages are packed on the frame loop's thread and written on a thread of their own. A replayed recording
+// writes the same topics but the ground truth's (it has none).
 #include <functional>
 #include <memory>
 #include <optional>

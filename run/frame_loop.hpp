@@ -61,8 +61,8 @@ struct FrameLoopSettings {
 // What a run and a replay both record over their frames.
 struct FrameLoopResult {
   StageSeries times;
-  std::vector<StageSeries> camera_times;  // per camera index: its frames' render .. mark
-  std::vector<Eigen::Vector2d> path_W;    // base_link at each frame
+  std::vector<StageSeries> camera_times;                             // per camera index: its frames' render .. mark
+  std::vector<Eigen::Vector2d> path_W;                               // base_link at each frame
   std::vector<std::size_t> points_raw, points_filtered, map_voxels;  // per frame
   std::size_t frames = 0;
   std::size_t footprint_voxels_cleared = 0;  // map.clear_footprint_voxels_below, summed over the updates
@@ -70,7 +70,7 @@ struct FrameLoopResult {
   double wall_time_s = 0;
   double real_time_factor = 0;  // simulated (or recorded) seconds per wall-clock second
   bool interrupted = false;
-  bool fell = false;     // the last frame's robot had fallen over or left the world (at fell_at_s)
+  bool fell = false;  // the last frame's robot had fallen over or left the world (at fell_at_s)
   double fell_at_s = 0;
   std::vector<layer::SourceStatus> sources;  // at the end
 };

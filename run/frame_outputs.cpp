@@ -38,8 +38,8 @@ void Progress::done() {
   if (enabled_ && tty_) std::printf("\n");
 }
 
-void write_sample_depth_frame(const std::filesystem::path& frames_dir, const std::string& prefix, std::size_t frame_index,
-                              const sensors::DepthImage& depth, double min_range_m) {
+void write_sample_depth_frame(const std::filesystem::path& frames_dir, const std::string& prefix,
+                              std::size_t frame_index, const sensors::DepthImage& depth, double min_range_m) {
   char name[64];
   std::snprintf(name, sizeof name, "depth_%05zu", frame_index);
   const std::string base = prefix + name;

@@ -14,12 +14,12 @@
 namespace stvl::run {
 
 struct RunOptions {
-  std::string out_dir;           // empty: no files
-  std::string bag_path;          // empty: no bag
-  std::string bag_format;        // "ros1", "ros2", or empty: by bag_path (.mcap -> ros2)
-  std::string bag_compression;   // empty: none for ROS 1, zstd for ROS 2
-  std::string bag_topics;        // empty: all for ROS 1, default for ROS 2 (recording::BagTopics)
-  bool progress = true;          // progress bar on a TTY, plain lines otherwise
+  std::string out_dir;                                // empty: no files
+  std::string bag_path;                               // empty: no bag
+  std::string bag_format;                             // "ros1", "ros2", or empty: by bag_path (.mcap -> ros2)
+  std::string bag_compression;                        // empty: none for ROS 1, zstd for ROS 2
+  std::string bag_topics;                             // empty: all for ROS 1, default for ROS 2 (recording::BagTopics)
+  bool progress = true;                               // progress bar on a TTY, plain lines otherwise
   const std::atomic<bool>* stop_requested = nullptr;  // set from a signal handler
   // > 0: --duration cut the run short from the scenario's own duration (seconds); a path not reached is then
   // reported as not evaluated unless require_path (--require-path).
@@ -50,13 +50,14 @@ class Progress {
 
 // A depth frame for the report: <frames_dir>/<prefix>depth_NNNNN.png (16-bit mm) and ..._color.png (near blue to
 // far red over min_range_m .. 6 m), each written atomically.
-void write_sample_depth_frame(const std::filesystem::path& frames_dir, const std::string& prefix, std::size_t frame_index,
-                              const sensors::DepthImage& depth, double min_range_m);
+void write_sample_depth_frame(const std::filesystem::path& frames_dir, const std::string& prefix,
+                              std::size_t frame_index, const sensors::DepthImage& depth, double min_range_m);
 
 // `count` depth frames of one camera saved evenly over a run of duration_s at rate_hz (none without a folder).
 class FrameSampler {
  public:
-  FrameSampler(const std::filesystem::path& frames_dir, int count, double duration_s, double rate_hz, std::string prefix);
+  FrameSampler(const std::filesystem::path& frames_dir, int count, double duration_s, double rate_hz,
+               std::string prefix);
   void offer(const pipeline::Frame& frame, double min_range_m) const;
 
  private:

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <memory>
 #include <limits>
+#include <memory>
 #include <set>
 #include <stdexcept>
 
@@ -32,8 +32,10 @@ pipeline::PipelineConfig replay_config(const ReplaySettings& settings, const rec
     camera.intrinsics.rate_hz = double(info.frame_count - 1) / (info.end_time_s - info.start_time_s);
   camera.outages.clear();
   for (auto& source : camera.sources) {
-    if (std::abs(source.params.horizontal_fov_rad - old_hfov) < kAngleEpsilon_rad) source.params.horizontal_fov_rad = camera.intrinsics.hfov_rad();
-    if (std::abs(source.params.vertical_fov_rad - old_vfov) < kAngleEpsilon_rad) source.params.vertical_fov_rad = camera.intrinsics.vfov_rad();
+    if (std::abs(source.params.horizontal_fov_rad - old_hfov) < kAngleEpsilon_rad)
+      source.params.horizontal_fov_rad = camera.intrinsics.hfov_rad();
+    if (std::abs(source.params.vertical_fov_rad - old_vfov) < kAngleEpsilon_rad)
+      source.params.vertical_fov_rad = camera.intrinsics.vfov_rad();
   }
   config.cameras = {camera};
   config.robot_geoms_seen.clear();
@@ -109,7 +111,8 @@ class ReplayHooks : public FrameHooks {
   ReplayHooks(ReplayResult& r, const RunOptions& options, std::set<std::size_t> samples, std::size_t total)
       : r_(r), options_(options), samples_(std::move(samples)), total_(total) {}
   void after_update(const pipeline::Frame& f, const layer::UpdateReport&, const layer::Layer&) override {
-    r_.valid_fraction.push_back(double(f.depth.valid_count()) / double(std::max<std::size_t>(1, f.depth.depth_m.size())));
+    r_.valid_fraction.push_back(double(f.depth.valid_count()) /
+                                double(std::max<std::size_t>(1, f.depth.depth_m.size())));
     if (samples_.count(r_.valid_fraction.size() - 1)) {
       write_sample_depth_frame(std::filesystem::path(options_.out_dir) / "frames", "", f.frame_index, f.depth,
                                r_.pipeline.cameras.front().intrinsics.min_range_m);
@@ -131,14 +134,15 @@ class ReplayHooks : public FrameHooks {
 
 }  // namespace
 
-ReplayResult replay_recording(recording::Recording& recording, const ReplaySettings& settings, const RunOptions& options) {
+ReplayResult replay_recording(recording::Recording& recording, const ReplaySettings& settings,
+                              const RunOptions& options) {
   ReplayResult r;
   r.recording = recording.info();
   r.pipeline = replay_config(settings, r.recording);
   layer::StvlLayer layer(pipeline::layer_config(r.pipeline));
   if (!options.out_dir.empty()) ensure_writable_directory(std::filesystem::path(options.out_dir) / "frames");
-  const std::size_t total = settings.max_frames > 0 ? std::min(settings.max_frames, r.recording.frame_count)
-                                                    : r.recording.frame_count;
+  const std::size_t total =
+      settings.max_frames > 0 ? std::min(settings.max_frames, r.recording.frame_count) : r.recording.frame_count;
   FrameLoopSettings loop;
   loop.bag_path = options.bag_path;
   loop.bag = bag_settings(options.bag_path, options.bag_format, options.bag_compression, options.bag_topics);
@@ -148,9 +152,9 @@ ReplayResult replay_recording(recording::Recording& recording, const ReplaySetti
   loop.stop_requested = options.stop_requested;
   RecordedFrames frames(recording, r.pipeline, total);
   r.filter_device = frames.filter_device();
-  ReplayHooks hooks(r, options,
-                    options.out_dir.empty() ? std::set<std::size_t>{} : sample_indices(total, settings.sample_depth_frames),
-                    total);
+  ReplayHooks hooks(
+      r, options,
+      options.out_dir.empty() ? std::set<std::size_t>{} : sample_indices(total, settings.sample_depth_frames), total);
   static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, loop);
   if (r.interrupted) return r;
   if (r.frames == 0) throw std::invalid_argument(r.recording.path + ": no depth frame could be read");

@@ -1,15 +1,15 @@
 #pragma once
 // Recorded depth (recording/) through the same frame loop as a simulated run (frame_loop.hpp): the same sensing
-// (pipeline/sensing.hpp: edge filter, depth to cloud, decimation) and STVL's layer, in recorded time. A replay has no ground
-// truth: it writes what a run writes but the truth's figures and checks (report/report.hpp).
+// (pipeline/sensing.hpp: edge filter, depth to cloud, decimation) and STVL's layer, in recorded time. A replay has no
+// ground truth: it writes what a run writes but the truth's figures and checks (report/report.hpp).
 #include <atomic>
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include "recording/recording.hpp"
 #include "evaluation/map_view.hpp"
 #include "pipeline/config.hpp"
+#include "recording/recording.hpp"
 #include "run/frame_loop.hpp"
 
 namespace stvl::run {
@@ -30,8 +30,8 @@ struct ReplaySettings {
 // what only a replay has.
 struct ReplayResult : FrameLoopResult {
   recording::RecordingInfo recording;
-  pipeline::PipelineConfig pipeline;  // as replayed: one camera with the recording's intrinsics
-  std::vector<double> valid_fraction;  // per frame: pixels with depth
+  pipeline::PipelineConfig pipeline;        // as replayed: one camera with the recording's intrinsics
+  std::vector<double> valid_fraction;       // per frame: pixels with depth
   std::vector<std::size_t> sampled_frames;  // indices of the depth frames saved under frames/
   evaluation::MapView map_view;             // every voxel unjudged (no truth)
   mapping::Costmap2D costmap;               // the final map's, footprint freed at the last base pose
@@ -43,6 +43,7 @@ struct ReplayResult : FrameLoopResult {
 // take the recording's FOV where they had the scenario camera's (a FOV a scenario or parameter file gives is
 // kept). Throws std::invalid_argument for bad input (a frame that cannot be read, one whose intrinsics differ
 // from the first's, stamps that go back in time) and std::runtime_error for unwritable outputs.
-ReplayResult replay_recording(recording::Recording& recording, const ReplaySettings& settings, const RunOptions& options);
+ReplayResult replay_recording(recording::Recording& recording, const ReplaySettings& settings,
+                              const RunOptions& options);
 
 }  // namespace stvl::run

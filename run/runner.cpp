@@ -54,11 +54,14 @@ class RunHooks : public FrameHooks {
  public:
   RunHooks(const config::Scenario& s, const RunOptions& options, const pipeline::Pipeline& pipeline,
            evaluation::RunEvaluation& evaluation)
-      : s_(s), sim_(pipeline.simulator()), evaluation_(evaluation), progress_(options.progress, s.duration_s),
+      : s_(s),
+        sim_(pipeline.simulator()),
+        evaluation_(evaluation),
+        progress_(options.progress, s.duration_s),
         soak_(s.outputs.soak_sample_every_s) {
     const bool several = s.pipeline.cameras.size() > 1;
-    const std::filesystem::path frames = options.out_dir.empty() ? std::filesystem::path()
-                                                                 : std::filesystem::path(options.out_dir) / "frames";
+    const std::filesystem::path frames =
+        options.out_dir.empty() ? std::filesystem::path() : std::filesystem::path(options.out_dir) / "frames";
     for (const auto& c : s.pipeline.cameras)
       samplers_.emplace_back(frames, s.outputs.sample_depth_frames, s.duration_s, c.intrinsics.rate_hz,
                              several ? c.name + "_" : "");
@@ -111,8 +114,9 @@ evaluation::RunEnd run_end(const config::Scenario& s, const RunOptions& options,
   end.path_done = hooks.path_done();
   const sim::World& world = pipeline.simulator().world();
   if (end.path_required && !end.path_done && !end.fell && r.frames > 0 && r.sim_time_s - hooks.moved_s() >= 2.0)
-    end.blocked = evaluation::blocked_diagnosis(r.path_W.back(), hooks.moved_s(), s.pipeline.path.waypoints_W.back(),
-                                                sim::robot_contacts(world, pipeline.simulator().robot().base_body_id()));
+    end.blocked =
+        evaluation::blocked_diagnosis(r.path_W.back(), hooks.moved_s(), s.pipeline.path.waypoints_W.back(),
+                                      sim::robot_contacts(world, pipeline.simulator().robot().base_body_id()));
   end.frames = r.frames;
   end.time_s = r.sim_time_s;
   end.soak = r.soak;

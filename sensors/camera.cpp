@@ -85,13 +85,9 @@ void CameraIntrinsics::validate() const {
 
 bool CameraIntrinsics::square_pixels() const { return std::abs(fx - fy) <= kRelativeEpsilon * std::abs(fy); }
 
-double CameraIntrinsics::hfov_rad() const {
-  return std::atan((cx + 0.5) / fx) + std::atan((width - 0.5 - cx) / fx);
-}
+double CameraIntrinsics::hfov_rad() const { return std::atan((cx + 0.5) / fx) + std::atan((width - 0.5 - cx) / fx); }
 
-double CameraIntrinsics::vfov_rad() const {
-  return std::atan((cy + 0.5) / fy) + std::atan((height - 0.5 - cy) / fy);
-}
+double CameraIntrinsics::vfov_rad() const { return std::atan((cy + 0.5) / fy) + std::atan((height - 0.5 - cy) / fy); }
 
 Eigen::Vector3d pixel_ray_C(const CameraIntrinsics& intrinsics, double u, double v) {
   return {(u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy, 1.0};

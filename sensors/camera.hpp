@@ -25,8 +25,8 @@ struct CameraIntrinsics {
   static CameraIntrinsics d435_848x480();
   static CameraIntrinsics d435_640x480();
   // Square pixels from a horizontal FOV, principal point at the image centre.
-  static CameraIntrinsics from_hfov(int width, int height, double hfov_rad, double min_range_m,
-                                    double max_range_m, double rate_hz);
+  static CameraIntrinsics from_hfov(int width, int height, double hfov_rad, double min_range_m, double max_range_m,
+                                    double rate_hz);
 
   // Throws std::invalid_argument naming the first bad field: sizes > 0, focal lengths finite and > 0,
   // principal point finite, FOV < 180 deg, 0 < min_range_m < max_range_m finite, rate_hz finite and > 0.

@@ -26,8 +26,8 @@
 namespace stvl::sensors {
 
 struct DepthEdgeFilterConfig {
-  bool enabled = false;             // off by default: STVL has no such filter
-  double max_jump_at_1m_m = 0.03;   // jump threshold at 1 m depth; scales with depth^2
+  bool enabled = false;            // off by default: STVL has no such filter
+  double max_jump_at_1m_m = 0.03;  // jump threshold at 1 m depth; scales with depth^2
 
   // Throws std::invalid_argument naming max_jump_at_1m_m when it is not finite or not > 0.
   void validate() const;

@@ -21,9 +21,8 @@ namespace {
 
 void check_image(const DepthImage& image) {
   if (image.width <= 0 || image.height <= 0 || image.depth_m.size() != size_t(image.width) * image.height) {
-    throw std::invalid_argument("DepthImage: size " + std::to_string(image.width) + "x" +
-                                std::to_string(image.height) + " does not match " +
-                                std::to_string(image.depth_m.size()) + " depth values");
+    throw std::invalid_argument("DepthImage: size " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                " does not match " + std::to_string(image.depth_m.size()) + " depth values");
   }
 }
 
@@ -40,9 +39,12 @@ void check_matches(const DepthImage& image, const CameraIntrinsics& intrinsics) 
 // Polynomial fit of Google's Turbo colormap (t in [0, 1]).
 void turbo(double t, unsigned char* rgb) {
   t = std::clamp(t, 0.0, 1.0);
-  const double r = 0.13572138 + t * (4.61539260 + t * (-42.66032258 + t * (132.13108234 + t * (-152.94239396 + t * 59.28637943))));
-  const double g = 0.09140261 + t * (2.19418839 + t * (4.84296658 + t * (-14.18503333 + t * (4.27729857 + t * 2.82956604))));
-  const double b = 0.10667330 + t * (12.64194608 + t * (-60.58204836 + t * (110.36276771 + t * (-89.90310912 + t * 27.34824973))));
+  const double r =
+      0.13572138 + t * (4.61539260 + t * (-42.66032258 + t * (132.13108234 + t * (-152.94239396 + t * 59.28637943))));
+  const double g =
+      0.09140261 + t * (2.19418839 + t * (4.84296658 + t * (-14.18503333 + t * (4.27729857 + t * 2.82956604))));
+  const double b =
+      0.10667330 + t * (12.64194608 + t * (-60.58204836 + t * (110.36276771 + t * (-89.90310912 + t * 27.34824973))));
   rgb[0] = static_cast<unsigned char>(std::lround(255.0 * std::clamp(r, 0.0, 1.0)));
   rgb[1] = static_cast<unsigned char>(std::lround(255.0 * std::clamp(g, 0.0, 1.0)));
   rgb[2] = static_cast<unsigned char>(std::lround(255.0 * std::clamp(b, 0.0, 1.0)));
@@ -135,7 +137,8 @@ std::vector<std::uint16_t> depth_to_millimetres(const DepthImage& image) {
   std::vector<std::uint16_t> mm(image.depth_m.size());
   for (size_t i = 0; i < image.depth_m.size(); ++i) {
     const float z = image.depth_m[i];
-    mm[i] = static_cast<std::uint16_t>((z > 0.0f && std::isfinite(z)) ? std::min(65535L, std::lround(double(z) * kMmPerMetre)) : 0L);
+    mm[i] = static_cast<std::uint16_t>(
+        (z > 0.0f && std::isfinite(z)) ? std::min(65535L, std::lround(double(z) * kMmPerMetre)) : 0L);
   }
   return mm;
 }

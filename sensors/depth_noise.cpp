@@ -18,12 +18,11 @@ namespace {
 
 constexpr double kTwoPi = 6.28318530717958647692;
 
-
-using noise_rows::Stream;
 using noise_rows::kGauss;
 using noise_rows::kHole;
 using noise_rows::kHoleCount;
 using noise_rows::kStreams;
+using noise_rows::Stream;
 
 // Frame key, computed once per frame; draws then cost one mix each.
 inline uint64_t frame_key(uint64_t seed, uint64_t frame_index) {
@@ -40,9 +39,7 @@ inline double uniform(uint64_t key, uint64_t index, Stream stream) {
 }
 
 // Threshold for "draw < p" done on the raw 64-bit value.
-inline uint64_t threshold(double p) {
-  return p >= 1.0 ? ~0ULL : uint64_t(p * 18446744073709551616.0);
-}
+inline uint64_t threshold(double p) { return p >= 1.0 ? ~0ULL : uint64_t(p * 18446744073709551616.0); }
 
 // Standard normal quantized to 4096 equiprobable bins, each represented by its conditional mean: drawing a normal
 // is one table look-up on 12 random bits (std 0.9999; far finer than the 1/32 px disparity step it feeds).
@@ -163,8 +160,7 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
   apply_rows(truth_.data(), image.depth_m.data(), seed, frame_index, parallel);
 }
 
-void DepthNoise::apply(const DepthImage& clean, DepthImage& noisy, uint64_t seed, uint64_t frame_index,
-                       bool parallel) {
+void DepthNoise::apply(const DepthImage& clean, DepthImage& noisy, uint64_t seed, uint64_t frame_index, bool parallel) {
   if (&clean == &noisy) return apply(noisy, seed, frame_index, parallel);
   require_size(clean, intrinsics_);
   noisy.width = clean.width;
@@ -264,16 +260,14 @@ void DepthNoise::apply_rows(const float* truth_m, float* out_m, uint64_t seed, u
     for (int v = rows.begin(); v < rows.end(); ++v) {
       if (occlusion) {
         const double band = config_.left_band_margin_px +
-                             config_.left_band_jitter_px * (2.0 * uniform(band_key, uint64_t(v), kGauss) - 1.0);
+                            config_.left_band_jitter_px * (2.0 * uniform(band_key, uint64_t(v), kGauss) - 1.0);
         occlusion_row(truth_m + size_t(v) * W, &occluded_[size_t(v) * W], W, f.fb, band, shadow_margin);
       }
       noise_rows::noise_row(f, v, simd);
     }
   };
-  if (parallel)
-    tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), noise_rows);
-  else
-    noise_rows(tbb::blocked_range<int>(0, H));
+  if (parallel) tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), noise_rows);
+  else noise_rows(tbb::blocked_range<int>(0, H));
   punch_holes(config_, key, W, H, out_m);
 }
 

@@ -45,9 +45,9 @@ struct DepthNoiseConfig {
   double left_band_margin_px = 12.0;
   double left_band_jitter_px = 2.0;
   double shadow_margin_px = 2.0;
-  // Correlated disparity error (the bench's, off at 0): this share of the disparity noise variance (subpixel^2) is a smooth
-  // field instead of per-pixel white noise, so Intel's RMS formula still gives each pixel's total. The field is a
-  // grid of normals every correlated_cell_px, bilinearly interpolated (renormalized to unit variance), new each
+  // Correlated disparity error (the bench's, off at 0): this share of the disparity noise variance (subpixel^2) is a
+  // smooth field instead of per-pixel white noise, so Intel's RMS formula still gives each pixel's total. The field is
+  // a grid of normals every correlated_cell_px, bilinearly interpolated (renormalized to unit variance), new each
   // frame. The real D435 (stvl-bench noise-stats, docs/fidelity.md): the difference of two frames of a wall at
   // 1.7 m correlates 0.98 between neighbours, 0.87 / 0.63 / 0.20 at 4 / 8 / 16 px along a row and 0.75 / 0.35 / 0.02
   // down a column; a 12 px grid gives 0.81 / 0.52 / 0.05 (isotropic: the mean of the two), hence 0.95 and 12 px.
@@ -88,7 +88,7 @@ class DepthNoise {
   DepthNoiseConfig config_;
   CameraIntrinsics intrinsics_;
   NoiseSimd simd_;
-  std::vector<float> truth_;  // in-place apply: the input image, read while the output is modified
+  std::vector<float> truth_;       // in-place apply: the input image, read while the output is modified
   std::vector<uint8_t> occluded_;  // stereo_occlusion: 1 where the right imager cannot see the pixel
   std::vector<float> field_grid_;  // correlated_fraction: this frame's grid of normals
 };

@@ -237,8 +237,8 @@ __attribute__((always_inline)) inline void chunk(const Frame& f, int v, int u0, 
     const bool vanish = uniform(f.key, i, kEdgeKind) < f.edge_invalid_fraction;
     double z = z_true;
     z += uniform(f.key, i, kEdgeBlend) * (double(z_other) - z);
-    out[j] = finish<Stereo, Quantize, Dropout>(f, z, !vanish, Stereo ? term[j] : 0.0,
-                                               drop_base + uint64_t(j) * drop_stride);
+    out[j] =
+        finish<Stereo, Quantize, Dropout>(f, z, !vanish, Stereo ? term[j] : 0.0, drop_base + uint64_t(j) * drop_stride);
   }
 }
 

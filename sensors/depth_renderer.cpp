@@ -16,8 +16,8 @@ namespace stvl::sensors {
 namespace {
 
 // The GL calls the renderer makes itself (MuJoCo's own GL binding is not exported).
-constexpr unsigned kGlDepthStencil = 0x84F9;     // GL_DEPTH_STENCIL
-constexpr unsigned kGlUnsignedInt248 = 0x84FA;   // GL_UNSIGNED_INT_24_8: depth in the upper 24 bits
+constexpr unsigned kGlDepthStencil = 0x84F9;    // GL_DEPTH_STENCIL
+constexpr unsigned kGlUnsignedInt248 = 0x84FA;  // GL_UNSIGNED_INT_24_8: depth in the upper 24 bits
 using GlColorMask = void (*)(unsigned char, unsigned char, unsigned char, unsigned char);
 using GlReadPixels = void (*)(int, int, int, int, unsigned, unsigned, void*);
 

@@ -110,8 +110,9 @@ DiscontinuityHoles discontinuity_holes(const DepthImage& image, double min_jump_
   return out;
 }
 
-std::vector<DepthBinStat> temporal_sigma_m(const DepthImage& a, const DepthImage& b, const std::vector<double>& centres_m,
-                                           double half_width_m, long min_samples, double sigma_at_1m_m) {
+std::vector<DepthBinStat> temporal_sigma_m(const DepthImage& a, const DepthImage& b,
+                                           const std::vector<double>& centres_m, double half_width_m, long min_samples,
+                                           double sigma_at_1m_m) {
   if (a.width != b.width || a.height != b.height || a.depth_m.size() != b.depth_m.size())
     throw std::invalid_argument("temporal_sigma_m: frames of different sizes");
   std::vector<std::vector<double>> diffs(centres_m.size()), normalized(centres_m.size());
@@ -164,7 +165,8 @@ namespace {
 
 // The mean depth of the patch_px x patch_px patch at (u0, v0) when every pixel has depth and the depths span at
 // most max_range_fraction of the mean (a flat patch); nullopt otherwise.
-std::optional<double> flat_patch_mean(const DepthImage& image, int u0, int v0, int patch_px, double max_range_fraction) {
+std::optional<double> flat_patch_mean(const DepthImage& image, int u0, int v0, int patch_px,
+                                      double max_range_fraction) {
   double lo = std::numeric_limits<double>::infinity(), hi = 0.0, sum = 0.0;
   for (int v = v0; v < v0 + patch_px; ++v)
     for (int u = u0; u < u0 + patch_px; ++u) {

@@ -57,12 +57,11 @@ class EglContext final : public GlContext {
     auto bind_api = symbol<PFNEGLBINDAPIPROC>(library_, "eglBindAPI");
     auto create_context = symbol<PFNEGLCREATECONTEXTPROC>(library_, "eglCreateContext");
     destroy_context_ = symbol<PFNEGLDESTROYCONTEXTPROC>(library_, "eglDestroyContext");
-    if (!get_proc || !get_error_ || !make_current_ || !initialize || !choose_config || !bind_api ||
-        !create_context || !destroy_context_) {
+    if (!get_proc || !get_error_ || !make_current_ || !initialize || !choose_config || !bind_api || !create_context ||
+        !destroy_context_) {
       throw std::runtime_error("libEGL lacks core EGL 1.4 entry points");
     }
-    auto get_platform_display =
-        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(get_proc("eglGetPlatformDisplayEXT"));
+    auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(get_proc("eglGetPlatformDisplayEXT"));
     if (!get_platform_display) throw std::runtime_error("eglGetPlatformDisplayEXT is not available");
     display_ = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     if (display_ == EGL_NO_DISPLAY) {
@@ -74,8 +73,19 @@ class EglContext final : public GlContext {
       throw std::runtime_error("eglInitialize failed on the surfaceless display, error " + hex(get_error_()));
     }
     // MuJoCo renders into its own framebuffer object: any config with a depth buffer will do, or none at all.
-    const EGLint attributes[] = {EGL_RED_SIZE, 8, EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_DEPTH_SIZE, 24,
-                                 EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+    const EGLint attributes[] = {EGL_RED_SIZE,
+                                 8,
+                                 EGL_GREEN_SIZE,
+                                 8,
+                                 EGL_BLUE_SIZE,
+                                 8,
+                                 EGL_DEPTH_SIZE,
+                                 24,
+                                 EGL_SURFACE_TYPE,
+                                 EGL_PBUFFER_BIT,
+                                 EGL_RENDERABLE_TYPE,
+                                 EGL_OPENGL_BIT,
+                                 EGL_NONE};
     EGLConfig config = nullptr;
     EGLint count = 0;
     if (!choose_config(display_, attributes, &config, 1, &count) || count < 1) config = nullptr;
@@ -124,12 +134,13 @@ class OsmesaContext final : public GlContext {
     const char* opened = nullptr;
     library_ = open_library({"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"}, why, opened);
     if (!library_) throw std::runtime_error("cannot load libOSMesa (" + why + ")");
-    auto create = symbol<OSMesaContext (*)(GLenum, GLint, GLint, GLint, OSMesaContext)>(library_,
-                                                                                         "OSMesaCreateContextExt");
+    auto create =
+        symbol<OSMesaContext (*)(GLenum, GLint, GLint, GLint, OSMesaContext)>(library_, "OSMesaCreateContextExt");
     make_current_ = symbol<decltype(make_current_)>(library_, "OSMesaMakeCurrent");
     destroy_ = symbol<decltype(destroy_)>(library_, "OSMesaDestroyContext");
     get_proc_ = symbol<decltype(get_proc_)>(library_, "OSMesaGetProcAddress");
-    if (!create || !make_current_ || !destroy_ || !get_proc_) throw std::runtime_error("libOSMesa lacks OSMesaCreateContextExt");
+    if (!create || !make_current_ || !destroy_ || !get_proc_)
+      throw std::runtime_error("libOSMesa lacks OSMesaCreateContextExt");
     context_ = create(OSMESA_RGBA, 24, 8, 8, nullptr);
     if (!context_) throw std::runtime_error("OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 8) failed");
     make_current();
@@ -145,7 +156,8 @@ class OsmesaContext final : public GlContext {
     }
   }
   void release() override {
-    if (!make_current_(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0)) throw std::runtime_error("OSMesaMakeCurrent(NULL) failed");
+    if (!make_current_(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0))
+      throw std::runtime_error("OSMesaMakeCurrent(NULL) failed");
   }
   void* proc_address(const char* name) const override { return reinterpret_cast<void*>(get_proc_(name)); }
   GlBackend backend() const override { return GlBackend::kOsmesa; }
@@ -184,9 +196,9 @@ std::unique_ptr<GlContext> GlContext::create(GlBackend backend) {
       if (forced != GlBackend::kAuto) backend = forced;
     }
   }
-  std::vector<GlBackend> candidates =
-      backend == GlBackend::kAuto ? std::vector<GlBackend>{GlBackend::kEgl, GlBackend::kOsmesa}
-                                  : std::vector<GlBackend>{backend};
+  std::vector<GlBackend> candidates = backend == GlBackend::kAuto
+                                          ? std::vector<GlBackend>{GlBackend::kEgl, GlBackend::kOsmesa}
+                                          : std::vector<GlBackend>{backend};
   std::string failures;
   for (GlBackend candidate : candidates) {
     try {

@@ -15,7 +15,7 @@ std::mutex& hook_mutex() {
   static std::mutex m;
   return m;
 }
-int hook_depth = 0;                          // guards alive, under hook_mutex()
+int hook_depth = 0;                            // guards alive, under hook_mutex()
 void (*hook_previous)(const char*) = nullptr;  // the handler before the first of them
 void raise(const char* message) { throw std::runtime_error(std::string("MuJoCo: ") + message); }
 
@@ -42,7 +42,8 @@ void set_segmentation_flags(mjvScene& scene) {
 
 // The rendering context, made from a copy of the model with depth-exact visual settings: no MSAA, an offscreen
 // buffer of at least k's size, finer tessellation, planes as a 2x2 grid. On failure `context` is freed.
-void make_render_context(const mjModel* model, const CameraIntrinsics& k, const std::string& owner, mjrContext& context) {
+void make_render_context(const mjModel* model, const CameraIntrinsics& k, const std::string& owner,
+                         mjrContext& context) {
   mjModel* copy = mj_copyModel(nullptr, model);
   if (!copy) throw std::runtime_error(owner + ": mj_copyModel failed");
   copy->vis.quality.offsamples = 0;  // MSAA blends silhouette depths (metres off)

@@ -30,8 +30,7 @@ int hinge_dof(const World& world, const std::string& joint) {
 
 }  // namespace
 
-DiffDriveRobot::DiffDriveRobot(World& world, DiffDriveConfig config)
-    : world_(&world), config_(std::move(config)) {
+DiffDriveRobot::DiffDriveRobot(World& world, DiffDriveConfig config) : world_(&world), config_(std::move(config)) {
   const mjModel* m = world.model();
   base_body_ = world.body_id(config_.base_body);
   const int left_joint = hinge_dof(world, config_.left_joint);
@@ -105,8 +104,7 @@ Eigen::Isometry3d DiffDriveRobot::T_world_base() const {
   const mjData* d = world_->data();
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = to_eigen_quat(d->xquat + 4 * base_body_).normalized().toRotationMatrix();
-  T.translation() = Eigen::Vector3d(d->xpos[3 * base_body_], d->xpos[3 * base_body_ + 1],
-                                    d->xpos[3 * base_body_ + 2]);
+  T.translation() = Eigen::Vector3d(d->xpos[3 * base_body_], d->xpos[3 * base_body_ + 1], d->xpos[3 * base_body_ + 2]);
   return T;
 }
 
@@ -152,16 +150,14 @@ double DiffDriveRobot::tilt_rad() const {
 
 void DiffDriveRobot::set_camera_mount(const CameraMount& mount) {
   if (!(mount.height_m >= 0.3 && mount.height_m <= 1.2)) {
-    throw std::invalid_argument("camera mount height_m " + std::to_string(mount.height_m) +
-                                " outside [0.3, 1.2]");
+    throw std::invalid_argument("camera mount height_m " + std::to_string(mount.height_m) + " outside [0.3, 1.2]");
   }
   if (!(std::abs(mount.pitch_rad) <= 1.0)) {
-    throw std::invalid_argument("camera mount pitch_rad " + std::to_string(mount.pitch_rad) +
-                                " outside [-1, 1]");
+    throw std::invalid_argument("camera mount pitch_rad " + std::to_string(mount.pitch_rad) + " outside [-1, 1]");
   }
   if (!(mount.forward_offset_m >= -0.3 && mount.forward_offset_m <= 0.6)) {
-    throw std::invalid_argument("camera mount forward_offset_m " +
-                                std::to_string(mount.forward_offset_m) + " outside [-0.3, 0.6]");
+    throw std::invalid_argument("camera mount forward_offset_m " + std::to_string(mount.forward_offset_m) +
+                                " outside [-0.3, 0.6]");
   }
   mount_ = mount;
   mjModel* m = world_->mutable_model();
@@ -191,7 +187,7 @@ Eigen::Isometry3d T_base_camera_link(const CameraMount& mount) {
     T.linear() = (Eigen::AngleAxisd(mount.yaw_rad, Eigen::Vector3d::UnitZ()) *
                   Eigen::AngleAxisd(mount.pitch_rad, Eigen::Vector3d::UnitY()) *
                   Eigen::AngleAxisd(mount.roll_rad, Eigen::Vector3d::UnitX()))
-                      .toRotationMatrix();
+                     .toRotationMatrix();
   return T;
 }
 
@@ -227,14 +223,9 @@ std::string DiffDriveRobot::geom_containing(const Eigen::Vector3d& p_base, int o
       case mjGEOM_BOX:
         inside = std::abs(p.x()) <= size[0] && std::abs(p.y()) <= size[1] && std::abs(p.z()) <= size[2];
         break;
-      case mjGEOM_SPHERE:
-        inside = p.norm() <= size[0];
-        break;
-      case mjGEOM_CYLINDER:
-        inside = p.head<2>().norm() <= size[0] && std::abs(p.z()) <= size[1];
-        break;
-      default:
-        inside = p.norm() <= m->geom_rbound[g];
+      case mjGEOM_SPHERE: inside = p.norm() <= size[0]; break;
+      case mjGEOM_CYLINDER: inside = p.head<2>().norm() <= size[0] && std::abs(p.z()) <= size[1]; break;
+      default: inside = p.norm() <= m->geom_rbound[g];
     }
     if (inside) {
       const char* name = mj_id2name(m, mjOBJ_GEOM, g);
@@ -246,9 +237,7 @@ std::string DiffDriveRobot::geom_containing(const Eigen::Vector3d& p_base, int o
 
 Eigen::Isometry3d DiffDriveRobot::T_camera_link_optical() {
   Eigen::Matrix3d R;  // columns: optical x, y, z expressed in camera_link
-  R << 0, 0, 1,
-      -1, 0, 0,
-       0, -1, 0;
+  R << 0, 0, 1, -1, 0, 0, 0, -1, 0;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = R;
   return T;

@@ -40,13 +40,15 @@ std::string to_string(DriveMode mode) { return enum_name(mode, kDriveModeNames);
 
 KinematicDrive::KinematicDrive(PathFollowerConfig limits) : limits_(limits) {
   if (!(limits_.decel_mps2 > 0) || !(limits_.max_angular_speed_radps > 0) || !(limits_.angular_decel_radps2 > 0))
-    throw std::invalid_argument("kinematic drive: decel_mps2, max_angular_speed_radps and angular_decel_radps2 must be > 0");
+    throw std::invalid_argument(
+        "kinematic drive: decel_mps2, max_angular_speed_radps and angular_decel_radps2 must be > 0");
 }
 
 void KinematicDrive::add_turn(Pose2D& at, double heading_rad, std::vector<Segment>& out) const {
   const double turn = wrap_angle(heading_rad - at.yaw_rad);
   if (std::abs(turn) <= kSameHeading_rad) return;
-  out.push_back({at, turn, true, Ramp{std::abs(turn), limits_.max_angular_speed_radps, limits_.angular_decel_radps2}.duration()});
+  out.push_back(
+      {at, turn, true, Ramp{std::abs(turn), limits_.max_angular_speed_radps, limits_.angular_decel_radps2}.duration()});
   at.yaw_rad = heading_rad;
 }
 
@@ -86,7 +88,8 @@ KinematicDrive::State KinematicDrive::state_in(const Segment& s, double t_s) con
   State state;
   state.pose = s.from;
   if (s.turn) {
-    const auto [angle, rate] = Ramp{std::abs(s.length), limits_.max_angular_speed_radps, limits_.angular_decel_radps2}.at(t_s);
+    const auto [angle, rate] =
+        Ramp{std::abs(s.length), limits_.max_angular_speed_radps, limits_.angular_decel_radps2}.at(t_s);
     state.pose.yaw_rad = wrap_angle(s.from.yaw_rad + std::copysign(angle, s.length));
     state.twist.omega_radps = std::copysign(rate, s.length);
   } else {

@@ -16,21 +16,23 @@ MocapScript::MocapScript(const World& world, std::vector<MocapTrack> tracks) {
     for (std::size_t i = 0; i < track.keyframes.size(); ++i) {
       const auto& k = track.keyframes[i];
       if (!std::isfinite(k.time_s) || !k.position_W.allFinite() || (k.yaw_rad && !std::isfinite(*k.yaw_rad))) {
-        throw std::invalid_argument("mocap track '" + track.body + "' keyframe " + std::to_string(i) + " is not finite");
+        throw std::invalid_argument("mocap track '" + track.body + "' keyframe " + std::to_string(i) +
+                                    " is not finite");
       }
       if (k.yaw_rad.has_value() != has_yaw) {
         throw std::invalid_argument("mocap track '" + track.body + "': yaw_rad given on some keyframes only");
       }
       if (i > 0 && !(k.time_s > track.keyframes[i - 1].time_s)) {
-        throw std::invalid_argument("mocap track '" + track.body + "': keyframe time_s " +
-                                    std::to_string(k.time_s) + " not after the previous one");
+        throw std::invalid_argument("mocap track '" + track.body + "': keyframe time_s " + std::to_string(k.time_s) +
+                                    " not after the previous one");
       }
     }
     if (track.repeat_s) {
       const double span_s = track.keyframes.back().time_s - track.keyframes.front().time_s;
       if (!std::isfinite(*track.repeat_s) || !(*track.repeat_s > 0) || *track.repeat_s < span_s) {
         throw std::invalid_argument("mocap track '" + track.body + "': repeat_s " + std::to_string(*track.repeat_s) +
-                                    " must be finite, > 0 and at least the track's span " + std::to_string(span_s) + " s");
+                                    " must be finite, > 0 and at least the track's span " + std::to_string(span_s) +
+                                    " s");
       }
     }
     tracks_.push_back({mocap_id, std::move(track)});
@@ -44,8 +46,8 @@ void MocapScript::apply(const mjModel* /*model*/, mjData* data, double time_s) c
     if (track.repeat_s && t_s > k.front().time_s) {
       t_s = k.front().time_s + std::fmod(t_s - k.front().time_s, *track.repeat_s);
     }
-    const auto next = std::upper_bound(k.begin(), k.end(), t_s,
-                                       [](double t, const MocapKeyframe& f) { return t < f.time_s; });
+    const auto next =
+        std::upper_bound(k.begin(), k.end(), t_s, [](double t, const MocapKeyframe& f) { return t < f.time_s; });
     Eigen::Vector3d p;
     double yaw = 0.0;
     if (next == k.end() && track.repeat_s && t_s > k.back().time_s) {
@@ -54,7 +56,8 @@ void MocapScript::apply(const mjModel* /*model*/, mjData* data, double time_s) c
       const MocapKeyframe& b = k.front();
       const double t = (t_s - a.time_s) / (k.front().time_s + *track.repeat_s - a.time_s);
       p = a.position_W + t * (b.position_W - a.position_W);
-      if (a.yaw_rad) yaw = *a.yaw_rad + t * std::atan2(std::sin(*b.yaw_rad - *a.yaw_rad), std::cos(*b.yaw_rad - *a.yaw_rad));
+      if (a.yaw_rad)
+        yaw = *a.yaw_rad + t * std::atan2(std::sin(*b.yaw_rad - *a.yaw_rad), std::cos(*b.yaw_rad - *a.yaw_rad));
     } else if (next == k.begin() || next == k.end()) {
       const MocapKeyframe& f = next == k.begin() ? k.front() : k.back();
       p = f.position_W;

@@ -9,8 +9,8 @@ namespace stvl::sim {
 WheelOdometry::WheelOdometry(double wheel_radius_m, double track_width_m, OdometryConfig config)
     : config_(config), rng_(config.seed) {
   if (!(wheel_radius_m > 0) || !(track_width_m > 0)) {
-    throw std::invalid_argument("odometry: wheel radius " + std::to_string(wheel_radius_m) +
-                                " m and track width " + std::to_string(track_width_m) + " m must be > 0");
+    throw std::invalid_argument("odometry: wheel radius " + std::to_string(wheel_radius_m) + " m and track width " +
+                                std::to_string(track_width_m) + " m must be > 0");
   }
   if (!(config.linear_noise_std_mps >= 0) || !(config.angular_noise_std_radps >= 0)) {
     throw std::invalid_argument("odometry: noise std must be >= 0");

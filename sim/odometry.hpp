@@ -9,12 +9,12 @@
 namespace stvl::sim {
 
 struct OdometryConfig {
-  bool drift = false;  // false: the error terms below are ignored and odometry is exact kinematics
-  double left_wheel_radius_error = 0.004;   // relative error of the assumed radius, e.g. 0.004 = +0.4 %
+  bool drift = false;                      // false: the error terms below are ignored and odometry is exact kinematics
+  double left_wheel_radius_error = 0.004;  // relative error of the assumed radius, e.g. 0.004 = +0.4 %
   double right_wheel_radius_error = -0.004;
   double track_width_error = 0.01;
-  double linear_noise_std_mps = 0.02;       // white noise added to v at every update
-  double angular_noise_std_radps = 0.02;    // white noise added to omega at every update
+  double linear_noise_std_mps = 0.02;     // white noise added to v at every update
+  double angular_noise_std_radps = 0.02;  // white noise added to omega at every update
   std::uint64_t seed = 1;
 };
 
@@ -30,7 +30,7 @@ class WheelOdometry {
   double x_m() const { return x_m_; }
   double y_m() const { return y_m_; }
   double yaw_rad() const { return yaw_rad_; }
-  double v_mps() const { return v_mps_; }        // last body twist estimate
+  double v_mps() const { return v_mps_; }  // last body twist estimate
   double omega_radps() const { return omega_radps_; }
 
  private:

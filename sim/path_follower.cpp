@@ -15,8 +15,9 @@ double wrap_angle(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 PathFollower::PathFollower(PathFollowerConfig config) : config_(config) {
   if (!(config_.lookahead_m > 0) || !(config_.goal_tolerance_m > 0) || !(config_.decel_mps2 > 0) ||
       !(config_.max_angular_speed_radps > 0) || !(config_.angular_decel_radps2 > 0)) {
-    throw std::invalid_argument("path follower: lookahead_m, goal_tolerance_m, decel_mps2, "
-                                "max_angular_speed_radps and angular_decel_radps2 must be > 0");
+    throw std::invalid_argument(
+        "path follower: lookahead_m, goal_tolerance_m, decel_mps2, "
+        "max_angular_speed_radps and angular_decel_radps2 must be > 0");
   }
 }
 
@@ -27,7 +28,8 @@ void PathFollower::set_path(const Path& given) {
     const bool closed = w.size() >= 2 && w.front() == w.back();
     const std::size_t distinct = closed ? w.size() - 1 : w.size();
     if (distinct < 2) {
-      throw std::invalid_argument("a looping path needs at least 2 distinct waypoints, got " + std::to_string(distinct));
+      throw std::invalid_argument("a looping path needs at least 2 distinct waypoints, got " +
+                                  std::to_string(distinct));
     }
     if (!closed) w.push_back(w.front());
   }
@@ -35,16 +37,17 @@ void PathFollower::set_path(const Path& given) {
     throw std::invalid_argument("path needs at least 2 waypoints, got " + std::to_string(w.size()));
   }
   if (!(path.cruise_speed_mps > 0) || path.cruise_speed_mps > config_.max_cruise_speed_mps) {
-    throw std::invalid_argument("path cruise_speed_mps " + std::to_string(path.cruise_speed_mps) +
-                                " outside (0, " + std::to_string(config_.max_cruise_speed_mps) + "]");
+    throw std::invalid_argument("path cruise_speed_mps " + std::to_string(path.cruise_speed_mps) + " outside (0, " +
+                                std::to_string(config_.max_cruise_speed_mps) + "]");
   }
   std::vector<double> s_vertex{0.0};
   for (std::size_t i = 0; i < w.size(); ++i) {
     if (!w[i].allFinite()) throw std::invalid_argument("path waypoint " + std::to_string(i) + " is not finite");
     if (i == 0) continue;
     const double len = (w[i] - w[i - 1]).norm();
-    if (len < 1e-6) throw std::invalid_argument("path waypoints " + std::to_string(i - 1) + " and " +
-                                                std::to_string(i) + " coincide");
+    if (len < 1e-6)
+      throw std::invalid_argument("path waypoints " + std::to_string(i - 1) + " and " + std::to_string(i) +
+                                  " coincide");
     s_vertex.push_back(s_vertex.back() + len);
   }
   std::vector<double> s_corner;
@@ -100,8 +103,9 @@ double PathFollower::cross_track_error_m(const Eigen::Vector2d& p_W) const {
 
 Twist2D PathFollower::rotate_toward(double heading_rad, double yaw_rad) {
   const double err = wrap_angle(heading_rad - yaw_rad);
-  const double speed = std::min({config_.max_angular_speed_radps, std::sqrt(2.0 * config_.angular_decel_radps2 * std::abs(err)),
-                                 std::max(0.15, 3.0 * std::abs(err))});
+  const double speed =
+      std::min({config_.max_angular_speed_radps, std::sqrt(2.0 * config_.angular_decel_radps2 * std::abs(err)),
+                std::max(0.15, 3.0 * std::abs(err))});
   return Twist2D{0.0, std::copysign(speed, err)};
 }
 

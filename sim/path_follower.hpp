@@ -34,11 +34,11 @@ struct PathFollowerConfig {
   double lookahead_m = 0.4;
   double goal_tolerance_m = 0.03;
   double corner_angle_rad = 0.5;
-  double align_angle_rad = 0.8;        // rotate in place first when the target is further off
+  double align_angle_rad = 0.8;  // rotate in place first when the target is further off
   double heading_tolerance_rad = 0.03;
   double max_angular_speed_radps = 1.2;
-  double decel_mps2 = 0.5;             // keep below DiffDriveConfig::max_linear_accel_mps2
-  double angular_decel_radps2 = 1.5;   // keep below DiffDriveConfig::max_angular_accel_radps2
+  double decel_mps2 = 0.5;            // keep below DiffDriveConfig::max_linear_accel_mps2
+  double angular_decel_radps2 = 1.5;  // keep below DiffDriveConfig::max_angular_accel_radps2
   double min_speed_mps = 0.04;
   double max_cruise_speed_mps = 1.2;
 };

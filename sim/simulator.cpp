@@ -81,7 +81,8 @@ void Simulator::kinematic_step() {
   mjModel* m = world_.mutable_model();
   mjData* d = world_.data();
   mj_step2(m, d);  // the rest of the world moves on; the robot's own integration is overwritten below
-  const KinematicDrive::State state = kinematic_->has_path() ? kinematic_->at(d->time) : KinematicDrive::State{hold_, {}};
+  const KinematicDrive::State state =
+      kinematic_->has_path() ? kinematic_->at(d->time) : KinematicDrive::State{hold_, {}};
   robot_.place(state.pose, state.twist, dt);
   mocap_.apply(m, d, d->time);
   mj_step1(m, d);

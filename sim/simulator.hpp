@@ -76,7 +76,7 @@ class Simulator {
   WheelOdometry odometry_;
   MocapScript mocap_;
   std::optional<KinematicDrive> kinematic_;  // with DriveMode::kKinematic
-  Pose2D hold_;  // where a kinematic robot without a path stays
+  Pose2D hold_;                              // where a kinematic robot without a path stays
   int steps_per_control_ = 10;
   long step_count_ = 0;
 };

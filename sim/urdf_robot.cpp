@@ -15,21 +15,21 @@
 
 namespace stvl::sim {
 
+using robot_description::load_urdf;
 using robot_description::MjcfRobot;
 using robot_description::MjcfRobotOptions;
+using robot_description::robot_extent;
 using robot_description::RobotExtent;
+using robot_description::urdf_to_mjcf;
 using robot_description::UrdfJoint;
 using robot_description::UrdfJointType;
 using robot_description::UrdfLink;
 using robot_description::UrdfModel;
 using robot_description::UrdfShape;
-using robot_description::load_urdf;
-using robot_description::robot_extent;
-using robot_description::urdf_to_mjcf;
 
 namespace {
 
-constexpr double kWheelAxisCos = 0.906;    // a wheel's axis lies within 25 degrees of the base's y
+constexpr double kWheelAxisCos = 0.906;     // a wheel's axis lies within 25 degrees of the base's y
 constexpr double kWheelMinOffset_m = 0.01;  // and its origin off the centre line by more than this
 constexpr double kRestClearance_m = 0.002;  // the lowest point starts this far above the floor (robot.xml's)
 // The probe fails a robot that tilts more than this (the camera's view would swing; robot.xml's robot stays under
@@ -102,8 +102,9 @@ UrdfWheels find_wheels(const UrdfModel& urdf, const UrdfWheelsConfig& named) {
       for (const auto& h : all)
         if (h.joint->name == *names[s]) side[s] = &h;
       if (!side[s])
-        throw std::invalid_argument(urdf.file + ": robot.wheels." + side_name[s] + ": no continuous or revolute joint named '" +
-                                    *names[s] + "' (candidates: " + described(all) + ")");
+        throw std::invalid_argument(urdf.file + ": robot.wheels." + side_name[s] +
+                                    ": no continuous or revolute joint named '" + *names[s] +
+                                    "' (candidates: " + described(all) + ")");
     }
   } else {
     for (int s = 0; s < 2; ++s) {
@@ -114,8 +115,9 @@ UrdfWheels find_wheels(const UrdfModel& urdf, const UrdfWheelsConfig& named) {
           found.push_back(h);
       if (found.size() != 1)
         throw std::invalid_argument(
-            urdf.file + ": " + (found.empty() ? "no " + std::string(side_name[s]) + " wheel joint found"
-                                              : "several " + std::string(side_name[s]) + " wheel joints: " + described(found)) +
+            urdf.file + ": " +
+            (found.empty() ? "no " + std::string(side_name[s]) + " wheel joint found"
+                           : "several " + std::string(side_name[s]) + " wheel joints: " + described(found)) +
             ". A wheel is a continuous or revolute joint on the base whose axis lies along the base's y, on the " +
             side_name[s] + " (y " + (s == 0 ? "> 0" : "< 0") + "); the joints: " + described(all) +
             ". Name the pair to drive in robot.wheels: {left: JOINT, right: JOINT}");
@@ -132,8 +134,9 @@ UrdfWheels find_wheels(const UrdfModel& urdf, const UrdfWheelsConfig& named) {
   for (int s = 0; s < 2; ++s) {
     radius[s] = wheel_radius(urdf, *side[s], y[s]);
     if (!(radius[s] > 0) && !(named.radius_m > 0))
-      throw std::invalid_argument(urdf.file + ": wheel link '" + side[s]->joint->child + "' has no cylinder (along the " +
-                                  "wheel's axis) or sphere collision to take the radius from: give robot.wheels.radius_m");
+      throw std::invalid_argument(
+          urdf.file + ": wheel link '" + side[s]->joint->child + "' has no cylinder (along the " +
+          "wheel's axis) or sphere collision to take the radius from: give robot.wheels.radius_m");
   }
   w.radius_m = named.radius_m > 0 ? named.radius_m : 0.5 * (radius[0] + radius[1]);
   w.track_width_m = named.separation_m > 0 ? named.separation_m : std::abs(y[0] - y[1]);
@@ -185,18 +188,20 @@ Probe probe_physics(const UrdfRobot& robot) {
     tilt = std::max(tilt, sim.robot().tilt_rad());
     dz = std::max(dz, std::abs(p.z() - z0));
     off_path = std::max(off_path, sim.follower().cross_track_error_m(p.head<2>()));
-    if (!p.allFinite() || warnings > 0) failure = "the simulation went unstable at t = " + fixed(sim.time_s(), 2) + " s";
+    if (!p.allFinite() || warnings > 0)
+      failure = "the simulation went unstable at t = " + fixed(sim.time_s(), 2) + " s";
     else if (tilt > kProbeMaxTilt_rad)
       failure = "the robot tilted by " + fixed(tilt, 2) + " rad at t = " + fixed(sim.time_s(), 2) + " s (more than " +
                 fixed(kProbeMaxTilt_rad, 2) + " rad)";
-    else if (dz > kProbeMaxLift_m) failure = "the robot left the floor (" + fixed(dz) + " m at t = " + fixed(sim.time_s(), 2) + " s)";
+    else if (dz > kProbeMaxLift_m)
+      failure = "the robot left the floor (" + fixed(dz) + " m at t = " + fixed(sim.time_s(), 2) + " s)";
     else if (off_path > kProbeMaxOffPath_m) failure = "the robot strayed " + fixed(off_path, 2) + " m from the path";
   }
   mju_user_warning = previous;
   const Eigen::Vector3d end = sim.T_world_base().translation();
   if (failure.empty() && !sim.path_finished())
-    failure = "the robot did not finish the 1.5 m path in " + fixed(limit_s, 0) + " s (it ended at (" + fixed(end.x(), 2) +
-              ", " + fixed(end.y(), 2) + ") m, the goal is (1.00, 0.50))";
+    failure = "the robot did not finish the 1.5 m path in " + fixed(limit_s, 0) + " s (it ended at (" +
+              fixed(end.x(), 2) + ", " + fixed(end.y(), 2) + ") m, the goal is (1.00, 0.50))";
   if (!failure.empty()) return {false, "the physics probe failed: " + failure};
   return {true, "the physics probe drove a 1.5 m path with a right-angle turn in " + fixed(sim.time_s(), 1) +
                     " s, tilt at most " + fixed(tilt, 3) + " rad, at most " + fixed(off_path, 3) + " m off the path"};
@@ -206,7 +211,8 @@ Probe probe_physics(const UrdfRobot& robot) {
 bool includes_robot_xml(const tinyxml2::XMLElement* e) {
   for (; e; e = e->NextSiblingElement()) {
     const char* file = e->Attribute("file");
-    if (std::string(e->Name()) == "include" && file && std::filesystem::path(file).filename() == "robot.xml") return true;
+    if (std::string(e->Name()) == "include" && file && std::filesystem::path(file).filename() == "robot.xml")
+      return true;
     if (includes_robot_xml(e->FirstChildElement())) return true;
   }
   return false;
@@ -237,7 +243,8 @@ UrdfRobot build_urdf_robot(const UrdfRobotConfig& config) {
   const World measured = robot_alone(urdf_to_mjcf(robot.urdf, options).xml);
   std::vector<int> wheel_bodies;
   for (const auto& j : robot.urdf.joints)
-    if (j.name == robot.wheels.left_joint || j.name == robot.wheels.right_joint) wheel_bodies.push_back(measured.body_id(j.child));
+    if (j.name == robot.wheels.left_joint || j.name == robot.wheels.right_joint)
+      wheel_bodies.push_back(measured.body_id(j.child));
   const RobotExtent extent =
       robot_extent(measured.model(), measured.data(), measured.body_id(robot.urdf.root), wheel_bodies);
   robot.footprint_B = extent.footprint;
@@ -247,8 +254,10 @@ UrdfRobot build_urdf_robot(const UrdfRobotConfig& config) {
   robot.mass_kg = mjcf.mass_kg;
   robot.notices = robot.urdf.notices;
   if (!mjcf.held_joints.empty())
-    robot.notices.push_back("URDF " + config.urdf + ": joints held at their rest position (the bench moves only the wheels "
-                            "and continuous joints): " + joined(mjcf.held_joints));
+    robot.notices.push_back("URDF " + config.urdf +
+                            ": joints held at their rest position (the bench moves only the wheels "
+                            "and continuous joints): " +
+                            joined(mjcf.held_joints));
   // A stand-in inertial on the base or a drive wheel leaves nothing real for the wheel physics to push.
   std::vector<std::string> unusable;
   for (const auto& s : mjcf.stand_in_inertials) {
@@ -259,7 +268,8 @@ UrdfRobot build_urdf_robot(const UrdfRobotConfig& config) {
   robot.drive = config.drive;
   if (config.drive == DriveMode::kPhysics) {
     robot.drive_reason = "robot.drive: physics";
-    if (!mjcf.stand_in_inertials.empty()) robot.drive_reason += " (stand-in inertials of 1 g: " + joined(mjcf.stand_in_inertials) + ")";
+    if (!mjcf.stand_in_inertials.empty())
+      robot.drive_reason += " (stand-in inertials of 1 g: " + joined(mjcf.stand_in_inertials) + ")";
   } else if (config.drive == DriveMode::kKinematic) {
     robot.drive_reason = "robot.drive: kinematic";
   } else if (!unusable.empty()) {

@@ -15,17 +15,20 @@ constexpr int kErrorSize = 1024;
 std::string trimmed(const char* text) {
   std::string s(text);
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  for (char& c : s) if (c == '\n') c = ' ';
+  for (char& c : s)
+    if (c == '\n') c = ' ';
   return s;
 }
 
 // Compiles `name` from a virtual file system holding `files`; null with MuJoCo's message in `error` on failure.
 // mjVFS is about 2 MB: heap only.
-mjModel* load_with_vfs(const std::string& name, const std::vector<VirtualFile>& files, std::array<char, kErrorSize>& error) {
+mjModel* load_with_vfs(const std::string& name, const std::vector<VirtualFile>& files,
+                       std::array<char, kErrorSize>& error) {
   auto vfs = std::make_unique<mjVFS>();
   mj_defaultVFS(vfs.get());
   for (const auto& file : files) {
-    if (file.text.empty() || mj_makeEmptyFileVFS(vfs.get(), file.name.c_str(), static_cast<int>(file.text.size())) != 0) {
+    if (file.text.empty() ||
+        mj_makeEmptyFileVFS(vfs.get(), file.name.c_str(), static_cast<int>(file.text.size())) != 0) {
       mj_deleteVFS(vfs.get());
       throw std::runtime_error("cannot create virtual file '" + file.name + "' for world '" + name + "'");
     }
@@ -38,8 +41,8 @@ mjModel* load_with_vfs(const std::string& name, const std::vector<VirtualFile>& 
 
 }  // namespace
 
-World::World(mjModel* model, std::string source) : model_(model), data_(mj_makeData(model)),
-                                                    source_(std::move(source)) {
+World::World(mjModel* model, std::string source)
+    : model_(model), data_(mj_makeData(model)), source_(std::move(source)) {
   if (!data_) throw std::runtime_error("mj_makeData failed for world '" + source_ + "'");
   mj_forward(model_.get(), data_.get());
 }
@@ -81,10 +84,11 @@ Eigen::AlignedBox2d World::extent_xy() const {
     const Eigen::Vector2d centre(data_->geom_xpos[3 * g], data_->geom_xpos[3 * g + 1]);
     if (m->geom_type[g] == mjGEOM_PLANE) {
       const double hx = m->geom_size[3 * g], hy = m->geom_size[3 * g + 1];
-      if (hx <= 0 || hy <= 0) continue;  // infinite
+      if (hx <= 0 || hy <= 0) continue;            // infinite
       const double* R = data_->geom_xmat + 9 * g;  // row-major
       for (const double sx : {-hx, hx})
-        for (const double sy : {-hy, hy}) extent.extend(centre + Eigen::Vector2d(R[0] * sx + R[1] * sy, R[3] * sx + R[4] * sy));
+        for (const double sy : {-hy, hy})
+          extent.extend(centre + Eigen::Vector2d(R[0] * sx + R[1] * sy, R[3] * sx + R[4] * sy));
     } else {
       const double r = m->geom_rbound[g];
       extent.extend(centre - Eigen::Vector2d(r, r));
@@ -94,15 +98,16 @@ Eigen::AlignedBox2d World::extent_xy() const {
   return extent;
 }
 
-World World::from_string(const std::string& xml, const std::string& base_dir, const std::vector<VirtualFile>& replacements) {
+World World::from_string(const std::string& xml, const std::string& base_dir,
+                         const std::vector<VirtualFile>& replacements) {
   if (xml.empty()) throw std::invalid_argument("world XML string is empty");
   if (!base_dir.empty() && !std::filesystem::is_directory(base_dir)) {
     throw std::runtime_error("world base directory not found: '" + base_dir + "'");
   }
   // The string lives in MuJoCo's virtual file system under a name inside base_dir, so that
   // relative <include>s resolve against base_dir on disk.
-  const std::filesystem::path dir = base_dir.empty() ? std::filesystem::current_path()
-                                                      : std::filesystem::path(base_dir);
+  const std::filesystem::path dir =
+      base_dir.empty() ? std::filesystem::current_path() : std::filesystem::path(base_dir);
   const std::string name = (dir / "__stvl_inline_world__.xml").string();
   std::array<char, kErrorSize> error{};
   std::vector<VirtualFile> files{{"__stvl_inline_world__.xml", xml}};
@@ -123,8 +128,7 @@ void World::forward() { mj_forward(model_.get(), data_.get()); }
 int World::id_of(int type, const std::string& name, const char* what) const {
   const int id = mj_name2id(model_.get(), type, name.c_str());
   if (id < 0) {
-    throw std::invalid_argument(std::string("no ") + what + " named '" + name + "' in world '" +
-                                source_ + "'");
+    throw std::invalid_argument(std::string("no ") + what + " named '" + name + "' in world '" + source_ + "'");
   }
   return id;
 }
@@ -132,9 +136,7 @@ int World::id_of(int type, const std::string& name, const char* what) const {
 int World::body_id(const std::string& name) const { return id_of(mjOBJ_BODY, name, "body"); }
 int World::site_id(const std::string& name) const { return id_of(mjOBJ_SITE, name, "site"); }
 int World::joint_id(const std::string& name) const { return id_of(mjOBJ_JOINT, name, "joint"); }
-int World::actuator_id(const std::string& name) const {
-  return id_of(mjOBJ_ACTUATOR, name, "actuator");
-}
+int World::actuator_id(const std::string& name) const { return id_of(mjOBJ_ACTUATOR, name, "actuator"); }
 int World::geom_id(const std::string& name) const { return id_of(mjOBJ_GEOM, name, "geom"); }
 int World::camera_id(const std::string& name) const { return id_of(mjOBJ_CAMERA, name, "camera"); }
 

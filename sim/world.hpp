@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <mujoco/mujoco.h>
+#include <Eigen/Geometry>
 
 namespace stvl::sim {
 
@@ -74,8 +74,12 @@ class World {
   void show_robot_geoms_to_cameras(const std::vector<std::string>& geom_names);
 
  private:
-  struct ModelDeleter { void operator()(mjModel* m) const { mj_deleteModel(m); } };
-  struct DataDeleter { void operator()(mjData* d) const { mj_deleteData(d); } };
+  struct ModelDeleter {
+    void operator()(mjModel* m) const { mj_deleteModel(m); }
+  };
+  struct DataDeleter {
+    void operator()(mjData* d) const { mj_deleteData(d); }
+  };
   World(mjModel* model, std::string source);
   int id_of(int type, const std::string& name, const char* what) const;
 

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "analysis/compare.hpp"
 #include "common/atomic_file.hpp"
 #include "tools/command.hpp"
-#include "analysis/compare.hpp"
 
 namespace stvl::tools {
 using namespace stvl::analysis;
@@ -25,7 +25,8 @@ int compare(const CompareOptions& o) {
   if (is_replay(a) != is_replay(b))
     throw std::invalid_argument((is_replay(a) ? o.a : o.b) + " is a replay of a recording and " +
                                 (is_replay(a) ? o.b : o.a) + " a simulated run: compare two runs or two replays");
-  std::vector<CompareRule> rules = o.no_default_rules ? std::vector<CompareRule>{} : default_compare_rules(!is_replay(a));
+  std::vector<CompareRule> rules =
+      o.no_default_rules ? std::vector<CompareRule>{} : default_compare_rules(!is_replay(a));
   for (const auto& text : o.fail_on) rules.push_back(parse_compare_rule(text));
   const Comparison c = compare_metrics(a, b, rules, o.a, o.b);
   const std::string markdown = comparison_markdown(c);

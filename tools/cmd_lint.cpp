@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <memory>
 
-#include "tools/command.hpp"
 #include "config/ros_lint.hpp"
 #include "config/ros_params_detail.hpp"
+#include "tools/command.hpp"
 
 namespace stvl::tools {
 using namespace stvl::config;
@@ -39,8 +39,10 @@ int lint(const LintOptions& o) {
 
 const CommandRegistration kLint("lint", [](CLI::App& app) {
   auto o = std::make_shared<LintOptions>();
-  auto* cmd = app.add_subcommand("lint", "Report what STVL does with an STVL layer's ROS parameters that users rarely mean");
-  cmd->add_option("params", o->params, "ROS parameter file (nav2 params, move_base costmap, or a bare layer)")->required();
+  auto* cmd =
+      app.add_subcommand("lint", "Report what STVL does with an STVL layer's ROS parameters that users rarely mean");
+  cmd->add_option("params", o->params, "ROS parameter file (nav2 params, move_base costmap, or a bare layer)")
+      ->required();
   cmd->add_option("--layer", o->layer, "Layer name (default: the only STVL layer)");
   cmd->add_option("--costmap", o->costmap, "Costmap name, e.g. local_costmap (default: the only one with the layer)");
   return [o] { return lint(*o); };

@@ -1,8 +1,8 @@
 // stvl-bench noise-stats --real RECORDING [--out FILE.json] [--figures DIR]: a real depth camera (two frames of a
 // static camera) against the simulated D435 of a comparable scene (a wall corner with an object in front, at the
 // real frames' depths, rendered with the real frames' intrinsics), before (the default noise model) and after (its
-// stereo occlusion on and 95 % of the disparity noise correlated): invalid pixels, edge bands, holes at discontinuities, plane-fit RMS and temporal
-// sigma against Intel's formula.
+// stereo occlusion on and 95 % of the disparity noise correlated): invalid pixels, edge bands, holes at
+// discontinuities, plane-fit RMS and temporal sigma against Intel's formula.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,12 +11,12 @@
 
 #include <mujoco/mujoco.h>
 
+#include "analysis/noise_stats.hpp"
 #include "common/atomic_file.hpp"
 #include "recording/recording.hpp"
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
 #include "tools/command.hpp"
-#include "analysis/noise_stats.hpp"
 
 #include <unistd.h>
 
@@ -51,7 +51,8 @@ struct Scene {
   mjModel* model = nullptr;
   mjData* data = nullptr;
   Scene() {
-    const auto path = std::filesystem::temp_directory_path() / ("stvl_noise_stats_" + std::to_string(::getpid()) + ".xml");
+    const auto path =
+        std::filesystem::temp_directory_path() / ("stvl_noise_stats_" + std::to_string(::getpid()) + ".xml");
     std::ofstream(path) << kCornerScene;
     char error[1000] = "";
     model = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
@@ -126,7 +127,7 @@ struct SimulatedFrames {
 
 SimulatedFrames simulate_frames(const sensors::DepthImage& clean, const sensors::CameraIntrinsics& sim_k,
                                 std::uint64_t seed) {
-  sensors::DepthNoiseConfig before_config;  // the default model
+  sensors::DepthNoiseConfig before_config;                 // the default model
   sensors::DepthNoiseConfig after_config = before_config;  // the switches the real D435 calls for
   after_config.stereo_occlusion = true;
   after_config.correlated_fraction = 0.95;  // docs/fidelity.md: measured on the realdata D435 bag
@@ -148,8 +149,13 @@ void write_noise_stats_json(const NoiseStatsCommandOptions& o, const std::vector
                       {"simulated_before", to_json(stats[1], sim_k.fx, options)},
                       {"simulated_after", to_json(stats[2], sim_k.fx, options)},
                       {"recording", {{"path", o.real}, {"format", info.format}, {"frames", info.frame_count}}},
-                      {"intrinsics", {{"width", real_k.width}, {"height", real_k.height}, {"fx", real_k.fx},
-                                      {"fy", real_k.fy}, {"cx", real_k.cx}, {"cy", real_k.cy}}},
+                      {"intrinsics",
+                       {{"width", real_k.width},
+                        {"height", real_k.height},
+                        {"fx", real_k.fx},
+                        {"fy", real_k.fy},
+                        {"cx", real_k.cx},
+                        {"cy", real_k.cy}}},
                       {"formula", {{"baseline_m", options.baseline_m}, {"subpixel", options.subpixel}}},
                       {"seed", o.seed}};
   write_file_atomically(o.out, j.dump(2) + "\n");
@@ -168,8 +174,10 @@ void write_noise_stats_figures(const std::string& figures, const RealFrames& rea
     sensors::write_depth_png_mm(sim.before[k], (dir / ("simulated_before_mm_" + n + ".png")).string());
     sensors::write_depth_png_mm(sim.after[k], (dir / ("simulated_after_mm_" + n + ".png")).string());
   }
-  std::printf("wrote real.png, simulated_before.png, simulated_after.png (colorized) and *_mm_0.png, *_mm_1.png "
-              "(16-bit mm) in %s\n", figures.c_str());
+  std::printf(
+      "wrote real.png, simulated_before.png, simulated_after.png (colorized) and *_mm_0.png, *_mm_1.png "
+      "(16-bit mm) in %s\n",
+      figures.c_str());
 }
 
 int noise_stats(const NoiseStatsCommandOptions& o) {
@@ -190,7 +198,8 @@ int noise_stats(const NoiseStatsCommandOptions& o) {
   std::printf("real: %s (%s, %zu frames, %dx%d, fx %.2f, cx %.2f, cy %.2f); simulated: the corner scene, seed %llu\n\n",
               o.real.c_str(), info.format.c_str(), info.frame_count, real_k.width, real_k.height, real_k.fx, real_k.cx,
               real_k.cy, static_cast<unsigned long long>(o.seed));
-  std::printf("%s", noise_stats_table({"real", "simulated before", "simulated after"}, stats, real_k.fx, options).c_str());
+  std::printf("%s",
+              noise_stats_table({"real", "simulated before", "simulated after"}, stats, real_k.fx, options).c_str());
 
   if (!o.out.empty()) write_noise_stats_json(o, stats, info, sim_k, options);
   if (!o.figures.empty()) write_noise_stats_figures(o.figures, real, sim);

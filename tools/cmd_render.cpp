@@ -4,12 +4,12 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "common/atomic_file.hpp"
+#include "config/scenario.hpp"
 #include "sensors/depth_noise.hpp"
 #include "sensors/depth_renderer.hpp"
 #include "sim/simulator.hpp"
-#include "common/atomic_file.hpp"
 #include "tools/command.hpp"
-#include "config/scenario.hpp"
 
 namespace stvl::tools {
 using namespace stvl::config;
@@ -31,7 +31,8 @@ struct RenderOptions {
 int render(const RenderOptions& o) {
   if (o.world.empty() == o.scenario.empty()) throw std::invalid_argument("give exactly one of --world and --scenario");
   if (o.frames < 1 || o.frames > 100000) throw std::invalid_argument("--frames must be in 1..100000");
-  if (o.noise != "on" && o.noise != "off") throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
+  if (o.noise != "on" && o.noise != "off")
+    throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
   Scenario s;
   if (!o.scenario.empty()) {
     s = load_scenario(o.scenario);

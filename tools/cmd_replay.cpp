@@ -8,13 +8,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim/diff_drive.hpp"
-#include "tools/command.hpp"
-#include "report/report.hpp"
-#include "run/replay.hpp"
 #include "config/ros_binding.hpp"
 #include "config/ros_params.hpp"
 #include "config/scenario.hpp"
+#include "report/report.hpp"
+#include "run/replay.hpp"
+#include "sim/diff_drive.hpp"
+#include "tools/command.hpp"
 
 namespace stvl::tools {
 using namespace stvl::config;
@@ -43,16 +43,20 @@ Eigen::Isometry3d parse_pose(const std::string& text) {
       v.push_back(std::stod(item, &used));
       if (used != item.size()) throw std::invalid_argument(item);
     } catch (const std::exception&) {
-      throw std::invalid_argument("--camera-pose: '" + item + "' is not a number (expected x,y,z,roll,pitch,yaw in m and rad)");
+      throw std::invalid_argument("--camera-pose: '" + item +
+                                  "' is not a number (expected x,y,z,roll,pitch,yaw in m and rad)");
     }
   }
-  if (v.size() != 6) throw std::invalid_argument("--camera-pose: expected 6 numbers x,y,z,roll,pitch,yaw, got " + std::to_string(v.size()));
+  if (v.size() != 6)
+    throw std::invalid_argument("--camera-pose: expected 6 numbers x,y,z,roll,pitch,yaw, got " +
+                                std::to_string(v.size()));
   for (double x : v)
     if (!std::isfinite(x)) throw std::invalid_argument("--camera-pose: values must be finite");
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
   T.linear() = (Eigen::AngleAxisd(v[5], Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(v[4], Eigen::Vector3d::UnitY()) *
-                Eigen::AngleAxisd(v[3], Eigen::Vector3d::UnitX())).toRotationMatrix();
+                Eigen::AngleAxisd(v[3], Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
   return T;
 }
 
@@ -74,13 +78,15 @@ std::string camera_name_of(const recording::RecordingInfo& info) {
 ReplaySettings replay_settings(const ReplayCommandOptions& o, const Scenario& scenario) {
   ReplaySettings settings;
   auto& r = settings.recording;
-  r.depth_topic = o.depth_topic, r.info_topic = o.info_topic, r.odom_topic = o.odom_topic, r.fixed_frame = o.fixed_frame;
+  r.depth_topic = o.depth_topic, r.info_topic = o.info_topic, r.odom_topic = o.odom_topic,
+  r.fixed_frame = o.fixed_frame;
   r.rate_hz = o.rate_hz;
   const auto& camera = scenario.camera();
   r.min_range_m = camera.intrinsics.min_range_m, r.max_range_m = camera.intrinsics.max_range_m;
   const Eigen::Isometry3d T_link_optical = sim::DiffDriveRobot::T_camera_link_optical();
   if (o.camera_pose.empty()) {
-    r.T_base_camera = sim::T_base_camera_link(camera.mount) * T_link_optical;  // the scenario's mount, base at the origin
+    r.T_base_camera =
+        sim::T_base_camera_link(camera.mount) * T_link_optical;  // the scenario's mount, base at the origin
   } else {
     r.T_fixed_base = Eigen::Isometry3d::Identity();
     r.T_base_camera = parse_pose(o.camera_pose) * T_link_optical;
@@ -147,7 +153,8 @@ int replay(const ReplayCommandOptions& o) {
   const RunOptions options = replay_run_options(o);
   const ReplayResult result = replay_recording(*recording, settings, options);
   if (result.interrupted) {
-    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written\n", caught_signal(), result.frames);
+    std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written\n", caught_signal(),
+                 result.frames);
     return 128 + caught_signal();
   }
   write_replay_report(result, options.out_dir);
@@ -157,10 +164,16 @@ int replay(const ReplayCommandOptions& o) {
 
 const CommandRegistration kReplay("replay", [](CLI::App& app) {
   auto o = std::make_shared<ReplayCommandOptions>();
-  auto* cmd = app.add_subcommand("replay", "Replay recorded depth (a ROS 1 bag, a rosbag2 folder / .mcap / .db3, or a folder of 16-bit PNGs) through the filter and map");
-  cmd->add_option("recording", o->recording, "A ROS 1 bag, a rosbag2 folder, .mcap or .db3, or a folder of 16-bit depth PNGs")->required();
+  auto* cmd = app.add_subcommand("replay",
+                                 "Replay recorded depth (a ROS 1 bag, a rosbag2 folder / .mcap / .db3, or a folder of "
+                                 "16-bit PNGs) through the filter and map");
+  cmd->add_option("recording", o->recording,
+                  "A ROS 1 bag, a rosbag2 folder, .mcap or .db3, or a folder of 16-bit depth PNGs")
+      ->required();
   cmd->add_option("--out", o->out_dir, "Output directory (default: out/replay-<recording name>)");
-  cmd->add_option("--scenario", o->scenario, "Scenario whose first camera's sources, filter and map settings to use (default: the default corridor's)");
+  cmd->add_option(
+      "--scenario", o->scenario,
+      "Scenario whose first camera's sources, filter and map settings to use (default: the default corridor's)");
   cmd->add_option("--set", o->sets, "Set a scenario key before it is read, KEY=VALUE (repeatable)")
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
@@ -174,13 +187,16 @@ const CommandRegistration kReplay("replay", [](CLI::App& app) {
   cmd->add_option("--info-topic", o->info_topic, "Bag: the camera_info topic (default: beside the depth topic)");
   cmd->add_option("--odom-topic", o->odom_topic, "Bag: take the base's poses from this nav_msgs/Odometry topic");
   cmd->add_option("--fixed-frame", o->fixed_frame, "Bag: the tf frame poses are given in (default: the tree's root)");
-  cmd->add_option("--camera-pose", o->camera_pose,
-                  "Without poses in the recording: camera_link (x forward, z up) in the fixed frame, x,y,z,roll,pitch,yaw "
-                  "(m, rad; default: the scenario's camera mount on a base at the origin)");
-  cmd->add_option("--camera-name", o->camera_name, "The camera's name for --params' topics and the bag (default: from the depth topic)");
+  cmd->add_option(
+      "--camera-pose", o->camera_pose,
+      "Without poses in the recording: camera_link (x forward, z up) in the fixed frame, x,y,z,roll,pitch,yaw "
+      "(m, rad; default: the scenario's camera mount on a base at the origin)");
+  cmd->add_option("--camera-name", o->camera_name,
+                  "The camera's name for --params' topics and the bag (default: from the depth topic)");
   cmd->add_option("--rate", o->rate_hz, "PNG folder without timestamps: frames per second")->check(CLI::PositiveNumber);
   cmd->add_option("--max-frames", o->max_frames, "Replay at most this many frames (0: all)");
-  cmd->add_option("--bag", o->bag, "Also write the replay as a ROS 1 bag or (FILE.mcap) a rosbag2 folder: depth, clouds, map, costmap");
+  cmd->add_option("--bag", o->bag,
+                  "Also write the replay as a ROS 1 bag or (FILE.mcap) a rosbag2 folder: depth, clouds, map, costmap");
   add_bag_options(*cmd, o->bag_format, o->bag_compression, o->bag_topics);
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
   return [o] { return replay(*o); };

@@ -4,13 +4,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "tools/command.hpp"
 #include "common/staged_directory.hpp"
 #include "config/ros_binding.hpp"
 #include "recording/bag_writer.hpp"
 #include "report/report.hpp"
 #include "run/runner.hpp"
 #include "sim/urdf_robot.hpp"
+#include "tools/command.hpp"
 
 namespace stvl::tools {
 using namespace stvl::config;
@@ -50,8 +50,8 @@ void print_urdf_robot(const Scenario& scenario) {
   for (const auto& notice : robot->notices) std::printf("notice: %s\n", notice.c_str());
   std::printf("robot: %s from %s (base %s, %.2f kg; wheels %s: %s and %s, radius %.3f m, track %.3f m)\n",
               robot->urdf.name.c_str(), robot->config.urdf.c_str(), robot->urdf.root.c_str(), robot->mass_kg,
-              robot->wheels.named ? "named" : "found", robot->wheels.left_joint.c_str(), robot->wheels.right_joint.c_str(),
-              robot->wheels.radius_m, robot->wheels.track_width_m);
+              robot->wheels.named ? "named" : "found", robot->wheels.left_joint.c_str(),
+              robot->wheels.right_joint.c_str(), robot->wheels.radius_m, robot->wheels.track_width_m);
   std::printf("drive: %s (%s)\n", sim::to_string(robot->drive).c_str(), robot->drive_reason.c_str());
   std::printf("footprint: %s\n", scenario.footprint_source.empty() ? "none" : scenario.footprint_source.c_str());
 }
@@ -71,16 +71,18 @@ void print_lint_findings(const Scenario& scenario) {
 int abandon_interrupted_run(const RunCommandOptions& o, const RunOptions& options, const RunResult& result,
                             StagedDirectory& staged) {
   const std::string incomplete = staged.final_path().string() + ".incomplete";
-  staged.abandon("interrupted by signal " + std::to_string(caught_signal()) + " after " + std::to_string(result.frames) +
-                 " frames");
+  staged.abandon("interrupted by signal " + std::to_string(caught_signal()) + " after " +
+                 std::to_string(result.frames) + " frames");
   std::string bag = o.bag;
   if (!bag.empty() && options.bag_path != o.bag)  // it moved with the partial outputs
     bag = (incomplete / std::filesystem::path(options.bag_path).lexically_relative(staged.path())).string();
   const bool ros2 = !bag.empty() && recording::parse_bag_format(o.bag_format, o.bag) == recording::BagFormat::kRos2;
   const std::string active = bag.empty() ? "" : (ros2 ? recording::ros2_bag_folder(bag) : bag) + ".active";
-  std::fprintf(stderr, "stvl-bench: interrupted by signal %d after %zu frames; no result written (%s left as it was, "
-               "the partial output in %s)%s\n", caught_signal(), result.frames, staged.final_path().c_str(),
-               incomplete.c_str(), active.empty() ? "" : (", the bag stays as " + active).c_str());
+  std::fprintf(stderr,
+               "stvl-bench: interrupted by signal %d after %zu frames; no result written (%s left as it was, "
+               "the partial output in %s)%s\n",
+               caught_signal(), result.frames, staged.final_path().c_str(), incomplete.c_str(),
+               active.empty() ? "" : (", the bag stays as " + active).c_str());
   return 128 + caught_signal();
 }
 
@@ -101,7 +103,8 @@ int run(const RunCommandOptions& o) {
   Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario, o.sets);
   ScenarioOverrides overrides = o.overrides;
   if (!o.noise.empty()) {
-    if (o.noise != "on" && o.noise != "off") throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
+    if (o.noise != "on" && o.noise != "off")
+      throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
     overrides.noise = o.noise == "on";
   }
   print_urdf_robot(scenario);
@@ -142,7 +145,9 @@ const CommandRegistration kRun("run", [](CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Run a scenario (the default office corridor when none is given)");
   cmd->add_option("scenario", o->scenario, "Scenario YAML file (default: scenarios/office_corridor.yaml)");
   cmd->add_option("--out", o->out_dir, "Output directory (default: out/<scenario name>)");
-  cmd->add_option("--bag", o->bag, "Also write the run as a ROS 1 bag (FILE.bag) or a rosbag2 folder with one MCAP file (FILE.mcap -> folder FILE)");
+  cmd->add_option(
+      "--bag", o->bag,
+      "Also write the run as a ROS 1 bag (FILE.bag) or a rosbag2 folder with one MCAP file (FILE.mcap -> folder FILE)");
   add_bag_options(*cmd, o->bag_format, o->bag_compression, o->bag_topics);
   cmd->add_option("--set", o->sets,
                   "Set a scenario key before it is read, KEY=VALUE (dotted keys, list items as [i]; repeatable), e.g. "
@@ -158,8 +163,9 @@ const CommandRegistration kRun("run", [](CLI::App& app) {
   cmd->add_option("--duration", o->overrides.duration_s, "Override the duration (s)");
   cmd->add_option("--gl", o->overrides.gl_backend, "Override the GL backend: auto | egl | osmesa");
   cmd->add_option("--noise", o->noise, "Override the depth noise: on | off");
-  cmd->add_flag("--require-path", o->require_path,
-               "Fail path_completed when --duration cuts the run short before the path's end (default: not evaluated)");
+  cmd->add_flag(
+      "--require-path", o->require_path,
+      "Fail path_completed when --duration cuts the run short before the path's end (default: not evaluated)");
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
   cmd->add_flag("--profile", o->profile, "Print where the time went: per stage and per evaluation phase");
   return [o] { return run(*o); };

@@ -1,17 +1,17 @@
-// stvl-bench sweep SCENARIO|--worlds SPEC --set KEY=V1,V2 [--option NAME=V1,V2] [--seeds 1..5] [--jobs N | --emit ENGINE]:
-// the grid of a scenario's variants, run here or written out for GNU parallel, CTest or Slurm;
-// stvl-bench sweep --collect DIR: every point's metrics.json in one table (CSV, JSON, HTML with charts).
+// stvl-bench sweep SCENARIO|--worlds SPEC --set KEY=V1,V2 [--option NAME=V1,V2] [--seeds 1..5] [--jobs N | --emit
+// ENGINE]: the grid of a scenario's variants, run here or written out for GNU parallel, CTest or Slurm; stvl-bench
+// sweep --collect DIR: every point's metrics.json in one table (CSV, JSON, HTML with charts).
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "tools/command.hpp"
-#include "config/scenario.hpp"
 #include "analysis/sweep.hpp"
 #include "analysis/sweep_page.hpp"
 #include "common/atomic_file.hpp"
+#include "config/scenario.hpp"
+#include "tools/command.hpp"
 
 namespace stvl::tools {
 using namespace stvl::config;
@@ -66,7 +66,8 @@ void validate_points(const std::string& sweep_scenario, const std::vector<SweepP
       if (key == "--memory") overrides.memory = value;
       if (key == "--gl") overrides.gl_backend = value;
       if (key == "--noise") {
-        if (value != "on" && value != "off") throw std::invalid_argument("--option noise=" + value + ": expected on or off");
+        if (value != "on" && value != "off")
+          throw std::invalid_argument("--option noise=" + value + ": expected on or off");
         overrides.noise = value == "on";
       }
     }
@@ -108,7 +109,8 @@ int sweep(const SweepOptions& o) {
       sweep_grid(axes, o.seeds.empty() ? std::vector<std::uint64_t>{} : parse_seeds(o.seeds), 10000, worlds);
   validate_points(scenario, points);
   if (!o.emit.empty()) {
-    for (const auto& path : emit_sweep(o.emit, binary, scenario, out, points)) std::printf("sweep: wrote %s\n", path.c_str());
+    for (const auto& path : emit_sweep(o.emit, binary, scenario, out, points))
+      std::printf("sweep: wrote %s\n", path.c_str());
     std::printf("sweep: %zu points; then stvl-bench sweep --collect %s\n", points.size(), out.c_str());
     return kExitOk;
   }
@@ -121,8 +123,9 @@ int sweep(const SweepOptions& o) {
 
 const CommandRegistration kSweep("sweep", [](CLI::App& app) {
   auto o = std::make_shared<SweepOptions>();
-  auto* cmd = app.add_subcommand("sweep", "Run a scenario over a grid of settings and seeds, or write the grid for "
-                                          "GNU parallel, CTest or Slurm; --collect merges the results");
+  auto* cmd = app.add_subcommand("sweep",
+                                 "Run a scenario over a grid of settings and seeds, or write the grid for "
+                                 "GNU parallel, CTest or Slurm; --collect merges the results");
   cmd->add_option("scenario", o->scenario, "Scenario YAML file");
   cmd->add_option("--set", o->sets, "An axis: a scenario key and its values, KEY=V1,V2,... (repeatable)")
       ->allow_extra_args(false)
@@ -143,7 +146,8 @@ const CommandRegistration kSweep("sweep", [](CLI::App& app) {
   cmd->add_option("--emit", o->emit, "Write the grid for an engine instead of running it: parallel | ctest | slurm")
       ->check(CLI::IsMember({"parallel", "ctest", "slurm"}));
   cmd->add_option("--collect", o->collect, "Merge the points' metrics.json of a sweep folder into one table");
-  cmd->add_option("--junit", o->junit, "Also write JUnit XML, one testcase per point, to this file (with --jobs or --collect)");
+  cmd->add_option("--junit", o->junit,
+                  "Also write JUnit XML, one testcase per point, to this file (with --jobs or --collect)");
   return [o] { return sweep(*o); };
 });
 

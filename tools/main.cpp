@@ -32,7 +32,8 @@ int caught_signal() { return g_signal.load(); }
 void add_bag_options(CLI::App& cmd, std::string& format, std::string& compression, std::string& topics) {
   cmd.add_option("--bag-format", format, "ros1 | ros2 (default: ros2 for a name ending in .mcap, ros1 otherwise)")
       ->check(CLI::IsMember({"ros1", "ros2"}));
-  cmd.add_option("--bag-compression", compression, "ROS 1: none (default) | bz2 | lz4; ROS 2: zstd (default) | lz4 | none")
+  cmd.add_option("--bag-compression", compression,
+                 "ROS 1: none (default) | bz2 | lz4; ROS 2: zstd (default) | lz4 | none")
       ->check(CLI::IsMember({"none", "bz2", "lz4", "zstd"}));
   cmd.add_option("--bag-topics", topics,
                  "Topics in the bag: all | default | a comma-separated list of topics and globs ('*'); default: all "

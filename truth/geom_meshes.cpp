@@ -114,7 +114,8 @@ std::shared_ptr<const TriangleMesh> rectangle_mesh(double hx, double hy, const s
   key.add(&hy, sizeof hy);
   return cached_mesh(key.h, [&] {
     std::vector<Eigen::Vector3d> v = {{-hx, -hy, 0}, {hx, -hy, 0}, {hx, hy, 0}, {-hx, hy, 0}};
-    return std::make_shared<const TriangleMesh>(std::move(v), std::vector<TriangleMesh::Face>{{0, 1, 2}, {0, 2, 3}}, label);
+    return std::make_shared<const TriangleMesh>(std::move(v), std::vector<TriangleMesh::Face>{{0, 1, 2}, {0, 2, 3}},
+                                                label);
   });
 }
 

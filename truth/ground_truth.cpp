@@ -81,7 +81,6 @@ void check_count(const IndexRange& r, const char* what) {
   }
 }
 
-
 std::string name_of(const mjModel* m, int type, int id) {
   const char* name = mj_id2name(m, type, id);
   return name && *name ? name : "";
@@ -92,7 +91,8 @@ std::string geom_label(const sim::World& world, int g) {
   const std::string name = name_of(m, mjOBJ_GEOM, g);
   std::string label = name.empty() ? "geom " + std::to_string(g) : "geom '" + name + "'";
   label += " (";
-  if (m->geom_type[g] == mjGEOM_MESH && m->geom_dataid[g] >= 0) label += "mesh '" + name_of(m, mjOBJ_MESH, m->geom_dataid[g]) + "', ";
+  if (m->geom_type[g] == mjGEOM_MESH && m->geom_dataid[g] >= 0)
+    label += "mesh '" + name_of(m, mjOBJ_MESH, m->geom_dataid[g]) + "', ";
   if (m->geom_type[g] == mjGEOM_HFIELD && m->geom_dataid[g] >= 0)
     label += "height field '" + name_of(m, mjOBJ_HFIELD, m->geom_dataid[g]) + "', ";
   return label + "body '" + world.body_name(m->geom_bodyid[g]) + "')";
@@ -128,22 +128,14 @@ Eigen::AlignedBox3d ObstacleGeom::aabb_W() const {
   const Eigen::Matrix3d R = T_world_geom.linear();
   Eigen::Vector3d half = Eigen::Vector3d::Zero();
   switch (shape) {
-    case ShapeType::sphere:
-      half.setConstant(size_m.x());
-      break;
-    case ShapeType::capsule:
-      half = R.col(2).cwiseAbs() * size_m.y() + Eigen::Vector3d::Constant(size_m.x());
-      break;
-    case ShapeType::cylinder:
-      half = R.cwiseAbs() * Eigen::Vector3d(size_m.x(), size_m.x(), size_m.y());
-      break;
+    case ShapeType::sphere: half.setConstant(size_m.x()); break;
+    case ShapeType::capsule: half = R.col(2).cwiseAbs() * size_m.y() + Eigen::Vector3d::Constant(size_m.x()); break;
+    case ShapeType::cylinder: half = R.cwiseAbs() * Eigen::Vector3d(size_m.x(), size_m.x(), size_m.y()); break;
     case ShapeType::ellipsoid:
       for (int i = 0; i < 3; ++i) half[i] = R.row(i).cwiseProduct(size_m.transpose()).norm();
       break;
-    case ShapeType::box:
-      half = R.cwiseAbs() * size_m;
-      break;
-    case ShapeType::mesh: {  // tight: MuJoCo turns meshes to their principal axes, so the box of the geom
+    case ShapeType::box: half = R.cwiseAbs() * size_m; break;
+    case ShapeType::mesh: {   // tight: MuJoCo turns meshes to their principal axes, so the box of the geom
       Eigen::AlignedBox3d b;  // frame's box would be loose
       for (const auto& v : mesh->vertices()) b.extend(T_world_geom * v);
       return b;
@@ -155,18 +147,15 @@ Eigen::AlignedBox3d ObstacleGeom::aabb_W() const {
 double ObstacleGeom::signed_distance_m(const Eigen::Vector3d& p_W) const {
   const Eigen::Vector3d p = T_world_geom.inverse() * p_W;
   switch (shape) {
-    case ShapeType::box:
-      return box_sd(p, size_m);
-    case ShapeType::sphere:
-      return p.norm() - size_m.x();
+    case ShapeType::box: return box_sd(p, size_m);
+    case ShapeType::sphere: return p.norm() - size_m.x();
     case ShapeType::capsule:
       return (p - Eigen::Vector3d(0, 0, std::clamp(p.z(), -size_m.y(), size_m.y()))).norm() - size_m.x();
     case ShapeType::cylinder: {
       const Eigen::Vector2d d(p.head<2>().norm() - size_m.x(), std::abs(p.z()) - size_m.y());
       return d.cwiseMax(0.0).norm() + std::min(d.maxCoeff(), 0.0);
     }
-    case ShapeType::ellipsoid:
-      return size_m.minCoeff() * (p.cwiseQuotient(size_m).norm() - 1.0);
+    case ShapeType::ellipsoid: return size_m.minCoeff() * (p.cwiseQuotient(size_m).norm() - 1.0);
     case ShapeType::mesh: {
       const double d = mesh->distance_m(p);
       return mesh->inside(p) ? -d : d;
@@ -204,7 +193,8 @@ bool ObstacleGeom::contains_box(const Eigen::AlignedBox3d& box_W) const {
     return mesh->closed() && !mesh->meets_box(T_world_geom, box) && mesh->inside(T_world_geom.inverse() * box.center());
   }
   bool inside = true;
-  for_each_corner(padded(box_W, kPad_m), [&](const Eigen::Vector3d& p) { inside = inside && signed_distance_m(p) <= 0.0; });
+  for_each_corner(padded(box_W, kPad_m),
+                  [&](const Eigen::Vector3d& p) { inside = inside && signed_distance_m(p) <= 0.0; });
   return inside;
 }
 
@@ -224,11 +214,26 @@ std::vector<ObstacleGeom> obstacle_geoms(const sim::World& world, unsigned group
     }
     const Eigen::Vector3d size(m->geom_size[3 * g], m->geom_size[3 * g + 1], m->geom_size[3 * g + 2]);
     switch (m->geom_type[g]) {
-      case mjGEOM_BOX: geom.shape = ShapeType::box; geom.size_m = size; break;
-      case mjGEOM_SPHERE: geom.shape = ShapeType::sphere; geom.size_m = size; break;
-      case mjGEOM_CAPSULE: geom.shape = ShapeType::capsule; geom.size_m = size; break;
-      case mjGEOM_CYLINDER: geom.shape = ShapeType::cylinder; geom.size_m = size; break;
-      case mjGEOM_ELLIPSOID: geom.shape = ShapeType::ellipsoid; geom.size_m = size; break;
+      case mjGEOM_BOX:
+        geom.shape = ShapeType::box;
+        geom.size_m = size;
+        break;
+      case mjGEOM_SPHERE:
+        geom.shape = ShapeType::sphere;
+        geom.size_m = size;
+        break;
+      case mjGEOM_CAPSULE:
+        geom.shape = ShapeType::capsule;
+        geom.size_m = size;
+        break;
+      case mjGEOM_CYLINDER:
+        geom.shape = ShapeType::cylinder;
+        geom.size_m = size;
+        break;
+      case mjGEOM_ELLIPSOID:
+        geom.shape = ShapeType::ellipsoid;
+        geom.size_m = size;
+        break;
       case mjGEOM_MESH:
         if (m->geom_dataid[g] < 0) continue;
         geom.label = geom_label(world, g);
@@ -244,8 +249,7 @@ std::vector<ObstacleGeom> obstacle_geoms(const sim::World& world, unsigned group
         geom.label = geom_label(world, g);
         geom.mesh = rectangle_mesh(size.x(), size.y(), geom.label);
         break;
-      default:
-        continue;
+      default: continue;
     }
     if (geom.mesh) {
       geom.shape = ShapeType::mesh;
@@ -264,9 +268,10 @@ std::vector<TruthNote> truth_notes(const sim::World& world, unsigned group_mask)
   std::vector<TruthNote> out;
   for (const ObstacleGeom& geom : obstacle_geoms(world, group_mask))
     if (m->geom_type[geom.geom_id] == mjGEOM_MESH && !geom.mesh->closed())
-      out.push_back({geom.geom_id, geom.label,
-                     geom.label + " is not closed (" + std::to_string(geom.mesh->open_edges()) +
-                         " edges without a partner face): its solid is taken as its surface (footprint cells, solid voxels)"});
+      out.push_back(
+          {geom.geom_id, geom.label,
+           geom.label + " is not closed (" + std::to_string(geom.mesh->open_edges()) +
+               " edges without a partner face): its solid is taken as its surface (footprint cells, solid voxels)"});
   for (int g = 0; g < m->ngeom; ++g)
     if (in_groups(m, g, group_mask) && m->geom_type[g] == mjGEOM_PLANE && !is_floor(d, g) &&
         !(m->geom_size[3 * g] > 0 && m->geom_size[3 * g + 1] > 0)) {
@@ -336,8 +341,8 @@ std::vector<BodyFootprint> footprints(const std::vector<ObstacleGeom>& geoms, do
                                       double max_z_m, double tolerance_fraction) {
   check_size(cell_size_m, "cell_size_m");
   if (!(min_z_m < max_z_m)) {
-    throw std::invalid_argument("footprint height band [" + std::to_string(min_z_m) + ", " +
-                                std::to_string(max_z_m) + "] is empty");
+    throw std::invalid_argument("footprint height band [" + std::to_string(min_z_m) + ", " + std::to_string(max_z_m) +
+                                "] is empty");
   }
   if (!(tolerance_fraction > 0)) throw std::invalid_argument("tolerance_fraction must be > 0");
   const double s = cell_size_m;
@@ -360,7 +365,8 @@ std::vector<BodyFootprint> footprints(const std::vector<ObstacleGeom>& geoms, do
     auto& cells = out[it->second].cells;
     for (int x = r.lo.x(); x <= r.hi.x(); ++x)
       for (int y = r.lo.y(); y <= r.hi.y(); ++y) {
-        const Eigen::AlignedBox3d column(Eigen::Vector3d(x * s, y * s, z0), Eigen::Vector3d((x + 1) * s, (y + 1) * s, z1));
+        const Eigen::AlignedBox3d column(Eigen::Vector3d(x * s, y * s, z0),
+                                         Eigen::Vector3d((x + 1) * s, (y + 1) * s, z1));
         if (geom.intersects_solid(column, tolerance_fraction * s)) cells.push_back({x, y});
       }
   }

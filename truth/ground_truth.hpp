@@ -135,7 +135,7 @@ struct RayHit {
 // mj_ray against geoms in group_mask (static ones included), skipping exclude_body_id (-1: none).
 // Hits beyond max_range_m are reported as misses. Throws on a zero or non-finite direction.
 RayHit cast_ray(const sim::World& world, const Eigen::Vector3d& origin_W, const Eigen::Vector3d& direction_W,
-                double max_range_m = std::numeric_limits<double>::infinity(),
-                unsigned group_mask = kObstacleGroups, int exclude_body_id = -1);
+                double max_range_m = std::numeric_limits<double>::infinity(), unsigned group_mask = kObstacleGroups,
+                int exclude_body_id = -1);
 
 }  // namespace stvl::truth

@@ -27,7 +27,8 @@ int index_of(double v, double s) { return static_cast<int>(std::floor(v / s)); }
 
 Range range_of(const Eigen::AlignedBox3d& box, double s) {
   Range r;
-  for (int i = 0; i < 3; ++i) r.lo[i] = index_of(box.min()[i] - kPad_m, s), r.hi[i] = index_of(box.max()[i] + kPad_m, s);
+  for (int i = 0; i < 3; ++i)
+    r.lo[i] = index_of(box.min()[i] - kPad_m, s), r.hi[i] = index_of(box.max()[i] + kPad_m, s);
   return r;
 }
 
@@ -60,7 +61,11 @@ bool heights_in_column(const Triangle& t, double x0, double x1, double y0, doubl
   Eigen::Vector3d poly[8], next[8];
   int n = 3;
   for (int i = 0; i < 3; ++i) poly[i] = t[i];
-  const struct { int axis; double bound; double sign; } planes[4] = {{0, x0, 1}, {0, x1, -1}, {1, y0, 1}, {1, y1, -1}};
+  const struct {
+    int axis;
+    double bound;
+    double sign;
+  } planes[4] = {{0, x0, 1}, {0, x1, -1}, {1, y0, 1}, {1, y1, -1}};
   for (const auto& plane : planes) {
     int m = 0;
     for (int i = 0; i < n; ++i) {
@@ -129,9 +134,11 @@ std::vector<VoxelKey> voxelize_triangles(const std::vector<Triangle>& triangles_
     for (int x = r.lo.x(); x <= r.hi.x(); ++x)
       for (int y = r.lo.y(); y <= r.hi.y(); ++y) {
         double z0, z1;
-        if (!heights_in_column(t, x * s - kClip_m, (x + 1) * s + kClip_m, y * s - kClip_m, (y + 1) * s + kClip_m, &z0, &z1))
+        if (!heights_in_column(t, x * s - kClip_m, (x + 1) * s + kClip_m, y * s - kClip_m, (y + 1) * s + kClip_m, &z0,
+                               &z1))
           continue;
-        const int zlo = std::max(r.lo.z(), index_of(z0 - kClip_m, s)), zhi = std::min(r.hi.z(), index_of(z1 + kClip_m, s));
+        const int zlo = std::max(r.lo.z(), index_of(z0 - kClip_m, s)),
+                  zhi = std::min(r.hi.z(), index_of(z1 + kClip_m, s));
         for (int z = zlo; z <= zhi; ++z)
           if (triangle_meets_box(t[0], t[1], t[2], cube(x, y, z, s))) out.push_back({x, y, z});
       }
@@ -159,8 +166,8 @@ std::vector<VoxelKey> voxelize_triangles(const std::vector<Triangle>& triangles_
   return out;
 }
 
-std::vector<CellKey> footprint_triangles(const std::vector<Triangle>& triangles_W, bool closed, double s, double min_z_m,
-                                         double max_z_m, const std::string& what) {
+std::vector<CellKey> footprint_triangles(const std::vector<Triangle>& triangles_W, bool closed, double s,
+                                         double min_z_m, double max_z_m, const std::string& what) {
   std::vector<CellKey> out;
   double candidates = 0;
   Eigen::AlignedBox3d all;
@@ -171,7 +178,8 @@ std::vector<CellKey> footprint_triangles(const std::vector<Triangle>& triangles_
     const Range r = range_of(b, s);
     candidates += double(r.hi.x() - r.lo.x() + 1) * double(r.hi.y() - r.lo.y() + 1);
   }
-  if (candidates > kMaxCandidates) too_many(what, candidates, "footprint cells of the triangles' bounding boxes", triangles_W);
+  if (candidates > kMaxCandidates)
+    too_many(what, candidates, "footprint cells of the triangles' bounding boxes", triangles_W);
   for (const Triangle& t : triangles_W) {
     const Eigen::AlignedBox3d b = box_of(t);
     if (b.max().z() < min_z_m - kPad_m || b.min().z() > max_z_m + kPad_m) continue;

@@ -113,8 +113,9 @@ TriangleMesh::TriangleMesh(std::vector<Eigen::Vector3d> vertices_G, std::vector<
   };
   std::sort(by_position.begin(), by_position.end(), less);
   for (std::size_t k = 0; k < by_position.size(); ++k)
-    weld[by_position[k]] = k > 0 && vertices_[by_position[k]] == vertices_[by_position[k - 1]] ? weld[by_position[k - 1]]
-                                                                                               : static_cast<int>(k);
+    weld[by_position[k]] = k > 0 && vertices_[by_position[k]] == vertices_[by_position[k - 1]]
+                               ? weld[by_position[k - 1]]
+                               : static_cast<int>(k);
   std::vector<std::uint64_t> edges;
   edges.reserve(3 * faces_.size());
   for (const Face& f : faces_)
@@ -202,7 +203,8 @@ bool TriangleMesh::inside(const Eigen::Vector3d& p) const {
   bool odd = false;
   traverse(
       [&](const Eigen::AlignedBox3d& box) {
-        return box.min().x() <= x && x <= box.max().x() && box.min().y() <= y && y <= box.max().y() && box.max().z() > p.z();
+        return box.min().x() <= x && x <= box.max().x() && box.min().y() <= y && y <= box.max().y() &&
+               box.max().z() > p.z();
       },
       [&](int f) {
         const auto t = triangle(f);
@@ -217,7 +219,8 @@ bool TriangleMesh::meets_box(const Eigen::Isometry3d& T_W_G, const Eigen::Aligne
   Eigen::AlignedBox3d box_G;  // the world box's bounds in the mesh frame
   const Eigen::Isometry3d T_G_W = T_W_G.inverse();
   for (int i = 0; i < 8; ++i)
-    box_G.extend(T_G_W * Eigen::Vector3d(i & 1 ? box_W.max().x() : box_W.min().x(), i & 2 ? box_W.max().y() : box_W.min().y(),
+    box_G.extend(T_G_W * Eigen::Vector3d(i & 1 ? box_W.max().x() : box_W.min().x(),
+                                         i & 2 ? box_W.max().y() : box_W.min().y(),
                                          i & 4 ? box_W.max().z() : box_W.min().z()));
   box_G = Eigen::AlignedBox3d(box_G.min().array() - 1e-9, box_G.max().array() + 1e-9);  // rounding of the turn
   bool hit = false;

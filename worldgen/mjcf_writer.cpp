@@ -54,7 +54,7 @@ double horizontal_reach(const mjModel* m, const mjData* d, int g, const Eigen::V
     case mjGEOM_BOX:
       for (int corner = 0; corner < 8; ++corner)
         reach = std::max(reach, dist(c + R * Eigen::Vector3d((corner & 1 ? 1 : -1) * s[0], (corner & 2 ? 1 : -1) * s[1],
-                                                            (corner & 4 ? 1 : -1) * s[2])));
+                                                             (corner & 4 ? 1 : -1) * s[2])));
       break;
     case mjGEOM_CYLINDER:  // the rims of both end discs
       for (int end : {-1, 1})
@@ -66,14 +66,9 @@ double horizontal_reach(const mjModel* m, const mjData* d, int g, const Eigen::V
     case mjGEOM_CAPSULE:
       for (int end : {-1, 1}) reach = std::max(reach, dist(c + R * Eigen::Vector3d(0, 0, end * s[1])) + s[0]);
       break;
-    case mjGEOM_SPHERE:
-      reach = dist(c) + s[0];
-      break;
-    case mjGEOM_ELLIPSOID:
-      reach = dist(c) + std::max({s[0], s[1], s[2]});
-      break;
-    default:
-      reach = dist(c) + m->geom_rbound[g];
+    case mjGEOM_SPHERE: reach = dist(c) + s[0]; break;
+    case mjGEOM_ELLIPSOID: reach = dist(c) + std::max({s[0], s[1], s[2]}); break;
+    default: reach = dist(c) + m->geom_rbound[g];
   }
   return reach;
 }
@@ -88,12 +83,15 @@ std::string write_mjcf(const WorldSpec& w) {
   if (!w.comment.empty()) xml.comment_block(w.comment);
   write_header(xml, center);
   xml.open("worldbody");
-  xml.element("light", {{"name", "sun"}, {"directional", "true"}, {"pos", "0 0 10"}, {"dir", "0.2 0.1 -1"},
-                        {"castshadow", "false"}});
-  xml.element("geom", {{"name", "floor"}, {"type", "plane"},
+  xml.element(
+      "light",
+      {{"name", "sun"}, {"directional", "true"}, {"pos", "0 0 10"}, {"dir", "0.2 0.1 -1"}, {"castshadow", "false"}});
+  xml.element("geom", {{"name", "floor"},
+                       {"type", "plane"},
                        {"pos", fixed(center.x(), 3) + " " + fixed(center.y(), 3) + " 0"},
                        {"size", fixed(half.x(), 3) + " " + fixed(half.y(), 3) + " 0.1"},
-                       {"group", std::to_string(kWallGroup)}, {"rgba", "0.5 0.5 0.5 1"}});
+                       {"group", std::to_string(kWallGroup)},
+                       {"rgba", "0.5 0.5 0.5 1"}});
   for (const Body& b : w.bodies) {
     if (!b.comment.empty()) xml.comment(b.comment);
     xml.open("body");
@@ -122,7 +120,8 @@ double robot_footprint_radius_m(const std::string& robot_xml_path) {
   for (int g = 0; g < m->ngeom; ++g)
     if (m->geom_group[g] == sim::kRobotGeomGroup || m->geom_group[g] == sim::kRobotSeenGeomGroup)
       radius = std::max(radius, horizontal_reach(m, robot.data(), g, origin));
-  if (radius <= 0) throw std::runtime_error(robot_xml_path + ": no robot geom (group 2 or 3) to measure the footprint from");
+  if (radius <= 0)
+    throw std::runtime_error(robot_xml_path + ": no robot geom (group 2 or 3) to measure the footprint from");
   return radius;
 }
 

@@ -41,7 +41,8 @@ struct Body {
 struct WorldSpec {
   std::string model_name;
   std::string comment;  // the world's description, a comment at its top
-  Eigen::Vector2d floor_min_W = Eigen::Vector2d::Zero(), floor_max_W = Eigen::Vector2d::Zero();  // the floor plane's extent
+  Eigen::Vector2d floor_min_W = Eigen::Vector2d::Zero(),
+                  floor_max_W = Eigen::Vector2d::Zero();  // the floor plane's extent
   std::vector<Body> bodies;
 };
 

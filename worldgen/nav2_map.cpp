@@ -18,14 +18,16 @@
 namespace stvl::worldgen {
 namespace {
 
-constexpr const char* kKnownKeys[] = {"image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh", "mode"};
+constexpr const char* kKnownKeys[] = {"image",           "resolution",  "origin", "negate",
+                                      "occupied_thresh", "free_thresh", "mode"};
 
 // "FILE:LINE: KEY: message" (the line of `node`, or of the document when it has none).
-[[noreturn]] void fail(const std::string& file, const YAML::Node& node, const std::string& key, const std::string& message) {
+[[noreturn]] void fail(const std::string& file, const YAML::Node& node, const std::string& key,
+                       const std::string& message) {
   std::ostringstream text;
   const YAML::Mark mark = node.IsDefined() ? node.Mark() : YAML::Mark::null_mark();
-  text << file << ":" << (mark.is_null() || mark.line < 0 ? 1 : mark.line + 1) << ": " << (key.empty() ? "" : key + ": ")
-       << message;
+  text << file << ":" << (mark.is_null() || mark.line < 0 ? 1 : mark.line + 1) << ": "
+       << (key.empty() ? "" : key + ": ") << message;
   throw std::invalid_argument(text.str());
 }
 
@@ -61,7 +63,8 @@ long read_decimal(const std::string& b, std::size_t& at, const std::string& name
   long value = 0;
   while (at < b.size() && std::isdigit(static_cast<unsigned char>(b[at]))) {
     value = value * 10 + (b[at++] - '0');
-    if (value > 1'000'000'000) throw std::invalid_argument(name + ": malformed PGM: the " + what + " is absurdly large");
+    if (value > 1'000'000'000)
+      throw std::invalid_argument(name + ": malformed PGM: the " + what + " is absurdly large");
   }
   return value;
 }
@@ -74,12 +77,16 @@ MapImage decode_pgm(const std::string& b, const std::string& name, std::size_t m
   MapImage image;
   const long width = read_decimal(b, at, name, "width"), height = read_decimal(b, at, name, "height");
   const long maxval = read_decimal(b, at, name, "maxval");
-  if (width < 1 || height < 1) throw std::invalid_argument(name + ": the PGM has no pixels (" + std::to_string(width) + " x " + std::to_string(height) + ")");
-  if (maxval < 1 || maxval > 65535) throw std::invalid_argument(name + ": PGM maxval " + std::to_string(maxval) + " is outside 1..65535");
+  if (width < 1 || height < 1)
+    throw std::invalid_argument(name + ": the PGM has no pixels (" + std::to_string(width) + " x " +
+                                std::to_string(height) + ")");
+  if (maxval < 1 || maxval > 65535)
+    throw std::invalid_argument(name + ": PGM maxval " + std::to_string(maxval) + " is outside 1..65535");
   const double cells = static_cast<double>(width) * static_cast<double>(height);
   if (cells > static_cast<double>(max_cells))
-    throw std::invalid_argument(name + ": " + std::to_string(width) + " x " + std::to_string(height) + " pixels exceed the limit of " +
-                                std::to_string(max_cells) + " cells; crop the map or save it at a coarser resolution");
+    throw std::invalid_argument(name + ": " + std::to_string(width) + " x " + std::to_string(height) +
+                                " pixels exceed the limit of " + std::to_string(max_cells) +
+                                " cells; crop the map or save it at a coarser resolution");
   image.width = static_cast<int>(width);
   image.height = static_cast<int>(height);
   image.maxval = static_cast<int>(maxval);
@@ -88,7 +95,9 @@ MapImage decode_pgm(const std::string& b, const std::string& name, std::size_t m
     image.samples.reserve(std::min<std::size_t>(count, b.size()));
     for (std::size_t i = 0; i < count; ++i) {
       const long v = read_decimal(b, at, name, "pixel " + std::to_string(i) + " of " + std::to_string(count));
-      if (v > maxval) throw std::invalid_argument(name + ": pixel " + std::to_string(i) + " is " + std::to_string(v) + ", above maxval " + std::to_string(maxval));
+      if (v > maxval)
+        throw std::invalid_argument(name + ": pixel " + std::to_string(i) + " is " + std::to_string(v) +
+                                    ", above maxval " + std::to_string(maxval));
       image.samples.push_back(static_cast<std::uint16_t>(v));
     }
     return image;
@@ -98,14 +107,15 @@ MapImage decode_pgm(const std::string& b, const std::string& name, std::size_t m
   ++at;  // exactly one whitespace character, then the raster
   const std::size_t bytes_per = maxval > 255 ? 2 : 1;
   if ((b.size() - at) / bytes_per < count)
-    throw std::invalid_argument(name + ": the PGM ends after " + std::to_string((b.size() - at) / bytes_per) + " of its " +
-                                std::to_string(count) + " pixels (truncated)");
+    throw std::invalid_argument(name + ": the PGM ends after " + std::to_string((b.size() - at) / bytes_per) +
+                                " of its " + std::to_string(count) + " pixels (truncated)");
   image.samples.resize(count);
   for (std::size_t i = 0; i < count; ++i) {
     const auto* p = reinterpret_cast<const unsigned char*>(b.data() + at + i * bytes_per);
     const unsigned v = bytes_per == 2 ? (p[0] << 8) | p[1] : p[0];
     if (v > static_cast<unsigned>(maxval))
-      throw std::invalid_argument(name + ": pixel " + std::to_string(i) + " is " + std::to_string(v) + ", above maxval " + std::to_string(maxval));
+      throw std::invalid_argument(name + ": pixel " + std::to_string(i) + " is " + std::to_string(v) +
+                                  ", above maxval " + std::to_string(maxval));
     image.samples[i] = static_cast<std::uint16_t>(v);
   }
   return image;
@@ -131,8 +141,9 @@ void check_size_from_header(const std::string& prefix, const std::string& name, 
     }
   }
   if (static_cast<double>(width) * static_cast<double>(height) > static_cast<double>(max_cells))
-    throw std::invalid_argument(name + ": " + std::to_string(width) + " x " + std::to_string(height) + " pixels exceed the limit of " +
-                                std::to_string(max_cells) + " cells; crop the map or save it at a coarser resolution");
+    throw std::invalid_argument(name + ": " + std::to_string(width) + " x " + std::to_string(height) +
+                                " pixels exceed the limit of " + std::to_string(max_cells) +
+                                " cells; crop the map or save it at a coarser resolution");
 }
 
 // The YAML's document, refused unless every key is map_server's, once.
@@ -143,7 +154,9 @@ YAML::Node load_map_yaml(const std::string& text, const std::string& file) {
   } catch (const YAML::Exception& e) {
     fail(file, YAML::Node(), "", "malformed YAML at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
-  if (!doc.IsMap()) fail(file, doc, "", "expected map_server's keys (image, resolution, origin, negate, occupied_thresh, free_thresh, mode)");
+  if (!doc.IsMap())
+    fail(file, doc, "",
+         "expected map_server's keys (image, resolution, origin, negate, occupied_thresh, free_thresh, mode)");
   const std::vector<std::string> known(std::begin(kKnownKeys), std::end(kKnownKeys));
   std::set<std::string> seen;
   for (const auto& entry : doc) {
@@ -162,7 +175,8 @@ YAML::Node load_map_yaml(const std::string& text, const std::string& file) {
 // doc[key], refused when missing or without a value.
 YAML::Node required(const YAML::Node& doc, const std::string& file, const char* key) {
   const YAML::Node node = doc[key];
-  if (!node) fail(file, doc, key, std::string("required key is missing (map_server requires it too); add ") + key + ": ...");
+  if (!node)
+    fail(file, doc, key, std::string("required key is missing (map_server requires it too); add ") + key + ": ...");
   if (node.IsNull()) fail(file, node, key, "has no value");
   return node;
 }
@@ -172,14 +186,19 @@ void read_placement(const YAML::Node& doc, const std::string& file, MapMetadata&
   const YAML::Node resolution = required(doc, file, "resolution");
   m.resolution_m = number(file, resolution, "resolution");
   if (!(std::isfinite(m.resolution_m) && m.resolution_m > 0 && m.resolution_m <= 100))
-    fail(file, resolution, "resolution", "must be a finite number in (0, 100] m per cell, got " + resolution.Scalar() + "; e.g. resolution: 0.05");
+    fail(file, resolution, "resolution",
+         "must be a finite number in (0, 100] m per cell, got " + resolution.Scalar() + "; e.g. resolution: 0.05");
 
   const YAML::Node origin = required(doc, file, "origin");
-  if (!origin.IsSequence() || origin.size() != 3) fail(file, origin, "origin", "expected [x, y, yaw] (m, m, rad), e.g. origin: [-10.0, -10.0, 0.0]");
-  const double o[3] = {number(file, origin[0], "origin"), number(file, origin[1], "origin"), number(file, origin[2], "origin")};
-  if (!(std::isfinite(o[0]) && std::isfinite(o[1]) && std::isfinite(o[2])) || std::abs(o[0]) > 1e6 || std::abs(o[1]) > 1e6)
-    fail(file, origin, "origin", "x and y must be finite and within 1e6 m, yaw finite; got [" + origin[0].Scalar() + ", " +
-                                     origin[1].Scalar() + ", " + origin[2].Scalar() + "]");
+  if (!origin.IsSequence() || origin.size() != 3)
+    fail(file, origin, "origin", "expected [x, y, yaw] (m, m, rad), e.g. origin: [-10.0, -10.0, 0.0]");
+  const double o[3] = {number(file, origin[0], "origin"), number(file, origin[1], "origin"),
+                       number(file, origin[2], "origin")};
+  if (!(std::isfinite(o[0]) && std::isfinite(o[1]) && std::isfinite(o[2])) || std::abs(o[0]) > 1e6 ||
+      std::abs(o[1]) > 1e6)
+    fail(file, origin, "origin",
+         "x and y must be finite and within 1e6 m, yaw finite; got [" + origin[0].Scalar() + ", " + origin[1].Scalar() +
+             ", " + origin[2].Scalar() + "]");
   m.origin_x_m = o[0], m.origin_y_m = o[1], m.origin_yaw_rad = o[2];
 }
 
@@ -192,7 +211,8 @@ void read_thresholds(const YAML::Node& doc, const std::string& file, MapMetadata
     try {
       m.negate = negate.as<bool>();
     } catch (const YAML::Exception&) {
-      fail(file, negate, "negate", "expected 0, 1, true or false, got '" + (negate.IsScalar() ? negate.Scalar() : std::string("a list")) + "'");
+      fail(file, negate, "negate",
+           "expected 0, 1, true or false, got '" + (negate.IsScalar() ? negate.Scalar() : std::string("a list")) + "'");
     }
   }
   const YAML::Node occupied = required(doc, file, "occupied_thresh"), free = required(doc, file, "free_thresh");
@@ -201,7 +221,8 @@ void read_thresholds(const YAML::Node& doc, const std::string& file, MapMetadata
   if (!(std::isfinite(m.occupied_thresh) && m.occupied_thresh > 0 && m.occupied_thresh <= 1))
     fail(file, occupied, "occupied_thresh", "must lie in (0, 1], got " + occupied.Scalar() + "; map_saver writes 0.65");
   if (!(std::isfinite(m.free_thresh) && m.free_thresh >= 0 && m.free_thresh < m.occupied_thresh))
-    fail(file, free, "free_thresh", "must lie in [0, occupied_thresh), got " + free.Scalar() + "; map_saver writes 0.25");
+    fail(file, free, "free_thresh",
+         "must lie in [0, occupied_thresh), got " + free.Scalar() + "; map_saver writes 0.25");
 }
 
 // mode, when given: trinary, scale or raw.
@@ -213,8 +234,9 @@ void read_mode(const YAML::Node& doc, const std::string& file, MapMetadata& m) {
     else if (name == "raw") m.mode = MapMode::kRaw;
     else {
       const std::string nearest = nearest_name(name, {"trinary", "scale", "raw"});
-      fail(file, mode, "mode", "unknown mode '" + name + "'" + (nearest.empty() ? "" : "; did you mean '" + nearest + "'?") +
-                                   " (trinary, scale or raw)");
+      fail(file, mode, "mode",
+           "unknown mode '" + name + "'" + (nearest.empty() ? "" : "; did you mean '" + nearest + "'?") +
+               " (trinary, scale or raw)");
     }
   }
 }
@@ -234,9 +256,12 @@ MapMetadata parse_map_yaml(const std::string& text, const std::string& file, con
   const YAML::Node doc = load_map_yaml(text, file);
   MapMetadata m;
   const YAML::Node image = required(doc, file, "image");
-  if (!image.IsScalar() || image.Scalar().empty()) fail(file, image, "image", "expected the image file's name (PGM or PNG)");
+  if (!image.IsScalar() || image.Scalar().empty())
+    fail(file, image, "image", "expected the image file's name (PGM or PNG)");
   m.image = image.Scalar();
-  m.image_path = std::filesystem::path(m.image).is_absolute() ? m.image : (std::filesystem::path(yaml_dir) / m.image).lexically_normal().string();
+  m.image_path = std::filesystem::path(m.image).is_absolute()
+                     ? m.image
+                     : (std::filesystem::path(yaml_dir) / m.image).lexically_normal().string();
 
   read_placement(doc, file, m);
   read_thresholds(doc, file, m);
@@ -245,7 +270,8 @@ MapMetadata parse_map_yaml(const std::string& text, const std::string& file, con
 }
 
 MapImage decode_map_image(const std::string& bytes, const std::string& name, std::size_t max_cells) {
-  if (bytes.size() >= 2 && bytes[0] == 'P' && (bytes[1] == '5' || bytes[1] == '2')) return decode_pgm(bytes, name, max_cells);
+  if (bytes.size() >= 2 && bytes[0] == 'P' && (bytes[1] == '5' || bytes[1] == '2'))
+    return decode_pgm(bytes, name, max_cells);
   if (bytes.size() >= 4 && bytes.compare(1, 3, "PNG") == 0) {
     PngImage png;
     try {
@@ -289,14 +315,14 @@ Nav2Map to_occupancy(const MapImage& image, const MapMetadata& meta) {
       const double occ = meta.negate ? shade : 1.0 - shade;
       std::int8_t cell = -1;
       switch (meta.mode) {
-        case MapMode::kTrinary:
-          cell = meta.occupied_thresh < occ ? 100 : occ < meta.free_thresh ? 0 : -1;
-          break;
+        case MapMode::kTrinary: cell = meta.occupied_thresh < occ ? 100 : occ < meta.free_thresh ? 0 : -1; break;
         case MapMode::kScale:
           if (a != maxval) cell = -1;
           else if (meta.occupied_thresh < occ) cell = 100;
           else if (occ < meta.free_thresh) cell = 0;
-          else cell = static_cast<std::int8_t>(std::rint((occ - meta.free_thresh) / (meta.occupied_thresh - meta.free_thresh) * 100.0));
+          else
+            cell = static_cast<std::int8_t>(
+                std::rint((occ - meta.free_thresh) / (meta.occupied_thresh - meta.free_thresh) * 100.0));
           break;
         case MapMode::kRaw: {
           const double percent = std::round(shade * 255);
@@ -316,8 +342,9 @@ Nav2Map load_nav2_map(const std::string& yaml_path, std::size_t max_cells) {
   const MapMetadata meta = parse_map_yaml(text, yaml_path, std::filesystem::path(yaml_path).parent_path().string());
   std::ifstream in(meta.image_path, std::ios::binary);
   if (!in || std::filesystem::is_directory(meta.image_path))
-    throw std::invalid_argument(yaml_path + ": image: cannot read '" + meta.image_path +
-                                "' (a relative image path is resolved against the YAML's folder); fix the path or add the file");
+    throw std::invalid_argument(
+        yaml_path + ": image: cannot read '" + meta.image_path +
+        "' (a relative image path is resolved against the YAML's folder); fix the path or add the file");
   std::string bytes(4096, '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   bytes.resize(static_cast<std::size_t>(in.gcount()));

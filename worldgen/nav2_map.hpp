@@ -24,9 +24,9 @@ enum class MapMode { kTrinary, kScale, kRaw };
 
 // The map's YAML as map_server reads it. Every key but `mode` is required, as map_server requires them.
 struct MapMetadata {
-  std::string image;        // as written; image_path is it resolved against the YAML's folder
+  std::string image;  // as written; image_path is it resolved against the YAML's folder
   std::string image_path;
-  double resolution_m = 0;  // cell edge (m), finite and > 0
+  double resolution_m = 0;                                    // cell edge (m), finite and > 0
   double origin_x_m = 0, origin_y_m = 0, origin_yaw_rad = 0;  // the pose of cell (0, 0)'s outer corner
   bool negate = false;
   double occupied_thresh = 0.65, free_thresh = 0.25;  // 0 <= free < occupied <= 1
@@ -36,8 +36,8 @@ struct MapMetadata {
 // An image's samples as decoded, before map_server's formula.
 struct MapImage {
   int width = 0, height = 0;
-  int channels = 1;    // 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
-  int maxval = 255;    // full scale of a sample (PGM's maxval, 255 or 65535 for PNG)
+  int channels = 1;                    // 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
+  int maxval = 255;                    // full scale of a sample (PGM's maxval, 255 or 65535 for PNG)
   std::vector<std::uint16_t> samples;  // top row first, `channels` per pixel
 };
 

@@ -10,11 +10,14 @@ namespace {
 constexpr double kFar = 1e20;  // "no occupied cell" in the squared distance transform
 
 // Felzenszwalb and Huttenlocher's 1D squared distance transform of f (n samples, stride apart) in place.
-void distance_1d(double* f, int n, std::size_t stride, std::vector<double>& d, std::vector<int>& v, std::vector<double>& z) {
+void distance_1d(double* f, int n, std::size_t stride, std::vector<double>& d, std::vector<int>& v,
+                 std::vector<double>& z) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   d.resize(n), v.resize(n), z.resize(n + 1);
   const auto at = [&](int q) { return f[static_cast<std::size_t>(q) * stride]; };
-  const auto meet = [&](int q, int p) { return ((at(q) + double(q) * q) - (at(p) + double(p) * p)) / (2.0 * q - 2.0 * p); };
+  const auto meet = [&](int q, int p) {
+    return ((at(q) + double(q) * q) - (at(p) + double(p) * p)) / (2.0 * q - 2.0 * p);
+  };
   int k = 0;
   v[0] = 0;
   z[0] = -kInf, z[1] = kInf;
@@ -106,11 +109,13 @@ std::vector<float> clearance_m(const OccupancyGrid& grid) {
   std::vector<double> d, z;
   std::vector<int> v;
   for (int col = 0; col < f.width; ++col) distance_1d(sq.data() + col, f.height, f.width, d, v, z);
-  for (int row = 0; row < f.height; ++row) distance_1d(sq.data() + static_cast<std::size_t>(row) * f.width, f.width, 1, d, v, z);
+  for (int row = 0; row < f.height; ++row)
+    distance_1d(sq.data() + static_cast<std::size_t>(row) * f.width, f.width, 1, d, v, z);
   const double half_diagonal = 0.5 * std::sqrt(2.0);
   for (std::size_t i = 0; i < n; ++i)
-    out[i] = grid.cells[i] == Cell::kOccupied ? 0.0f
-                                              : static_cast<float>(std::max(0.0, std::sqrt(sq[i]) - half_diagonal) * f.resolution_m);
+    out[i] = grid.cells[i] == Cell::kOccupied
+                 ? 0.0f
+                 : static_cast<float>(std::max(0.0, std::sqrt(sq[i]) - half_diagonal) * f.resolution_m);
   return out;
 }
 

@@ -34,7 +34,8 @@ struct GridFrame {
   bool contains(CellIndex c) const { return c.col >= 0 && c.row >= 0 && c.col < width && c.row < height; }
   std::size_t index(CellIndex c) const { return static_cast<std::size_t>(c.row) * width + c.col; }
   CellIndex cell(std::size_t index) const {
-    return {static_cast<int>(index % static_cast<std::size_t>(width)), static_cast<int>(index / static_cast<std::size_t>(width))};
+    return {static_cast<int>(index % static_cast<std::size_t>(width)),
+            static_cast<int>(index / static_cast<std::size_t>(width))};
   }
 };
 

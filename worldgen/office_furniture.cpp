@@ -16,16 +16,19 @@ Geom cylinder(const Eigen::Vector3d& pos, double r, double hz, const char* rgba)
   return {"cylinder", "", pos, {r, hz}, {}, 0, kObstacleGroup, rgba};
 }
 Geom capsule(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r, const char* rgba) {
-  return {"capsule", "", Eigen::Vector3d::Zero(), {r}, {a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}, 0, kObstacleGroup, rgba};
+  return {"capsule",      "",  Eigen::Vector3d::Zero(), {r}, {a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}, 0,
+          kObstacleGroup, rgba};
 }
 
 Item desk(Rng& rng, Body& b) {
   const double w = rng.snapped(1.2, 1.6, 0.1), d = rng.snapped(0.6, 0.8, 0.05), h = 0.74;
   b.geoms.push_back(box({0, 0, h - 0.015}, w / 2, d / 2, 0.015, kWood));
   for (double sx : {-1.0, 1.0})
-    for (double sy : {-1.0, 1.0}) b.geoms.push_back(box({sx * (w / 2 - 0.05), sy * (d / 2 - 0.05), (h - 0.03) / 2}, 0.02, 0.02, (h - 0.03) / 2, kMetal));
+    for (double sy : {-1.0, 1.0})
+      b.geoms.push_back(
+          box({sx * (w / 2 - 0.05), sy * (d / 2 - 0.05), (h - 0.03) / 2}, 0.02, 0.02, (h - 0.03) / 2, kMetal));
   b.geoms.push_back(box({0, -(d / 2 - 0.03), 0.45}, w / 2 - 0.08, 0.01, 0.2, "0.55 0.4 0.3 1"));  // modesty panel
-  if (rng.chance(0.7)) {  // a monitor on a foot
+  if (rng.chance(0.7)) {                                                                          // a monitor on a foot
     const double x = rng.snapped(-w / 4, w / 4, 0.05);
     b.geoms.push_back(cylinder({x, -(d / 2 - 0.15), h + 0.06}, 0.02, 0.06, kMetal));
     b.geoms.push_back(box({x, -(d / 2 - 0.15), h + 0.3}, 0.27, 0.02, 0.17, "0.1 0.1 0.12 1"));
@@ -51,19 +54,34 @@ Item cart(Rng& rng, Body& b) {
   for (double sx : {-1.0, 1.0})
     for (double sy : {-1.0, 1.0}) {
       b.geoms.push_back(box({sx * (hx - 0.02), sy * (hy - 0.02), 0.475}, 0.015, 0.015, 0.325, metal));
-      b.geoms.push_back({"sphere", "", Eigen::Vector3d(sx * (hx - 0.07), sy * (hy - 0.06), 0.05), {0.05}, {}, 0, kObstacleGroup, "0.1 0.1 0.1 1"});
+      b.geoms.push_back({"sphere",
+                         "",
+                         Eigen::Vector3d(sx * (hx - 0.07), sy * (hy - 0.06), 0.05),
+                         {0.05},
+                         {},
+                         0,
+                         kObstacleGroup,
+                         "0.1 0.1 0.1 1"});
     }
   b.geoms.push_back(capsule({-hx - 0.02, -hy + 0.03, 0.8}, {-hx - 0.02, -hy + 0.03, 1.0}, 0.015, metal));
   b.geoms.push_back(capsule({-hx - 0.02, hy - 0.03, 0.8}, {-hx - 0.02, hy - 0.03, 1.0}, 0.015, metal));
   b.geoms.push_back(capsule({-hx - 0.02, -hy + 0.03, 1.0}, {-hx - 0.02, hy - 0.03, 1.0}, 0.015, metal));
-  if (rng.chance(0.6)) b.geoms.push_back(box({0.1, 0, 0.165 + 0.12}, 0.18, 0.14, 0.12, kCardboard, rng.uniform(-0.3, 0.3)));
+  if (rng.chance(0.6))
+    b.geoms.push_back(box({0.1, 0, 0.165 + 0.12}, 0.18, 0.14, 0.12, kCardboard, rng.uniform(-0.3, 0.3)));
   return {ItemKind::kCart, {}, {hx + 0.04, hy + 0.01}, 0};
 }
 
 Item plant(Rng& rng, Body& b) {
   const double r = rng.snapped(0.14, 0.2, 0.01), hz = rng.snapped(0.15, 0.22, 0.01), rz = rng.snapped(0.3, 0.45, 0.01);
   b.geoms.push_back(cylinder({0, 0, hz}, r, hz, "0.45 0.3 0.2 1"));
-  b.geoms.push_back({"ellipsoid", "", Eigen::Vector3d(0, 0, 2 * hz + 0.8 * rz), {r + 0.08, r + 0.08, rz}, {}, 0, kObstacleGroup, "0.2 0.5 0.2 1"});
+  b.geoms.push_back({"ellipsoid",
+                     "",
+                     Eigen::Vector3d(0, 0, 2 * hz + 0.8 * rz),
+                     {r + 0.08, r + 0.08, rz},
+                     {},
+                     0,
+                     kObstacleGroup,
+                     "0.2 0.5 0.2 1"});
   return {ItemKind::kPlant, {}, {r + 0.08, r + 0.08}, r + 0.08};
 }
 
@@ -113,7 +131,8 @@ Item make_item(ItemKind kind, const std::string& name, Rng& rng) {
       break;
     }
     case ItemKind::kBoxes: {  // a cardboard box, sometimes a smaller one on top, each turned a little
-      const double hx = rng.snapped(0.15, 0.3, 0.01), hy = rng.snapped(0.12, 0.25, 0.01), hz = rng.snapped(0.1, 0.25, 0.01);
+      const double hx = rng.snapped(0.15, 0.3, 0.01), hy = rng.snapped(0.12, 0.25, 0.01),
+                   hz = rng.snapped(0.1, 0.25, 0.01);
       b.pos.z() = hz;
       b.yaw_rad = rng.uniform(-0.25, 0.25);
       b.geoms.push_back(box({0, 0, 0}, hx, hy, hz, kCardboard));

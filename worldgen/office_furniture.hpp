@@ -18,9 +18,9 @@ enum class ItemKind { kDesk, kCabinet, kShelf, kBoxes, kCart, kPlant, kExtinguis
 // One placeable thing: its bodies (several for a stack of boxes) in the item's frame, and its footprint.
 struct Item {
   ItemKind kind = ItemKind::kCabinet;
-  std::vector<Body> bodies;  // pos and yaw in the item's frame
+  std::vector<Body> bodies;                        // pos and yaw in the item's frame
   Eigen::Vector2d half = Eigen::Vector2d::Zero();  // footprint half extents (x along the wall, y depth)
-  double radius_m = 0;  // > 0: a round footprint (plants, people)
+  double radius_m = 0;                             // > 0: a round footprint (plants, people)
 };
 
 // A new item of that kind with sizes drawn from rng; its bodies are named `name` (stacks: name, then name_top).

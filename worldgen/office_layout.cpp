@@ -101,8 +101,10 @@ FloorRaster::FloorRaster(double width_m, double height_m, double resolution_m) {
 template <typename F>
 void FloorRaster::for_cells(const Shape& s, double grow, F&& visit) const {
   const double res = frame_.resolution_m, reach = (s.radius_m > 0 ? s.radius_m : s.half.norm()) + grow + res;
-  const int c0 = static_cast<int>(std::floor((s.center.x() - reach) / res)), c1 = static_cast<int>(std::floor((s.center.x() + reach) / res));
-  const int r0 = static_cast<int>(std::floor((s.center.y() - reach) / res)), r1 = static_cast<int>(std::floor((s.center.y() + reach) / res));
+  const int c0 = static_cast<int>(std::floor((s.center.x() - reach) / res)),
+            c1 = static_cast<int>(std::floor((s.center.x() + reach) / res));
+  const int r0 = static_cast<int>(std::floor((s.center.y() - reach) / res)),
+            r1 = static_cast<int>(std::floor((s.center.y() + reach) / res));
   for (int row = r0; row <= r1; ++row)
     for (int col = c0; col <= c1; ++col)
       if (s.covers({(col + 0.5) * res, (row + 0.5) * res}, grow)) visit(CellIndex{col, row});
@@ -110,13 +112,19 @@ void FloorRaster::for_cells(const Shape& s, double grow, F&& visit) const {
 
 void FloorRaster::mark(const Shape& s, Solid kind) {
   std::vector<std::uint8_t>& solid = kind == Solid::kWall ? walls_ : things_;
-  for_cells(s, 0.0, [&](CellIndex c) { if (frame_.contains(c)) solid[frame_.index(c)] = 1; });
+  for_cells(s, 0.0, [&](CellIndex c) {
+    if (frame_.contains(c)) solid[frame_.index(c)] = 1;
+  });
   // A cell the shape touches at all: its centre lies within half a cell diagonal of the shape.
-  for_cells(s, 0.5 * std::sqrt(2.0) * frame_.resolution_m, [&](CellIndex c) { if (frame_.contains(c)) touched_[frame_.index(c)] = 1; });
+  for_cells(s, 0.5 * std::sqrt(2.0) * frame_.resolution_m, [&](CellIndex c) {
+    if (frame_.contains(c)) touched_[frame_.index(c)] = 1;
+  });
 }
 
 void FloorRaster::keep_free(const Shape& s) {
-  for_cells(s, 0.0, [&](CellIndex c) { if (frame_.contains(c)) kept_[frame_.index(c)] = 1; });
+  for_cells(s, 0.0, [&](CellIndex c) {
+    if (frame_.contains(c)) kept_[frame_.index(c)] = 1;
+  });
 }
 
 bool FloorRaster::test(const Shape& s, double gap, bool kept_counts) const {
@@ -149,8 +157,9 @@ OfficeLayout make_layout(double width_m, double height_m, double wall_height_m, 
   const double cy = rng.snapped(std::max(0.4 * H, wc / 2 + 2.8), std::min(0.6 * H, H - wc / 2 - 2.8), 0.05);
   const double yb = cy - wc / 2, yt = cy + wc / 2;
   l.t_junction = rng.chance(0.5);
-  const double bx = l.t_junction ? rng.snapped(std::max(0.35 * W, wb / 2 + 3.0), std::min(0.65 * W, W - wb / 2 - 3.0), 0.05)
-                                 : rng.snapped(std::max(0.55 * W, wb / 2 + 3.0), W - wb / 2 - 3.5, 0.05);
+  const double bx = l.t_junction
+                        ? rng.snapped(std::max(0.35 * W, wb / 2 + 3.0), std::min(0.65 * W, W - wb / 2 - 3.0), 0.05)
+                        : rng.snapped(std::max(0.55 * W, wb / 2 + 3.0), W - wb / 2 - 3.5, 0.05);
   const double xl = bx - wb / 2, xr = bx + wb / 2;
   l.main_corridor = {0, yb, l.t_junction ? W : xr, yt};
   l.branch_corridor = {xl, yt, xr, H};
@@ -234,8 +243,14 @@ void add_wall_boxes(WallLines& lines, const OfficeLayout& l, Body& walls, FloorR
     }
     for (const auto& [a, b] : spans) {
       const double mid = 0.5 * (a + b), half = 0.5 * (b - a) + t / 2;
-      Geom g{"box", "", vertical ? Eigen::Vector3d(coord, mid, h / 2) : Eigen::Vector3d(mid, coord, h / 2),
-             vertical ? std::vector<double>{t / 2, half, h / 2} : std::vector<double>{half, t / 2, h / 2}, {}, 0, kWallGroup, kWallRgba};
+      Geom g{"box",
+             "",
+             vertical ? Eigen::Vector3d(coord, mid, h / 2) : Eigen::Vector3d(mid, coord, h / 2),
+             vertical ? std::vector<double>{t / 2, half, h / 2} : std::vector<double>{half, t / 2, h / 2},
+             {},
+             0,
+             kWallGroup,
+             kWallRgba};
       walls.geoms.push_back(g);
       raster.mark(Shape::box(g.pos.head<2>(), {g.size[0], g.size[1]}), FloorRaster::Solid::kWall);
     }
@@ -250,13 +265,20 @@ Body door_body(const Room& room, int n, const OfficeLayout& l, Body& walls, Floo
   const Eigen::Vector2d along(-d.into_room.y(), d.into_room.x());
   const double yaw = std::atan2(along.y(), along.x());
   if (h > kLintelM + 0.05)
-    walls.geoms.push_back({"box", "", Eigen::Vector3d(d.center_W.x(), d.center_W.y(), 0.5 * (kLintelM + h)),
-                           {std::abs(along.x()) * (d.width_m / 2 + t / 2) + std::abs(along.y()) * t / 2,
-                            std::abs(along.y()) * (d.width_m / 2 + t / 2) + std::abs(along.x()) * t / 2, 0.5 * (h - kLintelM)},
-                           {}, 0, kWallGroup, kWallRgba});
+    walls.geoms.push_back(
+        {"box",
+         "",
+         Eigen::Vector3d(d.center_W.x(), d.center_W.y(), 0.5 * (kLintelM + h)),
+         {std::abs(along.x()) * (d.width_m / 2 + t / 2) + std::abs(along.y()) * t / 2,
+          std::abs(along.y()) * (d.width_m / 2 + t / 2) + std::abs(along.x()) * t / 2, 0.5 * (h - kLintelM)},
+         {},
+         0,
+         kWallGroup,
+         kWallRgba});
   Body door;
   door.name = "door_" + std::to_string(n);
-  door.comment = door.name + ": " + (d.open ? "open" : "closed") + ", " + fixed(d.width_m, 2) + " m, " + room.region + " room";
+  door.comment =
+      door.name + ": " + (d.open ? "open" : "closed") + ", " + fixed(d.width_m, 2) + " m, " + room.region + " room";
   door.yaw_rad = yaw;
   Eigen::Vector2d half;
   if (d.open) {  // turned into the room at one jamb
@@ -266,8 +288,14 @@ Body door_body(const Room& room, int n, const OfficeLayout& l, Body& walls, Floo
     door.pos.head<2>() = d.center_W;
     half = {d.width_m / 2 - 0.005, 0.02};
   }
-  door.geoms.push_back({"box", "", Eigen::Vector3d(0, 0, kDoorHeightM / 2), {half.x(), half.y(), kDoorHeightM / 2}, {}, 0,
-                        kWallGroup, kDoorRgba});
+  door.geoms.push_back({"box",
+                        "",
+                        Eigen::Vector3d(0, 0, kDoorHeightM / 2),
+                        {half.x(), half.y(), kDoorHeightM / 2},
+                        {},
+                        0,
+                        kWallGroup,
+                        kDoorRgba});
   raster.mark(Shape::box(door.pos.head<2>(), half, yaw), FloorRaster::Solid::kWall);
   return door;
 }

@@ -80,7 +80,7 @@ struct Room {
 
 // A stretch of corridor wall: the face along which things stand, seen from the corridor.
 struct WallFace {
-  Eigen::Vector2d a_W, b_W;   // the face's ends on the wall's centre line
+  Eigen::Vector2d a_W, b_W;       // the face's ends on the wall's centre line
   Eigen::Vector2d into_corridor;  // unit normal
 };
 

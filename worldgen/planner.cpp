@@ -23,7 +23,8 @@ void for_each_step(const DriveGrid& g, CellIndex c, F&& visit) {
   for (const auto& s : kSteps) {
     const CellIndex n{c.col + s[0], c.row + s[1]};
     if (!g.drivable_at(n)) continue;
-    if (s[0] != 0 && s[1] != 0 && (!g.drivable_at({c.col + s[0], c.row}) || !g.drivable_at({c.col, c.row + s[1]}))) continue;
+    if (s[0] != 0 && s[1] != 0 && (!g.drivable_at({c.col + s[0], c.row}) || !g.drivable_at({c.col, c.row + s[1]})))
+      continue;
     visit(n, s[0] != 0 && s[1] != 0 ? std::sqrt(2.0) : 1.0);
   }
 }
@@ -55,23 +56,28 @@ std::string point_text(const std::string& name, const Eigen::Vector2d& p) {
 }
 
 // The drivable cell holding p_W, or an error saying why it is not one.
-CellIndex drivable_cell(const DriveGrid& g, const std::vector<Cell>& cells, const Eigen::Vector2d& p, const std::string& name) {
+CellIndex drivable_cell(const DriveGrid& g, const std::vector<Cell>& cells, const Eigen::Vector2d& p,
+                        const std::string& name) {
   const auto c = g.frame.cell_of(p);
   if (!c) {
     std::ostringstream text;
-    const Eigen::Vector2d a = g.frame.cell_center_W({0, 0}), b = g.frame.cell_center_W({g.frame.width - 1, g.frame.height - 1});
-    text << point_text(name, p) << ": outside the map (its cells run from (" << a.x() << ", " << a.y() << ") to (" << b.x()
-         << ", " << b.y() << ") m); give a point on the map";
+    const Eigen::Vector2d a = g.frame.cell_center_W({0, 0}),
+                          b = g.frame.cell_center_W({g.frame.width - 1, g.frame.height - 1});
+    text << point_text(name, p) << ": outside the map (its cells run from (" << a.x() << ", " << a.y() << ") to ("
+         << b.x() << ", " << b.y() << ") m); give a point on the map";
     throw std::invalid_argument(text.str());
   }
   const std::size_t i = g.frame.index(*c);
-  if (cells[i] == Cell::kOccupied) throw std::invalid_argument(point_text(name, p) + ": inside a wall (an occupied cell); give a point in free space");
-  if (cells[i] == Cell::kUnknown) throw std::invalid_argument(point_text(name, p) + ": in unknown space (not drivable); give a point in free space");
+  if (cells[i] == Cell::kOccupied)
+    throw std::invalid_argument(point_text(name, p) + ": inside a wall (an occupied cell); give a point in free space");
+  if (cells[i] == Cell::kUnknown)
+    throw std::invalid_argument(point_text(name, p) + ": in unknown space (not drivable); give a point in free space");
   if (!g.drivable[i]) {
     std::ostringstream text;
     text.precision(2);
-    text << std::fixed << point_text(name, p) << ": " << g.clearance_m[i] << " m from the nearest wall, closer than the robot's "
-         << g.radius_m << " m (footprint radius and margin); move it into the open";
+    text << std::fixed << point_text(name, p) << ": " << g.clearance_m[i]
+         << " m from the nearest wall, closer than the robot's " << g.radius_m
+         << " m (footprint radius and margin); move it into the open";
     throw std::invalid_argument(text.str());
   }
   return *c;
@@ -122,7 +128,8 @@ std::vector<CellIndex> astar(const DriveGrid& g, CellIndex start, CellIndex goal
   return path;
 }
 
-std::vector<Eigen::Vector2d> simplify_path(const DriveGrid& g, const std::vector<CellIndex>& cells, const PlannerConfig& config) {
+std::vector<Eigen::Vector2d> simplify_path(const DriveGrid& g, const std::vector<CellIndex>& cells,
+                                           const PlannerConfig& config) {
   std::vector<Eigen::Vector2d> out;
   if (cells.empty()) return out;
   const auto center = [&](std::size_t k) { return g.frame.cell_center_W(cells[k]); };
@@ -175,7 +182,8 @@ std::pair<CellIndex, CellIndex> longest_path_ends(const DriveGrid& g) {
     if (size > best_size) best_size = size, best_seed = seed;
     ++regions;
   }
-  if (best_size == 0) throw std::invalid_argument("no drivable cell: every free cell lies closer than the robot's radius to a wall");
+  if (best_size == 0)
+    throw std::invalid_argument("no drivable cell: every free cell lies closer than the robot's radius to a wall");
   const int chosen = region[best_seed];
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   for (std::size_t i = 0; i < region.size(); ++i)
@@ -199,8 +207,8 @@ double path_length_m(const std::vector<Eigen::Vector2d>& points) {
 }
 
 PlannedPath plan_path(const DriveGrid& g, const std::vector<Cell>& cells, std::optional<Eigen::Vector2d> start_W,
-                      std::optional<Eigen::Vector2d> goal_W, const std::string& start_name, const std::string& goal_name,
-                      const PlannerConfig& config) {
+                      std::optional<Eigen::Vector2d> goal_W, const std::string& start_name,
+                      const std::string& goal_name, const PlannerConfig& config) {
   CellIndex start, goal;
   if (start_W) start = drivable_cell(g, cells, *start_W, start_name);
   if (goal_W) goal = drivable_cell(g, cells, *goal_W, goal_name);
@@ -208,13 +216,16 @@ PlannedPath plan_path(const DriveGrid& g, const std::vector<Cell>& cells, std::o
   if (!start_W && goal_W) start = farthest_cell(g, goal);
   if (!start_W && !goal_W) std::tie(start, goal) = longest_path_ends(g);
   if (start == goal) {
-    if (start_W && goal_W) throw std::invalid_argument(point_text(goal_name, *goal_W) + ": lies in the start's cell; give two distinct points");
+    if (start_W && goal_W)
+      throw std::invalid_argument(point_text(goal_name, *goal_W) +
+                                  ": lies in the start's cell; give two distinct points");
     throw std::invalid_argument("no drivable path: the robot's region holds a single cell (" +
                                 point_text(start_name, g.frame.cell_center_W(start)) + ")");
   }
   const std::vector<CellIndex> cells_path = astar(g, start, goal, config);
   if (cells_path.empty())
-    throw std::invalid_argument(point_text(goal_name, goal_W.value_or(g.frame.cell_center_W(goal))) + ": unreachable from " +
+    throw std::invalid_argument(point_text(goal_name, goal_W.value_or(g.frame.cell_center_W(goal))) +
+                                ": unreachable from " +
                                 point_text(start_name, start_W.value_or(g.frame.cell_center_W(start))) +
                                 " (no passage at least twice the robot's radius wide joins them); move one of them");
   PlannedPath path;

@@ -10,8 +10,8 @@
 namespace stvl::worldgen {
 namespace {
 
-constexpr double kCornerRad = 0.5;       // sim::PathFollowerConfig::corner_angle_rad
-constexpr double kTurnRateRadps = 0.8;   // below the follower's 1.2 rad/s: it accelerates and brakes
+constexpr double kCornerRad = 0.5;      // sim::PathFollowerConfig::corner_angle_rad
+constexpr double kTurnRateRadps = 0.8;  // below the follower's 1.2 rad/s: it accelerates and brakes
 constexpr double kStopAndGoS = 2.0;
 
 double turn(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -75,8 +75,9 @@ std::string write_scenario_yaml(const ScenarioSpec& s) {
   const double duration_s = drive_duration_s(s.waypoints_W, s.speed_mps, yaw_rad);
   const double length_m = path_length_m(s.waypoints_W);
   if (duration_s > 3600)
-    throw std::invalid_argument("the planned path is " + fixed(length_m, 1) + " m long, more than a 3600 s scenario drives at " +
-                                fixed(s.speed_mps, 2) + " m/s; give a nearer --goal");
+    throw std::invalid_argument("the planned path is " + fixed(length_m, 1) +
+                                " m long, more than a 3600 s scenario drives at " + fixed(s.speed_mps, 2) +
+                                " m/s; give a nearer --goal");
   std::ostringstream y;
   std::istringstream lines(s.description);
   for (std::string line; std::getline(lines, line);) y << "#" << (line.empty() ? "" : " ") << line << "\n";
@@ -84,15 +85,17 @@ std::string write_scenario_yaml(const ScenarioSpec& s) {
     << "name: " << s.name << "\n"
     << "world: " << s.world_file << "\n"
     << "seed: " << s.seed << "\n"
-    << "# The path's " << fixed(length_m, 1) << " m at " << fixed(s.speed_mps, 1) << " m/s, a stop and a turn in place at each of its "
-    << sharp_corners(s.waypoints_W) << " sharp corners and at the start,\n"
+    << "# The path's " << fixed(length_m, 1) << " m at " << fixed(s.speed_mps, 1)
+    << " m/s, a stop and a turn in place at each of its " << sharp_corners(s.waypoints_W)
+    << " sharp corners and at the start,\n"
     << "# then 30 % and 10 s spare (the run stops at the path's end).\n"
     << "duration_s: " << fixed(duration_s, 0) << "\n"
     << "robot:\n"
     << "  start: [" << fixed(s.start.x(), 3) << ", " << fixed(s.start.y(), 3) << ", " << fixed(s.start.z(), 1)
     << "]  # x_m, y_m, yaw_deg: the path's first point, facing its first leg\n"
     << "  # A* on the world's floor plan (8-connected, a clearance term in the cost), every cell of it at least the\n"
-    << "  # robot's footprint radius (worlds/robot.xml) plus 0.05 m from any wall or obstacle, pruned to the legs that keep\n"
+    << "  # robot's footprint radius (worlds/robot.xml) plus 0.05 m from any wall or obstacle, pruned to the legs that "
+       "keep\n"
     << "  # the clearance the cell path had.\n"
     << "  waypoints: [";
   for (std::size_t i = 0; i < s.waypoints_W.size(); ++i) y << (i ? ", " : "") << point(s.waypoints_W[i]);
@@ -104,20 +107,25 @@ std::string write_scenario_yaml(const ScenarioSpec& s) {
     for (const MovingBodySpec& m : s.moving_bodies) {
       y << "  - body: " << m.body << (m.comment.empty() ? "" : "  # " + m.comment) << "\n    keyframes:\n";
       for (const Keyframe& k : m.keyframes)
-        y << "      - {t: " << fixed(k.t_s, 2) << ", position: [" << fixed(k.position_W.x(), 3) << ", " << fixed(k.position_W.y(), 3)
-          << ", " << fixed(k.position_W.z(), 3) << "], yaw_deg: " << fixed(k.yaw_deg, 1) << "}\n";
+        y << "      - {t: " << fixed(k.t_s, 2) << ", position: [" << fixed(k.position_W.x(), 3) << ", "
+          << fixed(k.position_W.y(), 3) << ", " << fixed(k.position_W.z(), 3) << "], yaw_deg: " << fixed(k.yaw_deg, 1)
+          << "}\n";
       if (m.repeat_s) y << "    repeat_s: " << fixed(*m.repeat_s, 2) << "\n";
     }
   }
   y << "# Sensing, filter and map as in scenarios/office_corridor.yaml.\n" << kSensingAndMap;
-  y << "# Besides robot_upright, path_completed (the path's end reached within duration_s) and the default mean costmap\n"
+  y << "# Besides robot_upright, path_completed (the path's end reached within duration_s) and the default mean "
+       "costmap\n"
     << "# precision >= 0.7 (evaluation/checks.hpp):\n"
     << "checks:\n"
-    << "  # Generic bounds, not measured on this world: every generated world is new, so these are the bounds any of them\n"
-    << "  # must meet. README.md (\"Your building, your robot\") gives what generated worlds measured when the generator\n"
+    << "  # Generic bounds, not measured on this world: every generated world is new, so these are the bounds any of "
+       "them\n"
+    << "  # must meet. README.md (\"Your building, your robot\") gives what generated worlds measured when the "
+       "generator\n"
     << "  # was written. 0.9 fails a map that gets a tenth of what the camera saw wrong.\n"
     << "  f1_3d_min: 0.9\n"
-    << "  # Flying pixels at the edges the robot passes close by (door jambs) leave a few isolated lethal cells on its way\n"
+    << "  # Flying pixels at the edges the robot passes close by (door jambs) leave a few isolated lethal cells on its "
+       "way\n"
     << "  # (STVL has no edge filter). 10 cells still fails a floor marked lethal (thousands, evaluation/checks.hpp).\n"
     << "  path_free_lethal_max: 10\n";
   return y.str();

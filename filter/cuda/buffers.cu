@@ -21,7 +21,8 @@ inline float order_float(int i) {
 __global__ void bounds_kernel(const float* p, std::size_t n, DeviceBounds* out) {
   int lo[3] = {INT_MAX, INT_MAX, INT_MAX}, hi[3] = {INT_MIN, INT_MIN, INT_MIN};
   unsigned long long count = 0;
-  for (std::size_t i = blockIdx.x * std::size_t(blockDim.x) + threadIdx.x; i < n; i += std::size_t(gridDim.x) * blockDim.x) {
+  for (std::size_t i = blockIdx.x * std::size_t(blockDim.x) + threadIdx.x; i < n;
+       i += std::size_t(gridDim.x) * blockDim.x) {
     const float v[3] = {p[3 * i], p[3 * i + 1], p[3 * i + 2]};
     if (!detail::finite3(v[0], v[1], v[2])) continue;
     ++count;

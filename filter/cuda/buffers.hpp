@@ -50,7 +50,8 @@ struct HostBuffer {
   std::size_t capacity = 0;
   void release() {
     if (!ptr) return;
-    if (mode == MemoryMode::kManaged) cudaFree(ptr); else cudaFreeHost(ptr);
+    if (mode == MemoryMode::kManaged) cudaFree(ptr);
+    else cudaFreeHost(ptr);
     ptr = device_ptr = nullptr;
     capacity = 0;
   }
@@ -138,7 +139,8 @@ struct Context::Impl {
   }
 
   // Sorts items[0, n) on bits [low, high); returns the buffer holding the result.
-  std::uint64_t* sort_keys(DeviceBuffer<std::uint64_t>& a, DeviceBuffer<std::uint64_t>& b, std::size_t n, int low, int high) {
+  std::uint64_t* sort_keys(DeviceBuffer<std::uint64_t>& a, DeviceBuffer<std::uint64_t>& b, std::size_t n, int low,
+                           int high) {
     cub::DoubleBuffer<std::uint64_t> db(a.ptr, b.ptr);
     cub_call([&](void* t, std::size_t& bytes) {
       return cub::DeviceRadixSort::SortKeys(t, bytes, db, static_cast<int>(n), low, high, stream);

@@ -8,7 +8,8 @@ namespace stvl::filter::cuda {
 
 namespace {
 
-__global__ void csnb_keys(const float* p, std::size_t n, detail::CsnbLayout layout, int index_bits, std::uint64_t* items) {
+__global__ void csnb_keys(const float* p, std::size_t n, detail::CsnbLayout layout, int index_bits,
+                          std::uint64_t* items) {
   const std::size_t i = blockIdx.x * std::size_t(blockDim.x) + threadIdx.x;
   if (i >= n) return;
   const float x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
@@ -260,10 +261,10 @@ void Context::Impl::csnb_spans_anchors_counts(const detail::CsnbLayout& layout, 
   live.ensure(m);
   count.ensure(m);
   csnb_cubes<<<blocks(cubes), kBlock, 0, stream>>>(layout, cube_key.ptr, cube_begin.ptr, cubes, xyz.ptr, spans.ptr,
-                                                    anchor.ptr, cube_of.ptr, is_anchor.ptr);
+                                                   anchor.ptr, cube_of.ptr, is_anchor.ptr);
   csnb_mark_anchors<<<blocks(cubes), kBlock, 0, stream>>>(anchor.ptr, cubes, is_anchor.ptr);
   csnb_count<<<blocks(m), kBlock, 0, stream>>>(xyz.ptr, m, cube_of.ptr, spans.ptr, rows, layout.radius_sq, count.ptr,
-                                                live.ptr);
+                                               live.ptr);
 }
 
 const std::uint64_t* Context::Impl::csnb_random_order(std::uint32_t m, std::uint32_t cubes, std::uint64_t seed) {
@@ -293,8 +294,8 @@ void Context::Impl::csnb_batches(const std::uint64_t* walk_order, std::size_t ca
     loop_grid = cooperative && per_sm > 0 ? sms : 0;
   }
   if (loop_grid > 0 && candidates > 0) {
-    LoopParams params{walk_order, candidates, xyz.ptr, cube_of.ptr, spans.ptr, rows, r2, live.ptr, count.ptr, T, K,
-                      picked.ptr};
+    LoopParams params{walk_order, candidates, xyz.ptr,   cube_of.ptr, spans.ptr, rows,
+                      r2,         live.ptr,   count.ptr, T,           K,         picked.ptr};
     void* args[] = {&params};
     STVL_CUDA(cudaLaunchCooperativeKernel(reinterpret_cast<void*>(csnb_loop), dim3(loop_grid), dim3(kLoopBlock), args,
                                           0, stream));
@@ -306,7 +307,7 @@ void Context::Impl::csnb_batches(const std::uint64_t* walk_order, std::size_t ca
       return cub::DeviceScan::ExclusiveSum(t, bytes, flag.ptr, pos.ptr, static_cast<int>(window), stream);
     });
     csnb_pick<<<blocks(window), kBlock, 0, stream>>>(walk_order + cursor, window, flag.ptr, pos.ptr, K, picked.ptr,
-                                                      result.ptr);
+                                                     result.ptr);
     long long found[2];
     STVL_CUDA(cudaMemcpyAsync(found, result.ptr, sizeof(found), cudaMemcpyDeviceToHost, stream));
     STVL_CUDA(cudaStreamSynchronize(stream));
@@ -314,7 +315,7 @@ void Context::Impl::csnb_batches(const std::uint64_t* walk_order, std::size_t ca
     if (batch > 0) {
       csnb_kill<<<blocks(batch), kBlock, 0, stream>>>(picked.ptr, batch, live.ptr);
       csnb_decrement<<<blocks(batch), kBlock, 0, stream>>>(picked.ptr, batch, xyz.ptr, cube_of.ptr, spans.ptr, rows, r2,
-                                                            live.ptr, count.ptr);
+                                                           live.ptr, count.ptr);
     }
     if (found[0] <= K) break;
     cursor += static_cast<std::size_t>(found[1]);
@@ -340,7 +341,7 @@ Eigen::Matrix3Xf Context::csnb(const Eigen::Matrix3Xf& points, const CsnbConfig&
   const int T = config.max_neighbours;
   d.csnb_batches(order, m - cubes, rows, layout.radius_sq, T, config.batch_size);
   csnb_claims<<<blocks(cubes), kBlock, 0, d.stream>>>(d.anchor.ptr, cubes, d.xyz.ptr, d.spans.ptr, rows,
-                                                       layout.radius_sq, d.count.ptr, T, d.is_anchor.ptr, d.live.ptr);
+                                                      layout.radius_sq, d.count.ptr, T, d.is_anchor.ptr, d.live.ptr);
   F3* target = d.output_target(m, mode);
   d.cub_call([&](void* t, std::size_t& bytes) {
     return cub::DeviceSelect::Flagged(t, bytes, d.xyz.ptr, d.live.ptr, target, d.small.ptr + 1, static_cast<int>(m),

@@ -73,8 +73,8 @@ Eigen::Matrix3Xf Context::voxel_grid(const Eigen::Matrix3Xf& points, const Voxel
     d.items.ensure(n);
     d.items_alt.ensure(n);
     voxel_keys_packed<<<blocks(n), kBlock, 0, d.stream>>>(p, n, layout, d.items.ptr);
-    const std::uint64_t* sorted = d.sort_keys(d.items, d.items_alt, n, layout.index_bits,
-                                              layout.index_bits + layout.key_bits + 1);
+    const std::uint64_t* sorted =
+        d.sort_keys(d.items, d.items_alt, n, layout.index_bits, layout.index_bits + layout.key_bits + 1);
     split_packed<<<blocks(m), kBlock, 0, d.stream>>>(sorted, m, layout.index_bits, d.keys.ptr, d.index.ptr);
     sorted_keys = d.keys.ptr;
     sorted_index = d.index.ptr;
@@ -104,8 +104,9 @@ Eigen::Matrix3Xf Context::voxel_grid(const Eigen::Matrix3Xf& points, const Voxel
   d.centroids.ensure(m);
   d.keep.ensure(m);
   F3* target = d.output_target(m, mode);
-  centroids_kernel<<<blocks(m), kBlock, 0, d.stream>>>(p, sorted_index, d.run_count.ptr, d.run_begin.ptr, d.small.ptr, m,
-                                                        std::max(config.min_points_per_voxel, 1), d.centroids.ptr, d.keep.ptr);
+  centroids_kernel<<<blocks(m), kBlock, 0, d.stream>>>(p, sorted_index, d.run_count.ptr, d.run_begin.ptr, d.small.ptr,
+                                                       m, std::max(config.min_points_per_voxel, 1), d.centroids.ptr,
+                                                       d.keep.ptr);
   d.cub_call([&](void* t, std::size_t& bytes) {
     return cub::DeviceSelect::Flagged(t, bytes, d.centroids.ptr, d.keep.ptr, target, d.small.ptr + 1,
                                       static_cast<int>(m), d.stream);

@@ -71,7 +71,8 @@ void parallel_for(std::size_t n, int threads, Fn&& fn) {
   auto call = [&fn, n, threads](int t) {
     fn(n * std::size_t(t) / std::size_t(threads), n * std::size_t(t + 1) / std::size_t(threads), t);
   };
-  run_parallel(threads, [](void* c, int t) { (*static_cast<decltype(call)*>(c))(t); }, &call);
+  run_parallel(
+      threads, [](void* c, int t) { (*static_cast<decltype(call)*>(c))(t); }, &call);
 }
 
 Bounds compute_bounds(const Eigen::Matrix3Xf& points, int threads);
@@ -115,7 +116,8 @@ T* radix_sort_segments(const std::vector<Segment<T>>& segments, T* a, T* b, int 
         begin = segments[t].data;
         size = segments[t].size;
       } else {
-        const std::size_t lo = n * std::size_t(t) / std::size_t(parts), hi = n * std::size_t(t + 1) / std::size_t(parts);
+        const std::size_t lo = n * std::size_t(t) / std::size_t(parts),
+                          hi = n * std::size_t(t + 1) / std::size_t(parts);
         begin = src + lo;
         size = hi - lo;
       }

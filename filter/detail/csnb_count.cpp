@@ -105,12 +105,15 @@ struct Avx2Block {
     __m256i keys, s, a;
     load(c, j, px, py, pz, &near, &keys);
     accept.mask(keys, &s, &a);
-    *safe += __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(s)))) & kFirstLanes[n]);
-    *any += __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(a)))) & kFirstLanes[n]);
+    *safe +=
+        __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(s)))) & kFirstLanes[n]);
+    *any +=
+        __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_and_ps(near, _mm256_castsi256_ps(a)))) & kFirstLanes[n]);
   }
   // Lanes within r of (px, py, pz), and the keys, of candidates j .. j + 7 (reads 8 even when the block
   // holds fewer: the padding keeps that inside the array, kFirstLanes masks them out).
-  STVL_AVX2 static void load(const Counter& c, std::size_t j, float px, float py, float pz, __m256* near, __m256i* keys) {
+  STVL_AVX2 static void load(const Counter& c, std::size_t j, float px, float py, float pz, __m256* near,
+                             __m256i* keys) {
     // Two candidates per load; transposed, lanes 0..7 hold candidates 0 2 4 6 1 3 5 7.
     const float* f = reinterpret_cast<const float*>(c.candidates + j);
     const __m256 a0 = _mm256_loadu_ps(f), a1 = _mm256_loadu_ps(f + 8), a2 = _mm256_loadu_ps(f + 16),
@@ -240,12 +243,16 @@ inline void cube_keys(const float* p, std::size_t n, const CsnbLayout& l, std::u
     return loops::name<PlainBlock> args;            \
   }
 #endif
-STVL_CSNB_ENTRY(void, sure_part, (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint64_t* sure,
-                                  std::uint64_t* sparse), (c, b, e, o, sure, sparse))
-STVL_CSNB_ENTRY(void, anchors_over, (const Counter& c, const std::uint32_t* near, std::size_t b, std::size_t e,
-                                     std::uint8_t* over), (c, near, b, e, over))
-STVL_CSNB_ENTRY(void, classify, (const Counter& c, const Point* p, std::uint32_t start, const std::uint32_t* ids,
-                                 std::size_t b, std::size_t e, std::uint8_t* result),
+STVL_CSNB_ENTRY(void, sure_part,
+                (const Counter& c, std::size_t b, std::size_t e, std::uint32_t o, std::uint64_t* sure,
+                 std::uint64_t* sparse),
+                (c, b, e, o, sure, sparse))
+STVL_CSNB_ENTRY(void, anchors_over,
+                (const Counter& c, const std::uint32_t* near, std::size_t b, std::size_t e, std::uint8_t* over),
+                (c, near, b, e, over))
+STVL_CSNB_ENTRY(void, classify,
+                (const Counter& c, const Point* p, std::uint32_t start, const std::uint32_t* ids, std::size_t b,
+                 std::size_t e, std::uint8_t* result),
                 (c, p, start, ids, b, e, result))
 STVL_CSNB_ENTRY(bool, marked_now, (const Counter& c, const Point& p, std::uint32_t start, std::uint32_t me),
                 (c, p, start, me))
@@ -258,10 +265,8 @@ STVL_AVX2 __attribute__((flatten)) static void cube_keys_avx2(const float* p, st
   loops::cube_keys(p, n, l, keys);
 }
 void cube_keys(bool avx2, const float* p, std::size_t n, const CsnbLayout& l, std::uint64_t* keys) {
-  if (avx2)
-    cube_keys_avx2(p, n, l, keys);
-  else
-    loops::cube_keys(p, n, l, keys);
+  if (avx2) cube_keys_avx2(p, n, l, keys);
+  else loops::cube_keys(p, n, l, keys);
 }
 #else
 void cube_keys(bool, const float* p, std::size_t n, const CsnbLayout& l, std::uint64_t* keys) {

@@ -49,8 +49,8 @@ void for_each_bit(const std::vector<std::uint64_t>& bits, Visit&& visit) {
 // point's own cube and its x-neighbours) first.
 struct Counter {
   const Candidate* candidates;
-  const std::uint32_t* start;      // per cube: its first candidate
-  const std::uint32_t* spans;      // per cube and row: the occupied cubes [first, end) the row covers
+  const std::uint32_t* start;  // per cube: its first candidate
+  const std::uint32_t* spans;  // per cube and row: the occupied cubes [first, end) the row covers
   int rows;
   int centre_row;
   float r2;
@@ -113,11 +113,11 @@ bool avx2_supported();
 // The counting loops. `avx2`: on AVX2 blocks (only where avx2_supported()), else plain ones; the same results.
 // Points sure to be marked whenever the walk reaches them and sparse points (never marked), as bits by walk id,
 // for the cubes [b, e); needs every candidate live.
-void sure_part(bool avx2, const Counter& c, std::size_t b, std::size_t e, std::uint32_t order_size,
-               std::uint64_t* sure, std::uint64_t* sparse);
+void sure_part(bool avx2, const Counter& c, std::size_t b, std::size_t e, std::uint32_t order_size, std::uint64_t* sure,
+               std::uint64_t* sparse);
 // over[cube] for the anchors of cubes [b, e): more than `threshold` live neighbours after the walk.
-void anchors_over(bool avx2, const Counter& anchors, const std::uint32_t* settled_near, std::size_t b,
-                  std::size_t e, std::uint8_t* over);
+void anchors_over(bool avx2, const Counter& anchors, const std::uint32_t* settled_near, std::size_t b, std::size_t e,
+                  std::uint8_t* over);
 // kMarked, kUnmarked or kAmbiguous for the walk ids ids[b, e) while the batch that starts at `start` is gathered.
 void classify(bool avx2, const Counter& c, const Point* points, std::uint32_t start, const std::uint32_t* ids,
               std::size_t b, std::size_t e, std::uint8_t* result);

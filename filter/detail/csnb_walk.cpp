@@ -35,7 +35,8 @@ std::size_t count_bits(const std::uint64_t* bits, std::size_t from, std::size_t 
   const std::size_t first = from / 64, last = (to - 1) / 64;
   const std::uint64_t head = ~std::uint64_t{0} << (from % 64), tail = ~std::uint64_t{0} >> (63 - (to - 1) % 64);
   if (first == last) return std::size_t(__builtin_popcountll(bits[first] & head & tail));
-  std::size_t n = std::size_t(__builtin_popcountll(bits[first] & head)) + std::size_t(__builtin_popcountll(bits[last] & tail));
+  std::size_t n =
+      std::size_t(__builtin_popcountll(bits[first] & head)) + std::size_t(__builtin_popcountll(bits[last] & tail));
   for (std::size_t k = first + 1; k < last; ++k) n += std::size_t(__builtin_popcountll(bits[k]));
   return n;
 }
@@ -82,12 +83,14 @@ void init_candidates(Workspace& w, std::size_t order_size, std::uint32_t never, 
   detail::parallel_for(m, detail::parts_for(m, threads, 16384), [&](std::size_t b, std::size_t e, int) {
     for (std::size_t s = b; s < e; ++s) w.candidates[s] = {w.points[s].x, w.points[s].y, w.points[s].z, never};
   });
-  detail::parallel_for(order_size, detail::parts_for(order_size, threads, 16384), [&](std::size_t b, std::size_t e, int) {
-    for (std::size_t i = b; i < e; ++i) {
-      if (i + 16 < e) __builtin_prefetch(&w.candidates[std::uint32_t(w.order[i + 16])], 1);  // a scatter
-      w.candidates[std::uint32_t(w.order[i])].key = static_cast<std::uint32_t>(i);
-    }
-  });
+  detail::parallel_for(order_size, detail::parts_for(order_size, threads, 16384),
+                       [&](std::size_t b, std::size_t e, int) {
+                         for (std::size_t i = b; i < e; ++i) {
+                           if (i + 16 < e)
+                             __builtin_prefetch(&w.candidates[std::uint32_t(w.order[i + 16])], 1);  // a scatter
+                           w.candidates[std::uint32_t(w.order[i])].key = static_cast<std::uint32_t>(i);
+                         }
+                       });
 }
 
 void settle(Workspace& w, std::uint32_t j, std::uint32_t never) {
@@ -211,8 +214,8 @@ void claim(Workspace& w, const Counter& counter, std::size_t cubes, bool avx2, i
     }
   });
   const int rows = counter.rows;
-  const Counter anchors{w.anchor_candidates.data(), w.cube_index.data(), w.spans.data(), rows, counter.centre_row,
-                        counter.r2, counter.threshold};
+  const Counter anchors{w.anchor_candidates.data(), w.cube_index.data(), w.spans.data(),   rows,
+                        counter.centre_row,         counter.r2,          counter.threshold};
   // The anchors near a settled point (sorted position s).
   auto near_anchors = [&](std::size_t s, auto&& visit) {
     const Point& q = w.points[s];

@@ -15,8 +15,8 @@ struct Workspace {
   std::vector<std::uint32_t> column, cube_key, cube_begin, spans, anchor, unsure;
   std::vector<Point> points, unsure_points;
   std::vector<Candidate> candidates;
-  std::vector<std::uint64_t> sure;    // bit per walk id: marked whenever reached (find_sure)
-  std::vector<std::uint64_t> sparse;  // bit per walk id: no more than max_neighbours neighbours at all
+  std::vector<std::uint64_t> sure;                     // bit per walk id: marked whenever reached (find_sure)
+  std::vector<std::uint64_t> sparse;                   // bit per walk id: no more than max_neighbours neighbours at all
   std::vector<std::vector<std::uint64_t>> sure_parts;  // per part of find_sure: sure, sparse, sure, ...
   std::vector<std::uint8_t> is_anchor, result, claims, claimed;
   std::vector<Candidate> anchor_candidates;  // by cube, for the final claims

@@ -24,9 +24,7 @@ STVL_HD std::uint64_t hash3(std::uint64_t seed, std::uint64_t a, std::uint64_t b
   return splitmix64(splitmix64(splitmix64(seed) ^ a) ^ b);
 }
 
-STVL_HD bool finite3(float x, float y, float z) {
-  return std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
-}
+STVL_HD bool finite3(float x, float y, float z) { return std::isfinite(x) && std::isfinite(y) && std::isfinite(z); }
 
 STVL_HD float sq_dist(float ax, float ay, float az, float bx, float by, float bz) {
 #ifdef __CUDA_ARCH__
@@ -58,11 +56,11 @@ STVL_HD std::int64_t floor_div(double a, double b) {
 // Voxel grid: 64-bit mixed-radix key over the bounding box, x fastest.
 struct VoxelLayout {
   double voxel_size_m = 1.0;
-  std::int64_t base[3] = {0, 0, 0};       // floor(min / voxel) per axis
-  std::uint64_t dims[3] = {1, 1, 1};      // voxels per axis
-  int key_bits = 0;                       // bits of the largest key
-  int index_bits = 0;                     // bits of the largest point index
-  bool packed = true;                     // key_bits + index_bits <= 64: sort (key << index_bits | index)
+  std::int64_t base[3] = {0, 0, 0};   // floor(min / voxel) per axis
+  std::uint64_t dims[3] = {1, 1, 1};  // voxels per axis
+  int key_bits = 0;                   // bits of the largest key
+  int index_bits = 0;                 // bits of the largest point index
+  bool packed = true;                 // key_bits + index_bits <= 64: sort (key << index_bits | index)
 };
 
 STVL_HD std::uint64_t voxel_key(const VoxelLayout& l, float x, float y, float z) {
@@ -140,7 +138,8 @@ STVL_HD std::uint32_t search_keys(const std::uint32_t* keys, std::uint32_t count
   std::uint32_t lo = 0, hi = count;
   while (lo < hi) {
     const std::uint32_t mid = lo + (hi - lo) / 2;
-    if (upper ? keys[mid] <= value : keys[mid] < value) lo = mid + 1; else hi = mid;
+    if (upper ? keys[mid] <= value : keys[mid] < value) lo = mid + 1;
+    else hi = mid;
   }
   return lo;
 }

@@ -17,9 +17,9 @@ struct CsnbGrid {
   double min_m[3] = {0, 0, 0};  // the bounding box's minimum
   double extent_m = 0.0;        // its largest side
   double cube_edge_m = 1.0;
-  int grid_exponent = 4;        // n: 2^n cubes per axis
-  int reach = 1;                // cubes searched on each side
-  float radius_sq = 0.f;        // float(voxel_size_m^2)
+  int grid_exponent = 4;  // n: 2^n cubes per axis
+  int reach = 1;          // cubes searched on each side
+  float radius_sq = 0.f;  // float(voxel_size_m^2)
 
   // Cube coordinates (x, y, z) of a finite point, clamped to the grid.
   std::array<int, 3> cube(float x, float y, float z) const;

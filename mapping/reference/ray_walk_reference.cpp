@@ -13,9 +13,9 @@
 namespace stvl::mapping::reference {
 
 std::vector<VoxelKey> ray_voxels(const Eigen::Vector3d& s_vox, const Eigen::Vector3d& e_vox) {
-  constexpr double kOne = 4503599627370496.0;                  // 2^52: t = 1 in fixed point
-  constexpr double kCap = 288230376151711744.0;                // 2^58
-  constexpr double kMaxCoordinate = 1073741824.0;              // 2^30
+  constexpr double kOne = 4503599627370496.0;      // 2^52: t = 1 in fixed point
+  constexpr double kCap = 288230376151711744.0;    // 2^58
+  constexpr double kMaxCoordinate = 1073741824.0;  // 2^30
   std::vector<VoxelKey> visited;
   for (const Eigen::Vector3d* p : {&s_vox, &e_vox})
     for (int a = 0; a < 3; ++a)

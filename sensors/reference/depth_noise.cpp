@@ -17,7 +17,6 @@ namespace {
 
 constexpr double kTwoPi = 6.28318530717958647692;
 
-
 enum Stream : uint64_t { kGauss = 0, kEdge, kEdgeKind, kEdgeBlend, kDropout, kHoleCount, kHole, kStreams };
 
 // Frame key, computed once per frame; draws then cost one mix each.
@@ -35,9 +34,7 @@ inline double uniform(uint64_t key, uint64_t index, Stream stream) {
 }
 
 // Threshold for "draw < p" done on the raw 64-bit value.
-inline uint64_t threshold(double p) {
-  return p >= 1.0 ? ~0ULL : uint64_t(p * 18446744073709551616.0);
-}
+inline uint64_t threshold(double p) { return p >= 1.0 ? ~0ULL : uint64_t(p * 18446744073709551616.0); }
 
 // Standard normal quantized to 4096 equiprobable bins, each represented by its conditional mean: drawing a normal
 // is one table look-up on 12 random bits (std 0.9999; far finer than the 1/32 px disparity step it feeds).
@@ -103,8 +100,8 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
   const int W = intrinsics_.width, H = intrinsics_.height;
   if (image.width != W || image.height != H || image.depth_m.size() != size_t(W) * H) {
     throw std::invalid_argument("DepthNoise::apply: image " + std::to_string(image.width) + "x" +
-                                std::to_string(image.height) + " does not match intrinsics " + std::to_string(W) +
-                                "x" + std::to_string(H));
+                                std::to_string(image.height) + " does not match intrinsics " + std::to_string(W) + "x" +
+                                std::to_string(H));
   }
   truth_.assign(image.depth_m.begin(), image.depth_m.end());
   const uint64_t key = frame_key(seed, frame_index);
@@ -131,7 +128,8 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
   if (correlated) {
     const uint64_t field_key = splitmix64_mix(key ^ 0xC2B2AE3D27D4EB4FULL);
     field_grid_.resize(size_t(grid_w) * grid_h);
-    for (size_t j = 0; j < field_grid_.size(); ++j) field_grid_[j] = normal_table()[draw(field_key, j, kGauss) & (kNormalBins - 1)];
+    for (size_t j = 0; j < field_grid_.size(); ++j)
+      field_grid_[j] = normal_table()[draw(field_key, j, kGauss) & (kNormalBins - 1)];
   }
 
   const std::array<float, kNormalBins>& normal = normal_table();
@@ -142,7 +140,7 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
     for (int v = rows.begin(); v < rows.end(); ++v) {
       if (occlusion) {
         const double band = config_.left_band_margin_px +
-                             config_.left_band_jitter_px * (2.0 * uniform(band_key, uint64_t(v), kGauss) - 1.0);
+                            config_.left_band_jitter_px * (2.0 * uniform(band_key, uint64_t(v), kGauss) - 1.0);
         occlusion_row(&truth_[size_t(v) * W], &occluded_[size_t(v) * W], W, fb, band, shadow_margin);
       }
       for (int u = 0; u < W; ++u) {
@@ -188,11 +186,14 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
           const double field = (w00 * g0[0] + w10 * g0[1] + w01 * g1[0] + w11 * g1[1]) /
                                std::sqrt(w00 * w00 + w10 * w10 + w01 * w01 + w11 * w11);
           double disparity = fb / z + config_.subpixel * (white_scale * white + field_scale * field);
-          if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
+          if (step > 0.0 && disparity > 0.0 && disparity < 1e12)
+            disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
           z = disparity > 0.0 ? fb / disparity : 0.0;
         } else if (stereo) {
-          double disparity = fb / z + config_.subpixel * double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
-          if (step > 0.0 && disparity > 0.0 && disparity < 1e12) disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
+          double disparity =
+              fb / z + config_.subpixel * double(normal[(normal_bits >> (16 * (i & 3))) & (kNormalBins - 1)]);
+          if (step > 0.0 && disparity > 0.0 && disparity < 1e12)
+            disparity = double(int64_t(disparity * inv_step + 0.5)) * step;
           z = disparity > 0.0 ? fb / disparity : 0.0;
         }
         if (!(z >= min_m && z <= max_m)) z = 0.0;
@@ -201,10 +202,8 @@ void DepthNoise::apply(DepthImage& image, uint64_t seed, uint64_t frame_index, b
       }
     }
   };
-  if (parallel)
-    tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), noise_rows);
-  else
-    noise_rows(tbb::blocked_range<int>(0, H));
+  if (parallel) tbb::parallel_for(tbb::blocked_range<int>(0, H, 8), noise_rows);
+  else noise_rows(tbb::blocked_range<int>(0, H));
   const double whole = std::floor(config_.holes_per_frame);
   const int holes = int(whole) + (uniform(key, 0, kHoleCount) < config_.holes_per_frame - whole ? 1 : 0);
   for (int h = 0; h < holes; ++h) {

@@ -13,7 +13,7 @@ namespace stvl::sensors::reference {
 struct FloatDepthRenderer::Impl {
   Impl(const mjModel* model, const CameraIntrinsics& intrinsics, GlBackend backend, const std::array<bool, 6>& groups)
       : mj(model, intrinsics, backend, groups, "FloatDepthRenderer") {}
-  MujocoScene mj;  // the scene, its camera and the GL context as DepthRenderer makes them
+  MujocoScene mj;               // the scene, its camera and the GL context as DepthRenderer makes them
   std::vector<float> gl_depth;  // rows bottom first, as glReadPixels returns them
   DepthImage image;
 };
@@ -27,7 +27,8 @@ FloatDepthRenderer::FloatDepthRenderer(const mjModel* model, const CameraIntrins
 
 FloatDepthRenderer::~FloatDepthRenderer() = default;
 
-const DepthImage& FloatDepthRenderer::render(const mjModel* model, mjData* data, const Eigen::Isometry3d& T_world_camera) {
+const DepthImage& FloatDepthRenderer::render(const mjModel* model, mjData* data,
+                                             const Eigen::Isometry3d& T_world_camera) {
   Impl& s = *impl_;
   s.mj.update(model, data, T_world_camera);
   s.mj.gl->make_current();

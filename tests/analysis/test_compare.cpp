@@ -23,7 +23,12 @@ nlohmann::json run_metrics() {
   return {{"scenario", "corridor"},
           {"passed", true},
           {"evaluation",
-           {{"mean", {{"f1", 0.9}, {"precision", 0.92}, {"recall", 0.88}, {"costmap_precision", 0.8}, {"max_phantom_obstacles", 0}}},
+           {{"mean",
+             {{"f1", 0.9},
+              {"precision", 0.92},
+              {"recall", 0.88},
+              {"costmap_precision", 0.8},
+              {"max_phantom_obstacles", 0}}},
             {"final", {{"phantom_obstacles", 0}, {"phantoms", nlohmann::json::array()}}},
             {"snapshots", {{{"f1", 0.1}}, {{"f1", 0.2}}}},
             {"clearing", {{"false_clears", 10}}},
@@ -53,7 +58,8 @@ TEST(CompareRules, ParseValueDeltaAndRatioWithEveryOperator) {
 
 TEST(CompareRules, ExpressionsThatDoNotParseQuoteTheRule) {
   for (const char* bad : {"", "f1", "f1 <", "f1 < x", "f1 == 1", "delta(f1 < 1", "sum(f1) > 1", "f1 < 1 2", "< 1"})
-    EXPECT_THAT(invalid_argument_of([&] { parse_compare_rule(bad); }), HasSubstr(std::string("--fail-on '") + bad + "': expected"))
+    EXPECT_THAT(invalid_argument_of([&] { parse_compare_rule(bad); }),
+                HasSubstr(std::string("--fail-on '") + bad + "': expected"))
         << bad;
 }
 
@@ -70,19 +76,20 @@ TEST(Compare, TheSameRunTwiceHasNoRegressionAndNoDifference) {
 
 TEST(Compare, PlantedRegressionsAreFlaggedEachByItsRule) {
   nlohmann::json b = run_metrics();
-  b["evaluation"]["mean"]["f1"] = 0.885;                        // -0.015
-  b["evaluation"]["final"]["phantom_obstacles"] = 1;            // a new phantom
-  b["timing_ms"]["filter"]["p50"] = 2.5;                        // x1.25
-  b["timing_ms"]["frame"]["p50"] = 23.0;                        // x1.15: within 20 %
-  b["timing_ms"]["clear"]["mean"] = 1.69;                       // x1.69 on the mean alone: medians are judged
-  b["evaluation"]["mean"]["recall"] = 0.875;                    // -0.005: within 0.01
+  b["evaluation"]["mean"]["f1"] = 0.885;              // -0.015
+  b["evaluation"]["final"]["phantom_obstacles"] = 1;  // a new phantom
+  b["timing_ms"]["filter"]["p50"] = 2.5;              // x1.25
+  b["timing_ms"]["frame"]["p50"] = 23.0;              // x1.15: within 20 %
+  b["timing_ms"]["clear"]["mean"] = 1.69;             // x1.69 on the mean alone: medians are judged
+  b["evaluation"]["mean"]["recall"] = 0.875;          // -0.005: within 0.01
   b["checks"][0]["passed"] = false;
   b["checks"][0]["message"] = "F1 0.885, required >= 0.89";
   const Comparison c = compare_metrics(run_metrics(), b, default_compare_rules(), "main", "branch");
   std::vector<std::string> what;
   for (const auto& r : c.regressions) what.push_back(r.what);
-  EXPECT_THAT(what, ::testing::ElementsAre("delta(evaluation.mean.f1) < -0.01", "delta(evaluation.final.phantom_obstacles) > 0",
-                                           "ratio(timing_ms.filter.p50) > 1.2", "check f1_3d"));
+  EXPECT_THAT(
+      what, ::testing::ElementsAre("delta(evaluation.mean.f1) < -0.01", "delta(evaluation.final.phantom_obstacles) > 0",
+                                   "ratio(timing_ms.filter.p50) > 1.2", "check f1_3d"));
   EXPECT_EQ(c.regressions[0].detail, "evaluation.mean.f1: 0.9 -> 0.885 (-0.015)");
   EXPECT_EQ(c.regressions[2].detail, "timing_ms.filter.p50: 2 -> 2.5 (x1.25)");
   EXPECT_EQ(c.regressions[3].detail, "F1 0.885, required >= 0.89");
@@ -111,7 +118,8 @@ TEST(Compare, AMissingMetricIsAnErrorWithTheNearestName) {
   EXPECT_EQ(invalid_argument_of([&] {
               compare_metrics(run_metrics(), run_metrics(), {parse_compare_rule("delta(evaluation.mean.f2) < 0")});
             }),
-            "rule 'delta(evaluation.mean.f2) < 0': evaluation.mean.f2 is not a figure of A; did you mean 'evaluation.mean.f1'?");
+            "rule 'delta(evaluation.mean.f2) < 0': evaluation.mean.f2 is not a figure of A; did you mean "
+            "'evaluation.mean.f1'?");
   nlohmann::json b = run_metrics();
   b["timing_ms"].erase("filter");
   EXPECT_THAT(invalid_argument_of([&] { compare_metrics(run_metrics(), b, default_compare_rules(), "a", "new"); }),
@@ -126,9 +134,11 @@ TEST(Compare, LoadMetricsTakesAFolderOrAFileAndRejectsTheRest) {
   EXPECT_EQ(load_metrics(dir.path().string())["scenario"], "corridor");
   EXPECT_EQ(load_metrics((dir.path() / "metrics.json").string())["scenario"], "corridor");
   std::filesystem::create_directories(dir.path() / "empty");
-  EXPECT_THAT(invalid_argument_of([&] { load_metrics((dir.path() / "empty").string()); }), HasSubstr("no metrics.json"));
+  EXPECT_THAT(invalid_argument_of([&] { load_metrics((dir.path() / "empty").string()); }),
+              HasSubstr("no metrics.json"));
   std::ofstream(dir.path() / "bad.json") << "{\"evaluation\": ";
-  EXPECT_THAT(invalid_argument_of([&] { load_metrics((dir.path() / "bad.json").string()); }), HasSubstr("malformed JSON"));
+  EXPECT_THAT(invalid_argument_of([&] { load_metrics((dir.path() / "bad.json").string()); }),
+              HasSubstr("malformed JSON"));
   std::ofstream(dir.path() / "other.json") << "{\"a\": 1}";
   EXPECT_THAT(invalid_argument_of([&] { load_metrics((dir.path() / "other.json").string()); }),
               HasSubstr("not a stvl-bench metrics.json"));
@@ -137,9 +147,12 @@ TEST(Compare, LoadMetricsTakesAFolderOrAFileAndRejectsTheRest) {
 TEST(Compare, TwoReplaysWithoutGroundTruth) {
   // A replay's metrics.json (stvl-bench replay) has no evaluation: it loads, and the defaults without ground
   // truth are the timing rules alone, which find a planted slowdown.
-  nlohmann::json a = {{"kind", "replay"}, {"ground_truth", false}, {"map", {{"voxels", 100}}},
-                      {"timing_ms", {{"filter", {{"p50", 2.0}}}, {"clear", {{"p50", 1.0}}},
-                                     {"mark", {{"p50", 1.0}}}, {"frame", {{"p50", 10.0}}}}}};
+  nlohmann::json a = {
+      {"kind", "replay"},
+      {"ground_truth", false},
+      {"map", {{"voxels", 100}}},
+      {"timing_ms",
+       {{"filter", {{"p50", 2.0}}}, {"clear", {{"p50", 1.0}}}, {"mark", {{"p50", 1.0}}}, {"frame", {{"p50", 10.0}}}}}};
   nlohmann::json b = a;
   b["timing_ms"]["frame"]["p50"] = 13.0;
   a["machine"] = {{"fingerprint", "f"}};
@@ -183,7 +196,9 @@ TEST(Compare, TimingRulesNeedTheSameMachineAndSettingsComeFirst) {
   EXPECT_THAT(md, HasSubstr("<details><summary>Every figure that differs ("));
   const std::string junit = comparison_junit(c);
   EXPECT_THAT(junit, HasSubstr("tests=\"10\" failures=\"0\" skipped=\"4\""));
-  EXPECT_THAT(junit, HasSubstr("name=\"ratio(timing_ms.frame.p50) &gt; 1.2\"><skipped message=\"measured on different machines"));
+  EXPECT_THAT(
+      junit,
+      HasSubstr("name=\"ratio(timing_ms.frame.p50) &gt; 1.2\"><skipped message=\"measured on different machines"));
   b["machine"]["fingerprint"] = "00000000000000aa";  // the same machine: judged
   c = compare_metrics(run_metrics(), b, default_compare_rules());
   ASSERT_EQ(c.regressions.size(), 1u);
@@ -202,20 +217,25 @@ TEST(CompareCommand, ExitCodesAndOutputs) {
   b["evaluation"]["mean"]["f1"] = 0.5;
   std::ofstream(dir.path() / "a" / "metrics.json") << run_metrics().dump();
   std::ofstream(dir.path() / "b" / "metrics.json") << b.dump();
-  const std::string a_dir = stvl::test::quoted((dir.path() / "a").string()), b_dir = stvl::test::quoted((dir.path() / "b").string());
+  const std::string a_dir = stvl::test::quoted((dir.path() / "a").string()),
+                    b_dir = stvl::test::quoted((dir.path() / "b").string());
   const std::string cmd = stvl::test::quoted(bin.string()) + " compare ";
   EXPECT_EQ(stvl::test::run_shell(cmd + a_dir + " " + a_dir).exit_code, 0);
   const std::string md = (dir.path() / "out.md").string(), html = (dir.path() / "out.html").string();
   const std::string junit = (dir.path() / "out.xml").string();
-  const auto regressed = stvl::test::run_shell(cmd + a_dir + " " + b_dir + " --markdown " + stvl::test::quoted(md) +
-                                               " --html " + stvl::test::quoted(html) + " --junit " + stvl::test::quoted(junit));
+  const auto regressed =
+      stvl::test::run_shell(cmd + a_dir + " " + b_dir + " --markdown " + stvl::test::quoted(md) + " --html " +
+                            stvl::test::quoted(html) + " --junit " + stvl::test::quoted(junit));
   EXPECT_EQ(regressed.exit_code, 1) << regressed.output;
   EXPECT_THAT(stvl::test::TempDir::read(junit), HasSubstr("name=\"delta(evaluation.mean.f1) &lt; -0.01\"><failure "));
   EXPECT_THAT(stvl::test::TempDir::read(md), HasSubstr("delta(evaluation.mean.f1) < -0.01"));
   EXPECT_THAT(stvl::test::TempDir::read(html), HasSubstr("<h2 class=\"bad\">1 regression</h2>"));
   // Only the user's rule: the F1 drop passes, the user's own threshold on it does not.
   EXPECT_EQ(stvl::test::run_shell(cmd + a_dir + " " + b_dir + " --no-default-rules").exit_code, 0);
-  EXPECT_EQ(stvl::test::run_shell(cmd + a_dir + " " + b_dir + " --no-default-rules --fail-on 'evaluation.mean.f1 < 0.6'").exit_code, 1);
+  EXPECT_EQ(
+      stvl::test::run_shell(cmd + a_dir + " " + b_dir + " --no-default-rules --fail-on 'evaluation.mean.f1 < 0.6'")
+          .exit_code,
+      1);
   const auto bad_rule = stvl::test::run_shell(cmd + a_dir + " " + b_dir + " --fail-on 'f1 = 1'");
   EXPECT_EQ(bad_rule.exit_code, 2);
   EXPECT_THAT(bad_rule.output, HasSubstr("--fail-on 'f1 = 1': expected"));

@@ -21,7 +21,9 @@ using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-std::size_t lines_of(const std::string& text) { return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')); }
+std::size_t lines_of(const std::string& text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
 
 TEST(SweepAxis, ValuesSplitOnTopLevelCommasOnly) {
   const SweepAxis a = parse_sweep_axis("map.voxel_size=0.02, 0.05,0.1");
@@ -36,7 +38,8 @@ TEST(SweepAxis, ValuesSplitOnTopLevelCommasOnly) {
 }
 
 TEST(SweepAxis, MalformedAxesNameTheArgument) {
-  EXPECT_EQ(invalid_argument_of([] { parse_sweep_axis("map.voxel_size"); }), "--set map.voxel_size: expected KEY=V1,V2,...");
+  EXPECT_EQ(invalid_argument_of([] { parse_sweep_axis("map.voxel_size"); }),
+            "--set map.voxel_size: expected KEY=V1,V2,...");
   EXPECT_EQ(invalid_argument_of([] { parse_sweep_axis("=1,2"); }), "--set =1,2: empty key");
   EXPECT_EQ(invalid_argument_of([] { parse_sweep_axis("a=1,,2"); }), "--set a=1,,2: empty value in the list");
   EXPECT_EQ(invalid_argument_of([] { parse_sweep_axis("a="); }), "--set a=: empty value in the list");
@@ -53,7 +56,8 @@ TEST(SweepSeeds, RangesListsAndMixes) {
 }
 
 TEST(SweepGrid, CartesianFirstAxisSlowestSeedsFastest) {
-  const auto points = sweep_grid({parse_sweep_axis("filter.type=voxel,csnb"), parse_sweep_axis("voxel-size=0.02,0.1", true)}, {1, 2});
+  const auto points =
+      sweep_grid({parse_sweep_axis("filter.type=voxel,csnb"), parse_sweep_axis("voxel-size=0.02,0.1", true)}, {1, 2});
   ASSERT_EQ(points.size(), 8u);
   EXPECT_THAT(points[0].sets, ElementsAre("filter.type=voxel", "--voxel-size=0.02"));
   EXPECT_EQ(*points[0].seed, 1u);
@@ -76,12 +80,16 @@ TEST(SweepGrid, EmptyAndHugeGridsAreRejected) {
   SweepAxis empty{"a", {}};
   EXPECT_THAT(invalid_argument_of([&] { sweep_grid({empty}, {1}); }), HasSubstr("the axis a has no value"));
   const SweepAxis ten = parse_sweep_axis("a=1,2,3,4,5,6,7,8,9,10");
-  EXPECT_THAT(invalid_argument_of([&] { sweep_grid({ten, ten, ten}, {1, 2}, 1000); }), HasSubstr("more than 1000 points"));
+  EXPECT_THAT(invalid_argument_of([&] {
+                sweep_grid({ten, ten, ten}, {1, 2}, 1000);
+              }),
+              HasSubstr("more than 1000 points"));
   EXPECT_EQ(sweep_grid({ten, ten, ten}, {}, 1000).size(), 1000u);
 }
 
 TEST(SweepCommand, PointCommandsCarrySetsOptionsAndSeed) {
-  const auto p = sweep_grid({parse_sweep_axis("map.voxel_size=0.1,0.2"), parse_sweep_axis("filter=csnb,voxel", true)}, {3})[0];
+  const auto p =
+      sweep_grid({parse_sweep_axis("map.voxel_size=0.1,0.2"), parse_sweep_axis("filter=csnb,voxel", true)}, {3})[0];
   EXPECT_THAT(point_command("/b/stvl-bench", "/s.yaml", "/out", p),
               ElementsAre("/b/stvl-bench", "run", "/s.yaml", "--out", "/out/000_map.voxel_size=0.1_filter=csnb_seed=3",
                           "--no-progress", "--set", "map.voxel_size=0.1", "--filter", "csnb", "--seed", "3"));
@@ -112,16 +120,20 @@ TEST(SweepEmit, EveryEngineGetsOneJobPerPoint) {
 
 TEST(SweepCollect, OneRowPerPointWithItsFiguresOrMissing) {
   const stvl::test::TempDir dir("sweep_collect");
-  const auto points = sweep_grid({parse_sweep_axis("filter.type=voxel,csnb"), parse_sweep_axis("voxel-size=0.05,0.1", true)}, {1});
+  const auto points =
+      sweep_grid({parse_sweep_axis("filter.type=voxel,csnb"), parse_sweep_axis("voxel-size=0.05,0.1", true)}, {1});
   emit_sweep("parallel", "/b", "/s.yaml", dir.path().string(), points);
   for (std::size_t i = 0; i < 3; ++i) {  // the last point never ran
     fs::create_directories(dir.path() / points[i].name);
     const nlohmann::json m = {{"passed", i != 1},
                               {"evaluation", {{"mean", {{"f1", 0.5 + 0.1 * i + 1e-12}}}}},
                               {"timing_ms", {{"filter", {{"mean", 2.0 * (i + 1)}}}}},
-                              {"checks", {{{"name", "f1_3d"}, {"passed", i != 1}, {"status", i != 1 ? "pass" : "fail"},
-                                           {"message", "mean 3D F1 <low>"}},
-                                          {{"name", "path_completed"}, {"passed", false}, {"status", "not_evaluated"}}}}};
+                              {"checks",
+                               {{{"name", "f1_3d"},
+                                 {"passed", i != 1},
+                                 {"status", i != 1 ? "pass" : "fail"},
+                                 {"message", "mean 3D F1 <low>"}},
+                                {{"name", "path_completed"}, {"passed", false}, {"status", "not_evaluated"}}}}};
     std::ofstream(dir.path() / points[i].name / "metrics.json") << m.dump();
   }
   const nlohmann::json table = collect_sweep(dir.path().string(), "/nonexistent/chart.min.js");
@@ -148,7 +160,8 @@ TEST(SweepCollect, OneRowPerPointWithItsFiguresOrMissing) {
   EXPECT_THAT(html, Not(HasSubstr("0.70000000000")));
   EXPECT_THAT(html, HasSubstr("<a href=\"002_filter.type=csnb_voxel-size=0.05_seed=1/report.html\">"));
   EXPECT_THAT(html, HasSubstr("<div class=\"wide\"><table>"));
-  EXPECT_THAT(html, HasSubstr("4 points, <span class=\"passed\">2 passed</span>, <span class=\"failed\">1 failed</span>"));
+  EXPECT_THAT(html,
+              HasSubstr("4 points, <span class=\"passed\">2 passed</span>, <span class=\"failed\">1 failed</span>"));
   const std::string junit = sweep_junit(table);
   EXPECT_THAT(junit, HasSubstr("<testsuites tests=\"4\" failures=\"1\" errors=\"1\">"));
   EXPECT_THAT(junit, HasSubstr("<failure message=\"failed: f1_3d\">f1_3d: mean 3D F1 &lt;low&gt;"));
@@ -173,7 +186,7 @@ TEST(SweepCollect, ChartsInlineChartJsAndAverageOverSeeds) {
   // voxel-size 0.05: seeds 1 and 2 have F1 0.1 and 0.2 -> 0.15; 0.1: 0.3 and 0.4 -> 0.35.
   EXPECT_THAT(html, HasSubstr("\"labels\":[\"0.05\",\"0.1\"]"));
   EXPECT_THAT(html, ::testing::ContainsRegex("\"data\":\\[0\\.15[0-9]*,0\\.35[0-9]*\\]"));
-  EXPECT_GT(html.size(), 100000u);  // Chart.js itself is inlined: the page opens offline
+  EXPECT_GT(html.size(), 100000u);                              // Chart.js itself is inlined: the page opens offline
   EXPECT_THAT(html, HasSubstr("\"borderColor\":\"#0072B2\""));  // a colour of its own, not Chart.js's pale grey
   EXPECT_THAT(html, HasSubstr("\"maintainAspectRatio\":false"));
 }

@@ -44,8 +44,9 @@ TEST(SweepWorlds, GeneratedMapsAndScenarioFilesBecomeWorlds) {
 
   std::ofstream(dir.path() / "floor.yaml") << "image: floor.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n";
   std::ofstream(dir.path() / "mine.yaml") << "name: mine\nworld: ../worlds/office_corridor.xml\n";
-  const auto listed = prepare_worlds(bin, (dir.path() / "floor.yaml").string() + "," + (dir.path() / "mine.yaml").string(),
-                                     (dir.path() / "out").string());
+  const auto listed =
+      prepare_worlds(bin, (dir.path() / "floor.yaml").string() + "," + (dir.path() / "mine.yaml").string(),
+                     (dir.path() / "out").string());
   ASSERT_EQ(listed.size(), 2u);
   // A scenario is run as it is; a map is made into a world first (so it comes after the scenario files).
   EXPECT_EQ(listed[0].label, "mine.yaml");
@@ -61,7 +62,8 @@ TEST(SweepWorlds, BadWorldsNameTheEntry) {
   const std::string out = (dir.path() / "out").string();
   EXPECT_THAT(invalid_argument_of([&] { prepare_worlds(bin, "generate:12..13", out); }),
               HasSubstr("--worlds generate:13: `"));
-  EXPECT_THAT(invalid_argument_of([&] { prepare_worlds(bin, "generate:12..13", out); }), HasSubstr("no path fits seed 13"));
+  EXPECT_THAT(invalid_argument_of([&] { prepare_worlds(bin, "generate:12..13", out); }),
+              HasSubstr("no path fits seed 13"));
   EXPECT_THAT(invalid_argument_of([&] { prepare_worlds(bin, "generate:x", out); }), HasSubstr("--seeds x"));
   EXPECT_THAT(invalid_argument_of([&] { prepare_worlds(bin, "nowhere.yaml", out); }),
               HasSubstr("--worlds nowhere.yaml: no such file"));
@@ -83,8 +85,11 @@ TEST(SweepWorlds, WorldsVarySlowestAndEachPointRunsItsWorldsScenario) {
 }
 
 nlohmann::json row(const std::string& world, double f1, int phantoms, const std::string& drive, bool missing = false) {
-  nlohmann::json r = {{"point", world}, {"world", world}, {"sets", {{"map.clearing_mode", "frustum"}}},
-                      {"make_world", "make " + world}, {"command", "run " + world},
+  nlohmann::json r = {{"point", world},
+                      {"world", world},
+                      {"sets", {{"map.clearing_mode", "frustum"}}},
+                      {"make_world", "make " + world},
+                      {"command", "run " + world},
                       {"state", missing ? "missing" : "passed"}};
   if (!missing) {
     r["figures"] = {{"f1", f1}, {"final_phantoms", phantoms}};
@@ -108,8 +113,8 @@ TEST(SweepWorlds, DistributionsWorstWorldsAndShares) {
   const auto& f1 = g["figures"]["f1"];
   EXPECT_EQ(f1["n"], 4);
   EXPECT_DOUBLE_EQ(f1["mean"].get<double>(), (0.90 + 0.80 + 0.95 + 0.70) / 4);
-  EXPECT_DOUBLE_EQ(f1["p5"].get<double>(), 0.70);   // nearest rank: ceil(0.05 * 4) = 1st
-  EXPECT_DOUBLE_EQ(f1["p95"].get<double>(), 0.95);  // ceil(0.95 * 4) = 4th
+  EXPECT_DOUBLE_EQ(f1["p5"].get<double>(), 0.70);     // nearest rank: ceil(0.05 * 4) = 1st
+  EXPECT_DOUBLE_EQ(f1["p95"].get<double>(), 0.95);    // ceil(0.95 * 4) = 4th
   EXPECT_DOUBLE_EQ(f1["worst"].get<double>(), 0.70);  // lowest score
   EXPECT_EQ(f1["worst_world"], "generate:4");
   EXPECT_EQ(f1["reproduce"], "make generate:4 && run generate:4");

@@ -22,7 +22,9 @@ class BenchCommands : public ::testing::Test {
     binary_ = test::stvl_bench_binary();
     if (binary_.empty()) GTEST_SKIP() << "stvl-bench not built (build the stvl-bench target)";
   }
-  Outcome run(const std::string& args) const { return test::run_shell("timeout 120 " + test::quoted(binary_.string()) + " " + args); }
+  Outcome run(const std::string& args) const {
+    return test::run_shell("timeout 120 " + test::quoted(binary_.string()) + " " + args);
+  }
 
   fs::path binary_;
 };
@@ -43,9 +45,9 @@ TEST_F(BenchCommands, EachBenchmarkRunsOnce) {
 }
 
 TEST_F(BenchCommands, BadOptionsExitWithCode2) {
-  for (const char* args : {"filter-bench --peer octomap", "filter-bench --clouds 0", "map-bench --frames 0",
-                           "sensors-bench --gl vulkan", "sensors-bench --frames 0", "sim-bench --duration -1",
-                           "sim-bench --world /nonexistent.xml"}) {
+  for (const char* args :
+       {"filter-bench --peer octomap", "filter-bench --clouds 0", "map-bench --frames 0", "sensors-bench --gl vulkan",
+        "sensors-bench --frames 0", "sim-bench --duration -1", "sim-bench --world /nonexistent.xml"}) {
     const Outcome outcome = run(args);
     EXPECT_EQ(outcome.exit_code, 2) << args << "\n" << outcome.output;
   }

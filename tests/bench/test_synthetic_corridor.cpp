@@ -14,11 +14,11 @@ constexpr float kNoiseMarginM = 0.2f;  // sigma = 1 mm * depth^2: well under 0.2
 
 TEST(SyntheticCorridor, RaysHitWallsFloorCeilingAndBoxes) {
   const Eigen::Vector3d centre(0.0, 1.0, 1.0);
-  EXPECT_NEAR(cast_corridor_ray(centre, {0, 0, -1}), 1.0, kExact);   // floor
-  EXPECT_NEAR(cast_corridor_ray(centre, {0, 0, 2}), 0.75, kExact);   // ceiling at 2.5 m, direction of length 2
-  EXPECT_NEAR(cast_corridor_ray(centre, {-1, 0, 0}), 1.0, kExact);   // left wall
-  EXPECT_NEAR(cast_corridor_ray(centre, {1, 0, 0}), 1.0, kExact);    // right wall
-  EXPECT_NEAR(cast_corridor_ray(centre, {0, 1, 0}), 29.0, kExact);   // end wall at 30 m
+  EXPECT_NEAR(cast_corridor_ray(centre, {0, 0, -1}), 1.0, kExact);            // floor
+  EXPECT_NEAR(cast_corridor_ray(centre, {0, 0, 2}), 0.75, kExact);            // ceiling at 2.5 m, direction of length 2
+  EXPECT_NEAR(cast_corridor_ray(centre, {-1, 0, 0}), 1.0, kExact);            // left wall
+  EXPECT_NEAR(cast_corridor_ray(centre, {1, 0, 0}), 1.0, kExact);             // right wall
+  EXPECT_NEAR(cast_corridor_ray(centre, {0, 1, 0}), 29.0, kExact);            // end wall at 30 m
   EXPECT_NEAR(cast_corridor_ray({-0.75, 0.0, 0.4}, {0, 1, 0}), 2.0, kExact);  // first box's face at y = 2 m
   EXPECT_NEAR(cast_corridor_ray({0.0, 8.5, 2.0}, {-1, 0, 0}), 0.7, kExact);   // the hanging box
   // From inside a box, the box itself is not hit (the wall behind it is).
@@ -37,7 +37,8 @@ TEST(SyntheticCorridor, FilterCloudIsDeterministicAndInsideTheCorridor) {
   EXPECT_LE(corridor.row(1).maxCoeff(), 11.0f);  // depth < 10 m along a pitched axis
   EXPECT_GE(corridor.row(2).minCoeff(), -kNoiseMarginM);
   EXPECT_LE(corridor.row(2).maxCoeff(), 2.5f + kNoiseMarginM);
-  EXPECT_EQ(make_corridor_cloud(1, 96, 54).cols(), make_corridor_cloud(7, 96, 54).cols());  // the range test uses the true depth
+  EXPECT_EQ(make_corridor_cloud(1, 96, 54).cols(),
+            make_corridor_cloud(7, 96, 54).cols());  // the range test uses the true depth
   EXPECT_THROW(make_corridor_cloud(1, 0, 480), std::invalid_argument);
   EXPECT_THROW(make_corridor_cloud(1, 848, 9000), std::invalid_argument);
 }

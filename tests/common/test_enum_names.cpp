@@ -10,7 +10,8 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 enum class Fruit { kApple, kBanana, kCherry };
-constexpr EnumName<Fruit> kFruitNames[] = {{Fruit::kApple, "apple"}, {Fruit::kBanana, "banana"}, {Fruit::kCherry, "cherry"}};
+constexpr EnumName<Fruit> kFruitNames[] = {
+    {Fruit::kApple, "apple"}, {Fruit::kBanana, "banana"}, {Fruit::kCherry, "cherry"}};
 
 std::string error_of(const std::string& text) {
   try {

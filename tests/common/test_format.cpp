@@ -30,8 +30,8 @@ TEST(Format, FixedWritesWhatStdFixedWrote) {
   EXPECT_EQ(fixed(0.5, 0), "0");  // round half to even, as printf
   EXPECT_EQ(fixed(-0.0001, 2), "-0.00");
   EXPECT_EQ(fixed(1e300, 2).size(), 304u);
-  for (double v : {0.0, -0.0, 1.0 / 3.0, -2.5, 12.345, 1e-9, 123456789.125, 1e20, std::numeric_limits<double>::infinity(),
-                   std::numeric_limits<double>::quiet_NaN()})
+  for (double v : {0.0, -0.0, 1.0 / 3.0, -2.5, 12.345, 1e-9, 123456789.125, 1e20,
+                   std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()})
     for (int decimals : {0, 1, 2, 3, 4, 6})
       EXPECT_EQ(fixed(v, decimals), streamed_fixed(v, decimals)) << v << " with " << decimals;
 }

@@ -71,7 +71,8 @@ TEST(Png, DecodeRefusesTruncatedAndOversizedImagesNamingThem) {
     decode_png(bytes, "big.png", 4095);
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("big.png: 64 x 64 pixels exceed the limit of 4095"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("big.png: 64 x 64 pixels exceed the limit of 4095"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(decode_png("not a png", "x.png", 100), std::runtime_error);
 }

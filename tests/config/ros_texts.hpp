@@ -56,18 +56,19 @@ inline std::string indented(const std::string& text, int spaces) {
 }
 
 // nav2: the layer under local_costmap: local_costmap: ros__parameters (layer body from line 8).
-inline std::string nav2_text(const std::string& body, const std::string& plugin =
-                                                          "spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer") {
+inline std::string nav2_text(const std::string& body,
+                             const std::string& plugin = "spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer") {
   return "local_costmap:\n  local_costmap:\n    ros__parameters:\n      resolution: 0.05\n"
-         "      plugins: [\"stvl_layer\"]\n      stvl_layer:\n        plugin: \"" + plugin + "\"\n" +
-         indented(body, 8);
+         "      plugins: [\"stvl_layer\"]\n      stvl_layer:\n        plugin: \"" +
+         plugin + "\"\n" + indented(body, 8);
 }
 
 // move_base: plugins as {name, type} under local_costmap: (layer body from line 6).
 inline std::string ros1_text(const std::string& body) {
   return "local_costmap:\n  resolution: 0.05\n  plugins:\n"
          "    - {name: stvl_layer, type: \"spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer\"}\n"
-         "  stvl_layer:\n" + indented(body, 4);
+         "  stvl_layer:\n" +
+         indented(body, 4);
 }
 
 // `message` with every occurrence of `path` written as FILE (so that expected texts need not know the path).

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "tests/support/invalid_argument.hpp"
 #include "config/scenario.hpp"
+#include "tests/support/invalid_argument.hpp"
 
 namespace stvl::config::test {
 
@@ -183,7 +183,9 @@ inline Edited replace_line(const std::string& yaml, const std::string& anchor, c
 
 inline Scenario parse(const std::string& yaml) { return parse_scenario(yaml, "x.yaml", "/base/scenarios"); }
 
-inline std::string error_of(const std::string& yaml) { return invalid_argument_of([&] { parse(yaml); }); }
+inline std::string error_of(const std::string& yaml) {
+  return invalid_argument_of([&] { parse(yaml); });
+}
 
 inline std::string at(int line, const std::string& key) { return "x.yaml:" + std::to_string(line) + ": " + key + ": "; }
 

@@ -38,7 +38,7 @@ TEST(RosBinding, TheTopicOrTheSensorFrameNamesTheCamera) {
   EXPECT_EQ(bound_camera_index(source("front/depth/points"), c), 0);
   EXPECT_EQ(bound_camera_index(source("/front_low/depth/points"), c), 1);
   EXPECT_EQ(bound_camera_index(source("/cloud", "back_depth_optical_frame"), c), 2);
-  EXPECT_EQ(bound_camera_index(source("", "front_low_link"), c), 1);  // the longest name, not front
+  EXPECT_EQ(bound_camera_index(source("", "front_low_link"), c), 1);          // the longest name, not front
   EXPECT_EQ(bound_camera_index(source("/back/points", "front_link"), c), 2);  // the topic first
   EXPECT_EQ(bound_camera_index(source("/frontal/points", "fronts"), c), -1);
   EXPECT_EQ(bound_camera_index(source("/camera/depth/points"), c), -1);
@@ -222,9 +222,11 @@ TEST(RosBinding, AScenarioTakesItsMapFromRosParams) {
   EXPECT_TRUE(s.pipeline.map.update_footprint_enabled);
   ASSERT_EQ(s.pipeline.map.footprint_B.size(), 16u);
   EXPECT_NEAR(s.pipeline.map.footprint_B[0].x(), 0.22, 1e-12);
-  for (const char* key : {"update_footprint_enabled: false", "robot_radius: 0.3", "footprint: [[1, 0], [0, 1], [0, 0]]"})
+  for (const char* key :
+       {"update_footprint_enabled: false", "robot_radius: 0.3", "footprint: [[1, 0], [0, 1], [0, 0]]"})
     EXPECT_THAT(error_of(std::string(kMinimal) + "map:\n  ros_params: p.yaml\n  " + key + "\n"),
-                HasSubstr("comes from the ROS parameter file")) << key;
+                HasSubstr("comes from the ROS parameter file"))
+        << key;
   const std::string with_size = std::string(kMinimal) + "map:\n  ros_params: p.yaml\n  voxel_size: 0.1\n";
   EXPECT_THAT(error_of(with_size), HasSubstr(at(8, "map.voxel_size") + "comes from the ROS parameter file"));
   EXPECT_THAT(error_of(std::string(kMinimal) + "map:\n  ros_params: /nonexistent/p.yaml\n"),

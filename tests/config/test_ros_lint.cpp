@@ -14,18 +14,18 @@
 namespace stvl::config {
 namespace {
 
-using ::testing::HasSubstr;
 using stvl::test::quoted;
+using ::testing::HasSubstr;
 
 // A bare layer (ROS 2's rules) without findings; each test changes one thing.
 const std::string kClean =
-    "voxel_decay: 15.0\n"           // 1
-    "voxel_size: 0.05\n"            // 2
-    "observation_sources: cam\n"    // 3
-    "cam:\n"                        // 4
-    "  clearing: true\n"            // 5
-    "  min_obstacle_height: 0.05\n" // 6
-    "  decay_acceleration: 15.0\n"; // 7
+    "voxel_decay: 15.0\n"            // 1
+    "voxel_size: 0.05\n"             // 2
+    "observation_sources: cam\n"     // 3
+    "cam:\n"                         // 4
+    "  clearing: true\n"             // 5
+    "  min_obstacle_height: 0.05\n"  // 6
+    "  decay_acceleration: 15.0\n";  // 7
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
   const auto pos = text.find(from);
@@ -75,9 +75,11 @@ TEST_F(RosLint, Nav2TutorialYieldsTheKeysRos2DoesNotRead) {
         f.what_stvl_does.find("ignores") != std::string::npos)
       unread.insert({f.line, f.key});
   }
-  const std::set<std::pair<int, std::string>> expected_unread = {
-      {30, "stvl_layer.max_obstacle_height"}, {31, "stvl_layer.unknown_threshold"}, {35, "stvl_layer.obstacle_range"},
-      {36, "stvl_layer.origin_z"}, {52, "stvl_layer.pointcloud.voxel_filter"}};
+  const std::set<std::pair<int, std::string>> expected_unread = {{30, "stvl_layer.max_obstacle_height"},
+                                                                 {31, "stvl_layer.unknown_threshold"},
+                                                                 {35, "stvl_layer.obstacle_range"},
+                                                                 {36, "stvl_layer.origin_z"},
+                                                                 {52, "stvl_layer.pointcloud.voxel_filter"}};
   EXPECT_EQ(unread, expected_unread);
   auto expected = expected_unread;
   expected.insert({47, "stvl_layer.pointcloud.min_obstacle_height"});  // the tutorial's 0.0: floor noise marks
@@ -86,18 +88,22 @@ TEST_F(RosLint, Nav2TutorialYieldsTheKeysRos2DoesNotRead) {
 
 TEST_F(RosLint, KeysStvlDoesNotRead) {
   EXPECT_EQ(only(kClean + "unknown_threshold: 15\n"),
-            at(8, "unknown_threshold") + "STVL (ROS 2) does not read unknown_threshold (a voxel_layer key); it has "
-                                         "no effect; write instead: remove it");
+            at(8, "unknown_threshold") +
+                "STVL (ROS 2) does not read unknown_threshold (a voxel_layer key); it has "
+                "no effect; write instead: remove it");
   EXPECT_EQ(only(kClean + "obstacle_range: 3.0\n"),
-            at(8, "obstacle_range") + "STVL (ROS 2) reads obstacle_range per source only; this layer-level value "
-                                      "has no effect (a source without its own uses 2.5 m); write instead: obstacle_range: 3.0 under "
-                                      "each source");
+            at(8, "obstacle_range") +
+                "STVL (ROS 2) reads obstacle_range per source only; this layer-level value "
+                "has no effect (a source without its own uses 2.5 m); write instead: obstacle_range: 3.0 under "
+                "each source");
   EXPECT_EQ(only(kClean + "  max_zz: 3.0\n"),
-            at(8, "cam.max_zz") + "STVL (ROS 2) does not read max_zz; it has no effect; write instead: max_z (the "
-                                  "nearest key STVL reads)");
+            at(8, "cam.max_zz") +
+                "STVL (ROS 2) does not read max_zz; it has no effect; write instead: max_z (the "
+                "nearest key STVL reads)");
   EXPECT_EQ(only(replaced(kClean, "voxel_size", "voxel_sise")),
-            at(2, "voxel_sise") + "STVL (ROS 2) does not read voxel_sise; it has no effect; write instead: "
-                                  "voxel_size (the nearest key STVL reads)");
+            at(2, "voxel_sise") +
+                "STVL (ROS 2) does not read voxel_sise; it has no effect; write instead: "
+                "voxel_size (the nearest key STVL reads)");
 }
 
 TEST_F(RosLint, Ros1ReadsLayerLevelObstacleRange) {
@@ -119,20 +125,22 @@ TEST_F(RosLint, VoxelFilterIsIgnoredByRos2) {
 
 TEST_F(RosLint, DecayModelsStvlTreatsAsPersistent) {
   EXPECT_EQ(only(kClean + "decay_model: 5\n"),
-            at(8, "decay_model") + "STVL treats decay_model 5 as persistent (every code but 0 and 1): voxels never "
-                                   "expire, only frustum acceleration removes them; write instead: decay_model: 0 "
-                                   "(linear) or 1 (exponential) for voxels to expire; -1, as STVL's README "
-                                   "documents, if persistence is meant");
+            at(8, "decay_model") +
+                "STVL treats decay_model 5 as persistent (every code but 0 and 1): voxels never "
+                "expire, only frustum acceleration removes them; write instead: decay_model: 0 "
+                "(linear) or 1 (exponential) for voxels to expire; -1, as STVL's README "
+                "documents, if persistence is meant");
   EXPECT_TRUE(lint(kClean + "decay_model: 1\n").empty());
 }
 
 TEST_F(RosLint, MaxZBelowObstacleRange) {
   EXPECT_EQ(only(kClean + "  obstacle_range: 4.0\n  max_z: 3.0\n"),
-            at(9, "cam.max_z") + "max_z = 3 m with obstacle_range = 4 m: STVL's depth-camera frustum puts its far "
-                                 "plane at max_z·cos(h/2)·cos(v/2) = 3 × cos(0.52) × cos(0.35) = 2.45 m along the "
-                                 "optical axis, not at max_z: voxels marked between 2.45 and 4 m are never reached "
-                                 "by frustum acceleration (decay_acceleration), only voxel_decay removes them; write "
-                                 "instead: max_z: 4.91 (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: 2.44");
+            at(9, "cam.max_z") +
+                "max_z = 3 m with obstacle_range = 4 m: STVL's depth-camera frustum puts its far "
+                "plane at max_z·cos(h/2)·cos(v/2) = 3 × cos(0.52) × cos(0.35) = 2.45 m along the "
+                "optical axis, not at max_z: voxels marked between 2.45 and 4 m are never reached "
+                "by frustum acceleration (decay_acceleration), only voxel_decay removes them; write "
+                "instead: max_z: 4.91 (obstacle_range / (cos(h/2)·cos(v/2))), or obstacle_range: 2.44");
 }
 
 TEST_F(RosLint, FarPlaneIsNotMaxZ) {
@@ -144,26 +152,29 @@ TEST_F(RosLint, FarPlaneIsNotMaxZ) {
   EXPECT_TRUE(lint(kClean + "  obstacle_range: 3.0\n  max_z: 3.7\n").empty());  // far plane 3.02 m
   // A source that does not clear has no frustum: its max_z says nothing.
   EXPECT_TRUE(lint(replaced(kClean, "sources: cam", "sources: cam other") +
-                   "other:\n  min_obstacle_height: 0.05\n  obstacle_range: 4.0\n  max_z: 3.0\n").empty());
+                   "other:\n  min_obstacle_height: 0.05\n  obstacle_range: 4.0\n  max_z: 3.0\n")
+                  .empty());
 }
 
 TEST_F(RosLint, FovOffTheBoundCamera) {
   const std::string text = kClean + "  horizontal_fov_angle: 1.5\n";
-  EXPECT_TRUE(lint(text).empty());  // no camera bound: nothing to compare with
+  EXPECT_TRUE(lint(text).empty());                              // no camera bound: nothing to compare with
   EXPECT_TRUE(lint(text, {fov_of("cam", 1.46, 0.7)}).empty());  // within 5 %
   EXPECT_EQ(only(text, {fov_of("cam", 1.2, 0.7)}),
-            at(8, "cam.horizontal_fov_angle") + "horizontal_fov_angle = 1.5 rad is more than 5 % off the bound "
-                                                "camera's 1.2 rad: STVL's clearing frustum clears voxels the camera "
-                                                "cannot see; write instead: horizontal_fov_angle: 1.2");
+            at(8, "cam.horizontal_fov_angle") +
+                "horizontal_fov_angle = 1.5 rad is more than 5 % off the bound "
+                "camera's 1.2 rad: STVL's clearing frustum clears voxels the camera "
+                "cannot see; write instead: horizontal_fov_angle: 1.2");
   EXPECT_EQ(only(text, {fov_of("cam", 1.5, 0.9)}),
-            at(4, "cam.vertical_fov_angle") + "vertical_fov_angle = 0.7 rad is more than 5 % off the bound camera's "
-                                              "0.9 rad: STVL's clearing frustum leaves the edges of the view "
-                                              "uncleared; write instead: vertical_fov_angle: 0.9");
+            at(4, "cam.vertical_fov_angle") +
+                "vertical_fov_angle = 0.7 rad is more than 5 % off the bound camera's "
+                "0.9 rad: STVL's clearing frustum leaves the edges of the view "
+                "uncleared; write instead: vertical_fov_angle: 0.9");
 }
 
 TEST_F(RosLint, NoFovFindingForASourceThatDoesNotClear) {
-  const std::string marking_only = replaced(kClean, "  clearing: true\n", "  clearing: false\n") +
-                                   "  horizontal_fov_angle: 1.5\n";
+  const std::string marking_only =
+      replaced(kClean, "  clearing: true\n", "  clearing: false\n") + "  horizontal_fov_angle: 1.5\n";
   const auto findings = lint(marking_only, {fov_of("cam", 1.2, 0.9)});
   ASSERT_EQ(findings.size(), 1u);  // the layer's: no source clears
   EXPECT_EQ(findings[0].key, "observation_sources");
@@ -171,9 +182,10 @@ TEST_F(RosLint, NoFovFindingForASourceThatDoesNotClear) {
 
 TEST_F(RosLint, MinObstacleHeightAtTheFloor) {
   EXPECT_EQ(only(replaced(kClean, "min_obstacle_height: 0.05", "min_obstacle_height: 0.0")),
-            at(6, "cam.min_obstacle_height") + "min_obstacle_height = 0 m: STVL marks points at floor level, so the "
-                                               "depth camera's floor noise becomes obstacles; write instead: "
-                                               "min_obstacle_height: 0.05 (above the floor noise)");
+            at(6, "cam.min_obstacle_height") +
+                "min_obstacle_height = 0 m: STVL marks points at floor level, so the "
+                "depth camera's floor noise becomes obstacles; write instead: "
+                "min_obstacle_height: 0.05 (above the floor noise)");
 }
 
 // A nav2 layer with one camera's marking and clearing sources, as nav2's STVL configurations write the pair
@@ -216,20 +228,23 @@ TEST_F(RosLint, MarkingSourcePastTheClearingSourcesFarPlane) {
   // max_z 3.5 >= obstacle_range 3, but its far plane lies at 2.75 m.
   EXPECT_THAT(only(test::nav2_text(replaced(kMarkAndClear, "max_z: 7.0", "max_z: 3.5"))),
               HasSubstr(at(16, "stvl_layer.rgbd1_mark.obstacle_range") + "obstacle_range = 3 m marks past the "
-                        "clearing frustum of rgbd1_clear (line 20)"));
+                                                                         "clearing frustum of rgbd1_clear (line 20)"));
   // A clearing source of another camera (topic) clears nothing of this one's marks.
   EXPECT_TRUE(lint(test::nav2_text(replaced(replaced(kMarkAndClear, "obstacle_range: 3.0", "obstacle_range: 6.0"),
                                             "  topic: /input_pointcloud\n  marking: false",
-                                            "  topic: /other/points\n  marking: false"))).empty());
+                                            "  topic: /other/points\n  marking: false")))
+                  .empty());
   // Bound to different cameras at run time: no longer one camera's sources.
   EXPECT_TRUE(lint(test::nav2_text(replaced(kMarkAndClear, "obstacle_range: 3.0", "obstacle_range: 6.0")),
-                   {fov_of("rgbd1_mark", 1.048, 0.8745, "left"), fov_of("rgbd1_clear", 1.048, 0.8745, "right")}).empty());
+                   {fov_of("rgbd1_mark", 1.048, 0.8745, "left"), fov_of("rgbd1_clear", 1.048, 0.8745, "right")})
+                  .empty());
 }
 
 TEST_F(RosLint, HeightsMarkedButNeverCleared) {
   // A camera 0.5 m above the floor pitched 0.3 rad down with a 1.0 rad vertical FOV sees up to
   // 0.5 + 3 sin(0.5 - 0.3) = 1.10 m within obstacle_range 3; a clearing frustum of 0.6 rad tops out at 0.5 m.
-  const std::string text = test::nav2_text(replaced(kMarkAndClear, "vertical_fov_angle: 0.8745", "vertical_fov_angle: 0.6"));
+  const std::string text =
+      test::nav2_text(replaced(kMarkAndClear, "vertical_fov_angle: 0.8745", "vertical_fov_angle: 0.6"));
   const std::vector<BoundCamera> front = {{"rgbd1_mark", 1.048, 1.0, "front", 0.5, 0.3, 0.0, 10.0},
                                           {"rgbd1_clear", 1.048, 1.0, "front", 0.5, 0.3, 0.0, 10.0}};
   const auto findings = lint(text, front);
@@ -272,30 +287,34 @@ TEST_F(RosLint, StvlFrustumGeometry) {
 
 TEST_F(RosLint, NoClearingSource) {
   EXPECT_EQ(only(replaced(replaced(kClean, "  clearing: true\n", ""), "  decay_acceleration: 15.0\n", "")),
-            at(3, "observation_sources") + "no source has clearing: true (STVL's default is false): voxels leave "
-                                           "only by voxel_decay; write instead: clearing: true on the depth "
-                                           "camera's source");
+            at(3, "observation_sources") +
+                "no source has clearing: true (STVL's default is false): voxels leave "
+                "only by voxel_decay; write instead: clearing: true on the depth "
+                "camera's source");
 }
 
 TEST_F(RosLint, VoxelSizeDiffersFromResolution) {
   EXPECT_EQ(only(test::nav2_text(replaced(kClean, "voxel_size: 0.05", "voxel_size: 0.1"))),
-            at(9, "stvl_layer.voxel_size") + "voxel_size = 0.1 m differs from the costmap's resolution = 0.05 m: "
-                                             "STVL projects voxel columns onto cells of another size; write "
-                                             "instead: voxel_size: 0.05");
+            at(9, "stvl_layer.voxel_size") +
+                "voxel_size = 0.1 m differs from the costmap's resolution = 0.05 m: "
+                "STVL projects voxel columns onto cells of another size; write "
+                "instead: voxel_size: 0.05");
 }
 
 TEST_F(RosLint, DecayAccelerationZeroOnAClearingSource) {
   EXPECT_EQ(only(replaced(kClean, "decay_acceleration: 15.0", "decay_acceleration: 0.0")),
-            at(7, "cam.decay_acceleration") + "decay_acceleration = 0 on a clearing source: the frustum does not "
-                                              "speed up decay, only voxel_decay clears; write instead: "
-                                              "decay_acceleration: 15.0 (STVL's example)");
+            at(7, "cam.decay_acceleration") +
+                "decay_acceleration = 0 on a clearing source: the frustum does not "
+                "speed up decay, only voxel_decay clears; write instead: "
+                "decay_acceleration: 15.0 (STVL's example)");
 }
 
 TEST_F(RosLint, IntegerForADoubleInRos2) {
   EXPECT_EQ(only(test::nav2_text(replaced(kClean, "voxel_decay: 15.0", "voxel_decay: 15"))),
-            at(8, "stvl_layer.voxel_decay") + "STVL declares voxel_decay a double and rclcpp (Galactic and later) "
-                                              "rejects the integer 15: the layer fails to load; write instead: "
-                                              "voxel_decay: 15.0");
+            at(8, "stvl_layer.voxel_decay") +
+                "STVL declares voxel_decay a double and rclcpp (Galactic and later) "
+                "rejects the integer 15: the layer fails to load; write instead: "
+                "voxel_decay: 15.0");
   EXPECT_TRUE(lint(test::ros1_text(replaced(kClean, "voxel_decay: 15.0", "voxel_decay: 15"))).empty());
 }
 
@@ -319,20 +338,22 @@ TEST_F(RosLint, AnUnknownFilterStringIsAFinding) {
   // The relative filters are the ros2 branch's (PR #304); noetic-devel applies no filter for them.
   EXPECT_TRUE(lint(kClean + "  filter: passthrough_relative\n").empty());
   EXPECT_TRUE(lint(kClean + "  filter: voxel_relative\n  z_reference_frame: base_link\n").empty());
-  EXPECT_THAT(only(test::ros1_text(kClean + "  filter: voxel_relative\n")), HasSubstr("noetic-devel does not know them"));
+  EXPECT_THAT(only(test::ros1_text(kClean + "  filter: voxel_relative\n")),
+              HasSubstr("noetic-devel does not know them"));
   // z_reference_frame does nothing for the other filters.
   EXPECT_THAT(only(kClean + "  filter: passthrough\n  z_reference_frame: base_link\n"),
               HasSubstr(at(9, "cam.z_reference_frame") + "z_reference_frame = 'base_link' has no effect with filter "
-                        "'passthrough'"));
+                                                         "'passthrough'"));
   EXPECT_TRUE(lint(kClean + "  filter: none\n").empty());
   EXPECT_TRUE(lint(kClean + "  filter: voxel\n").empty());
 }
 
 TEST_F(RosLint, NegativeVoxelDecayIsAFinding) {
   EXPECT_EQ(only(replaced(kClean, "voxel_decay: 15.0\n", "")),
-            at(1, "voxel_decay") + "voxel_decay = -1 (STVL's default): every voxel is removed at the next update, "
-                                   "before the costmap is built, so the layer never marks a cell; write instead: "
-                                   "voxel_decay: 15.0 (STVL's example)");
+            at(1, "voxel_decay") +
+                "voxel_decay = -1 (STVL's default): every voxel is removed at the next update, "
+                "before the costmap is built, so the layer never marks a cell; write instead: "
+                "voxel_decay: 15.0 (STVL's example)");
 }
 
 TEST_F(RosLint, ErrorsStayErrors) {
@@ -343,7 +364,9 @@ TEST_F(RosLint, ErrorsStayErrors) {
 TEST_F(RosLint, CommandExitCodes) {
   const auto binary = stvl::test::stvl_bench_binary();
   if (binary.empty()) GTEST_SKIP() << "stvl-bench not built";
-  const auto run = [&](const std::string& args) { return stvl::test::run_shell(quoted(binary.string()) + " lint " + args); };
+  const auto run = [&](const std::string& args) {
+    return stvl::test::run_shell(quoted(binary.string()) + " lint " + args);
+  };
   const auto tutorial = run(quoted(test::kTutorialFile) + " --costmap local_costmap");
   EXPECT_EQ(tutorial.exit_code, 1) << tutorial.output;
   EXPECT_THAT(tutorial.output, HasSubstr("nav2_stvl_tutorial.yaml:31: stvl_layer.unknown_threshold: "));

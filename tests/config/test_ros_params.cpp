@@ -9,13 +9,15 @@
 namespace stvl::config {
 namespace {
 
+using test::invalid_argument_of;
 using ::testing::HasSubstr;
 using ::testing::StartsWith;
-using test::invalid_argument_of;
 
 class RosParams : public ::testing::Test {
  protected:
-  std::string file(const std::string& text) { return test::write_file(dir_, "p" + std::to_string(n_++) + ".yaml", text); }
+  std::string file(const std::string& text) {
+    return test::write_file(dir_, "p" + std::to_string(n_++) + ".yaml", text);
+  }
   RosStvlLayer load(const std::string& text, const std::string& layer = "", const std::string& costmap = "") {
     return load_ros_stvl_layer(file(text), layer, costmap);
   }
@@ -172,7 +174,8 @@ TEST_F(RosParams, FilterStringsAndRos1VoxelFilter) {
 
 TEST_F(RosParams, FootprintAsStringOrList) {
   const std::string body =
-      "  stvl:\n    plugin: spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer\n    voxel_decay: 15.0\n    observation_sources: c\n    c: {}\n";
+      "  stvl:\n    plugin: spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer\n    voxel_decay: 15.0\n    "
+      "observation_sources: c\n    c: {}\n";
   const std::string head = "c:\n  c:\n    ros__parameters:\n      plugins: [stvl]\n";
   const auto with = [&](const std::string& footprint) {
     return head + "      footprint: " + footprint + "\n" + test::indented(body, 4);
@@ -195,21 +198,23 @@ TEST_F(RosParams, MalformedYamlNamesFileAndLine) {
 TEST_F(RosParams, MissingLayerListsTheLayersThere) {
   const std::string message = error(test::nav2_text(test::kLayerBody), "voxel_layer");
   EXPECT_THAT(message, StartsWith("FILE:5: local_costmap.plugins: no layer 'voxel_layer' (layers: stvl_layer in "
-                                          "local_costmap (spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer))"));
+                                  "local_costmap (spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer))"));
   EXPECT_THAT(error(test::kLayerBody, "", "global_costmap"), HasSubstr("global_costmap: no costmap of that name"));
 }
 
 TEST_F(RosParams, NonStvlPluginIsNamed) {
   const std::string message = error(test::nav2_text(test::kLayerBody, "nav2_costmap_2d::VoxelLayer"), "stvl_layer");
-  EXPECT_EQ(message, "FILE:7: stvl_layer.plugin: plugin is 'nav2_costmap_2d::VoxelLayer', not "
-                             "spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer");
+  EXPECT_EQ(message,
+            "FILE:7: stvl_layer.plugin: plugin is 'nav2_costmap_2d::VoxelLayer', not "
+            "spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer");
   EXPECT_THAT(error(test::nav2_text(test::kLayerBody, "nav2_costmap_2d::VoxelLayer")), HasSubstr("no STVL layer"));
 }
 
 TEST_F(RosParams, SeveralCandidatesNeedAName) {
-  const std::string two = "a:\n  a:\n    ros__parameters:\n      plugins: [s]\n      s:\n" +
-                          test::indented(std::string("plugin: spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer\n") +
-                                             test::kLayerBody, 8);
+  const std::string two =
+      "a:\n  a:\n    ros__parameters:\n      plugins: [s]\n      s:\n" +
+      test::indented(std::string("plugin: spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer\n") + test::kLayerBody,
+                     8);
   const std::string both = two + "b:\n  b:" + two.substr(two.find("\n    ros__parameters"));
   EXPECT_THAT(error(both, "s"), HasSubstr("layer 's' is in several costmaps"));
   EXPECT_EQ(load(both, "s", "b").costmap_name, "b");
@@ -222,8 +227,9 @@ TEST_F(RosParams, SourceWithoutMappingNamesObservationSources) {
 
 // model_type 1 is STVL's 3D lidar clearing model (on a camera's cloud, as STVL would build it); 2 is no model.
 TEST_F(RosParams, ModelTypeOneIsTheLidarModelTwoAndLaserScanAreErrors) {
-  const RosStvlLayer lidar = load("voxel_decay: 15.0\nobservation_sources: c\nc:\n  model_type: 1\n"
-                                  "  vertical_fov_padding: 0.05\n  horizontal_fov_angle: 6.2832\n");
+  const RosStvlLayer lidar = load(
+      "voxel_decay: 15.0\nobservation_sources: c\nc:\n  model_type: 1\n"
+      "  vertical_fov_padding: 0.05\n  horizontal_fov_angle: 6.2832\n");
   ASSERT_EQ(lidar.sources.size(), 1u);
   EXPECT_EQ(lidar.sources[0].stvl.model, mapping::ClearingModel::kLidar3D);
   EXPECT_DOUBLE_EQ(lidar.sources[0].stvl.vertical_fov_padding_m, 0.05);
@@ -252,8 +258,8 @@ TEST_F(RosParams, WrongTypesAndRejectedValuesNameTheKey) {
 TEST_F(RosParams, NegativeVoxelDecayIsAnErrorThatSaysWhatStvlDoes) {
   EXPECT_EQ(error(test::nav2_text("observation_sources: c\nc: {}\n")),
             "FILE:6: stvl_layer.voxel_decay: absent, so STVL's default -1 s: STVL removes every voxel at the next "
-                    "update, before it builds the costmap, so the layer never marks a cell; the bench's map needs "
-                    "voxel_decay >= 0 (write e.g. voxel_decay: 15.0, STVL's example)");
+            "update, before it builds the costmap, so the layer never marks a cell; the bench's map needs "
+            "voxel_decay >= 0 (write e.g. voxel_decay: 15.0, STVL's example)");
   EXPECT_THAT(error("voxel_decay: -2.0\nobservation_sources: c\nc: {}\n"), HasSubstr(":1: voxel_decay: -2 s: STVL"));
 }
 

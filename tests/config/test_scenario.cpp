@@ -6,8 +6,8 @@
 
 #include <cmath>
 #include <filesystem>
-#include <iterator>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -41,8 +41,8 @@ TEST(ScenarioShipped, EveryScenarioInTheFolderLoads) {
     EXPECT_GE(s.pipeline.path.waypoints_W.size(), 2u);
     const auto& c = s.checks;
     EXPECT_TRUE(c.f1_3d_min || c.iou_3d_min || c.costmap_precision_min || c.costmap_recall_min ||
-                c.all_obstacles_detected || c.phantom_obstacles_max || c.clearing_latency_max_s || c.accuracy_p90_max_m ||
-                c.self_lethal_cells_max || c.outage_cleared_max || c.outage_resume_max_s)
+                c.all_obstacles_detected || c.phantom_obstacles_max || c.clearing_latency_max_s ||
+                c.accuracy_p90_max_m || c.self_lethal_cells_max || c.outage_cleared_max || c.outage_resume_max_s)
         << "a shipped scenario checks nothing";
     // Native scenarios clear with each camera's own FOV (a ROS parameter file gives its own: lint compares).
     if (!s.ros_params) {
@@ -221,11 +221,13 @@ TEST(ScenarioParse, FootprintClearingKeys) {
   EXPECT_TRUE(plain.pipeline.map.update_footprint_enabled);  // STVL's default
   EXPECT_TRUE(plain.pipeline.map.footprint_B.empty());
   EXPECT_TRUE(plain.pipeline.robot_geoms_seen.empty());
-  const Scenario round = parse(std::string(kMinimal) + "map:\n  update_footprint_enabled: false\n  robot_radius: 0.25\n");
+  const Scenario round =
+      parse(std::string(kMinimal) + "map:\n  update_footprint_enabled: false\n  robot_radius: 0.25\n");
   EXPECT_FALSE(round.pipeline.map.update_footprint_enabled);
   ASSERT_EQ(round.pipeline.map.footprint_B.size(), 16u);
   EXPECT_NEAR(round.pipeline.map.footprint_B[0].x(), 0.25, 1e-12);
-  const Scenario polygon = parse(std::string(kMinimal) + "map:\n  footprint: [[0.3, 0.2], [0.3, -0.2], [-0.2, 0]]\n"
+  const Scenario polygon = parse(std::string(kMinimal) +
+                                 "map:\n  footprint: [[0.3, 0.2], [0.3, -0.2], [-0.2, 0]]\n"
                                  "checks:\n  self_lethal_cells_max: 0\n");
   ASSERT_EQ(polygon.pipeline.map.footprint_B.size(), 3u);
   EXPECT_DOUBLE_EQ(polygon.pipeline.map.footprint_B[1].y(), -0.2);
@@ -233,10 +235,13 @@ TEST(ScenarioParse, FootprintClearingKeys) {
   EXPECT_EQ(evaluation_config(polygon).robot_footprint_B.size(), 3u);
   EXPECT_TRUE(evaluation_config(polygon).footprint_clearing);
   const std::string base = std::string(kMinimal) + "map:\n";
-  EXPECT_THAT(error_of(base + "  robot_radius: -0.1\n"), HasSubstr(at(7, "map.robot_radius") + "must be finite and > 0 m"));
+  EXPECT_THAT(error_of(base + "  robot_radius: -0.1\n"),
+              HasSubstr(at(7, "map.robot_radius") + "must be finite and > 0 m"));
   EXPECT_THAT(error_of(base + "  robot_radius: .nan\n"), HasSubstr(at(7, "map.robot_radius")));
-  EXPECT_THAT(error_of(base + "  footprint: [[0, 1], [1, 0]]\n"), HasSubstr(at(7, "map.footprint") + "needs at least three"));
-  EXPECT_THAT(error_of(base + "  footprint: [[0, 1], [1, 0], [0, .inf]]\n"), HasSubstr(at(7, "map.footprint") + "points must be finite"));
+  EXPECT_THAT(error_of(base + "  footprint: [[0, 1], [1, 0]]\n"),
+              HasSubstr(at(7, "map.footprint") + "needs at least three"));
+  EXPECT_THAT(error_of(base + "  footprint: [[0, 1], [1, 0], [0, .inf]]\n"),
+              HasSubstr(at(7, "map.footprint") + "points must be finite"));
   EXPECT_THAT(error_of(base + "  footprint: [[0, 1], [1, 0], [0]]\n"), HasSubstr(at(7, "map.footprint")));
   EXPECT_THAT(error_of(base + "  robot_radius: 0.2\n  footprint: [[0, 1], [1, 0], [0, 0]]\n"),
               HasSubstr("give either footprint or robot_radius"));
@@ -246,7 +251,9 @@ TEST(ScenarioParse, FootprintClearingKeys) {
               HasSubstr("must be >= 0"));
   // Ours: the voxels inside the footprint up to a height.
   EXPECT_DOUBLE_EQ(plain.pipeline.map.clear_footprint_voxels_below_m, 0.0);  // off
-  EXPECT_DOUBLE_EQ(parse(base + "  robot_radius: 0.2\n  clear_footprint_voxels_below: 0.3\n").pipeline.map.clear_footprint_voxels_below_m, 0.3);
+  EXPECT_DOUBLE_EQ(parse(base + "  robot_radius: 0.2\n  clear_footprint_voxels_below: 0.3\n")
+                       .pipeline.map.clear_footprint_voxels_below_m,
+                   0.3);
   EXPECT_THAT(error_of(base + "  robot_radius: 0.2\n  clear_footprint_voxels_below: -0.3\n"),
               HasSubstr(at(8, "map.clear_footprint_voxels_below") + "must lie in [0, 3] m"));
   EXPECT_THAT(error_of(base + "  clear_footprint_voxels_below: 0.3\n"),
@@ -262,13 +269,19 @@ TEST(ScenarioParse, PresetsSetTheIntrinsics) {
 
 TEST(ScenarioParse, ClearingFrustumFovDefaultsToTheCamera) {
   const Scenario wide = parse(kMinimal);
-  EXPECT_DOUBLE_EQ(wide.camera().sources.front().params.horizontal_fov_rad, sensors::CameraIntrinsics::d435_848x480().hfov_rad());
-  EXPECT_DOUBLE_EQ(wide.camera().sources.front().params.vertical_fov_rad, sensors::CameraIntrinsics::d435_848x480().vfov_rad());
+  EXPECT_DOUBLE_EQ(wide.camera().sources.front().params.horizontal_fov_rad,
+                   sensors::CameraIntrinsics::d435_848x480().hfov_rad());
+  EXPECT_DOUBLE_EQ(wide.camera().sources.front().params.vertical_fov_rad,
+                   sensors::CameraIntrinsics::d435_848x480().vfov_rad());
 
-  const Scenario narrow = parse(std::string(kMinimal) + "camera: {preset: d435_640x480}\nmap:\n  observation: {max_z: 4}\n");
-  EXPECT_DOUBLE_EQ(narrow.camera().sources.front().params.horizontal_fov_rad, sensors::CameraIntrinsics::d435_640x480().hfov_rad());
-  EXPECT_DOUBLE_EQ(narrow.camera().sources.front().params.vertical_fov_rad, sensors::CameraIntrinsics::d435_640x480().vfov_rad());
-  EXPECT_LT(narrow.camera().sources.front().params.horizontal_fov_rad, wide.camera().sources.front().params.horizontal_fov_rad);
+  const Scenario narrow =
+      parse(std::string(kMinimal) + "camera: {preset: d435_640x480}\nmap:\n  observation: {max_z: 4}\n");
+  EXPECT_DOUBLE_EQ(narrow.camera().sources.front().params.horizontal_fov_rad,
+                   sensors::CameraIntrinsics::d435_640x480().hfov_rad());
+  EXPECT_DOUBLE_EQ(narrow.camera().sources.front().params.vertical_fov_rad,
+                   sensors::CameraIntrinsics::d435_640x480().vfov_rad());
+  EXPECT_LT(narrow.camera().sources.front().params.horizontal_fov_rad,
+            wide.camera().sources.front().params.horizontal_fov_rad);
   EXPECT_DOUBLE_EQ(narrow.camera().sources.front().params.max_z_m, 4.0);
 
   const Scenario custom = parse(replace_line(kFull, "    vertical_fov_angle:", "").yaml);
@@ -294,7 +307,8 @@ TEST(ScenarioParse, LoadScenarioResolvesAgainstTheFilesFolder) {
   EXPECT_EQ(s.file, file.string());
   EXPECT_EQ(s.pipeline.world_path, (dir / "worlds" / "w.xml").string());
   std::ofstream(file) << "name: a\nworld: b\nrobot:\n  waypoints: [[0, 0], [1, 0]]\n  speed_mps: 0.5\n  bogus: 1\n";
-  EXPECT_THAT(invalid_argument_of([&] { load_scenario(file.string()); }), HasSubstr(file.string() + ":6: robot.bogus: unknown key"));
+  EXPECT_THAT(invalid_argument_of([&] { load_scenario(file.string()); }),
+              HasSubstr(file.string() + ":6: robot.bogus: unknown key"));
   fs::remove_all(dir);
   EXPECT_THAT(invalid_argument_of([&] { load_scenario(file.string()); }), HasSubstr(file.string() + ": no such file"));
 }
@@ -305,7 +319,8 @@ TEST(ScenarioParse, SetAssignmentsChangeTheDocumentBeforeItIsRead) {
   const fs::path file = dir / "s.yaml";
   std::ofstream(file) << kMinimal;
   const Scenario plain = load_scenario(file.string());
-  const Scenario set = load_scenario(file.string(), {"duration_s=3.5", "map.voxel_size=0.1", "map.observation.max_z=4"});
+  const Scenario set =
+      load_scenario(file.string(), {"duration_s=3.5", "map.voxel_size=0.1", "map.observation.max_z=4"});
   EXPECT_NE(plain.duration_s, 3.5);
   EXPECT_DOUBLE_EQ(set.duration_s, 3.5);
   EXPECT_DOUBLE_EQ(set.pipeline.map.voxel_size_m, 0.1);

@@ -104,21 +104,24 @@ TEST(ScenarioCameras, BadCamerasNameLineAndKey) {
 
 TEST(ScenarioCameras, EdgeFilterIsOffByDefaultAndReadPerCamera) {
   EXPECT_FALSE(parse(kMinimal).camera().edge_filter.enabled);
-  const Scenario one = parse(std::string(kMinimal) + "camera:\n  edge_filter: {enabled: true, max_jump_at_1m_m: 0.05}\n");
+  const Scenario one =
+      parse(std::string(kMinimal) + "camera:\n  edge_filter: {enabled: true, max_jump_at_1m_m: 0.05}\n");
   EXPECT_TRUE(one.camera().edge_filter.enabled);
   EXPECT_DOUBLE_EQ(one.camera().edge_filter.max_jump_at_1m_m, 0.05);
   const Scenario two = parse(replaced(kTwoCameras, "      noise: {enabled: false}\n",
                                       "      noise: {enabled: false}\n      edge_filter: {enabled: true}\n"));
   EXPECT_FALSE(two.pipeline.cameras[0].edge_filter.enabled);
   EXPECT_TRUE(two.pipeline.cameras[1].edge_filter.enabled);
-  EXPECT_DOUBLE_EQ(two.pipeline.cameras[1].edge_filter.max_jump_at_1m_m, sensors::DepthEdgeFilterConfig{}.max_jump_at_1m_m);
+  EXPECT_DOUBLE_EQ(two.pipeline.cameras[1].edge_filter.max_jump_at_1m_m,
+                   sensors::DepthEdgeFilterConfig{}.max_jump_at_1m_m);
   // Bad thresholds and unknown keys name the line and the dotted key.
   for (const char* bad : {"-0.03", "0", ".nan", ".inf"}) {
     SCOPED_TRACE(bad);
-    EXPECT_THAT(error_of(replaced(kTwoCameras, "      noise: {enabled: false}\n",
-                                  "      noise: {enabled: false}\n      edge_filter: {max_jump_at_1m_m: " +
-                                      std::string(bad) + "}\n")),
-                HasSubstr(at(15, "robot.cameras[1].edge_filter.max_jump_at_1m_m") + "DepthEdgeFilterConfig: max_jump_at_1m_m"));
+    EXPECT_THAT(
+        error_of(replaced(
+            kTwoCameras, "      noise: {enabled: false}\n",
+            "      noise: {enabled: false}\n      edge_filter: {max_jump_at_1m_m: " + std::string(bad) + "}\n")),
+        HasSubstr(at(15, "robot.cameras[1].edge_filter.max_jump_at_1m_m") + "DepthEdgeFilterConfig: max_jump_at_1m_m"));
   }
   EXPECT_THAT(error_of(std::string(kMinimal) + "camera:\n  edge_filter: {enabled: true, jump_m: 0.1}\n"),
               HasSubstr(at(7, "camera.edge_filter.jump_m") + "unknown key"));

@@ -62,15 +62,17 @@ TEST(ScenarioParse, ATypoIsReportedAsInTheExample) {
 
 TEST(ScenarioParse, UnknownKeyInAFlowMapping) {
   const Edited e = insert_after(kMinimal, "  speed_mps:", "  camera_mount: {height_m: 0.5, pitch_dg: 5}");
-  EXPECT_THAT(error_of(e.yaml), HasSubstr(at(e.line, "robot.camera_mount.pitch_dg") + "unknown key; did you mean 'pitch_deg'?"));
+  EXPECT_THAT(error_of(e.yaml),
+              HasSubstr(at(e.line, "robot.camera_mount.pitch_dg") + "unknown key; did you mean 'pitch_deg'?"));
 }
 
 TEST(ScenarioParse, TyposOfKeysAndNamesSuggestTheNearestKnownOne) {
   const Edited key = replace_line(kFull, "  voxel_size:", "  voxel_sze: 0.04");
   EXPECT_THAT(error_of(key.yaml), HasSubstr(at(key.line, "map.voxel_sze") + "unknown key; did you mean 'voxel_size'?"));
   const Edited value = replace_line(kFull, "  clearing_mode:", "  clearing_mode: raycats");
-  EXPECT_THAT(error_of(value.yaml), HasSubstr(at(value.line, "map.clearing_mode") +
-                                              "unknown clearing_mode 'raycats' (expected frustum|raycast; did you mean 'raycast'?)"));
+  EXPECT_THAT(error_of(value.yaml),
+              HasSubstr(at(value.line, "map.clearing_mode") +
+                        "unknown clearing_mode 'raycats' (expected frustum|raycast; did you mean 'raycast'?)"));
   const Edited far = replace_line(kFull, "  voxel_size:", "  colour: 3");
   EXPECT_THAT(error_of(far.yaml), Not(HasSubstr("did you mean")));
 }
@@ -79,9 +81,11 @@ TEST(ScenarioParse, TyposOfKeysAndNamesSuggestTheNearestKnownOne) {
 TEST(ScenarioParse, Nav2CostmapAndClearingModelErrors) {
   const Edited window = replace_line(kFull, "  voxel_size:", "  nav2_costmap: {width_m: 5, height_m: 0}");
   EXPECT_THAT(error_of(window.yaml), HasSubstr(at(window.line, "map.nav2_costmap.height_m") + "must be > 0 m"));
-  const Edited typo = replace_line(kFull, "  voxel_size:", "  nav2_costmap: {width_m: 5, height_m: 5, rolling_windw: false}");
+  const Edited typo =
+      replace_line(kFull, "  voxel_size:", "  nav2_costmap: {width_m: 5, height_m: 5, rolling_windw: false}");
   EXPECT_THAT(error_of(typo.yaml), HasSubstr("did you mean 'rolling_window'?"));
-  const Edited method = replace_line(kFull, "  voxel_size:", "  nav2_costmap: {width_m: 5, height_m: 5, combination_method: 2}");
+  const Edited method =
+      replace_line(kFull, "  voxel_size:", "  nav2_costmap: {width_m: 5, height_m: 5, combination_method: 2}");
   EXPECT_THAT(error_of(method.yaml), HasSubstr("map.nav2_costmap.combination_method"));
   const Edited model = replace_line(kFull, "    min_z:", "    model_type: 2");
   EXPECT_THAT(error_of(model.yaml), HasSubstr(at(model.line, "map.observation.model_type") + "STVL knows 0"));
@@ -129,24 +133,35 @@ TEST(ScenarioParse, WrongTypesNameKeyAndLine) {
 }
 
 TEST(ScenarioParse, SectionsOfTheWrongKind) {
-  EXPECT_THAT(error_of(std::string(kMinimal) + "camera: d435\n"), HasSubstr("x.yaml:6: camera: expected a mapping, got 'd435'"));
-  EXPECT_THAT(error_of(std::string(kMinimal) + "moving_bodies: {body: x}\n"), HasSubstr("x.yaml:6: moving_bodies: expected a list"));
-  EXPECT_THAT(error_of(std::string(kMinimal) + "moving_bodies: [5]\n"), HasSubstr("x.yaml:6: moving_bodies[0]: expected a mapping"));
+  EXPECT_THAT(error_of(std::string(kMinimal) + "camera: d435\n"),
+              HasSubstr("x.yaml:6: camera: expected a mapping, got 'd435'"));
+  EXPECT_THAT(error_of(std::string(kMinimal) + "moving_bodies: {body: x}\n"),
+              HasSubstr("x.yaml:6: moving_bodies: expected a list"));
+  EXPECT_THAT(error_of(std::string(kMinimal) + "moving_bodies: [5]\n"),
+              HasSubstr("x.yaml:6: moving_bodies[0]: expected a mapping"));
   EXPECT_THAT(error_of("name: a\nworld: b\nrobot: [1]\n"), HasSubstr("x.yaml:3: robot: expected a mapping"));
-  EXPECT_THAT(error_of(std::string(kMinimal) + "map:\n  observation: 3\n"), HasSubstr("x.yaml:7: map.observation: expected a mapping"));
+  EXPECT_THAT(error_of(std::string(kMinimal) + "map:\n  observation: 3\n"),
+              HasSubstr("x.yaml:7: map.observation: expected a mapping"));
 }
 
 TEST(ScenarioParse, MissingRequiredKeys) {
   EXPECT_THAT(error_of(replace_line(kMinimal, "name:", "").yaml), HasSubstr("x.yaml:2: name: required key is missing"));
   EXPECT_THAT(error_of(replace_line(kMinimal, "world:", "").yaml), HasSubstr("world: required key is missing"));
   EXPECT_THAT(error_of("name: a\nworld: b\n"), HasSubstr("robot: required mapping is missing"));
-  EXPECT_THAT(error_of(replace_line(kMinimal, "  waypoints:", "").yaml), HasSubstr("x.yaml:3: robot.waypoints: required key is missing"));
-  EXPECT_THAT(error_of(replace_line(kMinimal, "  speed_mps:", "").yaml), HasSubstr("robot.speed_mps: required key is missing"));
-  EXPECT_THAT(error_of(replace_line(kFull, "  intrinsics:", "  no_intrinsics:").yaml), HasSubstr("camera.intrinsics: required mapping is missing"));
-  EXPECT_THAT(error_of(replace_line(kFull, "    fy:", "").yaml), HasSubstr("camera.intrinsics.fy: required key is missing"));
-  EXPECT_THAT(error_of(replace_line(kFull, "      - t: 1.0", "      - tt: 1.0").yaml), HasSubstr("moving_bodies[0].keyframes[0].t: required key is missing"));
-  EXPECT_THAT(error_of(replace_line(kFull, "  - body:", "  - name: person").yaml), HasSubstr("moving_bodies[0].body: required key is missing"));
-  EXPECT_THAT(error_of(std::string(kMinimal) + "moving_bodies:\n  - body: person\n"), HasSubstr("moving_bodies[0].keyframes: at least one keyframe"));
+  EXPECT_THAT(error_of(replace_line(kMinimal, "  waypoints:", "").yaml),
+              HasSubstr("x.yaml:3: robot.waypoints: required key is missing"));
+  EXPECT_THAT(error_of(replace_line(kMinimal, "  speed_mps:", "").yaml),
+              HasSubstr("robot.speed_mps: required key is missing"));
+  EXPECT_THAT(error_of(replace_line(kFull, "  intrinsics:", "  no_intrinsics:").yaml),
+              HasSubstr("camera.intrinsics: required mapping is missing"));
+  EXPECT_THAT(error_of(replace_line(kFull, "    fy:", "").yaml),
+              HasSubstr("camera.intrinsics.fy: required key is missing"));
+  EXPECT_THAT(error_of(replace_line(kFull, "      - t: 1.0", "      - tt: 1.0").yaml),
+              HasSubstr("moving_bodies[0].keyframes[0].t: required key is missing"));
+  EXPECT_THAT(error_of(replace_line(kFull, "  - body:", "  - name: person").yaml),
+              HasSubstr("moving_bodies[0].body: required key is missing"));
+  EXPECT_THAT(error_of(std::string(kMinimal) + "moving_bodies:\n  - body: person\n"),
+              HasSubstr("moving_bodies[0].keyframes: at least one keyframe"));
 }
 
 TEST(ScenarioParse, SyntaxErrorsNameTheLine) {
@@ -229,14 +244,16 @@ TEST(ScenarioParse, OutOfRangeValuesNameKeyAndLine) {
 
 TEST(ScenarioParse, ClearOnNoReturnNeedsRaycastClearing) {
   const std::string frustum = std::string(kMinimal) + "map:\n  observation:\n    clear_on_no_return: true\n";
-  EXPECT_THAT(error_of(frustum), HasSubstr(at(8, "map.observation.clear_on_no_return") + "needs map.clearing_mode: raycast"));
-  const Scenario ok = parse(std::string(kMinimal) + "map:\n  clearing_mode: raycast\n  observation:\n    clear_on_no_return: true\n");
+  EXPECT_THAT(error_of(frustum),
+              HasSubstr(at(8, "map.observation.clear_on_no_return") + "needs map.clearing_mode: raycast"));
+  const Scenario ok =
+      parse(std::string(kMinimal) + "map:\n  clearing_mode: raycast\n  observation:\n    clear_on_no_return: true\n");
   EXPECT_TRUE(ok.camera().sources.front().params.clear_on_no_return);
 }
 
 TEST(ScenarioParse, HiddenFalseClearsMaxIsACountOfAtLeastZero) {
-  for (const auto& [value, expected] : {std::pair<const char*, const char*>{"-1", "must be >= 0"},
-                                        {"0.5", "expected an integer"}}) {
+  for (const auto& [value, expected] :
+       {std::pair<const char*, const char*>{"-1", "must be >= 0"}, {"0.5", "expected an integer"}}) {
     SCOPED_TRACE(value);
     const Edited e = insert_after(kFull, "  accuracy_p90_max_m:", std::string("  hidden_false_clears_max: ") + value);
     EXPECT_THAT(error_of(e.yaml), HasSubstr(at(e.line, "checks.hidden_false_clears_max") + expected));

@@ -20,7 +20,9 @@ using namespace test;
 std::string scenarios_dir() { return std::filesystem::path(default_scenario_path()).parent_path().string(); }
 
 Scenario parse_here(const std::string& yaml) { return parse_scenario(yaml, "x.yaml", scenarios_dir()); }
-std::string error_here(const std::string& yaml) { return invalid_argument_of([&] { parse_here(yaml); }); }
+std::string error_here(const std::string& yaml) {
+  return invalid_argument_of([&] { parse_here(yaml); });
+}
 
 const std::string kUrdfRobot = R"(name: urdf
 world: ../worlds/office_corridor.xml
@@ -80,29 +82,34 @@ TEST(ScenarioUrdf, KeysThatNeedTheUrdf) {
 }
 
 TEST(ScenarioUrdf, BadKeysNameTheirLine) {
-  EXPECT_THAT(error_here(replace_line(kUrdfRobot, "      frame: mast_link", "      frame: mast").yaml),
-              HasSubstr("x.yaml:13: robot.cameras[1].frame: " + std::filesystem::path(scenarios_dir()).parent_path().string() +
-                        "/worlds/urdf/example_bot/example_bot.urdf: no link named 'mast' (links, nearest first: "
-                        "mast_link, "));
+  EXPECT_THAT(
+      error_here(replace_line(kUrdfRobot, "      frame: mast_link", "      frame: mast").yaml),
+      HasSubstr("x.yaml:13: robot.cameras[1].frame: " + std::filesystem::path(scenarios_dir()).parent_path().string() +
+                "/worlds/urdf/example_bot/example_bot.urdf: no link named 'mast' (links, nearest first: "
+                "mast_link, "));
   EXPECT_THAT(error_here(insert_after(kUrdfRobot, "      frame: mast_link", "      mount: {xyz_m: [0, 0, 1]}").yaml),
               HasSubstr("robot.cameras[1].mount: give frame or mount, not both"));
-  EXPECT_THAT(error_here(replace_line(kUrdfRobot, "  drive: kinematic", "  drive: kinematics").yaml),
-              HasSubstr("x.yaml:6: robot.drive: unknown drive 'kinematics' (expected physics|kinematic|auto; did you mean "
-                        "'kinematic'?)"));
+  EXPECT_THAT(
+      error_here(replace_line(kUrdfRobot, "  drive: kinematic", "  drive: kinematics").yaml),
+      HasSubstr("x.yaml:6: robot.drive: unknown drive 'kinematics' (expected physics|kinematic|auto; did you mean "
+                "'kinematic'?)"));
   EXPECT_THAT(error_here(insert_after(kUrdfRobot, "  drive: kinematic", "  wheels: {left: wheel_left_joint}").yaml),
               HasSubstr("robot.wheels.left: name both wheel joints, left and right"));
-  EXPECT_THAT(error_here(replace_line(kUrdfRobot, "  package_path: [../worlds/urdf]", "  package_path: [nowhere]").yaml),
-              HasSubstr("x.yaml:5: robot.package_path: no folder " + scenarios_dir() + "/nowhere"));
+  EXPECT_THAT(
+      error_here(replace_line(kUrdfRobot, "  package_path: [../worlds/urdf]", "  package_path: [nowhere]").yaml),
+      HasSubstr("x.yaml:5: robot.package_path: no folder " + scenarios_dir() + "/nowhere"));
   // Without the package path the URDF's package:// mesh is not found: the URDF's own file and line, and the fix.
-  EXPECT_THAT(error_here(replace_line(kUrdfRobot, "  package_path: [../worlds/urdf]", "").yaml),
-              HasSubstr("example_bot.urdf:27: link 'base_link': mesh file 'package://example_bot/meshes/base.obj' names "
-                        "package 'example_bot' but robot.package_path is empty"));
+  EXPECT_THAT(
+      error_here(replace_line(kUrdfRobot, "  package_path: [../worlds/urdf]", "").yaml),
+      HasSubstr("example_bot.urdf:27: link 'base_link': mesh file 'package://example_bot/meshes/base.obj' names "
+                "package 'example_bot' but robot.package_path is empty"));
 }
 
 TEST(ScenarioUrdf, TheUrdfsOwnErrorsKeepItsFileAndLine) {
   stvl::test::TempFolder dir;
   const std::string urdf = dir.write("bot.urdf", "<robot name=\"b\">\n<link name=\"a\">\n</robot>\n");
-  const std::string yaml = replace_line(kUrdfRobot, "  urdf: ../worlds/urdf/example_bot/example_bot.urdf", "  urdf: " + urdf).yaml;
+  const std::string yaml =
+      replace_line(kUrdfRobot, "  urdf: ../worlds/urdf/example_bot/example_bot.urdf", "  urdf: " + urdf).yaml;
   EXPECT_THAT(error_here(yaml), HasSubstr("x.yaml:4: robot.urdf: " + urdf + ":2: malformed XML: "));
 }
 

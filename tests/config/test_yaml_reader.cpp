@@ -3,8 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "tests/support/invalid_argument.hpp"
 #include <unistd.h>
+#include "tests/support/invalid_argument.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -20,7 +20,6 @@ namespace fs = std::filesystem;
 using test::invalid_argument_of;
 using ::testing::HasSubstr;
 using ::testing::MatchesRegex;
-
 
 YamlMap root_of(const std::string& text) { return YamlMap(load_yaml_string(text, "t.yaml"), "t.yaml", ""); }
 
@@ -96,14 +95,17 @@ TEST(YamlReader, WrongTypesNameTheKeyTheLineAndTheValue) {
   std::string s;
   std::vector<std::vector<double>> points;
   EXPECT_EQ(invalid_argument_of([&] { root.get("n", n); }), "t.yaml:1: n: expected a number, got 'fast'");
-  EXPECT_EQ(invalid_argument_of([&] { root.get("list", list); }), "t.yaml:2: list: expected a list of numbers, got '5'");
+  EXPECT_EQ(invalid_argument_of([&] { root.get("list", list); }),
+            "t.yaml:2: list: expected a list of numbers, got '5'");
   EXPECT_EQ(invalid_argument_of([&] { root.get("i", i); }), "t.yaml:3: i: expected an integer, got '1.5'");
   EXPECT_EQ(invalid_argument_of([&] { root.get("u", u); }), "t.yaml:4: u: expected a non-negative integer, got '-3'");
   EXPECT_EQ(invalid_argument_of([&] { root.get("b", b); }), "t.yaml:5: b: expected a boolean, got 'maybe'");
   EXPECT_EQ(invalid_argument_of([&] { root.get("s", s); }), "t.yaml:6: s: expected a string, got 'a list'");
   auto nested = root.map("nested");
-  EXPECT_THAT(invalid_argument_of([&] { nested.get("v", list); }), HasSubstr("t.yaml:7: nested.v: expected a list of numbers"));
-  EXPECT_THAT(invalid_argument_of([&] { root.get("points", points); }), HasSubstr("t.yaml:8: points: expected a list of number lists"));
+  EXPECT_THAT(invalid_argument_of([&] { nested.get("v", list); }),
+              HasSubstr("t.yaml:7: nested.v: expected a list of numbers"));
+  EXPECT_THAT(invalid_argument_of([&] { root.get("points", points); }),
+              HasSubstr("t.yaml:8: points: expected a list of number lists"));
   EXPECT_THAT(invalid_argument_of([&] { root.map("n"); }), HasSubstr("t.yaml:1: n: expected a mapping, got 'fast'"));
   EXPECT_THAT(invalid_argument_of([&] { root.list_of_maps("n"); }), HasSubstr("t.yaml:1: n: expected a list"));
   EXPECT_THAT(invalid_argument_of([&] { root.list_of_maps("list"); }), HasSubstr("list: expected a list"));
@@ -126,7 +128,8 @@ TEST(YamlReader, AnEmptyValueIsAnErrorNotTheDefault) {
 
 TEST(YamlReader, DuplicateKeysAreRejected) {
   EXPECT_EQ(invalid_argument_of([] { root_of("a: 1\nb: 2\na: 3\n"); }), "t.yaml:3: a: duplicate key");
-  EXPECT_THAT(invalid_argument_of([] { root_of("m:\n  x: 1\n  x: 2\n").map("m"); }), HasSubstr("t.yaml:3: m.x: duplicate key"));
+  EXPECT_THAT(invalid_argument_of([] { root_of("m:\n  x: 1\n  x: 2\n").map("m"); }),
+              HasSubstr("t.yaml:3: m.x: duplicate key"));
 }
 
 TEST(YamlReader, NonScalarKeysAreRejectedClearly) {
@@ -135,7 +138,8 @@ TEST(YamlReader, NonScalarKeysAreRejectedClearly) {
 
 TEST(YamlReader, DocumentsThatAreNotMappingsAreRejected) {
   EXPECT_EQ(invalid_argument_of([] { root_of(""); }), "t.yaml:1: document: expected a mapping of keys to values");
-  EXPECT_THAT(invalid_argument_of([] { root_of("just a string\n"); }), HasSubstr("t.yaml:1: document: expected a mapping"));
+  EXPECT_THAT(invalid_argument_of([] { root_of("just a string\n"); }),
+              HasSubstr("t.yaml:1: document: expected a mapping"));
   EXPECT_THAT(invalid_argument_of([] { root_of("- a\n- b\n"); }), HasSubstr("document: expected a mapping"));
 }
 
@@ -212,7 +216,8 @@ TEST_F(YamlFile, MissingFilesDirectoriesAndDevicesNameThePath) {
 
 TEST_F(YamlFile, SyntaxErrorsNameTheFileAndLine) {
   const std::string path = write("bad.yaml", "a: 1\nb: 2\nc: {x: 1\n");
-  EXPECT_THAT(invalid_argument_of([&] { load_yaml_file(path); }), MatchesRegex(".*bad\\.yaml:[34]: YAML syntax error: .*"));
+  EXPECT_THAT(invalid_argument_of([&] { load_yaml_file(path); }),
+              MatchesRegex(".*bad\\.yaml:[34]: YAML syntax error: .*"));
 }
 
 }  // namespace

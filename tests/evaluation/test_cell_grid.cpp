@@ -83,8 +83,7 @@ TEST(CellGrid, CostmapMatchesPhantomsAndGuardEqualThePlainHashSetLoops) {
     const CellSet lethal = random_cells(rng, 300, 0, 100), footprint = random_cells(rng, 400, -5, 105),
                   observed = random_cells(rng, 200, -5, 105);
     const int tol = trial % 3;
-    const CostmapMatches m =
-        match_costmap(CellGrid::of(lethal), CellGrid::of(footprint), CellGrid::of(observed), tol);
+    const CostmapMatches m = match_costmap(CellGrid::of(lethal), CellGrid::of(footprint), CellGrid::of(observed), tol);
     std::size_t lethal_true = 0, observed_hit = 0;
     for (const CellKey& c : lethal) lethal_true += near_in(footprint, c, tol);
     for (const CellKey& c : observed) observed_hit += near_in(lethal, c, tol);
@@ -110,13 +109,15 @@ TEST(CellGrid, CostmapMatchesPhantomsAndGuardEqualThePlainHashSetLoops) {
             if (lethal.count({c.x + dx, c.y + dy}) && visited.insert({c.x + dx, c.y + dy}).second)
               stack.push_back({c.x + dx, c.y + dy});
       }
-      const bool near = std::any_of(group.begin(), group.end(), [&](const CellKey& c) { return near_in(footprint, c, clearance_cells); });
+      const bool near = std::any_of(group.begin(), group.end(),
+                                    [&](const CellKey& c) { return near_in(footprint, c, clearance_cells); });
       if (near || group.size() < 2) continue;
       double x = 0, y = 0;
       for (const CellKey& c : group) x += (c.x + 0.5) * 0.1, y += (c.y + 0.5) * 0.1;
       expected.push_back({x / group.size(), y / group.size(), group.size()});
     }
-    std::sort(expected.begin(), expected.end(), [](const Phantom& a, const Phantom& b) { return a.x_m < b.x_m || (a.x_m == b.x_m && a.y_m < b.y_m); });
+    std::sort(expected.begin(), expected.end(),
+              [](const Phantom& a, const Phantom& b) { return a.x_m < b.x_m || (a.x_m == b.x_m && a.y_m < b.y_m); });
     const std::vector<Phantom> phantoms = find_phantoms(CellGrid::of(lethal), CellGrid::of(footprint), 0.1, 0.3, 2);
     ASSERT_EQ(phantoms.size(), expected.size());
     for (std::size_t i = 0; i < phantoms.size(); ++i) {
@@ -168,9 +169,11 @@ TEST(SeenVoxels, RecordAndForgetMatchAMapOfLastTimes) {
     for (const VoxelKey& k : keys) reference[k] = time_s;
     if (frame % 7 == 0) {
       seen.forget_before(time_s - window_s / 2);
-      for (auto it = reference.begin(); it != reference.end();) it = it->second < time_s - window_s / 2 ? reference.erase(it) : std::next(it);
+      for (auto it = reference.begin(); it != reference.end();)
+        it = it->second < time_s - window_s / 2 ? reference.erase(it) : std::next(it);
     }
-    for (auto it = reference.begin(); it != reference.end();) it = it->second < time_s - window_s ? reference.erase(it) : std::next(it);
+    for (auto it = reference.begin(); it != reference.end();)
+      it = it->second < time_s - window_s ? reference.erase(it) : std::next(it);
     ASSERT_EQ(seen.size(), reference.size()) << frame;
     auto it = reference.begin();
     for (const SeenVoxels::Entry& e : seen.entries()) {

@@ -116,14 +116,16 @@ TEST(Checks, PathFreeLethalFailsOnTheWorstEvaluationAndSaysWhere) {
   r = evaluation_checks(c, s);
   EXPECT_FALSE(r[0].passed);
   EXPECT_EQ(r[0].name, "path_free_lethal");
-  EXPECT_EQ(r[0].message, "at worst 3145 lethal cells where the truth is free along the path (t = 19.0 s, the first "
-                          "at (3.08, -0.33) m, 3.08 m along the path), allowed 0");
+  EXPECT_EQ(r[0].message,
+            "at worst 3145 lethal cells where the truth is free along the path (t = 19.0 s, the first "
+            "at (3.08, -0.33) m, 3.08 m along the path), allowed 0");
 }
 
 // Issue 31: a robot that stops short says where, since when and what it touches.
 TEST(Checks, ABlockedRobotIsDiagnosedOnThePathCheck) {
   const std::string blocked = blocked_diagnosis({0.0, 0.884}, 3.93, {0.0, 4.0}, {"desk_2", "walls"});
-  EXPECT_EQ(blocked, "blocked at (0.00, 0.88) m since t = 3.9 s, 3.12 m short of the path's end, touching desk_2, walls");
+  EXPECT_EQ(blocked,
+            "blocked at (0.00, 0.88) m since t = 3.9 s, 3.12 m short of the path's end, touching desk_2, walls");
   EXPECT_EQ(path_completed_check(false, 10, 10, 0, false, blocked).message,
             "did not reach the end of the path within 10.0 s: " + blocked);
   EXPECT_THAT(blocked_diagnosis({1, 1}, 2, {1, 1}, {}), HasSubstr("touching nothing"));
@@ -132,12 +134,13 @@ TEST(Checks, ABlockedRobotIsDiagnosedOnThePathCheck) {
 TEST(Checks, APathCutShortByDurationIsReportedNotFailedUnlessRequired) {
   const CheckResult cut = path_completed_check(false, 10, 10, 45);
   EXPECT_FALSE(cut.evaluated);
-  EXPECT_EQ(cut.message, "not evaluated: the path's end was not reached within 10.0 s, the run cut short by --duration "
-                         "(the scenario runs 45.0 s; --require-path fails on it)");
+  EXPECT_EQ(cut.message,
+            "not evaluated: the path's end was not reached within 10.0 s, the run cut short by --duration "
+            "(the scenario runs 45.0 s; --require-path fails on it)");
   const CheckResult required = path_completed_check(false, 10, 10, 45, true);
   EXPECT_TRUE(required.evaluated);
   EXPECT_FALSE(required.passed);
-  EXPECT_TRUE(path_completed_check(true, 8, 10, 45).passed);  // reached anyway: judged
+  EXPECT_TRUE(path_completed_check(true, 8, 10, 45).passed);   // reached anyway: judged
   EXPECT_TRUE(path_completed_check(false, 45, 45).evaluated);  // the scenario's own duration: judged
 }
 
@@ -152,8 +155,9 @@ TEST(Checks, SelfLethalCellsTakesTheWorstEvaluation) {
   r = evaluation_checks(c, s);
   EXPECT_FALSE(r[0].passed);
   EXPECT_EQ(r[0].name, "self_lethal_cells");
-  EXPECT_EQ(r[0].message, "at worst 4 lethal cells on the robot (3 inside its footprint, 1 in the ring) at one "
-                          "evaluation, allowed 0");
+  EXPECT_EQ(r[0].message,
+            "at worst 4 lethal cells on the robot (3 inside its footprint, 1 in the ring) at one "
+            "evaluation, allowed 0");
   c.self_lethal_cells_max = 4;
   EXPECT_TRUE(evaluation_checks(c, s)[0].passed);
 }
@@ -203,7 +207,8 @@ SoakSeries soak(double rss_step_mb, double map_step_ms) {
   for (int i = 1; i <= 6; ++i) {
     const int after = std::max(0, i - 2);
     const double wall_ms = i % 2 ? 3.0 : 12.0;
-    s.samples.push_back({60.0 * i, 1000u, 10u, i == 1 ? 150.0 : 200.0 + rss_step_mb * after, wall_ms, 2.0 + map_step_ms * after});
+    s.samples.push_back(
+        {60.0 * i, 1000u, 10u, i == 1 ? 150.0 : 200.0 + rss_step_mb * after, wall_ms, 2.0 + map_step_ms * after});
   }
   return s;
 }
@@ -223,8 +228,9 @@ TEST(Checks, SoakPassesWhenFlatAndSaysWhatItCompared) {
   EXPECT_THAT(r[0].message, HasSubstr("200.0 MiB at the end of the first lap (t = 120 s): 0.0 %, allowed 10.0 %"));
   EXPECT_EQ(r[1].name, "soak_map_ms_growth");
   EXPECT_TRUE(r[1].passed) << r[1].message;
-  EXPECT_THAT(r[1].message, HasSubstr("2.000 ms CPU per frame over the last 2 samples vs 2.000 ms over the first lap: 0.0 %, "
-                                      "allowed 50.0 % (wall clock 7.500 vs 5.000 ms)"));
+  EXPECT_THAT(r[1].message,
+              HasSubstr("2.000 ms CPU per frame over the last 2 samples vs 2.000 ms over the first lap: 0.0 %, "
+                        "allowed 50.0 % (wall clock 7.500 vs 5.000 ms)"));
   EXPECT_TRUE(soak_checks(ChecksConfig{}, soak(100.0, 100.0)).empty());
 }
 
@@ -237,7 +243,8 @@ TEST(Checks, SoakFailsOnGrowthOverTheMarginOnly) {
   // Map cost: the last 2 samples 2 + 3 s and 2 + 4 s: mean 2 + 3.5 s; s = 0.3 ms gives 3.05 ms (+52.5 %) > 50 %.
   r = soak_checks(soak_thresholds(), soak(0.0, 0.3));
   EXPECT_FALSE(r[1].passed);
-  EXPECT_THAT(r[1].message, HasSubstr("3.050 ms CPU per frame over the last 2 samples vs 2.000 ms over the first lap: 52.5 %"));
+  EXPECT_THAT(r[1].message,
+              HasSubstr("3.050 ms CPU per frame over the last 2 samples vs 2.000 ms over the first lap: 52.5 %"));
   EXPECT_TRUE(soak_checks(soak_thresholds(), soak(0.0, 0.28))[1].passed);
 }
 

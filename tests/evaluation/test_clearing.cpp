@@ -11,7 +11,7 @@ TEST(ClearingLatency, SeenThroughAtT0AndRemovedAtT1HasLatencyT1MinusT0) {
   ClearingLatency c;
   const VoxelKey stale{4, 5, 6};
   c.seen_through(stale, 1.0);
-  c.seen_through(stale, 1.2);  // the first time counts
+  c.seen_through(stale, 1.2);                                 // the first time counts
   c.after_update(1.5, [](const VoxelKey&) { return true; });  // still in the map
   EXPECT_TRUE(c.tracked(stale));
   c.after_update(2.25, [](const VoxelKey&) { return false; });

@@ -104,7 +104,7 @@ TEST(Evaluator, AnObstacleWithHalfOfItsObservedVoxelsMappedIsDetectedAndOneWithF
 
 TEST(Evaluator, StaleVoxelSeenThroughAtT0AndRemovedAtT1HasLatencyT1MinusT0) {
   sim::World world = sim::World::from_string(kWorld);
-  Evaluator evaluator(world, config());  // the cart at its first place
+  Evaluator evaluator(world, config());                                 // the cart at its first place
   world.data()->mocap_pos[0] = -5.0, world.data()->mocap_pos[1] = 3.0;  // then it leaves
   world.forward();
   const auto k = intrinsics();
@@ -160,7 +160,7 @@ TEST(Truth, ChangesVersionOnlyWhenAMovingBodyMoves) {
       EXPECT_LT(body->voxels.front().x, -40);  // the cart's voxels are at its new place
       EXPECT_TRUE(truth.near_moving(body->voxels.front()));
     }
-  EXPECT_TRUE(truth.near_static({20, 0, 4}));  // the box's front face
+  EXPECT_TRUE(truth.near_static({20, 0, 4}));   // the box's front face
   EXPECT_FALSE(truth.near_static({19, 0, 4}));  // one voxel in front of it: tolerance 0 here
   EvaluationConfig one = config();
   one.tolerance_voxels = 1;
@@ -197,7 +197,7 @@ TEST(Truth, MeshesAreTheirTrianglesAndAnOpenOneIsNoted) {
   EXPECT_FALSE(truth.contains({12, 1, 3}));  // inside the bin
   ASSERT_TRUE(truth.distance_to_surface_m({1.3, 0.2, 0.3}).has_value());
   EXPECT_NEAR(*truth.distance_to_surface_m({1.3, 0.2, 0.3}), 0.19, 1e-6);  // to the walls at y 0.01 and 0.39
-  world.data()->mocap_pos[0] = 3.0;  // moved: voxelized again where it is
+  world.data()->mocap_pos[0] = 3.0;                                        // moved: voxelized again where it is
   world.forward();
   truth.update(world);
   EXPECT_TRUE(truth.contains({30, 1, 3}));

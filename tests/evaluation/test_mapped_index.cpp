@@ -54,7 +54,7 @@ TEST_P(MappedIndexTest, EqualsThePlainDefinitionAsTheMapAndTheCartChange) {
   MappedIndex index;
   std::map<double, std::size_t> plain_counts;
   std::mt19937 rng(7);
-  const std::vector<std::pair<double, double>> cart_xy = {{1.0, 0.0}, {1.0, 0.0}, {1.8, 0.0}, {-2.0, 1.2},
+  const std::vector<std::pair<double, double>> cart_xy = {{1.0, 0.0},  {1.0, 0.0}, {1.8, 0.0},  {-2.0, 1.2},
                                                           {-2.0, 1.2}, {1.9, 0.3}, {3.2, -0.9}, {1.0, 0.0}};
   std::size_t matched_seen = 0, unmatched_seen = 0;
   for (std::size_t step = 0; step < cart_xy.size() * 3; ++step) {
@@ -65,9 +65,9 @@ TEST_P(MappedIndexTest, EqualsThePlainDefinitionAsTheMapAndTheCartChange) {
     std::vector<mapping::Voxel> added;
     for (const auto& k : random_keys(rng, 400)) added.push_back({k, static_cast<double>(step)});
     map.set_voxels(added);
-    if (step % 2 == 1) index.update(map, index_truth);  // between evaluations: results computed ahead
+    if (step % 2 == 1) index.update(map, index_truth);       // between evaluations: results computed ahead
     std::vector<VoxelKey> removed = random_keys(rng, 1500);  // some of them mapped
-    if (step % 4 == 1) {  // a whole region goes: leaves emptied
+    if (step % 4 == 1) {                                     // a whole region goes: leaves emptied
       for (const auto& k : map.voxel_keys())
         if (k.x < 0) removed.push_back(k);
     }
@@ -154,7 +154,8 @@ TEST(VoxelMaskSet, LabelsAnswerAsAMapFilledWithEmplace) {
   std::unordered_map<VoxelKey, int, VoxelKeyHash> plain;
   VoxelMaskSet masks;
   for (int body = 0; body < 20; ++body) {
-    const int x0 = corner(rng), y0 = corner(rng), z0 = corner(rng), dx = extent(rng), dy = extent(rng), dz = extent(rng);
+    const int x0 = corner(rng), y0 = corner(rng), z0 = corner(rng), dx = extent(rng), dy = extent(rng),
+              dz = extent(rng);
     for (int x = x0; x <= x0 + dx; ++x)
       for (int y = y0; y <= y0 + dy; ++y)
         for (int z = z0; z <= z0 + dz; ++z) plain.emplace(VoxelKey{x, y, z}, body), masks.insert({x, y, z}, body);

@@ -83,8 +83,8 @@ TEST(Costmap, LethalCellsAreKeyedAtTheirCentres) {
   mapping::Costmap2D costmap;
   costmap.width = 3, costmap.height = 2, costmap.resolution_m = 0.05, costmap.origin_m = {-0.05, 1.0};
   costmap.cells.assign(6, mapping::kCostFree);
-  costmap.cells[1] = mapping::kCostLethal;      // ix 1, iy 0: centre (0.025, 1.025)
-  costmap.cells[5] = mapping::kCostLethal;      // ix 2, iy 1: centre (0.075, 1.075)
+  costmap.cells[1] = mapping::kCostLethal;  // ix 1, iy 0: centre (0.025, 1.025)
+  costmap.cells[5] = mapping::kCostLethal;  // ix 2, iy 1: centre (0.075, 1.075)
   costmap.cells[3] = mapping::kCostUnknown;
   EXPECT_EQ(lethal_cells(costmap, 0.05).cells(), (std::vector<CellKey>{{0, 20}, {1, 21}}));
 }
@@ -94,7 +94,7 @@ TEST(Phantoms, ALethalGroupBeyondTheClearanceIsAPhantomAndOneWithinIsNot) {
   const double cell_m = 0.01, clearance_m = 0.10;
   const CellGrid footprint = cells({{0, 0}});
   const CellGrid at_11cm = cells({{11, 0}, {12, 0}});  // 0.11 m from the footprint: a phantom
-  const CellGrid at_9cm = cells({{0, 9}, {1, 10}});     // 0.09 m (Chebyshev) from it: an obstacle's edge
+  const CellGrid at_9cm = cells({{0, 9}, {1, 10}});    // 0.09 m (Chebyshev) from it: an obstacle's edge
   const auto far = find_phantoms(at_11cm, footprint, cell_m, clearance_m, 2);
   ASSERT_EQ(far.size(), 1u);
   EXPECT_EQ(far[0].cells, 2u);
@@ -110,7 +110,9 @@ TEST(Phantoms, AnotherCostmapsLethalCellsAgainstTheTruth) {
   mapping::Costmap2D master;
   master.width = 20, master.height = 20, master.resolution_m = 0.05, master.origin_m = {-0.01, -0.01};
   master.cells.assign(400, mapping::kCostFree);
-  const auto lethal = [&](int ix, int iy) { master.cells[static_cast<std::size_t>(iy * 20 + ix)] = mapping::kCostLethal; };
+  const auto lethal = [&](int ix, int iy) {
+    master.cells[static_cast<std::size_t>(iy * 20 + ix)] = mapping::kCostLethal;
+  };
   lethal(0, 0);    // [-0.01, 0.04)^2 holds the centre (0.025, 0.025): true cell (0, 0)
   lethal(12, 12);  // [0.59, 0.64)^2 holds (0.625, 0.625): cell (12, 12), far from the truth
   lethal(13, 12);  // its neighbour: with it a phantom of 2 cells
@@ -193,10 +195,12 @@ TEST(ProjectionGuard, ColumnsFreedByTheFootprintAreNotLost) {
 // whose centres lie within 0.10 m outside it.
 TEST(SelfMarking, CountsLethalCellsInsideTheFootprintAndInItsRing) {
   const std::vector<Eigen::Vector2d> square{{0.05, 0.05}, {0.35, 0.05}, {0.35, 0.35}, {0.05, 0.35}};
-  const CellGrid lethal = cells({{1, 1}, {2, 3},   // inside
-                                 {4, 1}, {-1, 1},  // centres 0.10 m outside the edges x = 0.35 and x = 0.05
-                                 {5, 1},           // 0.20 m outside
-                                 {4, 4},           // 0.14 m from the corner
+  const CellGrid lethal = cells({{1, 1},
+                                 {2, 3},  // inside
+                                 {4, 1},
+                                 {-1, 1},  // centres 0.10 m outside the edges x = 0.35 and x = 0.05
+                                 {5, 1},   // 0.20 m outside
+                                 {4, 4},   // 0.14 m from the corner
                                  {20, 20}});
   SelfMarking s = count_self_marking(lethal, square, 0.1, 0.10, {}, 1);
   EXPECT_EQ(s.inside, 2u);

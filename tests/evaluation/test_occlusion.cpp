@@ -76,8 +76,10 @@ struct Scene {
 
 TEST(HiddenClears, OnlyTrueVoxelsRemovedUnseenAndNotMarkedAgainCount) {
   Scene scene;
-  scene.sight = {{{1, 0, 0}, VoxelSight::kBehindSurface}, {{2, 0, 0}, VoxelSight::kBehindSurface},
-                 {{3, 0, 0}, VoxelSight::kSeen}, {{9, 0, 0}, VoxelSight::kOutOfView},
+  scene.sight = {{{1, 0, 0}, VoxelSight::kBehindSurface},
+                 {{2, 0, 0}, VoxelSight::kBehindSurface},
+                 {{3, 0, 0}, VoxelSight::kSeen},
+                 {{9, 0, 0}, VoxelSight::kOutOfView},
                  {{5, 5, 5}, VoxelSight::kBehindSurface}};
   scene.in_map = {{2, 0, 0}};  // removed, but the same update marked it again
   HiddenClears h;

@@ -33,7 +33,7 @@ TEST(OutageMonitor, CountsWhatOnlyTheStoppedCameraSawAndLeftTheMap) {
   OutageMonitor monitor({{{1.0, 2.0}}, {}}, 0);  // camera 0 out in [1, 2)
   const std::vector<VoxelKey> off_truth{{5, 5, 5}};
   monitor.observe(0, 0.5, keys, truth, 100);
-  monitor.observe(0, 0.5, off_truth, truth, 100);                 // not a truth voxel: not watched
+  monitor.observe(0, 0.5, off_truth, truth, 100);                         // not a truth voxel: not watched
   monitor.observe(1, 0.5, {keys.begin(), keys.begin() + 6}, truth, 100);  // camera 1 saw 6 of them
   const mapping::VoxelMap full = map_of(keys);
   std::vector<VoxelKey> fewer(keys.begin() + 3, keys.end() - 4);  // 3 seen by both and 4 of camera 0's alone gone
@@ -64,7 +64,7 @@ TEST(OutageMonitor, CountsWhatOnlyTheStoppedCameraSawAndLeftTheMap) {
   EXPECT_DOUBLE_EQ(r.first_cleared_s, 1.1);
   EXPECT_EQ(r.frames_in_window, 1u);
   EXPECT_DOUBLE_EQ(r.first_marking_frame_s, 2.1);
-  EXPECT_DOUBLE_EQ(r.recall_before, 0.8);   // the last evaluation before 1.0 s
+  EXPECT_DOUBLE_EQ(r.recall_before, 0.8);     // the last evaluation before 1.0 s
   EXPECT_DOUBLE_EQ(r.recall_resumed_s, 3.0);  // 0.7 < 0.9 * 0.8 <= 0.75
 }
 

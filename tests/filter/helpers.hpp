@@ -36,7 +36,9 @@ struct Random {
   double log_uniform(double lo, double hi) { return lo * std::pow(hi / lo, uniform()); }
   int range(int lo, int hi) { return lo + int(bits() % std::uint64_t(hi - lo + 1)); }  // [lo, hi]
   template <class T, std::size_t N>
-  T pick(const T (&values)[N]) { return values[bits() % N]; }
+  T pick(const T (&values)[N]) {
+    return values[bits() % N];
+  }
 };
 
 // A random cloud of n points in a box of side `size_m` at a random offset (negative coordinates too), of one
@@ -98,9 +100,9 @@ inline ::testing::AssertionResult same_bits(const Eigen::Matrix3Xf& actual, cons
   }
   for (Eigen::Index i = 0; i < actual.cols(); ++i) {
     if (std::memcmp(actual.col(i).data(), expected.col(i).data(), 3 * sizeof(float)) != 0) {
-      return ::testing::AssertionFailure() << "point " << i << " is (" << actual(0, i) << ", " << actual(1, i) << ", "
-                                           << actual(2, i) << "), expected (" << expected(0, i) << ", "
-                                           << expected(1, i) << ", " << expected(2, i) << ")";
+      return ::testing::AssertionFailure()
+             << "point " << i << " is (" << actual(0, i) << ", " << actual(1, i) << ", " << actual(2, i)
+             << "), expected (" << expected(0, i) << ", " << expected(1, i) << ", " << expected(2, i) << ")";
     }
   }
   return ::testing::AssertionSuccess();

@@ -68,10 +68,10 @@ TEST(Csnb, EqualsTheLiteralAlgorithm) {
     int threshold, batch, exponent;
   };
   // Batches of 1 (a new batch at every mark, also inside a run of sure points) and one batch for everything.
-  for (const Case& c : {Case{&random, 0.1, 4, 7, 0}, Case{&random, 0.05, 0, 1000, 0}, Case{&random, 0.08, 2, 3, 5},
-                        Case{&random, 0.08, 2, 1, 0}, Case{&random, 0.1, 3, 1000000, 0},
-                        Case{&corridor, 0.05, 4, 11, 0}, Case{&corridor, 0.1, 8, 200, 0},
-                        Case{&corridor, 0.2, 3, 5, 4}}) {
+  for (const Case& c :
+       {Case{&random, 0.1, 4, 7, 0}, Case{&random, 0.05, 0, 1000, 0}, Case{&random, 0.08, 2, 3, 5},
+        Case{&random, 0.08, 2, 1, 0}, Case{&random, 0.1, 3, 1000000, 0}, Case{&corridor, 0.05, 4, 11, 0},
+        Case{&corridor, 0.1, 8, 200, 0}, Case{&corridor, 0.2, 3, 5, 4}}) {
     CsnbConfig config;
     config.voxel_size_m = c.voxel_m;
     config.max_neighbours = c.threshold;
@@ -91,7 +91,7 @@ TEST(Csnb, EqualsTheLiteralAlgorithm) {
 TEST(Csnb, GridAsDocumented) {
   Eigen::Matrix3Xf cloud(3, 3);
   cloud << -1.f, 0.5f, std::numeric_limits<float>::quiet_NaN(),  //
-      2.f, 2.25f, 0.f,                                             //
+      2.f, 2.25f, 0.f,                                           //
       0.f, 0.125f, 0.f;
   CsnbConfig config;
   config.voxel_size_m = 0.125;
@@ -164,8 +164,8 @@ TEST(Csnb, EqualsTheLiteralAlgorithmOnRandomClouds) {
       for (int threads : {1, 2, 3}) {
         EXPECT_TRUE(test::same_bits(csnb(cloud, config, threads), expected))
             << "trial " << trial << ": " << what << ", voxel " << config.voxel_size_m << " m, max neighbours "
-            << config.max_neighbours << ", batch " << config.batch_size << ", n " << config.grid_exponent
-            << ", seed " << config.seed << ", threads " << threads << ", simd " << simd;
+            << config.max_neighbours << ", batch " << config.batch_size << ", n " << config.grid_exponent << ", seed "
+            << config.seed << ", threads " << threads << ", simd " << simd;
       }
     }
   }

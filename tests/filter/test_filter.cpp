@@ -170,7 +170,8 @@ TEST(RadixSort, EqualsStableSortOnTheChosenBits) {
         const std::uint64_t h = detail::hash3(5, i, std::uint64_t(r.low));
         input[i] = i % 3 == 0 ? (h & 0xFFFF) : h;  // a third share a few keys: heavy buckets and ties
       }
-      const std::uint64_t mask = r.high - r.low == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (r.high - r.low)) - 1);
+      const std::uint64_t mask =
+          r.high - r.low == 64 ? ~std::uint64_t{0} : ((std::uint64_t{1} << (r.high - r.low)) - 1);
       auto key_of = [&](std::uint64_t v) { return (v >> r.low) & mask; };
       std::vector<std::uint64_t> expected = input;
       std::stable_sort(expected.begin(), expected.end(),

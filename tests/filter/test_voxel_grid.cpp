@@ -204,7 +204,7 @@ TEST(VoxelGrid, TenMillionPoints) {
 TEST(Passthrough, KeepsClosedRangeAndDropsNonFinite) {
   Eigen::Matrix3Xf cloud(3, 5);
   cloud << 0, 1, 2, 3, std::numeric_limits<float>::quiet_NaN(),  //
-      0, 0, 0, 0, 0,                                              //
+      0, 0, 0, 0, 0,                                             //
       -0.5f, 0.0f, 1.0f, 2.5f, 1.0f;
   const Eigen::Matrix3Xf out = passthrough(cloud, {0.0, 1.0});
   ASSERT_EQ(out.cols(), 2);

@@ -18,12 +18,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const ImageMsg m = decode_image(data, size, what);
     if (m.data_size && (m.data < data || m.data + m.data_size > data + size)) std::abort();
-  } catch (const std::invalid_argument& e) { named(e); }
-  try { decode_camera_info(data, size, what); } catch (const std::invalid_argument& e) { named(e); }
-  try { decode_tf(data, size, what); } catch (const std::invalid_argument& e) { named(e); }
-  try { decode_odometry(data, size, what); } catch (const std::invalid_argument& e) { named(e); }
+  } catch (const std::invalid_argument& e) {
+    named(e);
+  }
+  try {
+    decode_camera_info(data, size, what);
+  } catch (const std::invalid_argument& e) {
+    named(e);
+  }
+  try {
+    decode_tf(data, size, what);
+  } catch (const std::invalid_argument& e) {
+    named(e);
+  }
+  try {
+    decode_odometry(data, size, what);
+  } catch (const std::invalid_argument& e) {
+    named(e);
+  }
   try {
     check_ros2_schema("sensor_msgs/msg/Image", std::string(reinterpret_cast<const char*>(data), size), what);
-  } catch (const std::invalid_argument& e) { named(e); }
+  } catch (const std::invalid_argument& e) {
+    named(e);
+  }
   return 0;
 }

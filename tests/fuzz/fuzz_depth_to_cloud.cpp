@@ -1,8 +1,8 @@
 // Depth to cloud: arbitrary depth values (NaN, Inf, negative, denormal, huge), intrinsics and image sizes,
 // including images whose depth vector disagrees with width x height. Either std::invalid_argument or a cloud of
 // at most one point per valid pixel (z > 0, never NaN); with intrinsics that pass validate(), a point whose
-// exact coordinates fit in a float comes out finite. (Invalid intrinsics are not rejected by depth_to_cloud: their points
-// are only required not to crash; see docs/reliability.md.)
+// exact coordinates fit in a float comes out finite. (Invalid intrinsics are not rejected by depth_to_cloud: their
+// points are only required not to crash; see docs/reliability.md.)
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -35,7 +35,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::size_t values = image.width > 0 && image.height > 0 ? std::size_t(image.width) * image.height : 0;
   if (mode == 2) values = in.ConsumeIntegralInRange<std::size_t>(0, 4096);
   image.depth_m.resize(values);
-  for (auto& z : image.depth_m) z = in.ConsumeBool() ? any_value<float>(in, -1.0f, 20.0f) : in.ConsumeFloatingPointInRange<float>(0.0f, 12.0f);
+  for (auto& z : image.depth_m)
+    z = in.ConsumeBool() ? any_value<float>(in, -1.0f, 20.0f) : in.ConsumeFloatingPointInRange<float>(0.0f, 12.0f);
 
   Eigen::Matrix3Xf cloud;
   Eigen::Index n = 0;

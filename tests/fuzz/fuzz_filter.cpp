@@ -32,7 +32,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Eigen::Matrix3Xf cloud(3, n);
   const float spread = any_value<float>(in, 0.01f, 100.0f);
   for (int i = 0; i < n && in.remaining_bytes() > 0; ++i)
-    for (int r = 0; r < 3; ++r) cloud(r, i) = in.ConsumeBool() ? any_value<float>(in, -1.0f, 1.0f) : spread * in.ConsumeFloatingPointInRange<float>(-1.0f, 1.0f);
+    for (int r = 0; r < 3; ++r)
+      cloud(r, i) = in.ConsumeBool() ? any_value<float>(in, -1.0f, 1.0f)
+                                     : spread * in.ConsumeFloatingPointInRange<float>(-1.0f, 1.0f);
 
   Eigen::Matrix3Xf out;
   try {

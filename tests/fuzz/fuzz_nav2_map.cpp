@@ -51,7 +51,8 @@ void check_image(const stvl::worldgen::MapImage& image) {
       for (const CellRect& r : merge_occupied(grid))
         for (int y = r.row; y < r.row + r.rows; ++y)
           for (int x = r.col; x < r.col + r.cols; ++x) ++covered[grid.frame.index({x, y})];
-      for (std::size_t i = 0; i < cells; ++i) require(covered[i] == (grid.cells[i] == Cell::kOccupied ? 1 : 0), "merge covers the walls");
+      for (std::size_t i = 0; i < cells; ++i)
+        require(covered[i] == (grid.cells[i] == Cell::kOccupied ? 1 : 0), "merge covers the walls");
     }
 }
 

@@ -27,6 +27,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   s.pipeline.map.validate();
   s.camera().sources.front().params.validate();
   s.camera().noise.validate();
-  if (!(s.duration_s > 0 && s.duration_s <= 3600) || s.pipeline.path.waypoints_W.empty() || s.pipeline.world_path.empty()) std::abort();
+  if (!(s.duration_s > 0 && s.duration_s <= 3600) || s.pipeline.path.waypoints_W.empty() ||
+      s.pipeline.world_path.empty())
+    std::abort();
   return 0;
 }

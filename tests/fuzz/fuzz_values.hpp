@@ -16,19 +16,17 @@ namespace stvl::fuzz {
 template <typename T>
 T edge_value(FuzzedDataProvider& in) {
   using L = std::numeric_limits<T>;
-  static const T table[] = {T(0),        -T(0),        L::quiet_NaN(), L::infinity(), -L::infinity(),
-                            L::denorm_min(), L::min(),  L::max(),       L::lowest(),   L::epsilon(),
-                            T(1e30),     T(-1e30),     T(1e-30),       T(0.05),       T(1),
-                            T(-1),       T(0.01),      T(10),          T(2147483647), T(-2147483648.0),
-                            T(9.3e18),   T(-9.3e18),   T(3.4e9),       T(0.5)};
+  static const T table[] = {
+      T(0),        -T(0),        L::quiet_NaN(), L::infinity(),    -L::infinity(), L::denorm_min(), L::min(), L::max(),
+      L::lowest(), L::epsilon(), T(1e30),        T(-1e30),         T(1e-30),       T(0.05),         T(1),     T(-1),
+      T(0.01),     T(10),        T(2147483647),  T(-2147483648.0), T(9.3e18),      T(-9.3e18),      T(3.4e9), T(0.5)};
   return table[in.ConsumeIntegralInRange<std::size_t>(0, sizeof(table) / sizeof(table[0]) - 1)];
 }
 
 template <typename T>
 T any_value(FuzzedDataProvider& in, T lo, T hi) {
   switch (in.ConsumeIntegralInRange<int>(0, 3)) {
-    case 0:
-      return edge_value<T>(in);
+    case 0: return edge_value<T>(in);
     case 1: {
       T v;
       const auto bytes = in.ConsumeBytes<std::uint8_t>(sizeof(T));
@@ -36,8 +34,7 @@ T any_value(FuzzedDataProvider& in, T lo, T hi) {
       std::memcpy(&v, bytes.data(), sizeof(T));
       return v;
     }
-    default:
-      return in.ConsumeFloatingPointInRange<T>(lo, hi);
+    default: return in.ConsumeFloatingPointInRange<T>(lo, hi);
   }
 }
 

@@ -33,7 +33,9 @@ Eigen::Matrix3Xf any_points(FuzzedDataProvider& in) {
   const int n = in.ConsumeIntegralInRange<int>(0, 256);
   Eigen::Matrix3Xf p(3, n);
   for (int i = 0; i < n; ++i)
-    for (int r = 0; r < 3; ++r) p(r, i) = in.ConsumeBool() ? any_value<float>(in, -5.0f, 5.0f) : in.ConsumeFloatingPointInRange<float>(-4.0f, 4.0f);
+    for (int r = 0; r < 3; ++r)
+      p(r, i) =
+          in.ConsumeBool() ? any_value<float>(in, -5.0f, 5.0f) : in.ConsumeFloatingPointInRange<float>(-4.0f, 4.0f);
   return p;
 }
 
@@ -65,7 +67,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           const auto points = any_points(in);
           const auto pose = stvl::fuzz::any_pose(in);
           const auto source = any_source(in);
-          time_s = in.ConsumeBool() ? time_s + in.ConsumeFloatingPointInRange<double>(0.0, 5.0) : any_value<double>(in, 0, 100);
+          time_s = in.ConsumeBool() ? time_s + in.ConsumeFloatingPointInRange<double>(0.0, 5.0)
+                                    : any_value<double>(in, 0, 100);
           const std::size_t marked = map->mark(points, pose, source, time_s);
           if (marked > std::size_t(points.cols())) std::abort();
           break;
@@ -79,7 +82,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             o.source = any_source(in);
             o.points_W = in.ConsumeIntegralInRange<int>(0, 7) ? &points : nullptr;
           }
-          time_s = in.ConsumeBool() ? time_s + in.ConsumeFloatingPointInRange<double>(0.0, 20.0) : any_value<double>(in, 0, 100);
+          time_s = in.ConsumeBool() ? time_s + in.ConsumeFloatingPointInRange<double>(0.0, 20.0)
+                                    : any_value<double>(in, 0, 100);
           const std::size_t before = map->size();
           const auto stats = map->clear(observations, time_s);
           if (map->size() > before || stats.voxels_removed > before) std::abort();
@@ -93,7 +97,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           break;
         }
         default: {
-          const Eigen::Vector3d p(any_value<double>(in, -5, 5), any_value<double>(in, -5, 5), any_value<double>(in, -5, 5));
+          const Eigen::Vector3d p(any_value<double>(in, -5, 5), any_value<double>(in, -5, 5),
+                                  any_value<double>(in, -5, 5));
           (void)map->lookup(p);
           const auto keys = map->voxel_keys();
           if (keys.size() != map->size()) std::abort();

@@ -102,7 +102,7 @@ TEST(Nav2Costmap, RollingWindowMovesByWholeCellsAndKeepsTheOverlap) {
   EXPECT_NEAR(layer.origin_m.x(), -0.2, 1e-12);
   EXPECT_EQ(get(nav2.master(), 3, 5), kCostLethal);  // the same world cell, 2 cells to the left
   EXPECT_EQ(get(nav2.master(), 5, 5), kCostFree);
-  EXPECT_EQ(get(nav2.master(), 9, 5), kCostFree);    // new cells: the default
+  EXPECT_EQ(get(nav2.master(), 9, 5), kCostFree);  // new cells: the default
 }
 
 TEST(Nav2Costmap, BadConfigNamesTheKey) {

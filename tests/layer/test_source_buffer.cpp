@@ -40,11 +40,11 @@ TEST(SourceBuffer, PersistenceCountsFromTheLastReadingNotFromNow) {
 }
 
 TEST(SourceBuffer, CurrentWhileTheLastReadingIsNoOlderThanTheExpectedPeriod) {
-  SourceBuffer b(0.0, 0.5);  // expected_update_rate 0.5: seconds, not Hz
-  EXPECT_TRUE(b.current(0.5));   // since the buffer's creation at 0
+  SourceBuffer b(0.0, 0.5);     // expected_update_rate 0.5: seconds, not Hz
+  EXPECT_TRUE(b.current(0.5));  // since the buffer's creation at 0
   EXPECT_FALSE(b.current(0.51));
   b.receive(at(1.0));
-  EXPECT_TRUE(b.current(1.5));   // STVL: <= is current
+  EXPECT_TRUE(b.current(1.5));  // STVL: <= is current
   EXPECT_FALSE(b.current(1.5001));
   EXPECT_TRUE(source_current(100.0, 1.0, 0.0));  // 0: never checked
   EXPECT_FALSE(source_current(1.6, 1.0, 0.5));
@@ -55,7 +55,7 @@ TEST(SourceBuffer, StaleSpanBetweenTwoReadings) {
   ASSERT_TRUE(span.has_value());
   EXPECT_DOUBLE_EQ(span->from_s, 1.5);
   EXPECT_DOUBLE_EQ(span->to_s, 3.0);
-  EXPECT_FALSE(stale_span(1.0, 1.5, 0.5).has_value());  // exactly the period: still current
+  EXPECT_FALSE(stale_span(1.0, 1.5, 0.5).has_value());   // exactly the period: still current
   EXPECT_FALSE(stale_span(1.0, 30.0, 0.0).has_value());  // never checked
 }
 

@@ -159,7 +159,7 @@ std::map<VoxelKey, double> times_after_shared_instant(mapping::UpdateGrouping gr
   fed.take(wall, next_at(1.0, 1.0));  // camera b has no frame at 0
   EXPECT_TRUE(fed.report.map_updated());
   Frame first = wall_frame(config, 0.0, 1.0);  // no returns: the frustum clears, nothing marks
-  fed.take(first, next_at(2.0, 1.0));  // camera b's frame at 1 s follows
+  fed.take(first, next_at(2.0, 1.0));          // camera b's frame at 1 s follows
   EXPECT_EQ(fed.report.map_updated(), grouping == mapping::UpdateGrouping::kCameraFrame);
   Frame second = wall_frame(config, 0.0, 1.0);
   second.camera_index = 1;

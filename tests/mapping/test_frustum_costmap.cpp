@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -22,10 +22,10 @@ TEST(DepthCameraFrustum, ContainsFollowsFovAndRange) {
   // 90 deg horizontal, 60 deg vertical, 0.5..4 m, camera at (1, 2, 0.5) looking along +x.
   const DepthCameraFrustum f(camera_looking_along_x({1, 2, 0.5}), 1.5707963267948966, 1.0471975511965976, 0.5, 4.0);
   EXPECT_TRUE(f.contains({3.0, 2.0, 0.5}));
-  EXPECT_FALSE(f.contains({1.4, 2.0, 0.5}));   // nearer than min_z
-  EXPECT_FALSE(f.contains({5.1, 2.0, 0.5}));   // beyond max_z
-  EXPECT_FALSE(f.contains({-1.0, 2.0, 0.5}));  // behind
-  EXPECT_TRUE(f.contains({3.0, 2.0 + 1.99, 0.5}));   // 45 deg half angle: |dy| < dx
+  EXPECT_FALSE(f.contains({1.4, 2.0, 0.5}));        // nearer than min_z
+  EXPECT_FALSE(f.contains({5.1, 2.0, 0.5}));        // beyond max_z
+  EXPECT_FALSE(f.contains({-1.0, 2.0, 0.5}));       // behind
+  EXPECT_TRUE(f.contains({3.0, 2.0 + 1.99, 0.5}));  // 45 deg half angle: |dy| < dx
   EXPECT_FALSE(f.contains({3.0, 2.0 + 2.01, 0.5}));
   EXPECT_TRUE(f.contains({3.0, 2.0, 0.5 - 1.15}));   // 30 deg half angle: |dz| < dx * 0.577
   EXPECT_FALSE(f.contains({3.0, 2.0, 0.5 + 1.17}));  // up and down are symmetric (no sign slip)
@@ -45,9 +45,8 @@ VoxelMap layout(int mark_threshold) {
   config.voxel_size_m = 0.1;
   config.mark_threshold = mark_threshold;
   VoxelMap map(config);
-  map.set_voxels({{{0, 0, 0}, 1.0}, {{0, 0, 1}, 1.0}, {{0, 0, 2}, 1.0},
-                  {{3, 0, 0}, 1.0},
-                  {{0, 2, 0}, 1.0}, {{0, 2, 15}, 1.0}});
+  map.set_voxels(
+      {{{0, 0, 0}, 1.0}, {{0, 0, 1}, 1.0}, {{0, 0, 2}, 1.0}, {{3, 0, 0}, 1.0}, {{0, 2, 0}, 1.0}, {{0, 2, 15}, 1.0}});
   return map;
 }
 

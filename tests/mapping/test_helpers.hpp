@@ -9,7 +9,8 @@
 namespace stvl::mapping::test {
 
 // A voxel size representable in float, so that boundaries are exact, and a config with it in our arithmetic
-// (floor keys, the ideal frustum, the costmap after the marks), whose boundaries are the textbook ones; test_stvl_geometry.cpp pins STVL's.
+// (floor keys, the ideal frustum, the costmap after the marks), whose boundaries are the textbook ones;
+// test_stvl_geometry.cpp pins STVL's.
 constexpr double kExactVoxel = 0.125;
 inline StvlConfig exact_config() {
   StvlConfig config;

@@ -33,9 +33,9 @@ TEST(LidarFrustum, HorizontalRangeAndVerticalCone) {
   EXPECT_TRUE(f.contains({2, 0, 1.15}));   // 1.15 / 2 = 0.575 < 0.57735
   EXPECT_FALSE(f.contains({2, 0, 1.16}));  // 0.58
   EXPECT_FALSE(f.contains({2, 0, -1.16}));
-  EXPECT_TRUE(f.contains({0.5, 0, 0}));     // r^2 = min_z^2: not below it
+  EXPECT_TRUE(f.contains({0.5, 0, 0}));  // r^2 = min_z^2: not below it
   EXPECT_FALSE(f.contains({0.49, 0, 0}));
-  EXPECT_TRUE(f.contains({5.0, 0, 0}));     // r^2 = max_z^2
+  EXPECT_TRUE(f.contains({5.0, 0, 0}));  // r^2 = max_z^2
   EXPECT_FALSE(f.contains({5.001, 0, 0}));
   // The range is horizontal: 5.64 m away in 3D, 4.9 m across the floor, inside (2.8 / 4.9 = 0.571).
   EXPECT_TRUE(f.contains({4.9, 0, 2.8}));
@@ -51,14 +51,14 @@ TEST(LidarFrustum, PaddingShrinksTheConeByMetres) {
 
 TEST(LidarFrustum, BearingInFrontAndBehind) {
   const LidarFrustum quarter(Eigen::Isometry3d::Identity(), lidar(kPi / 2));  // +-45 deg
-  EXPECT_TRUE(quarter.contains({2, 1.9, 0}));   // atan(0.95) = 43.5 deg
-  EXPECT_FALSE(quarter.contains({2, 2.1, 0}));  // 46.4 deg
-  EXPECT_FALSE(quarter.contains({0, 2, 0}));    // x = 0 takes the rear formula: 0 + 90 deg
+  EXPECT_TRUE(quarter.contains({2, 1.9, 0}));                                 // atan(0.95) = 43.5 deg
+  EXPECT_FALSE(quarter.contains({2, 2.1, 0}));                                // 46.4 deg
+  EXPECT_FALSE(quarter.contains({0, 2, 0}));                                 // x = 0 takes the rear formula: 0 + 90 deg
   const LidarFrustum wide(Eigen::Isometry3d::Identity(), lidar(1.5 * kPi));  // +-135 deg
-  EXPECT_TRUE(wide.contains({0, 2, 0}));         // 90 deg
-  EXPECT_TRUE(wide.contains({-1, 1.1, 0}));      // atan(1 / 1.1) + 90 = 132.3 deg
-  EXPECT_FALSE(wide.contains({-1.1, 1, 0}));     // atan(1.1) + 90 = 137.7 deg
-  EXPECT_FALSE(wide.contains({-2, 0, 0}));       // atan(-inf) -> 90 + 90 = 180 deg
+  EXPECT_TRUE(wide.contains({0, 2, 0}));                                     // 90 deg
+  EXPECT_TRUE(wide.contains({-1, 1.1, 0}));                                  // atan(1 / 1.1) + 90 = 132.3 deg
+  EXPECT_FALSE(wide.contains({-1.1, 1, 0}));                                 // atan(1.1) + 90 = 137.7 deg
+  EXPECT_FALSE(wide.contains({-2, 0, 0}));                                   // atan(-inf) -> 90 + 90 = 180 deg
   // More than 6.27 rad is the full circle; 6.27 itself is not (half of it 179.6 deg).
   EXPECT_FALSE(LidarFrustum(Eigen::Isometry3d::Identity(), lidar(6.27)).contains({-2, 0.001, 0}));
   EXPECT_TRUE(LidarFrustum(Eigen::Isometry3d::Identity(), lidar(6.2701)).contains({-2, 0.001, 0}));

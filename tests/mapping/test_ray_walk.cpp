@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <string>
@@ -22,8 +22,8 @@ using Keys = std::vector<VoxelKey>;
 
 std::string describe(const Eigen::Vector3d& s, const Eigen::Vector3d& e) {
   char text[256];
-  std::snprintf(text, sizeof text, "s = (%.17g, %.17g, %.17g), e = (%.17g, %.17g, %.17g)", s.x(), s.y(), s.z(),
-                e.x(), e.y(), e.z());
+  std::snprintf(text, sizeof text, "s = (%.17g, %.17g, %.17g), e = (%.17g, %.17g, %.17g)", s.x(), s.y(), s.z(), e.x(),
+                e.y(), e.z());
   return text;
 }
 
@@ -145,9 +145,9 @@ struct RandomBlocks {
   std::uint64_t seed;
   int percent;
   bool present(const VoxelKey& origin) const {
-    const std::uint64_t h = mix(seed ^ mix(static_cast<std::uint32_t>(origin.x) ^
-                                           mix(static_cast<std::uint32_t>(origin.y) ^
-                                               mix(static_cast<std::uint32_t>(origin.z)))));
+    const std::uint64_t h =
+        mix(seed ^ mix(static_cast<std::uint32_t>(origin.x) ^
+                       mix(static_cast<std::uint32_t>(origin.y) ^ mix(static_cast<std::uint32_t>(origin.z)))));
     return static_cast<int>(h % 100) < percent;
   }
 };
@@ -215,8 +215,8 @@ TEST(RayWalk, MissingBlocksAreSkippedAndTheRestMatchesReference) {
           got.push_back(key);
         });
     if ((got != expected || wrong_block) && ++mismatches <= 5)
-      ADD_FAILURE() << describe(s, e) << " (blocks " << blocks.percent << "%): " << got.size()
-                    << " voxels, reference " << expected.size();
+      ADD_FAILURE() << describe(s, e) << " (blocks " << blocks.percent << "%): " << got.size() << " voxels, reference "
+                    << expected.size();
   }
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(end_block_missing, kRays / 10);
@@ -286,8 +286,8 @@ TEST(RayWalk, RaycastClearingRemovesTheWalksVoxels) {
     map.clear({obs}, 0.1);
     VoxelSet expected_removed;
     for (int i = 0; i < 4; ++i)
-      for (const VoxelKey& k : reference::ray_voxels(origin_W / config.voxel_size_m,
-                                                     points_W.col(i).cast<double>() / config.voxel_size_m))
+      for (const VoxelKey& k :
+           reference::ray_voxels(origin_W / config.voxel_size_m, points_W.col(i).cast<double>() / config.voxel_size_m))
         expected_removed.insert(k);
     VoxelSet kept;
     for (const VoxelKey& k : map.voxel_keys()) kept.insert(k);

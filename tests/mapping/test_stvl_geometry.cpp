@@ -20,8 +20,7 @@ using test::camera_looking_along_x;
 using test::cloud;
 using test::wide_source;
 
-StvlConfig config_with(double voxel_size_m, MarkRounding rounding,
-                       FrustumGeometry geometry = FrustumGeometry::kIdeal) {
+StvlConfig config_with(double voxel_size_m, MarkRounding rounding, FrustumGeometry geometry = FrustumGeometry::kIdeal) {
   StvlConfig config;
   config.voxel_size_m = voxel_size_m;
   config.mark_rounding = rounding;
@@ -138,8 +137,8 @@ void expect_in(const Eigen::Isometry3d& T, const Eigen::Vector3d& p_C, bool in_s
 }
 
 TEST(StvlFrustum, PlanesSitWhereStvlPutsThem) {
-  for (const Eigen::Isometry3d& T : {Eigen::Isometry3d(Eigen::Isometry3d::Identity()),
-                                     camera_looking_along_x({1.0, 2.0, 0.5}, 0.3)}) {
+  for (const Eigen::Isometry3d& T :
+       {Eigen::Isometry3d(Eigen::Isometry3d::Identity()), camera_looking_along_x({1.0, 2.0, 0.5}, 0.3)}) {
     SCOPED_TRACE(testing::Message() << "camera at " << T.translation().transpose());
     // Far: on the axis, 3.25 is inside both; 3.27 is past STVL's far plane (3.2608), inside the ideal one.
     expect_in(T, {0, 0, 3.0}, true, true);

@@ -82,8 +82,8 @@ TEST(StvlCostmapTiming, NamesParse) {
 struct DecayCase {
   DecayModel model;
   double voxel_decay_s;
-  bool survives;            // time left (base - 4 s) >= 0
-  double value_after_s;     // the stored time pulled back by 4 s when it survives
+  bool survives;         // time left (base - 4 s) >= 0
+  double value_after_s;  // the stored time pulled back by 4 s when it survives
 };
 
 TEST(StvlDecay, EachModelWithTheFrustumAcceleration) {

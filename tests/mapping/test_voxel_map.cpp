@@ -32,7 +32,7 @@ TEST(VoxelMapMark, KeysAtBoundariesAndNegativeCoordinates) {
   EXPECT_EQ(map.key_of({-1e-9, 0.0, 0.0}), (VoxelKey{-1, 0, 0}));
   EXPECT_TRUE(map.center_of({-1, 0, 0}).isApprox(Eigen::Vector3d(-0.0625, 0.0625, 0.0625)));
 
-  EXPECT_EQ(map.lookup({0.125, 0.0, -0.125}), 1.0);   // lower corner belongs to the voxel
+  EXPECT_EQ(map.lookup({0.125, 0.0, -0.125}), 1.0);  // lower corner belongs to the voxel
   EXPECT_EQ(map.lookup({0.2499, 0.1249, -1e-6}), 1.0);
   EXPECT_FALSE(map.lookup({0.25, 0.0, -0.1}).has_value());  // upper face belongs to the next voxel
   EXPECT_FALSE(map.lookup({0.1249, 0.0, -0.1}).has_value());
@@ -180,12 +180,20 @@ TEST(VoxelMapErrors, BadParametersNameTheField) {
   expect_message(with_source([](ObservationSource& s) { s.horizontal_fov_rad = 0.0; }), "horizontal_fov_angle");
   expect_message(with_source([](ObservationSource& s) { s.horizontal_fov_rad = 3.2; }), "horizontal_fov_angle");
   expect_message(with_source([](ObservationSource& s) { s.vertical_fov_rad = -1.0; }), "vertical_fov_angle");
-  expect_message(with_source([](ObservationSource& s) { s.min_z_m = 5.0; s.max_z_m = 5.0; }), "min_z");
+  expect_message(with_source([](ObservationSource& s) {
+                   s.min_z_m = 5.0;
+                   s.max_z_m = 5.0;
+                 }),
+                 "min_z");
   expect_message(with_source([](ObservationSource& s) { s.min_z_m = -0.1; }), "min_z");
-  expect_message(with_source([](ObservationSource& s) { s.max_z_m = std::numeric_limits<double>::infinity(); }), "max_z");
+  expect_message(with_source([](ObservationSource& s) { s.max_z_m = std::numeric_limits<double>::infinity(); }),
+                 "max_z");
   expect_message(with_source([](ObservationSource& s) { s.decay_acceleration_per_s3 = -1.0; }), "decay_acceleration");
   expect_message(with_source([](ObservationSource& s) { s.obstacle_range_m = 0.0; }), "obstacle_range");
-  expect_message(with_source([](ObservationSource& s) { s.min_obstacle_height_m = 2.0; s.max_obstacle_height_m = 1.0; }),
+  expect_message(with_source([](ObservationSource& s) {
+                   s.min_obstacle_height_m = 2.0;
+                   s.max_obstacle_height_m = 1.0;
+                 }),
                  "min_obstacle_height");
 
   Eigen::Isometry3d bad_pose = camera;
@@ -204,7 +212,11 @@ TEST(VoxelMapErrors, BadParametersNameTheField) {
   expect_message([&] { ray_map.clear({{camera, wide_source(), nullptr}}, 1.0); }, "points_W");
   ObservationSource no_return = wide_source();
   no_return.clear_on_no_return = true;
-  expect_message([&] { map.clear({{camera, no_return, &points}}, 6.0); }, "clear_on_no_return needs clearing_mode = raycast");
+  expect_message(
+      [&] {
+        map.clear({{camera, no_return, &points}}, 6.0);
+      },
+      "clear_on_no_return needs clearing_mode = raycast");
 }
 
 // clear_on_no_return: the ray of a pixel that returned nothing clears what it passes up to max_z, and the
@@ -214,7 +226,7 @@ TEST(VoxelMap, NoReturnRaysClearOnlyWithTheOption) {
   config.clearing_mode = ClearingMode::kRaycast;
   const Eigen::Isometry3d camera = test::camera_looking_along_x({0.0, 0.0, 0.5});
   const Eigen::Matrix3Xf none(3, 0);
-  const Eigen::Matrix3Xf far_end = test::cloud({{5.0f, 0.0f, 0.5f}});  // a no-return ray's point at max_z = 5 m
+  const Eigen::Matrix3Xf far_end = test::cloud({{5.0f, 0.0f, 0.5f}});      // a no-return ray's point at max_z = 5 m
   const std::vector<Voxel> stale{{{40, 0, 10}, 0.5}, {{60, 0, 10}, 0.5}};  // 2.0 m and 3.0 m along the ray
   for (const bool option : {false, true}) {
     SCOPED_TRACE(option);
@@ -230,7 +242,8 @@ TEST(VoxelMap, NoReturnRaysClearOnlyWithTheOption) {
     EXPECT_EQ(map.size(), option ? 0u : 2u);
     EXPECT_EQ(stats.voxels_removed, option ? 2u : 0u);
     std::sort(cleared.begin(), cleared.end());
-    const std::vector<VoxelKey> expected = option ? std::vector<VoxelKey>{{40, 0, 10}, {60, 0, 10}} : std::vector<VoxelKey>{};
+    const std::vector<VoxelKey> expected =
+        option ? std::vector<VoxelKey>{{40, 0, 10}, {60, 0, 10}} : std::vector<VoxelKey>{};
     EXPECT_EQ(cleared, expected);
   }
 }
@@ -247,8 +260,8 @@ TEST(VoxelMapClear, FrustumReportsOnlyWhatItsAccelerationRemoved) {
     const auto camera = camera_looking_along_x({0, 0, 0});
     ObservationSource source = wide_source();
     source.decay_acceleration_per_s3 = 100.0;
-    const VoxelKey accelerated = map.key_of({2.0, 0.0, 0.0});  // age 1.5: 8.5 s left, 100 * 1.5^3 / 6 = 56 s taken
-    const VoxelKey expired_inside = map.key_of({3.0, 0.0, 0.0});  // age 21.5: plain decay removes it
+    const VoxelKey accelerated = map.key_of({2.0, 0.0, 0.0});      // age 1.5: 8.5 s left, 100 * 1.5^3 / 6 = 56 s taken
+    const VoxelKey expired_inside = map.key_of({3.0, 0.0, 0.0});   // age 21.5: plain decay removes it
     const VoxelKey expired_behind = map.key_of({-2.0, 0.0, 0.0});  // outside the frustum, age 21.5
     const VoxelKey fresh = map.key_of({2.5, 0.0, 0.0});            // age 0.1: 0.017 s taken, survives
     const VoxelKey beside = map.key_of({2.0, 5.0, 0.0});           // outside the FOV, age 1.5: kept
@@ -285,7 +298,8 @@ TEST(VoxelMap, LeafMasksHoldTheSameVoxelsAsForEachKey) {
   map.for_each_leaf([&](const VoxelKey& origin, const std::uint64_t* on) {
     EXPECT_TRUE(origin.x % 8 == 0 && origin.y % 8 == 0 && origin.z % 8 == 0);
     for (int i = 0; i < 512; ++i)
-      if ((on[i / 64] >> (i % 64)) & 1u) from_masks.push_back({origin.x + (i >> 6), origin.y + ((i >> 3) & 7), origin.z + (i & 7)});
+      if ((on[i / 64] >> (i % 64)) & 1u)
+        from_masks.push_back({origin.x + (i >> 6), origin.y + ((i >> 3) & 7), origin.z + (i & 7)});
   });
   map.for_each_key([&](const VoxelKey& k) { from_keys.push_back(k); });
   std::sort(from_masks.begin(), from_masks.end());

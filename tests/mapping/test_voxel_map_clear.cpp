@@ -23,7 +23,6 @@ using test::wide_source;
 using test::exact_config;
 using test::kExactVoxel;
 
-
 bool survives_single_clear(DecayModel model, double voxel_decay, double acceleration, double x, double time_s) {
   StvlConfig config = exact_config();
   config.decay_model = model;
@@ -181,7 +180,8 @@ TEST(VoxelMapClear, RaycastStopsBeforeHitVoxelInAnyDirection) {
   config.clearing_mode = ClearingMode::kRaycast;
   ObservationSource source = wide_source();
   const auto camera = camera_looking_along_x({0.01, 0.02, 0.03});
-  for (const Eigen::Vector3f& target : {Eigen::Vector3f(3, 1, -0.5), Eigen::Vector3f(-3, -2, 1), Eigen::Vector3f(0.01f, -4, 0.03f)}) {
+  for (const Eigen::Vector3f& target :
+       {Eigen::Vector3f(3, 1, -0.5), Eigen::Vector3f(-3, -2, 1), Eigen::Vector3f(0.01f, -4, 0.03f)}) {
     VoxelMap map(config);
     const Eigen::Vector3f origin = camera.translation().cast<float>();
     std::vector<Eigen::Vector3f> on_ray;
@@ -241,8 +241,9 @@ TEST(VoxelMapClear, BoundedWalkEqualsFullWalkAfterSweepBound) {
       const double t = 2.0 + 0.1 * frame;
       const auto camera = camera_looking_along_x({-4.0 + 0.3 * frame, 0.0, 0.0}, 0.2 * frame);
       std::vector<Eigen::Vector3f> points;
-      for (int i = 0; i < 200; ++i) points.emplace_back(camera.translation().cast<float>() +
-                                                        Eigen::Vector3f(coord(rng), coord(rng), coord(rng) / 3));
+      for (int i = 0; i < 200; ++i)
+        points.emplace_back(camera.translation().cast<float>() +
+                            Eigen::Vector3f(coord(rng), coord(rng), coord(rng) / 3));
       const Eigen::Matrix3Xf points_W = cloud(points);
       last_backlog = bounded.clear({{camera, source, &points_W}}, t).expiry_backlog;
       full.clear({{camera, source, &points_W}}, t);

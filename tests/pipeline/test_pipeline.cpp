@@ -316,7 +316,8 @@ TEST_F(PipelineTest, TheEdgeFilterThinsTheCloudNotTheCamerasImage) {
   // The default (0.03 m at 1 m) is 8 sigma of the D435's stereo noise at fx = 433 px; this camera's fx is 117
   // px, so its noise is 3.7 times larger: 8 sigma of it.
   const auto& k = off.cameras.front().intrinsics;
-  on.cameras.front().edge_filter.max_jump_at_1m_m = 8.0 * on.cameras.front().noise.subpixel / (k.fx * on.cameras.front().noise.baseline_m);
+  on.cameras.front().edge_filter.max_jump_at_1m_m =
+      8.0 * on.cameras.front().noise.subpixel / (k.fx * on.cameras.front().noise.baseline_m);
   Pipeline a(off), b(on);
   const Frame& fa = a.step();
   const std::vector<float> noisy(fa.depth.depth_m.begin(), fa.depth.depth_m.end());
@@ -389,9 +390,9 @@ TEST_F(PipelineTest, AStoppedCamerasLastReadingIsAppliedAgainAtEveryUpdate) {
   }
   // STVL applies every buffer at every update: the back camera's updates at 0.2, 0.3, 0.4 apply the front's
   // reading of 0.1 again (its clouds and its frustum at the 0.1 s pose); none before the front missed a frame.
-  const std::vector<std::pair<std::string, std::size_t>> expected{
-      {"camera@0", 0}, {"back@0", 0}, {"camera@1", 0}, {"back@1", 0},
-      {"back@2", 1},   {"back@3", 1}, {"back@4", 1},   {"camera@5", 0}};
+  const std::vector<std::pair<std::string, std::size_t>> expected{{"camera@0", 0}, {"back@0", 0},  {"camera@1", 0},
+                                                                  {"back@1", 0},   {"back@2", 1},  {"back@3", 1},
+                                                                  {"back@4", 1},   {"camera@5", 0}};
   EXPECT_EQ(got, expected);
   const auto status = pipeline.source_status(0.5);
   EXPECT_EQ(status[0].reapplied_readings, 3u);

@@ -20,9 +20,9 @@
 #include <tuple>
 #include <vector>
 
+#include "recording/bag_writer.hpp"
 #include "recording/recording.hpp"
 #include "tests/support/command.hpp"
-#include "recording/bag_writer.hpp"
 
 namespace stvl::recording {
 namespace bag_test {
@@ -51,7 +51,8 @@ inline sensors::CameraIntrinsics intrinsics() {
 
 inline std::vector<std::uint16_t> pattern_mm(int frame) {
   std::vector<std::uint16_t> d(kWidth * kHeight);
-  for (std::size_t i = 0; i < d.size(); ++i) d[i] = (i + frame) % 5 == 0 ? 0 : std::uint16_t(300 + 13 * i + 100 * frame);
+  for (std::size_t i = 0; i < d.size(); ++i)
+    d[i] = (i + frame) % 5 == 0 ? 0 : std::uint16_t(300 + 13 * i + 100 * frame);
   return d;
 }
 
@@ -68,9 +69,9 @@ inline std::string error_of(const std::string& path, const RecordingOptions& opt
   return "(no error)";
 }
 
-#define EXPECT_ERROR(path, options, ...)                                                 \
-  do {                                                                                   \
-    const std::string message = error_of(path, options);                                 \
+#define EXPECT_ERROR(path, options, ...)                                                                \
+  do {                                                                                                  \
+    const std::string message = error_of(path, options);                                                \
     for (const char* part : {__VA_ARGS__}) EXPECT_NE(message.find(part), std::string::npos) << message; \
   } while (0)
 
@@ -150,7 +151,7 @@ inline void expect_depth_mm(const sensors::DepthImage& depth, const std::vector<
 
 inline void expect_pose(const Eigen::Isometry3d& actual, const Eigen::Isometry3d& expected, double tolerance = 1e-9) {
   EXPECT_LT((actual.matrix() - expected.matrix()).cwiseAbs().maxCoeff(), tolerance) << actual.matrix() << "\nvs\n"
-                                                                                      << expected.matrix();
+                                                                                    << expected.matrix();
 }
 
 // --- Our own export ------------------------------------------------------------------------------------------

@@ -48,8 +48,7 @@ TEST_P(ExportTest, ReadsBackDepthAndTfPoses) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllCompressions, ExportTest,
-                         ::testing::Values(BagCompression::kNone, BagCompression::kBz2,
-                                           BagCompression::kLz4),
+                         ::testing::Values(BagCompression::kNone, BagCompression::kBz2, BagCompression::kLz4),
                          [](const auto& info) { return to_string(info.param); });
 
 TEST(BagReader, ExportFixedFrameOdom) {

@@ -258,7 +258,7 @@ TEST(BagReaderErrors, NoPoseAtAFramesTime) {
     RawBag bag(path);
     bag.odom("/odom", 0.5, pose(0, 0, 0, 0));
     bag.odom("/odom", 1.0, pose(1, 0, 0, 0));
-    write_minimal(bag);  // frame 0 at t = 1: read
+    write_minimal(bag);                                 // frame 0 at t = 1: read
     bag.image16(kDepth, 1.5, kOptical, pattern_mm(0));  // after the last odometry
     bag.close();
   }

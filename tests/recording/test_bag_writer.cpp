@@ -72,7 +72,6 @@ Eigen::Isometry3d pose_xy_yaw(double x, double y, double yaw) {
   return T;
 }
 
-
 // Writes kFrames frames of every topic; the camera cloud is the depth image reprojected with the camera info.
 void write_run(BagWriter& writer) {
   Eigen::Isometry3d T_base_camera_link = Eigen::Isometry3d::Identity();

@@ -47,9 +47,9 @@ std::string error_of(const fs::path& path) {
   return "(no error)";
 }
 
-#define EXPECT_ERROR(path, ...)                                                                          \
-  do {                                                                                                    \
-    const std::string message = error_of(path);                                                          \
+#define EXPECT_ERROR(path, ...)                                                                         \
+  do {                                                                                                  \
+    const std::string message = error_of(path);                                                         \
     for (const char* part : {__VA_ARGS__}) EXPECT_NE(message.find(part), std::string::npos) << message; \
   } while (0)
 
@@ -118,7 +118,8 @@ TEST(PngFolder, OpenCvCalibrationPerFrame) {
   write_depth(dir.path() / "depth/3.png", 0);
   std::ofstream(dir.path() / "calib/3.yaml")
       << "%YAML:1.0\n---\ncamera_name: \"3\"\nimage_width: 6\nimage_height: 4\n"
-      << "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 5., 0., 2.5, 0., 5., 1.5, 0., 0., 1. ]\n"
+      << "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ 5., 0., 2.5, 0., 5., 1.5, 0., "
+         "0., 1. ]\n"
       << "local_transform:\n   rows: 3\n   cols: 4\n   data: [ 0., 0., 1., 0.1, -1., 0., 0., 0., 0., -1., 0., 0.4 ]\n";
   const auto recording = open_recording(dir.path().string());
   RecordedFrame frame;

@@ -27,9 +27,9 @@ struct PythonFrame {
 
 // The same bag decoded by python3-rosbag (depth_stats.py), not by our reader.
 std::vector<PythonFrame> python_frames(const fs::path& bag, const std::string& topic, double unit_m) {
-  const auto outcome = test::run_shell("/usr/bin/python3 " + std::string(STVL_SOURCE_DIR) +
-                                       "/tests/recording/depth_stats.py " + test::quoted(bag.string()) + " " +
-                                       test::quoted(topic) + " " + std::to_string(unit_m));
+  const auto outcome =
+      test::run_shell("/usr/bin/python3 " + std::string(STVL_SOURCE_DIR) + "/tests/recording/depth_stats.py " +
+                      test::quoted(bag.string()) + " " + test::quoted(topic) + " " + std::to_string(unit_m));
   EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
   std::vector<PythonFrame> frames;
   std::istringstream lines(outcome.output);
@@ -52,7 +52,7 @@ TEST(RealData, D435BagFromLibrealsense) {
   EXPECT_EQ(info.info_topic, "/device_0/sensor_0/Depth_0/info/camera_info");
   EXPECT_EQ(info.encoding, "mono16");
   EXPECT_EQ(info.pose_source, PoseSource::kStatic);  // no tf in a librealsense recording
-  EXPECT_NEAR(info.depth_unit_m, 0.001, 1e-9);        // the "Depth Units" option (a float32 0.001)
+  EXPECT_NEAR(info.depth_unit_m, 0.001, 1e-9);       // the "Depth Units" option (a float32 0.001)
   // The realdata README's figures: fx = fy = 390.43, cx 331.39, cy 242.19 (rounded to 0.01 px).
   EXPECT_EQ(info.intrinsics.width, 640);
   EXPECT_EQ(info.intrinsics.height, 480);
@@ -130,7 +130,8 @@ TEST(RealData, KinectFramesWithRtabmapCalibration) {
     const double valid_fraction = double(frame.depth.valid_count()) / (640.0 * 480.0);
     EXPECT_GT(valid_fraction, 0.5);
     std::vector<float> valid;
-    for (float d : frame.depth.depth_m) if (d > 0) valid.push_back(d);
+    for (float d : frame.depth.depth_m)
+      if (d > 0) valid.push_back(d);
     std::nth_element(valid.begin(), valid.begin() + valid.size() / 2, valid.end());
     EXPECT_GE(valid[valid.size() / 2], 3.35);
     EXPECT_LE(valid[valid.size() / 2], 3.95);

@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "common/atomic_file.hpp"
-#include "tests/support/command.hpp"
 #include "report/raster.hpp"
+#include "tests/support/command.hpp"
 
 namespace stvl::report {
 namespace {
@@ -165,9 +165,9 @@ TEST(ReportJunit, NoChecksGiveAnEmptySuite) {
 
 TEST(ReportMetrics, HoldsEveryFigureOfTheRun) {
   const nlohmann::json m = metrics_json(synthetic_result());
-  for (const char* key : {"scenario", "scenario_file", "seed", "passed", "interrupted", "frames", "sim_time_s",
-                          "voxel_size_m", "filter", "gl_backend", "noise", "evaluation", "checks", "points", "timing_ms",
-                          "wall_time_s", "real_time_factor"})
+  for (const char* key :
+       {"scenario", "scenario_file", "seed", "passed", "interrupted", "frames", "sim_time_s", "voxel_size_m", "filter",
+        "gl_backend", "noise", "evaluation", "checks", "points", "timing_ms", "wall_time_s", "real_time_factor"})
     EXPECT_TRUE(m.contains(key)) << key;
   EXPECT_EQ(m["scenario"], "corridor <&> \"quoted\"");
   EXPECT_EQ(m["seed"], 5);
@@ -191,7 +191,8 @@ TEST(ReportMetrics, HoldsEveryFigureOfTheRun) {
   ASSERT_EQ(e["obstacles"].size(), 1u);
   EXPECT_EQ(e["obstacles"][0]["name"], "box_1");
   EXPECT_EQ(e["obstacles"][0]["detected"], true);
-  for (const char* key : {"count", "mean", "median", "p90", "p99", "max"}) EXPECT_TRUE(e["accuracy_m"].contains(key)) << key;
+  for (const char* key : {"count", "mean", "median", "p90", "p99", "max"})
+    EXPECT_TRUE(e["accuracy_m"].contains(key)) << key;
   EXPECT_DOUBLE_EQ(e["accuracy_m"]["p90"].get<double>(), 0.02);
   for (const char* key : {"stale_voxels_seen_through", "not_cleared", "max_latency_s", "mean_latency_s"})
     EXPECT_TRUE(e["clearing"].contains(key)) << key;
@@ -417,13 +418,15 @@ TEST(ReportFiles, TruthNotesAreInMetricsAndTheReport) {
   EXPECT_EQ(t["exact"], true);
   EXPECT_EQ(t["mesh_triangles"], 364);
   EXPECT_TRUE(t["notes"].empty());
-  r.evaluation.truth.notes = {{4, "geom 'scan' (mesh 'scan', body 'room')", "geom 'scan' (mesh 'scan', body 'room') is not closed <here>"}};
+  r.evaluation.truth.notes = {
+      {4, "geom 'scan' (mesh 'scan', body 'room')", "geom 'scan' (mesh 'scan', body 'room') is not closed <here>"}};
   t = metrics_json(r)["evaluation"]["truth"];
   EXPECT_EQ(t["exact"], false);
   EXPECT_EQ(t["notes"][0]["geom"], "geom 'scan' (mesh 'scan', body 'room')");
   write_report(r, dir.path());
   const std::string html = test::TempDir::read(dir.path() / "report.html");
-  EXPECT_THAT(html, HasSubstr("Truth: 3 obstacle geoms, 1 of them triangle meshes (364 triangles), voxelized exactly except:"));
+  EXPECT_THAT(
+      html, HasSubstr("Truth: 3 obstacle geoms, 1 of them triangle meshes (364 triangles), voxelized exactly except:"));
   EXPECT_THAT(html, HasSubstr("<li>geom 'scan' (mesh 'scan', body 'room') is not closed &lt;here&gt;</li>"));
 }
 
@@ -435,7 +438,8 @@ TEST(ReportFiles, SoakSamplesGetATableInTheReport) {
   write_report(r, dir.path());
   const std::string html = test::TempDir::read(dir.path() / "report.html");
   EXPECT_THAT(html, HasSubstr("<h2>Soak</h2><p>0 laps; first lap ended at - (not completed)"));
-  EXPECT_THAT(html, HasSubstr("<tr><td>60</td><td>1000</td><td>40</td><td>210.5</td><td>1.500</td><td>1.250</td></tr>"));
+  EXPECT_THAT(html,
+              HasSubstr("<tr><td>60</td><td>1000</td><td>40</td><td>210.5</td><td>1.500</td><td>1.250</td></tr>"));
 }
 
 }  // namespace

@@ -57,16 +57,17 @@ TEST(MjcfWriter, CommentsAndElementsThatKeepTheirEndTag) {
   xml.end_attributes();
   xml.close();
   xml.close();
-  EXPECT_EQ(xml.text(), "<mujoco model=\"m\">\n"
-                        "  <!--\n"
-                        "    first -  line\n"
-                        "\n"
-                        "    third\n"
-                        "  -->\n"
-                        "  <!-- one -  line -->\n"
-                        "  <body name=\"empty\">\n"
-                        "  </body>\n"
-                        "</mujoco>\n");
+  EXPECT_EQ(xml.text(),
+            "<mujoco model=\"m\">\n"
+            "  <!--\n"
+            "    first -  line\n"
+            "\n"
+            "    third\n"
+            "  -->\n"
+            "  <!-- one -  line -->\n"
+            "  <body name=\"empty\">\n"
+            "  </body>\n"
+            "</mujoco>\n");
 }
 
 TEST(MjcfNumbers, ShortestReadsBackAndFixedHasNoNegativeZero) {

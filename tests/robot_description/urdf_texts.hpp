@@ -47,28 +47,37 @@ inline std::string tiny_bot_urdf(bool inertials = true, const std::string& extra
   const auto inertial = [&](double mass, double i, const std::string& origin = "0 0 0") {
     if (!inertials) return std::string();
     const std::string v = std::to_string(i);
-    return "<inertial><origin xyz=\"" + origin + "\"/><mass value=\"" + std::to_string(mass) + "\"/><inertia ixx=\"" + v + "\" ixy=\"0\" ixz=\"0\" iyy=\"" +
-           v + "\" iyz=\"0\" izz=\"" + v + "\"/></inertial>";
+    return "<inertial><origin xyz=\"" + origin + "\"/><mass value=\"" + std::to_string(mass) + "\"/><inertia ixx=\"" +
+           v + "\" ixy=\"0\" ixz=\"0\" iyy=\"" + v + "\" iyz=\"0\" izz=\"" + v + "\"/></inertial>";
   };
   const auto wheel = [&](const std::string& side, double y, const std::string& axis) {
     return "<joint name=\"" + side + "_wheel_joint\" type=\"continuous\"><parent link=\"base_link\"/><child link=\"" +
-           side + "_wheel\"/><origin xyz=\"0 " + std::to_string(y) + " 0\"/><axis xyz=\"" + axis + "\"/></joint>\n"
-           "<link name=\"" + side + "_wheel\"><collision><origin rpy=\"1.5707963267948966 0 0\"/><geometry><cylinder "
-           "radius=\"0.06\" length=\"0.04\"/></geometry></collision>" + inertial(0.3, 0.0006) + "</link>\n";
+           side + "_wheel\"/><origin xyz=\"0 " + std::to_string(y) + " 0\"/><axis xyz=\"" + axis +
+           "\"/></joint>\n"
+           "<link name=\"" +
+           side +
+           "_wheel\"><collision><origin rpy=\"1.5707963267948966 0 0\"/><geometry><cylinder "
+           "radius=\"0.06\" length=\"0.04\"/></geometry></collision>" +
+           inertial(0.3, 0.0006) + "</link>\n";
   };
   return "<?xml version=\"1.0\"?>\n<robot name=\"tiny_bot\">\n"
-         "<link name=\"base_link\"><collision><origin xyz=\"0 0 0.05\"/><geometry><box size=\"0.4 0.3 0.1\"/></geometry>"
-         "</collision>" + inertial(5.0, 0.08, "-0.05 0 0.05") + "</link>\n" +
-         wheel("left", 0.18, "0 1 0") + wheel("right", -0.18, "0 -1 0") +
+         "<link name=\"base_link\"><collision><origin xyz=\"0 0 0.05\"/><geometry><box size=\"0.4 0.3 "
+         "0.1\"/></geometry>"
+         "</collision>" +
+         inertial(5.0, 0.08, "-0.05 0 0.05") + "</link>\n" + wheel("left", 0.18, "0 1 0") +
+         wheel("right", -0.18, "0 -1 0") +
          "<joint name=\"caster_joint\" type=\"fixed\"><parent link=\"base_link\"/><child link=\"caster\"/>"
          "<origin xyz=\"-0.15 0 -0.03\"/></joint>\n"
          "<link name=\"caster\"><collision><geometry><sphere radius=\"0.03\"/></geometry></collision>" +
-         inertial(0.05, 0.00002) + "</link>\n"
+         inertial(0.05, 0.00002) +
+         "</link>\n"
          "<joint name=\"camera_joint\" type=\"fixed\"><parent link=\"base_link\"/><child link=\"camera_link\"/>"
          "<origin xyz=\"0.15 0 0.3\"/></joint>\n<link name=\"camera_link\"/>\n"
          "<joint name=\"camera_optical_joint\" type=\"fixed\"><parent link=\"camera_link\"/>"
-         "<child link=\"camera_depth_optical_frame\"/><origin rpy=\"-1.5707963267948966 0 -1.5707963267948966\"/></joint>\n"
-         "<link name=\"camera_depth_optical_frame\"/>\n" + extra + "</robot>\n";
+         "<child link=\"camera_depth_optical_frame\"/><origin rpy=\"-1.5707963267948966 0 "
+         "-1.5707963267948966\"/></joint>\n"
+         "<link name=\"camera_depth_optical_frame\"/>\n" +
+         extra + "</robot>\n";
 }
 
 // A world of the tests: a 40 x 40 m floor and <include file="robot.xml"/>, timestep 2 ms.

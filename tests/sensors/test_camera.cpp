@@ -9,8 +9,8 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
@@ -103,7 +103,8 @@ TEST(DepthToCloud, RoundTripDropsInvalidPixels) {
   k.cy = 250.0;
   DepthImage image(k.width, k.height);
   for (int v = 0; v < k.height; ++v) {
-    for (int u = 0; u < k.width; ++u) image.at(u, v) = ((u + v) % 7 == 0) ? 0.0f : 0.5f + 0.01f * float((u * 3 + v) % 300);
+    for (int u = 0; u < k.width; ++u)
+      image.at(u, v) = ((u + v) % 7 == 0) ? 0.0f : 0.5f + 0.01f * float((u * 3 + v) % 300);
   }
   const Eigen::Matrix3Xf points_C = depth_to_cloud(image, k);
   ASSERT_EQ(points_C.cols(), image.valid_count());
@@ -166,8 +167,8 @@ TEST(DepthToCloud, SameAsAPlainLoopOnVariedImages) {
         for (int u = 0; u < k.width; ++u) {
           float z = float(0.2 + 9.0 * uniform());
           if (uniform() < invalid) z = special[next() % 6];
-          if (kind == 2 && uniform() < 0.1) z = special[next() % 9];        // the valid odd values too
-          if (kind == 3 && v >= 16 && v < 40) z = 0.0f;                      // blocks of rows without a point
+          if (kind == 2 && uniform() < 0.1) z = special[next() % 9];          // the valid odd values too
+          if (kind == 3 && v >= 16 && v < 40) z = 0.0f;                       // blocks of rows without a point
           if (kind == 4 && (u + 1 == k.width || v + 1 == k.height)) z = NAN;  // invalid last pixels and rows
           image.at(u, v) = z;
         }

@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#include <vector>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
+#include <vector>
 
 namespace stvl::sensors {
 namespace {
@@ -76,8 +76,8 @@ TEST(DepthNoise, DeterministicPerSeedAndFrame) {
   EXPECT_EQ(image.depth_m, noisy(7, 3));
 }
 
-// Rows run in parallel: the image must equal the one-pass reference however they are split (an odd width puts block starts in the
-// middle of a four-pixel group of normal draws; a step in depth makes edge pixels).
+// Rows run in parallel: the image must equal the one-pass reference however they are split (an odd width puts block
+// starts in the middle of a four-pixel group of normal draws; a step in depth makes edge pixels).
 TEST(DepthNoise, SameImageOnOneThreadAndOnMany) {
   const CameraIntrinsics k = CameraIntrinsics::from_hfov(101, 37, 1.2, 0.2, 8.0, 30.0);
   DepthImage truth = flat_wall(k, 2.0f);
@@ -232,7 +232,8 @@ TEST(StereoOcclusion, LeftBandWidthFollowsBaselineAndDepth) {
       DepthImage image = flat_wall(k, z);
       noise.apply(image, 1, 0);
       const int expected = int(std::ceil(k.fx * 0.05 / z + margin - 0.5));
-      for (int v = 0; v < k.height; v += 37) EXPECT_EQ(leading_invalid(image, v), expected) << "z " << z << " row " << v;
+      for (int v = 0; v < k.height; v += 37)
+        EXPECT_EQ(leading_invalid(image, v), expected) << "z " << z << " row " << v;
       EXPECT_EQ(image.valid_count(), (k.width - expected) * k.height) << "only the band is invalid, z " << z;
     }
   }
@@ -387,7 +388,7 @@ TEST(CorrelatedNoise, KeepsIntelsRmsAndCorrelatesNeighbours) {
   double ratio = 0;
   for (uint64_t seed = 1; seed <= 4; ++seed) ratio += stats(0.95, seed, &lag1, &lag32) / 4;
   EXPECT_NEAR(ratio, 1.0, 0.08);
-  EXPECT_GT(lag1, 0.85);  // 0.93 expected: sqrt(0.95)^2 of the field (~0.98 between neighbours) + white 0.05
+  EXPECT_GT(lag1, 0.85);             // 0.93 expected: sqrt(0.95)^2 of the field (~0.98 between neighbours) + white 0.05
   EXPECT_LT(std::abs(lag32), 0.15);  // beyond two cells: independent
   EXPECT_NEAR(stats(0.0, 1, &lag1, &lag32), 1.0, kRmsTolerance);
   EXPECT_LT(std::abs(lag1), 0.05);  // white noise: no correlation

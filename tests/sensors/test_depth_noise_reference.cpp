@@ -24,16 +24,26 @@ namespace {
 // and scattered 0, NaN, +Inf, -Inf, negative, denormal and huge depths.
 DepthImage scene(int width, int height, uint64_t seed) {
   DepthImage image(width, height);
-  const float specials[] = {0.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
-                            -std::numeric_limits<float>::infinity(), -1.5f, 1e-40f, 1e30f, 0.1f, 0.2f, 30.0f,
-                            7.99f, 8.0f, -0.0f};
+  const float specials[] = {0.0f,
+                            std::numeric_limits<float>::quiet_NaN(),
+                            std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(),
+                            -1.5f,
+                            1e-40f,
+                            1e30f,
+                            0.1f,
+                            0.2f,
+                            30.0f,
+                            7.99f,
+                            8.0f,
+                            -0.0f};
   uint64_t state = seed;
   for (int v = 0; v < height; ++v) {
     for (int u = 0; u < width; ++u) {
       const uint64_t r = splitmix64(state++);
       float z = 1.0f + 0.004f * float(u) + 0.05f * float(v % 17);  // smooth, steeper down the rows
       if ((u / 5 + v / 3) % 4 == 0) z = 0.6f + 0.001f * float(v);  // foreground blocks: steps of 0.4 m or more
-      if (u % 23 == 11) z += 3.0f;  // thin far columns
+      if (u % 23 == 11) z += 3.0f;                                 // thin far columns
       if (r % 29 == 0) z = specials[(r >> 8) % (sizeof(specials) / sizeof(float))];
       image.at(u, v) = z;
     }
@@ -70,13 +80,25 @@ const std::vector<std::pair<std::string, Change>>& configs() {
   static const std::vector<std::pair<std::string, Change>> list = {
       {"defaults", [](DepthNoiseConfig&) {}},
       {"edges off", [](DepthNoiseConfig& c) { c.edge_probability = 0.0; }},
-      {"edges always, fly", [](DepthNoiseConfig& c) { c.edge_probability = 1.0; c.edge_invalid_fraction = 0.0; }},
-      {"edges always, vanish", [](DepthNoiseConfig& c) { c.edge_probability = 1.0; c.edge_invalid_fraction = 1.0; }},
+      {"edges always, fly",
+       [](DepthNoiseConfig& c) {
+         c.edge_probability = 1.0;
+         c.edge_invalid_fraction = 0.0;
+       }},
+      {"edges always, vanish",
+       [](DepthNoiseConfig& c) {
+         c.edge_probability = 1.0;
+         c.edge_invalid_fraction = 1.0;
+       }},
       {"edge jump 0", [](DepthNoiseConfig& c) { c.edge_jump_m = 0.0; }},
       {"no dropout", [](DepthNoiseConfig& c) { c.dropout_probability = 0.0; }},
       {"dropout 0.3", [](DepthNoiseConfig& c) { c.dropout_probability = 0.3; }},
       {"dropout 1", [](DepthNoiseConfig& c) { c.dropout_probability = 1.0; }},
-      {"holes 5.5 radius 9", [](DepthNoiseConfig& c) { c.holes_per_frame = 5.5; c.hole_max_radius_px = 9.0; }},
+      {"holes 5.5 radius 9",
+       [](DepthNoiseConfig& c) {
+         c.holes_per_frame = 5.5;
+         c.hole_max_radius_px = 9.0;
+       }},
       {"no holes", [](DepthNoiseConfig& c) { c.holes_per_frame = 0.0; }},
       {"stereo occlusion", [](DepthNoiseConfig& c) { c.stereo_occlusion = true; }},
       {"occlusion, no margins",
@@ -87,16 +109,33 @@ const std::vector<std::pair<std::string, Change>>& configs() {
          c.shadow_margin_px = 0.0;
        }},
       {"correlated 0.95 cell 12", [](DepthNoiseConfig& c) { c.correlated_fraction = 0.95; }},
-      {"correlated 0.5 cell 1", [](DepthNoiseConfig& c) { c.correlated_fraction = 0.5; c.correlated_cell_px = 1.0; }},
-      {"correlated 1 cell 7", [](DepthNoiseConfig& c) { c.correlated_fraction = 1.0; c.correlated_cell_px = 7.0; }},
+      {"correlated 0.5 cell 1",
+       [](DepthNoiseConfig& c) {
+         c.correlated_fraction = 0.5;
+         c.correlated_cell_px = 1.0;
+       }},
+      {"correlated 1 cell 7",
+       [](DepthNoiseConfig& c) {
+         c.correlated_fraction = 1.0;
+         c.correlated_cell_px = 7.0;
+       }},
       {"step 0", [](DepthNoiseConfig& c) { c.disparity_step_px = 0.0; }},
       {"step 1 px", [](DepthNoiseConfig& c) { c.disparity_step_px = 1.0; }},
       {"step 1e-6 px", [](DepthNoiseConfig& c) { c.disparity_step_px = 1e-6; }},
       {"step 1e-9 px (plain path)", [](DepthNoiseConfig& c) { c.disparity_step_px = 1e-9; }},
       {"subpixel 0", [](DepthNoiseConfig& c) { c.subpixel = 0.0; }},
-      {"subpixel 0, step 0", [](DepthNoiseConfig& c) { c.subpixel = 0.0; c.disparity_step_px = 0.0; }},
-      {"subpixel 3, correlated", [](DepthNoiseConfig& c) { c.subpixel = 3.0; c.correlated_fraction = 0.9; }},
-      {"all off", [](DepthNoiseConfig& c) {
+      {"subpixel 0, step 0",
+       [](DepthNoiseConfig& c) {
+         c.subpixel = 0.0;
+         c.disparity_step_px = 0.0;
+       }},
+      {"subpixel 3, correlated",
+       [](DepthNoiseConfig& c) {
+         c.subpixel = 3.0;
+         c.correlated_fraction = 0.9;
+       }},
+      {"all off",
+       [](DepthNoiseConfig& c) {
          c.subpixel = 0.0;
          c.disparity_step_px = 0.0;
          c.edge_probability = 0.0;

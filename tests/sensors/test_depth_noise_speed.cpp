@@ -26,7 +26,7 @@ namespace {
 struct Box {
   Eigen::Vector3d lo, hi;
 };
-const Box kObstacles[] = {{{1.7, 0.5, 0.0}, {2.3, 1.1, 0.8}},   {{3.3, -0.9, 0.0}, {3.7, -0.5, 1.0}},
+const Box kObstacles[] = {{{1.7, 0.5, 0.0}, {2.3, 1.1, 0.8}},      {{3.3, -0.9, 0.0}, {3.7, -0.5, 1.0}},
                           {{4.75, -0.05, 0.0}, {5.25, 0.45, 0.5}}, {{6.5, -1.2, 0.0}, {7.5, -0.8, 1.8}},
                           {{8.95, 0.85, 0.0}, {9.05, 0.95, 2.6}},  {{11.6, -0.4, 0.0}, {12.4, 0.4, 0.8}}};
 
@@ -122,11 +122,12 @@ TEST(DepthNoiseSpeed, DISABLED_ReferenceAgainstVectorizedInterleaved) {
         t_new_in_place.push_back(in_place_ms / frames.size());
         ratio.push_back(ref_ms / new_ms);
       }
-      std::printf("%dx%d %-10s reference %.3f ms, vectorized clean->noisy %.3f ms (in place %.3f ms); "
-                  "reference / vectorized: median %.2fx (min %.2fx, max %.2fx) over %d rounds of %zu frames\n",
-                  k.width, k.height, parallel ? "parallel" : "one thread", median(t_ref), median(t_new),
-                  median(t_new_in_place), median(ratio), *std::min_element(ratio.begin(), ratio.end()),
-                  *std::max_element(ratio.begin(), ratio.end()), rounds, frames.size());
+      std::printf(
+          "%dx%d %-10s reference %.3f ms, vectorized clean->noisy %.3f ms (in place %.3f ms); "
+          "reference / vectorized: median %.2fx (min %.2fx, max %.2fx) over %d rounds of %zu frames\n",
+          k.width, k.height, parallel ? "parallel" : "one thread", median(t_ref), median(t_new), median(t_new_in_place),
+          median(ratio), *std::min_element(ratio.begin(), ratio.end()), *std::max_element(ratio.begin(), ratio.end()),
+          rounds, frames.size());
     }
   }
 }

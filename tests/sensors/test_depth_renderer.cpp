@@ -21,7 +21,7 @@ namespace {
 using test::looking_along_x;
 using World = test::MjWorld;
 
-constexpr double kMedianErrorM = 1e-3;     // rendered vs mj_ray, over pixels valid in both
+constexpr double kMedianErrorM = 1e-3;      // rendered vs mj_ray, over pixels valid in both
 constexpr double kMismatchFraction = 0.01;  // pixels valid in one image only, or off by more than kOutlierM
 constexpr double kOutlierM = 0.05;          // (silhouettes of tessellated shapes)
 
@@ -116,8 +116,9 @@ TEST_P(Renderer, MatchesRayCastsAt848x480) {
 // The real 640x480 stream's off-centre principal point (cx 331.39, cy 242.19): a known point lands on the pixel
 // project_to_pixel gives, with the depth the ray cast gives (also checked over the whole image above).
 TEST_P(Renderer, RealD435At640x480ProjectsAKnownPoint) {
-  World world("<mujoco><worldbody><geom type='box' size='0.05 2 2' pos='2.05 0 1'/>"
-              "<geom type='box' size='0.02 0.02 0.02' pos='1.5 -0.3 0.8'/></worldbody></mujoco>");
+  World world(
+      "<mujoco><worldbody><geom type='box' size='0.05 2 2' pos='2.05 0 1'/>"
+      "<geom type='box' size='0.02 0.02 0.02' pos='1.5 -0.3 0.8'/></worldbody></mujoco>");
   const CameraIntrinsics k = CameraIntrinsics::d435_640x480();
   std::string why;
   auto renderer = try_renderer(world, k, GetParam(), why);
@@ -265,7 +266,8 @@ std::size_t differing_pixels(const DepthImage& a, const DepthImage& b) {
 
 // A view from position_W, yawed about the world's z and pitched down (optical x axis).
 Eigen::Isometry3d view(const Eigen::Vector3d& position_W, double yaw_rad, double pitch_rad) {
-  Eigen::Isometry3d T = looking_along_x(position_W, Eigen::AngleAxisd(-pitch_rad, Eigen::Vector3d::UnitX()).toRotationMatrix());
+  Eigen::Isometry3d T =
+      looking_along_x(position_W, Eigen::AngleAxisd(-pitch_rad, Eigen::Vector3d::UnitX()).toRotationMatrix());
   T.linear() = Eigen::AngleAxisd(yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix() * T.linear();
   return T;
 }
@@ -289,7 +291,8 @@ TEST_P(Renderer, EveryPixelAsTheFloatReadbackGaveIt) {
       reference::FloatDepthRenderer plain(model.get(), k, GetParam());
       long valid = 0;
       for (int pose = 0; pose < 6; ++pose) {
-        const Eigen::Isometry3d T = view({1.5 * pose, 0.4 * (pose % 3) - 0.4, 0.3 + 0.2 * pose}, 1.1 * pose, 0.1 * pose);
+        const Eigen::Isometry3d T =
+            view({1.5 * pose, 0.4 * (pose % 3) - 0.4, 0.3 + 0.2 * pose}, 1.1 * pose, 0.1 * pose);
         const DepthImage& before = plain.render(model.get(), data.get(), T);
         const DepthImage& now = fast->render(model.get(), data.get(), T);
         EXPECT_EQ(differing_pixels(now, before), 0u) << name << " " << k.width << "x" << k.height << " pose " << pose;
@@ -342,8 +345,7 @@ TEST(RendererBackends, EglAndOsmesaGiveTheSameImage) {
   const DepthImage a = osmesa->render(world.model(), world.data(), T);
   const DepthImage b = egl->render(world.model(), world.data(), T);
   const Comparison c = compare(a, b);
-  std::printf("osmesa vs egl: median %.2e m, mismatched %.4f%%\n", c.median_abs_error_m,
-              100.0 * c.mismatch_fraction);
+  std::printf("osmesa vs egl: median %.2e m, mismatched %.4f%%\n", c.median_abs_error_m, 100.0 * c.mismatch_fraction);
   EXPECT_LT(c.median_abs_error_m, 1e-6);
   EXPECT_LT(c.mismatch_fraction, 1e-3);
   EXPECT_EQ(osmesa->render(world.model(), world.data(), T).depth_m, a.depth_m);  // interleaved contexts still work
@@ -384,8 +386,8 @@ TEST(DepthFromZ24, EveryDepthValueAsMesasFloatThenTheOldConversion) {
     }
     std::size_t mismatched = 0, valid = 0;
     for (std::size_t i = 0; i < words.size(); ++i) {
-      const float before = reference::depth_m_from_gl_depth(reference::mesa_float_depth(words[i]), p.near_m,
-                                                            p.far_m, p.min_m, p.max_m);
+      const float before =
+          reference::depth_m_from_gl_depth(reference::mesa_float_depth(words[i]), p.near_m, p.far_m, p.min_m, p.max_m);
       mismatched += std::memcmp(&before, &fast[i], sizeof(float)) != 0;
       valid += before > 0.0f;
     }

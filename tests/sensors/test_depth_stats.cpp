@@ -39,7 +39,7 @@ TEST(DepthStats, HolesAtDiscontinuitiesAndTheirSide) {
   for (int v = 0; v < H; ++v) {
     for (int u = 0; u < W; ++u) image.at(u, v) = u < 30 ? 2.0f : (u < 35 ? 0.0f : 1.0f);
     for (int u = 45; u < 48; ++u) image.at(u, v) = 0.0f;  // within the foreground: not a discontinuity
-    image.at(60, v) = image.at(61, v) = 0.0f;              // foreground 1 m | hole | background 2.5 m
+    image.at(60, v) = image.at(61, v) = 0.0f;             // foreground 1 m | hole | background 2.5 m
     for (int u = 62; u < W; ++u) image.at(u, v) = 2.5f;
   }
   const DiscontinuityHoles holes = discontinuity_holes(image, 0.1, 400.0, 0.05);

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "tests/support/fixture.hpp"
 #include "sim/simulator.hpp"
+#include "tests/support/fixture.hpp"
 
 namespace stvl::sim {
 namespace {
@@ -80,7 +80,8 @@ TEST(PathFollowing, LoopingPathPassesTheFirstWaypointAgainEachLap) {
     const Eigen::Vector2d p = sim.T_world_base().translation().head<2>();
     max_cross_track_m = std::max(max_cross_track_m, sim.follower().cross_track_error_m(p));
     if (left_first_at_s < 0 && (p - first).norm() > 1.0) left_first_at_s = sim.time_s();
-    if (left_first_at_s > 0 && back_at_first_s < 0 && (p - first).norm() < kGoalTolerance_m) back_at_first_s = sim.time_s();
+    if (left_first_at_s > 0 && back_at_first_s < 0 && (p - first).norm() < kGoalTolerance_m)
+      back_at_first_s = sim.time_s();
     if (back_at_first_s > 0 && (p - second).norm() < kGoalTolerance_m) second_again_s = sim.time_s();
   }
   ASSERT_GT(back_at_first_s, 0) << "never came back to the first waypoint";
@@ -107,7 +108,6 @@ TEST(PathFollowing, RejectsBadPaths) {
   EXPECT_THROW(follower.set_path({{{0, 0}}, 0.5, true}), std::invalid_argument);
   EXPECT_THROW(follower.set_path({{{0, 0}, {1, 0}, {1, 0}}, 0.5, true}), std::invalid_argument);
   EXPECT_NO_THROW(follower.set_path({{{1, 0}, {0, 0}, {1, 0}}, 0.5, true}));  // out and back: 2 distinct points
-
 }
 
 double odometry_error_m(const Simulator& sim, const Eigen::Isometry3d& T_world_start) {
@@ -163,7 +163,8 @@ TEST(CameraMount, MovesOpticalSite) {
   sim.robot().set_camera_mount({0.9, 0.2, 0.15});
   const Eigen::Isometry3d T = sim.T_world_camera();
   const Eigen::Isometry3d T_base = sim.T_world_base();
-  const Eigen::Isometry3d expected = T_base * sim.robot().T_base_camera_link() * DiffDriveRobot::T_camera_link_optical();
+  const Eigen::Isometry3d expected =
+      T_base * sim.robot().T_base_camera_link() * DiffDriveRobot::T_camera_link_optical();
   EXPECT_TRUE(T.isApprox(expected, 1e-9));
   EXPECT_NEAR(T.translation().z(), 0.9 + T_base.translation().z(), 1e-9);
   // Optical z looks forward (+y in the world here) and down by the pitch; optical y points down-ish.

@@ -37,8 +37,8 @@ Drive drive(Simulator& sim, const Path& path, double timeout_s) {
   Drive r;
   while (!sim.path_finished() && sim.time_s() < timeout_s) {
     sim.step();
-    r.max_cross_track_m = std::max(r.max_cross_track_m,
-                                   sim.follower().cross_track_error_m(sim.T_world_base().translation().head<2>()));
+    r.max_cross_track_m =
+        std::max(r.max_cross_track_m, sim.follower().cross_track_error_m(sim.T_world_base().translation().head<2>()));
     r.max_tilt_rad = std::max(r.max_tilt_rad, sim.robot().tilt_rad());
     const auto c = robot_collisions(sim.world(), floor);
     r.collisions.insert(c.begin(), c.end());

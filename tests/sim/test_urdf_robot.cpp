@@ -72,7 +72,8 @@ TEST(UrdfRobot, NamedWheelsOverrideRadiusAndSeparation) {
   const std::string message = invalid_argument_of([&] { bot.build(); });
   EXPECT_NE(message.find("robot.wheels.left: no continuous or revolute joint named 'caster_joint' (candidates: "
                          "left_wheel_joint (axis [0.00, 1.00, 0.00] in the base, y 0.180 m), right_wheel_joint"),
-            std::string::npos) << message;
+            std::string::npos)
+      << message;
 }
 
 TEST(UrdfRobot, WheelsNotFoundNameTheCandidates) {
@@ -81,8 +82,11 @@ TEST(UrdfRobot, WheelsNotFoundNameTheCandidates) {
   const TinyBot bot(DriveMode::kKinematic, text);
   const std::string message = invalid_argument_of([&] { bot.build(); });
   EXPECT_NE(message.find("no left wheel joint found. A wheel is a continuous or revolute joint on the base whose axis "
-                         "lies along the base's y"), std::string::npos) << message;
-  EXPECT_NE(message.find("left_wheel_joint (axis [1.00, 0.00, 0.00] in the base, y 0.180 m)"), std::string::npos) << message;
+                         "lies along the base's y"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("left_wheel_joint (axis [1.00, 0.00, 0.00] in the base, y 0.180 m)"), std::string::npos)
+      << message;
   EXPECT_NE(message.find("robot.wheels: {left: JOINT, right: JOINT}"), std::string::npos) << message;
 }
 
@@ -100,14 +104,16 @@ TEST(UrdfRobot, OpticalFrameLooksAlongTheBasesX) {
   EXPECT_FALSE(is_optical_frame("camera_link"));
   const std::string message = invalid_argument_of([&] { camera_mount_at(robot.urdf, "camera_depth_frame"); });
   EXPECT_NE(message.find("no link named 'camera_depth_frame' (links, nearest first: camera_depth_optical_frame"),
-            std::string::npos) << message;
+            std::string::npos)
+      << message;
 }
 
 TEST(UrdfRobot, AutoDriveIsKinematicForAMasslessUrdf) {
   const UrdfRobot robot = TinyBot(DriveMode::kAuto, tiny_bot_urdf(false)).build();
   EXPECT_EQ(robot.drive, DriveMode::kKinematic);
   EXPECT_NE(robot.drive_reason.find("auto: no usable inertial on the base or a wheel (base_link: no <inertial>"),
-            std::string::npos) << robot.drive_reason;
+            std::string::npos)
+      << robot.drive_reason;
 }
 
 TEST(UrdfRobot, AutoDriveIsKinematicWhenTheProbeFails) {
@@ -117,13 +123,15 @@ TEST(UrdfRobot, AutoDriveIsKinematicWhenTheProbeFails) {
   text.replace(text.find(com), com.size(), "0.15 0 0.05");
   const UrdfRobot robot = TinyBot(DriveMode::kAuto, text).build();
   EXPECT_EQ(robot.drive, DriveMode::kKinematic);
-  EXPECT_EQ(robot.drive_reason.rfind("auto: the physics probe failed: the robot tilted by ", 0), 0u) << robot.drive_reason;
+  EXPECT_EQ(robot.drive_reason.rfind("auto: the physics probe failed: the robot tilted by ", 0), 0u)
+      << robot.drive_reason;
 }
 
 TEST(UrdfRobot, AutoDriveIsPhysicsWhenTheProbeDrives) {
   const UrdfRobot robot = TinyBot(DriveMode::kAuto).build();
   EXPECT_EQ(robot.drive, DriveMode::kPhysics) << robot.drive_reason;
-  EXPECT_NE(robot.drive_reason.find("auto: the physics probe drove a 1.5 m path"), std::string::npos) << robot.drive_reason;
+  EXPECT_NE(robot.drive_reason.find("auto: the physics probe drove a 1.5 m path"), std::string::npos)
+      << robot.drive_reason;
 }
 
 TEST(UrdfRobot, PhysicsDrivesForwardOnBothWheels) {

@@ -134,8 +134,8 @@ TEST(MocapScript, MovesBodyThroughKeyframes) {
 TEST(MocapScript, RepeatingTrackAtTPlusPeriodEqualsT) {
   World world = World::from_string(kMocapWorld);
   const double period_s = 6.0;  // keyframes span 4 s; the last 2 s walk back to the first keyframe
-  const MocapScript script(world, {{"person", {{1.0, {1, 0, 0.9}, 0.0}, {3.0, {1, 6, 0.9}, 1.5}, {5.0, {3, 6, 0.9}, 1.5}},
-                                    period_s}});
+  const MocapScript script(
+      world, {{"person", {{1.0, {1, 0, 0.9}, 0.0}, {3.0, {1, 6, 0.9}, 1.5}, {5.0, {3, 6, 0.9}, 1.5}}, period_s}});
   const int body = world.body_id("person");
   auto pose_at = [&](double t) {
     script.apply(world.model(), world.data(), t);
@@ -158,10 +158,8 @@ TEST(MocapScript, RejectsBadTracks) {
   EXPECT_THROW(MocapScript(world, {{"nobody", {{0.0, {0, 0, 0}, {}}}}}), std::invalid_argument);
   EXPECT_THROW(MocapScript(world, {{"crate", {{0.0, {0, 0, 0}, {}}}}}), std::invalid_argument);
   EXPECT_THROW(MocapScript(world, {{"person", {}}}), std::invalid_argument);
-  EXPECT_THROW(MocapScript(world, {{"person", {{1.0, {0, 0, 0}, {}}, {1.0, {1, 0, 0}, {}}}}}),
-               std::invalid_argument);
-  EXPECT_THROW(MocapScript(world, {{"person", {{0.0, {0, 0, 0}, 0.0}, {1.0, {1, 0, 0}, {}}}}}),
-               std::invalid_argument);
+  EXPECT_THROW(MocapScript(world, {{"person", {{1.0, {0, 0, 0}, {}}, {1.0, {1, 0, 0}, {}}}}}), std::invalid_argument);
+  EXPECT_THROW(MocapScript(world, {{"person", {{0.0, {0, 0, 0}, 0.0}, {1.0, {1, 0, 0}, {}}}}}), std::invalid_argument);
   const std::vector<MocapKeyframe> walk{{1.0, {0, 0, 0}, {}}, {4.0, {1, 0, 0}, {}}};
   EXPECT_THROW(MocapScript(world, {{"person", walk, 2.9}}), std::invalid_argument);  // shorter than the 3 s span
   EXPECT_THROW(MocapScript(world, {{"person", walk, NAN}}), std::invalid_argument);

@@ -27,7 +27,8 @@ void on_warning(const char* message) {
 std::string worlds_dir() { return std::string(STVL_SOURCE_DIR) + "/worlds"; }
 
 MjModelPtr load_model_from_string(const std::string& xml, const std::string& base_dir) {
-  const std::filesystem::path dir = base_dir.empty() ? std::filesystem::current_path() : std::filesystem::path(base_dir);
+  const std::filesystem::path dir =
+      base_dir.empty() ? std::filesystem::current_path() : std::filesystem::path(base_dir);
   const std::string name = (dir / "__stvl_test_world__.xml").string();
   auto vfs = std::make_unique<mjVFS>();  // about 2 MB: heap only
   mj_defaultVFS(vfs.get());

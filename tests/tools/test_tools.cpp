@@ -126,8 +126,8 @@ TEST_F(Cli, WaypointsOutsideTheWorldExitTwoBeforeDriving) {
   const std::string world = std::string(STVL_SOURCE_DIR) + "/worlds/office_corridor.xml";
   for (const char* waypoints : {"[[0, 0], [1e308, 0]]", "[[0, 0], [5, 0], [5, 40]]"}) {
     SCOPED_TRACE(waypoints);
-    const std::string file = write("far.yaml", "name: far\nworld: " + world + "\nrobot:\n  waypoints: " + waypoints +
-                                                   "\n  speed_mps: 0.5\n");
+    const std::string file = write(
+        "far.yaml", "name: far\nworld: " + world + "\nrobot:\n  waypoints: " + waypoints + "\n  speed_mps: 0.5\n");
     const Outcome o = run("run " + quoted(file) + " " + out_arg());
     EXPECT_EQ(o.exit_code, kBadInput) << o.output;
     EXPECT_THAT(o.output, HasSubstr("lies outside the world's extent"));

@@ -57,10 +57,10 @@ inline std::string box_obj(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
   return obj;
 }
 
-inline std::string mesh_world(const std::string& file, const std::string& body_attrs,
-                              const std::string& extra = "") {
+inline std::string mesh_world(const std::string& file, const std::string& body_attrs, const std::string& extra = "") {
   return "<mujoco><asset><mesh name=\"scan\" file=\"" + file + "\"/></asset><worldbody><body name=\"room\" " +
-         body_attrs + "><geom name=\"scan_geom\" type=\"mesh\" mesh=\"scan\"/></body>" + extra + "</worldbody></mujoco>";
+         body_attrs + "><geom name=\"scan_geom\" type=\"mesh\" mesh=\"scan\"/></body>" + extra +
+         "</worldbody></mujoco>";
 }
 
 inline ObstacleGeom box_geom(const Eigen::Vector3d& half, const Eigen::Isometry3d& T) {
@@ -73,7 +73,7 @@ inline ObstacleGeom box_geom(const Eigen::Vector3d& half, const Eigen::Isometry3
 }
 
 inline ObstacleGeom mesh_geom(std::vector<Eigen::Vector3d> vertices, std::vector<TriangleMesh::Face> faces,
-                       const Eigen::Isometry3d& T = Eigen::Isometry3d::Identity()) {
+                              const Eigen::Isometry3d& T = Eigen::Isometry3d::Identity()) {
   ObstacleGeom g;
   g.shape = ShapeType::mesh;
   g.mesh = std::make_shared<const TriangleMesh>(std::move(vertices), std::move(faces), "test mesh");

@@ -87,8 +87,7 @@ Sampler surface_sampler(const ObstacleGeom& g) {
               }
         }
       };
-    case ShapeType::sphere:
-      return [s](double d, const auto& emit) { sample_sphere_part(s.x(), 0.0, 0, d, emit); };
+    case ShapeType::sphere: return [s](double d, const auto& emit) { sample_sphere_part(s.x(), 0.0, 0, d, emit); };
     case ShapeType::cylinder:
       return [s](double d, const auto& emit) {
         sample_tube(s.x(), s.y(), d, emit);
@@ -121,8 +120,9 @@ Comparison compare_surface(const ObstacleGeom& g, double voxel_size_m) {
   const auto voxels = voxelize(g, options);
   const VoxelSet exact(voxels.begin(), voxels.end());
   VoxelSet sampled;
-  surface_sampler(g)(kSampleFraction * voxel_size_m,
-                     [&](const Eigen::Vector3d& p_G) { sampled.insert(voxel_key(g.T_world_geom * p_G, voxel_size_m)); });
+  surface_sampler(g)(kSampleFraction * voxel_size_m, [&](const Eigen::Vector3d& p_G) {
+    sampled.insert(voxel_key(g.T_world_geom * p_G, voxel_size_m));
+  });
   Comparison c{exact.size(), sampled.size(), 0, 0, 0, 0};
   for (const auto& k : sampled) c.missing += exact.count(k) ? 0 : 1;
   for (const auto& k : exact) {
@@ -186,9 +186,12 @@ TEST_P(VoxelizeShape, SolidCountBracketsVolume) {
 
 const ShapeCase kShapes[] = {
     {"box", ShapeType::box, {0.3, 0.2, 0.45}, 8 * 0.3 * 0.2 * 0.45, 8 * (0.3 * 0.2 + 0.2 * 0.45 + 0.3 * 0.45)},
-    {"sphere", ShapeType::sphere, {0.35, 0, 0}, 4.0 / 3 * M_PI * std::pow(0.35, 3), 4 * M_PI * 0.35 * 0.35},
+    {"sphere", ShapeType::sphere, {0.35, 0, 0}, 4.0 / 3 * M_PI* std::pow(0.35, 3), 4 * M_PI * 0.35 * 0.35},
     {"cylinder", ShapeType::cylinder, {0.2, 0.4, 0}, M_PI * 0.04 * 0.8, 2 * M_PI * 0.2 * 0.8 + 2 * M_PI * 0.04},
-    {"capsule", ShapeType::capsule, {0.15, 0.5, 0}, M_PI * 0.0225 * 1.0 + 4.0 / 3 * M_PI * std::pow(0.15, 3),
+    {"capsule",
+     ShapeType::capsule,
+     {0.15, 0.5, 0},
+     M_PI * 0.0225 * 1.0 + 4.0 / 3 * M_PI* std::pow(0.15, 3),
      2 * M_PI * 0.15 * 1.0 + 4 * M_PI * 0.0225},
     {"ellipsoid", ShapeType::ellipsoid, {0.4, 0.25, 0.15}, 4.0 / 3 * M_PI * 0.4 * 0.25 * 0.15, 4 * M_PI * 0.07},
 };
@@ -260,7 +263,8 @@ TEST(GroundTruth, GeomsNamedFloorAreDrivableGround) {
     <geom name="floor_platform" type="box" pos="7 0 0.15" size="1.5 1 0.15"/>
     <geom name="subfloor_crate" type="box" pos="2 2 0.2" size="0.2 0.2 0.2"/>
   </worldbody>
-</mujoco>)", test::worlds_dir());
+</mujoco>)",
+                                   test::worlds_dir());
   const auto geoms = obstacle_geoms(world);
   ASSERT_EQ(geoms.size(), 1u);
   EXPECT_DOUBLE_EQ(geoms[0].aabb_W().center().x(), 2.0);
@@ -287,7 +291,7 @@ TEST(GroundTruth, FootprintsInHeightBand) {
   EXPECT_LE(low[1].cells.size(), 4u);       // pole of radius 0.05 at a cell corner
   EXPECT_GE(low[1].cells.size(), 1u);
   const auto high = footprints(geoms, 0.1, 0.5, 1.8);
-  EXPECT_TRUE(high[0].cells.empty());       // the crate ends at 0.4 m
+  EXPECT_TRUE(high[0].cells.empty());  // the crate ends at 0.4 m
   EXPECT_FALSE(high[1].cells.empty());
 }
 

@@ -81,8 +81,8 @@ TEST(MeshTruth, OffCentreObjLandsWhereItsVerticesSay) {
   dir.write("l.obj",
             "v 2 1 0\nv 2.6 1 0\nv 2.6 1.2 0\nv 2.2 1.2 0\nv 2.2 1.8 0\nv 2 1.8 0\n"
             "v 2 1 0.5\nv 2.6 1 0.5\nv 2.6 1.2 0.5\nv 2.2 1.2 0.5\nv 2.2 1.8 0.5\nv 2 1.8 0.5\n"
-            "f 1 3 2\nf 1 4 3\nf 1 6 4\nf 6 5 4\n"          // bottom (an L), facing down
-            "f 7 8 9\nf 7 9 10\nf 7 10 12\nf 12 10 11\n"    // top
+            "f 1 3 2\nf 1 4 3\nf 1 6 4\nf 6 5 4\n"        // bottom (an L), facing down
+            "f 7 8 9\nf 7 9 10\nf 7 10 12\nf 12 10 11\n"  // top
             "f 1 2 8\nf 1 8 7\nf 2 3 9\nf 2 9 8\nf 3 4 10\nf 3 10 9\n"
             "f 4 5 11\nf 4 11 10\nf 5 6 12\nf 5 12 11\nf 6 1 7\nf 6 7 12\n");
   World world = World::from_string(mesh_world("l.obj", "pos=\"0.52 -0.23 0.1\""), dir.path());
@@ -161,8 +161,9 @@ TEST(MeshTruth, TetrahedronFootprintIsItsShadowInTheBand) {
   // x, y, z >= 0.01 and x + y + z <= 0.43; in the band z 0.05..0.3 a cell (i, j) of 0.1 m meets it when
   // max(0.1 i, 0.01) + max(0.1 j, 0.01) <= 0.38: 4 + 3 + 2 + 1 cells (its bounding box covers 5 x 5).
   MeshDir dir;
-  dir.write("tet.obj", "v 0.01 0.01 0.01\nv 0.41 0.01 0.01\nv 0.01 0.41 0.01\nv 0.01 0.01 0.41\n"
-                       "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  dir.write("tet.obj",
+            "v 0.01 0.01 0.01\nv 0.41 0.01 0.01\nv 0.01 0.41 0.01\nv 0.01 0.01 0.41\n"
+            "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
   World world = World::from_string(mesh_world("tet.obj", ""), dir.path());
   const ObstacleGeom g = obstacle_geoms(world).at(0);
   EXPECT_TRUE(g.mesh->closed());
@@ -171,15 +172,16 @@ TEST(MeshTruth, TetrahedronFootprintIsItsShadowInTheBand) {
     for (int j = 0; j <= 3 - i; ++j) expected.push_back({i, j});
   EXPECT_EQ(cells(g, 0.1, 0.05, 0.3), expected);
   // The solid tests agree with the cells: a column outside the shadow misses, one inside meets.
-  EXPECT_FALSE(g.intersects_solid(Eigen::AlignedBox3d(Eigen::Vector3d(0.3, 0.1, 0.05), Eigen::Vector3d(0.4, 0.2, 0.3)), 0.005));
-  EXPECT_TRUE(g.intersects_solid(Eigen::AlignedBox3d(Eigen::Vector3d(0.2, 0.1, 0.05), Eigen::Vector3d(0.3, 0.2, 0.3)), 0.005));
+  EXPECT_FALSE(
+      g.intersects_solid(Eigen::AlignedBox3d(Eigen::Vector3d(0.3, 0.1, 0.05), Eigen::Vector3d(0.4, 0.2, 0.3)), 0.005));
+  EXPECT_TRUE(
+      g.intersects_solid(Eigen::AlignedBox3d(Eigen::Vector3d(0.2, 0.1, 0.05), Eigen::Vector3d(0.3, 0.2, 0.3)), 0.005));
   EXPECT_TRUE(g.contains_box(Eigen::AlignedBox3d(Eigen::Vector3d(0.05, 0.05, 0.05), Eigen::Vector3d(0.1, 0.1, 0.1))));
   EXPECT_NEAR(g.signed_distance_m({0.06, 0.06, 0.06}), -0.05, 1e-6);  // nearest: the three faces at 0.01
   EXPECT_NEAR(g.signed_distance_m({0.06, 0.06, -0.04}), 0.05, 1e-6);
 }
 
 // --- Height fields and planes -------------------------------------------------------------------------------
-
 
 TEST(MeshTruth, FlatHeightFieldEqualsItsBox) {
   World world = World::from_string(kHeightFieldWorld);
@@ -224,9 +226,13 @@ TEST(MeshTruth, ShippedMeshRoomIsItsWallsAndTable) {
   for (const auto& g : geoms) EXPECT_TRUE(g.shape == ShapeType::mesh && g.mesh->closed()) << g.label;
   EXPECT_TRUE(truth_notes(world).empty());
   // The footprints are the rectangles worlds/mesh_room.xml describes (cells of 0.05 m meeting one), not the boxes.
-  struct Rect { double x0, x1, y0, y1; };
-  const std::vector<Rect> walls = {{-1.113, 5.087, 1.522, 1.622},   {-1.113, 1.587, -1.578, -1.478},
-                                   {2.487, 5.087, -1.578, -1.478},  {-1.113, -1.013, -1.478, 1.522},
+  struct Rect {
+    double x0, x1, y0, y1;
+  };
+  const std::vector<Rect> walls = {{-1.113, 5.087, 1.522, 1.622},
+                                   {-1.113, 1.587, -1.578, -1.478},
+                                   {2.487, 5.087, -1.578, -1.478},
+                                   {-1.113, -1.013, -1.478, 1.522},
                                    {4.987, 5.087, -1.478, 1.522}};
   const std::vector<Rect> table = {{2.213, 3.213, 0.587, 1.187}};
   auto cells_of = [](const std::vector<Rect>& rects) {

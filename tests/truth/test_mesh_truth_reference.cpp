@@ -92,12 +92,12 @@ TEST(MeshTruthReference, LatticeAlignedClosedMeshesMatch) {
   for (auto& c : corners) c -= Eigen::Vector3d::Constant(0.025);
   expect_matches_reference(mesh_geom(corners, box_faces), s, "box on corners");
   // An octahedron with its apexes on voxel centres.
-  const std::vector<Eigen::Vector3d> octa = {{0.325, 0.025, 0.025}, {-0.275, 0.025, 0.025}, {0.025, 0.325, 0.025},
-                                             {0.025, -0.275, 0.025}, {0.025, 0.025, 0.325}, {0.025, 0.025, -0.275}};
-  expect_matches_reference(mesh_geom(octa, {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}),
-                           s, "octahedron");
+  const std::vector<Eigen::Vector3d> octa = {{0.325, 0.025, 0.025},  {-0.275, 0.025, 0.025}, {0.025, 0.325, 0.025},
+                                             {0.025, -0.275, 0.025}, {0.025, 0.025, 0.325},  {0.025, 0.025, -0.275}};
+  expect_matches_reference(
+      mesh_geom(octa, {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}}), s,
+      "octahedron");
 }
-
 
 TEST(MeshTruth, BumpyHeightFieldMatchesTheReference) {
   World world = World::from_string(kHeightFieldWorld);

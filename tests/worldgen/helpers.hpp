@@ -25,7 +25,8 @@ class TempDir {
  public:
   TempDir() {
     static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() / ("stvl_worldgen_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    path_ =
+        fs::temp_directory_path() / ("stvl_worldgen_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
@@ -44,7 +45,8 @@ class TempDir {
 
 // A binary PGM (P5) of 8-bit pixels, top row first, with a map_saver-like comment line.
 inline std::string pgm_p5(int width, int height, const std::vector<int>& pixels, int maxval = 255) {
-  std::string out = "P5\n# CREATOR: a test\n" + std::to_string(width) + " " + std::to_string(height) + "\n" + std::to_string(maxval) + "\n";
+  std::string out = "P5\n# CREATOR: a test\n" + std::to_string(width) + " " + std::to_string(height) + "\n" +
+                    std::to_string(maxval) + "\n";
   for (int v : pixels) {
     if (maxval > 255) out += static_cast<char>(v >> 8);
     out += static_cast<char>(v & 0xff);
@@ -53,8 +55,9 @@ inline std::string pgm_p5(int width, int height, const std::vector<int>& pixels,
 }
 
 // The YAML of a map with the given image and keys (mode empty: left out).
-inline std::string map_yaml(const std::string& image, double resolution = 0.1, const std::string& origin = "[0.0, 0.0, 0.0]",
-                            int negate = 0, double occupied = 0.65, double free = 0.196, const std::string& mode = "trinary") {
+inline std::string map_yaml(const std::string& image, double resolution = 0.1,
+                            const std::string& origin = "[0.0, 0.0, 0.0]", int negate = 0, double occupied = 0.65,
+                            double free = 0.196, const std::string& mode = "trinary") {
   std::string yaml = "image: " + image + "\nresolution: " + std::to_string(resolution) + "\norigin: " + origin +
                      "\nnegate: " + std::to_string(negate) + "\noccupied_thresh: " + std::to_string(occupied) +
                      "\nfree_thresh: " + std::to_string(free) + "\n";

@@ -54,11 +54,16 @@ TEST(MapWorld, WallBoxesAreExactlyTheOccupiedCellsOfTheShippedMap) {
   for (const Geom& g : w.spec.bodies.front().geoms) {
     EXPECT_EQ(g.type, "box");
     EXPECT_EQ(g.group, kWallGroup);
-    const Eigen::Vector2d lo = f.to_grid(g.pos.head<2>()) / f.resolution_m - Eigen::Vector2d(g.size[0], g.size[1]) / f.resolution_m;
-    const int cols = static_cast<int>(std::lround(2 * g.size[0] / f.resolution_m)), rows = static_cast<int>(std::lround(2 * g.size[1] / f.resolution_m));
+    const Eigen::Vector2d lo =
+        f.to_grid(g.pos.head<2>()) / f.resolution_m - Eigen::Vector2d(g.size[0], g.size[1]) / f.resolution_m;
+    const int cols = static_cast<int>(std::lround(2 * g.size[0] / f.resolution_m)),
+              rows = static_cast<int>(std::lround(2 * g.size[1] / f.resolution_m));
     for (int r = 0; r < rows; ++r)
       for (int c = 0; c < cols; ++c)
-        EXPECT_TRUE(covered.insert(f.index({static_cast<int>(std::lround(lo.x())) + c, static_cast<int>(std::lround(lo.y())) + r})).second);
+        EXPECT_TRUE(
+            covered
+                .insert(f.index({static_cast<int>(std::lround(lo.x())) + c, static_cast<int>(std::lround(lo.y())) + r}))
+                .second);
   }
   std::size_t occupied = 0;
   for (std::size_t i = 0; i < w.grid.cells.size(); ++i) {
@@ -67,10 +72,12 @@ TEST(MapWorld, WallBoxesAreExactlyTheOccupiedCellsOfTheShippedMap) {
   }
   EXPECT_GT(occupied, 1000u);
   EXPECT_LT(w.wall_boxes, 40u);  // 20 x 120 cells of walls in about twenty boxes
-  EXPECT_EQ(std::count(w.grid.cells.begin(), w.grid.cells.end(), Cell::kUnknown), 26 * 20);  // the corner not yet mapped
+  EXPECT_EQ(std::count(w.grid.cells.begin(), w.grid.cells.end(), Cell::kUnknown),
+            26 * 20);                                                             // the corner not yet mapped
   const stvl::test::MjWorld world(write_mjcf(w.spec), stvl::test::worlds_dir());  // a MuJoCo warning fails the test
   int boxes = 0;
-  for (int g = 0; g < world.model()->ngeom; ++g) boxes += world.model()->geom_group[g] == 0 && world.model()->geom_type[g] == mjGEOM_BOX;
+  for (int g = 0; g < world.model()->ngeom; ++g)
+    boxes += world.model()->geom_group[g] == 0 && world.model()->geom_type[g] == mjGEOM_BOX;
   EXPECT_EQ(boxes, static_cast<int>(w.wall_boxes));
 }
 
@@ -80,7 +87,8 @@ TEST(MapWorld, PlannedPathOnTheShippedMapIsCollisionFree) {
   EXPECT_NEAR(radius, std::hypot(0.255, 0.14), 1e-3);  // the front bumper's outer corners
   const DriveGrid d = map_drive_grid(w, radius);
   const PlannedPath p = plan_path(d, w.grid.cells, std::nullopt, std::nullopt);
-  for (std::size_t i = 1; i < p.waypoints_W.size(); ++i) EXPECT_TRUE(d.segment_clear(p.waypoints_W[i - 1], p.waypoints_W[i], d.radius_m));
+  for (std::size_t i = 1; i < p.waypoints_W.size(); ++i)
+    EXPECT_TRUE(d.segment_clear(p.waypoints_W[i - 1], p.waypoints_W[i], d.radius_m));
   EXPECT_GT(p.length_m, 8.0);
   const std::string yaml = map_scenario_yaml(w, p, "floor", "world.xml");
   EXPECT_THAT(yaml, ::testing::HasSubstr("world: world.xml\n"));

@@ -18,10 +18,10 @@
 namespace stvl::worldgen {
 namespace {
 
-using ::testing::HasSubstr;
 using test::map_yaml;
 using test::pgm_p5;
 using test::TempDir;
+using ::testing::HasSubstr;
 
 MapMetadata meta(MapMode mode, bool negate = false, double occupied = 0.65, double free = 0.196) {
   MapMetadata m;
@@ -48,7 +48,8 @@ std::string png(int width, int height, PngFormat format, const std::vector<std::
 TEST(Nav2Map, TrinaryP5FollowsMapServerOnHandComputedPixels) {
   // occ = 1 - v / 255: 0 -> 1.0 (occupied), 89 -> 0.651 (> 0.65, occupied), 90 -> 0.647 (unknown),
   // 205 -> 0.19608 (not below 0.196: unknown, map_saver's grey), 254 -> 0.0039 (free).
-  EXPECT_EQ(row_values(pgm_p5(5, 1, {0, 89, 90, 205, 254}), meta(MapMode::kTrinary)), (std::vector<int>{100, 100, -1, -1, 0}));
+  EXPECT_EQ(row_values(pgm_p5(5, 1, {0, 89, 90, 205, 254}), meta(MapMode::kTrinary)),
+            (std::vector<int>{100, 100, -1, -1, 0}));
 }
 
 TEST(Nav2Map, NegateSwapsWhatIsOccupiedButNotTheThresholds) {
@@ -79,7 +80,8 @@ TEST(Nav2Map, SixteenBitP5ScalesByItsMaxval) {
 }
 
 TEST(Nav2Map, PlainP2WithCommentsAndAnyMaxval) {
-  const std::string bytes = "P2\n# CREATOR: hand\n3 1 # width height\n# maxval next\n100\n0 50\n# in the raster too\n100\n";
+  const std::string bytes =
+      "P2\n# CREATOR: hand\n3 1 # width height\n# maxval next\n100\n0 50\n# in the raster too\n100\n";
   EXPECT_EQ(row_values(bytes, meta(MapMode::kTrinary)), (std::vector<int>{100, -1, 0}));
 }
 
@@ -91,7 +93,8 @@ TEST(Nav2Map, ImageTopRowIsTheMapsLastRow) {
 }
 
 TEST(Nav2Map, PngGreyRgbAndAlphaAsMapServerAveragesThem) {
-  EXPECT_EQ(row_values(png(3, 1, PngFormat::kGray8, {0, 205, 254}), meta(MapMode::kTrinary)), (std::vector<int>{100, -1, 0}));
+  EXPECT_EQ(row_values(png(3, 1, PngFormat::kGray8, {0, 205, 254}), meta(MapMode::kTrinary)),
+            (std::vector<int>{100, -1, 0}));
   // RGB: the mean of the channels. (255, 0, 0) -> 85 -> occ 0.667 (occupied); (255, 255, 0) -> 170 -> 0.333
   // (unknown); (200, 250, 254) -> 234.67 -> 0.080 (free).
   EXPECT_EQ(row_values(png(3, 1, PngFormat::kRgb8, {255, 0, 0, 255, 255, 0, 200, 250, 254}), meta(MapMode::kTrinary)),
@@ -131,27 +134,35 @@ TEST(Nav2Map, LoadsTheYamlAndAnImageBesideIt) {
 }
 
 TEST(Nav2Map, ModeDefaultsToTrinaryAndNegateMayBeABoolean) {
-  const MapMetadata m = parse_map_yaml(map_yaml("a.pgm", 0.05, "[0, 0, 0]", 0, 0.65, 0.196, "") , "m.yaml", "/maps");
+  const MapMetadata m = parse_map_yaml(map_yaml("a.pgm", 0.05, "[0, 0, 0]", 0, 0.65, 0.196, ""), "m.yaml", "/maps");
   EXPECT_EQ(m.mode, MapMode::kTrinary);
   EXPECT_EQ(m.image_path, "/maps/a.pgm");
-  const std::string yes = "image: /abs/a.png\nresolution: 1\norigin: [0, 0, 0]\nnegate: true\noccupied_thresh: 0.6\nfree_thresh: 0.2\n";
+  const std::string yes =
+      "image: /abs/a.png\nresolution: 1\norigin: [0, 0, 0]\nnegate: true\noccupied_thresh: 0.6\nfree_thresh: 0.2\n";
   EXPECT_TRUE(parse_map_yaml(yes, "m.yaml", "/maps").negate);
   EXPECT_EQ(parse_map_yaml(yes, "m.yaml", "/maps").image_path, "/abs/a.png");
 }
 
 TEST(Nav2MapErrors, YamlKeysAndValuesNameTheFileLineAndFix) {
-  const auto parse = [](const std::string& text) { return stvl::test::invalid_argument_of([&] { parse_map_yaml(text, "map.yaml", "/m"); }); };
+  const auto parse = [](const std::string& text) {
+    return stvl::test::invalid_argument_of([&] { parse_map_yaml(text, "map.yaml", "/m"); });
+  };
   const std::string good = map_yaml("a.pgm");
-  EXPECT_THAT(parse(good + "resolutoin: 0.05\n"), HasSubstr("map.yaml:8: resolutoin: unknown key; did you mean 'resolution'?"));
+  EXPECT_THAT(parse(good + "resolutoin: 0.05\n"),
+              HasSubstr("map.yaml:8: resolutoin: unknown key; did you mean 'resolution'?"));
   EXPECT_THAT(parse(map_yaml("a.pgm", 0.0)), HasSubstr("map.yaml:2: resolution: must be a finite number in (0, 100]"));
   EXPECT_THAT(parse(map_yaml("a.pgm", -0.05)), HasSubstr("resolution: must be a finite number"));
-  EXPECT_THAT(parse("image: a.pgm\nresolution: .nan\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.2\n"),
-              HasSubstr("resolution: must be a finite number"));
+  EXPECT_THAT(
+      parse("image: a.pgm\nresolution: .nan\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.2\n"),
+      HasSubstr("resolution: must be a finite number"));
   EXPECT_THAT(parse(map_yaml("a.pgm", 0.05, "[.nan, 0, 0]")), HasSubstr("map.yaml:3: origin: x and y must be finite"));
   EXPECT_THAT(parse(map_yaml("a.pgm", 0.05, "[0, 0]")), HasSubstr("origin: expected [x, y, yaw]"));
-  EXPECT_THAT(parse(map_yaml("a.pgm", 0.05, "[0, 0, 0]", 0, 0.65, 0.196, "trinery")), HasSubstr("did you mean 'trinary'?"));
-  EXPECT_THAT(parse(map_yaml("a.pgm", 0.05, "[0, 0, 0]", 0, 0.3, 0.5)), HasSubstr("free_thresh: must lie in [0, occupied_thresh)"));
-  EXPECT_THAT(parse(map_yaml("a.pgm", 0.05, "[0, 0, 0]", 0, 1.5, 0.2)), HasSubstr("occupied_thresh: must lie in (0, 1]"));
+  EXPECT_THAT(parse(map_yaml("a.pgm", 0.05, "[0, 0, 0]", 0, 0.65, 0.196, "trinery")),
+              HasSubstr("did you mean 'trinary'?"));
+  EXPECT_THAT(parse(map_yaml("a.pgm", 0.05, "[0, 0, 0]", 0, 0.3, 0.5)),
+              HasSubstr("free_thresh: must lie in [0, occupied_thresh)"));
+  EXPECT_THAT(parse(map_yaml("a.pgm", 0.05, "[0, 0, 0]", 0, 1.5, 0.2)),
+              HasSubstr("occupied_thresh: must lie in (0, 1]"));
   EXPECT_THAT(parse("image: a.pgm\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n"),
               HasSubstr("negate: required key is missing"));
   EXPECT_THAT(parse(good + "negate: 1\n"), HasSubstr("negate: duplicate key"));
@@ -161,7 +172,9 @@ TEST(Nav2MapErrors, YamlKeysAndValuesNameTheFileLineAndFix) {
 }
 
 TEST(Nav2MapErrors, ImagesNameTheFileAndWhatIsWrong) {
-  const auto decode = [](const std::string& bytes) { return stvl::test::invalid_argument_of([&] { decode_map_image(bytes, "img.pgm"); }); };
+  const auto decode = [](const std::string& bytes) {
+    return stvl::test::invalid_argument_of([&] { decode_map_image(bytes, "img.pgm"); });
+  };
   EXPECT_THAT(decode("GIF89a..."), HasSubstr("img.pgm: not a PGM (P5 or P2) or PNG image (it starts 'GI')"));
   EXPECT_THAT(decode("P6\n1 1\n255\nabc"), HasSubstr("not a PGM"));
   EXPECT_THAT(decode(pgm_p5(4, 4, std::vector<int>(16, 0)).substr(0, 40)), HasSubstr("the PGM ends after"));
@@ -175,7 +188,8 @@ TEST(Nav2MapErrors, ImagesNameTheFileAndWhatIsWrong) {
   EXPECT_THAT(decode("P5\n20000 20000\n255\n"), HasSubstr("20000 x 20000 pixels exceed the limit of 40000000 cells"));
   const std::string png_bytes = encode_png(4, 4, PngFormat::kGray8, std::vector<std::uint8_t>(16, 0).data());
   EXPECT_THAT(decode(png_bytes.substr(0, png_bytes.size() - 20)), HasSubstr("corrupt PNG"));
-  EXPECT_THAT(stvl::test::invalid_argument_of([&] { decode_map_image(png_bytes, "big.png", 15); }), HasSubstr("4 x 4 pixels exceed the limit of 15"));
+  EXPECT_THAT(stvl::test::invalid_argument_of([&] { decode_map_image(png_bytes, "big.png", 15); }),
+              HasSubstr("4 x 4 pixels exceed the limit of 15"));
 }
 
 TEST(Nav2MapErrors, LoadNamesTheMissingImageAndRefusesHugeOnesFromTheirHeader) {
@@ -185,8 +199,10 @@ TEST(Nav2MapErrors, LoadNamesTheMissingImageAndRefusesHugeOnesFromTheirHeader) {
               HasSubstr(yaml + ": image: cannot read '" + (dir.path() / "missing.pgm").string() + "'"));
   dir.write("huge.pgm", "P5\n# a comment\n20000 20000\n255\n");  // the raster left out: only the header is read
   const std::string huge = dir.write("huge.yaml", map_yaml("huge.pgm"));
-  EXPECT_THAT(stvl::test::invalid_argument_of([&] { load_nav2_map(huge); }), HasSubstr("20000 x 20000 pixels exceed the limit"));
-  EXPECT_THAT(stvl::test::invalid_argument_of([&] { load_nav2_map((dir.path() / "nope.yaml").string()); }), HasSubstr("cannot read the map's YAML file"));
+  EXPECT_THAT(stvl::test::invalid_argument_of([&] { load_nav2_map(huge); }),
+              HasSubstr("20000 x 20000 pixels exceed the limit"));
+  EXPECT_THAT(stvl::test::invalid_argument_of([&] { load_nav2_map((dir.path() / "nope.yaml").string()); }),
+              HasSubstr("cannot read the map's YAML file"));
 }
 
 }  // namespace

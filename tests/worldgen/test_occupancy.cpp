@@ -51,21 +51,13 @@ TEST(MergeOccupied, CoversExactlyTheOccupiedCellsWithDisjointRectangles) {
 }
 
 TEST(MergeOccupied, WallsBecomeFewBoxes) {
-  const OccupancyGrid g = grid_from_rows({"##########",
-                                          "#........#",
-                                          "#...##...#",
-                                          "#...##...#",
-                                          "##########"});
+  const OccupancyGrid g = grid_from_rows({"##########", "#........#", "#...##...#", "#...##...#", "##########"});
   EXPECT_EQ(merge_occupied(g).size(), 5u);  // bottom row, two sides, the pillar, the top row
 }
 
 TEST(Clearance, IsALowerBoundOfTheDistanceToTheNearestOccupiedSquare) {
-  const OccupancyGrid g = grid_from_rows({"#.........",
-                                          "..........",
-                                          "....#.....",
-                                          "..........",
-                                          ".......#..",
-                                          ".........."}, 0.1);
+  const OccupancyGrid g =
+      grid_from_rows({"#.........", "..........", "....#.....", "..........", ".......#..", ".........."}, 0.1);
   const std::vector<float> clearance = clearance_m(g);
   for (int r = 0; r < g.frame.height; ++r)
     for (int c = 0; c < g.frame.width; ++c) {

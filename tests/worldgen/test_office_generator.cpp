@@ -65,7 +65,8 @@ TEST(OfficeGenerator, WorldsLoadWithoutWarningsAndEveryObstacleIsANamedPrimitive
       EXPECT_EQ(group, wall ? 0 : 1) << name;
       kinds.insert(name.substr(0, name.find('_')));
     }
-    EXPECT_TRUE(kinds.count("desk") && kinds.count("person") && kinds.count("extinguisher") && kinds.count("door")) << seed;
+    EXPECT_TRUE(kinds.count("desk") && kinds.count("person") && kinds.count("extinguisher") && kinds.count("door"))
+        << seed;
     EXPECT_GT(w.path.length_m, 12.0) << w.summary;
     EXPECT_LT(w.path.length_m, 30.0) << w.summary;
   }
@@ -80,7 +81,8 @@ TEST(OfficeGenerator, PathIsClearOfEverythingOnTheInflatedGrid) {
       EXPECT_TRUE(w.drive.segment_clear(p[i - 1], p[i], w.drive.radius_m)) << "seed " << seed << " leg " << i;
     for (std::size_t i = 1; i < p.size(); ++i)
       for (int k = 0; k <= 50; ++k)
-        EXPECT_GE(test::distance_to_occupied(w.grid, p[i - 1] + (p[i] - p[i - 1]) * (k / 50.0)), robot_radius()) << seed;
+        EXPECT_GE(test::distance_to_occupied(w.grid, p[i - 1] + (p[i] - p[i - 1]) * (k / 50.0)), robot_radius())
+            << seed;
   }
 }
 

@@ -16,8 +16,8 @@
 namespace stvl::worldgen {
 namespace {
 
-using ::testing::HasSubstr;
 using test::distance_to_occupied;
+using ::testing::HasSubstr;
 
 // A 6 x 4 m room at 0.05 m, walls one cell thick, with a 0.6 m pillar in its middle.
 OccupancyGrid room_with_pillar() {
@@ -113,7 +113,8 @@ TEST(PlannerErrors, StartsAndGoalsThatCannotBeDriven) {
   const auto plan = [&](Eigen::Vector2d s, Eigen::Vector2d t) {
     return stvl::test::invalid_argument_of([&] { plan_path(d, g.cells, s, t, "--start", "--goal"); });
   };
-  EXPECT_THAT(plan({0.8, 2.0}, {5.2, 2.0}), HasSubstr("--goal (5.200, 2.000) m: unreachable from --start (0.800, 2.000) m"));
+  EXPECT_THAT(plan({0.8, 2.0}, {5.2, 2.0}),
+              HasSubstr("--goal (5.200, 2.000) m: unreachable from --start (0.800, 2.000) m"));
   EXPECT_THAT(plan({3.0, 2.0}, {1.0, 1.0}), HasSubstr("--start (3.000, 2.000) m: inside a wall"));
   EXPECT_THAT(plan({-1.0, 2.0}, {1.0, 1.0}), HasSubstr("--start (-1.000, 2.000) m: outside the map"));
   EXPECT_THAT(plan({1.0, 1.0}, {1.0, 3.5}), HasSubstr("--goal (1.000, 3.500) m: in unknown space"));

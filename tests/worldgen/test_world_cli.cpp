@@ -13,8 +13,8 @@ namespace stvl::worldgen {
 namespace {
 
 namespace fs = std::filesystem;
-using ::testing::HasSubstr;
 using stvl::test::quoted;
+using ::testing::HasSubstr;
 
 const std::string kOfficeFloor = std::string(STVL_SOURCE_DIR) + "/worlds/maps/office_floor.yaml";
 
@@ -39,7 +39,8 @@ TEST_F(WorldCli, GenerateWritesTheSameFilesForTheSameSeed) {
   const auto again = run("generate --seed 5 --out " + quoted(out("b")));
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_THAT(again.output, HasSubstr("office seed 5: 20.0 x 12.0 m"));
-  for (const char* file : {"world.xml", "scenario.yaml", "robot.xml"}) EXPECT_EQ(read(out("a") + "/" + file), read(out("b") + "/" + file)) << file;
+  for (const char* file : {"world.xml", "scenario.yaml", "robot.xml"})
+    EXPECT_EQ(read(out("a") + "/" + file), read(out("b") + "/" + file)) << file;
   ASSERT_EQ(run("generate --seed 6 --out " + quoted(out("c"))).exit_code, 0);
   EXPECT_NE(read(out("a") + "/world.xml"), read(out("c") + "/world.xml"));
   EXPECT_EQ(read(out("a") + "/robot.xml"), read(std::string(STVL_SOURCE_DIR) + "/worlds/robot.xml"));
@@ -48,7 +49,8 @@ TEST_F(WorldCli, GenerateWritesTheSameFilesForTheSameSeed) {
 TEST_F(WorldCli, FromMapWritesWorldRobotAndScenarioAndReplacesTheFolderWhole) {
   fs::create_directories(out("m"));
   dir_.write("m/stale.txt", "from an earlier run");
-  const auto r = run("from-map " + quoted(kOfficeFloor) + " --out " + quoted(out("m")) + " --start=-0.3,1.0 --goal 7.5,-1.0");
+  const auto r =
+      run("from-map " + quoted(kOfficeFloor) + " --out " + quoted(out("m")) + " --start=-0.3,1.0 --goal 7.5,-1.0");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::is_regular_file(out("m") + "/world.xml"));
   EXPECT_TRUE(fs::is_regular_file(out("m") + "/robot.xml"));
@@ -66,9 +68,12 @@ TEST_F(WorldCli, BadMapsAndPointsExitTwoAndLeaveNothingBehind) {
     std::string args, message;
   } cases[] = {
       {"from-map " + quoted(m), "bad.pgm: the PGM ends after 2 of its 16 pixels (truncated)"},
-      {"from-map " + quoted(dir_.write("nan.yaml", test::map_yaml("bad.pgm", 0.05, "[.nan, 0, 0]"))), "nan.yaml:3: origin: x and y must be finite"},
-      {"from-map " + quoted(dir_.write("zero.yaml", test::map_yaml("bad.pgm", 0.0))), "zero.yaml:2: resolution: must be a finite number"},
-      {"from-map " + quoted(dir_.write("key.yaml", test::map_yaml("bad.pgm") + "orign: [0, 0, 0]\n")), "did you mean 'origin'?"},
+      {"from-map " + quoted(dir_.write("nan.yaml", test::map_yaml("bad.pgm", 0.05, "[.nan, 0, 0]"))),
+       "nan.yaml:3: origin: x and y must be finite"},
+      {"from-map " + quoted(dir_.write("zero.yaml", test::map_yaml("bad.pgm", 0.0))),
+       "zero.yaml:2: resolution: must be a finite number"},
+      {"from-map " + quoted(dir_.write("key.yaml", test::map_yaml("bad.pgm") + "orign: [0, 0, 0]\n")),
+       "did you mean 'origin'?"},
       {"from-map " + quoted(dir_.write("gone.yaml", test::map_yaml("gone.pgm"))), "image: cannot read"},
       {"from-map " + quoted(kOfficeFloor) + " --start 2.0,0.15", "--start (2.000, 0.150) m: inside a wall"},
       {"from-map " + quoted(kOfficeFloor) + " --goal 50,50", "--goal (50.000, 50.000) m: outside the map"},

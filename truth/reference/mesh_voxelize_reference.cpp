@@ -59,7 +59,8 @@ std::vector<VoxelKey> voxelize_triangles(const std::vector<detail::Triangle>& tr
   std::vector<VoxelKey> out;
   if (region_W.isEmpty()) return out;
   Eigen::Vector3i lo, hi;
-  for (int i = 0; i < 3; ++i) lo[i] = index_of(region_W.min()[i] - kPad_m, s), hi[i] = index_of(region_W.max()[i] + kPad_m, s);
+  for (int i = 0; i < 3; ++i)
+    lo[i] = index_of(region_W.min()[i] - kPad_m, s), hi[i] = index_of(region_W.max()[i] + kPad_m, s);
   for (int x = lo.x(); x <= hi.x(); ++x)
     for (int y = lo.y(); y <= hi.y(); ++y)
       for (int z = lo.z(); z <= hi.z(); ++z) {
@@ -87,7 +88,8 @@ std::vector<CellKey> footprint_triangles(const std::vector<detail::Triangle>& tr
                                        Eigen::Vector3d((x + 1) * s + kPad_m, (y + 1) * s + kPad_m, max_z_m + kPad_m));
       bool hit = false;
       for (const auto& t : triangles_W) hit = hit || triangle_meets_box(t, column);
-      if (!hit && closed) hit = inside(triangles_W, Eigen::Vector3d((x + 0.5) * s, (y + 0.5) * s, 0.5 * (min_z_m + max_z_m)));
+      if (!hit && closed)
+        hit = inside(triangles_W, Eigen::Vector3d((x + 0.5) * s, (y + 0.5) * s, 0.5 * (min_z_m + max_z_m)));
       if (hit) out.push_back({x, y});
     }
   return out;
