@@ -88,6 +88,11 @@ void read_filter(YamlMap filter, Scenario& s);
 // An observation's model_type and sensor_frame (STVL's clearing model and the frame it is built in).
 void read_clearing_model(YamlMap& observation, mapping::ObservationSource& src);
 
+// scenario_evaluation.cpp: the `evaluation` section (its cadence, windows and tolerances) and the `checks`
+// section (each check's threshold), into s.evaluation and s.checks.
+void read_evaluation(YamlMap e, Scenario& s);
+void read_checks(YamlMap c, Scenario& s);
+
 // scenario_robot.cpp: robot.urdf with package_path, wheels and drive (the robot built, sim.robot and sim.drive set
 // from it; without urdf those keys are errors); a camera's `frame` (a URDF link) as its mount; the URDF's
 // footprint where the scenario and its ROS file give none.
