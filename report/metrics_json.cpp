@@ -30,6 +30,20 @@ nlohmann::json stage_stats(std::vector<double> ms) {
   return {{"mean", mean}, {"p50", at(0.5)}, {"p95", at(0.95)}};
 }
 
+nlohmann::json phases_json(const evaluation::PhaseTimes& p) {
+  const double frames = std::max<double>(1.0, static_cast<double>(p.frames));
+  nlohmann::json j = {{"frames", p.frames}, {"evaluations", p.evaluations}};
+  for (const auto& [name, ms] : {std::pair<const char*, double>{"observe", p.observe_ms},
+                                 {"clearing", p.clearing_ms},
+                                 {"truth_update", p.truth_ms},
+                                 {"mapped", p.mapped_ms},
+                                 {"observed", p.observed_ms},
+                                 {"costmap", p.costmap_ms},
+                                 {"phantoms", p.phantoms_ms}})
+    j[name] = {{"total", ms}, {"per_frame", ms / frames}};
+  return j;
+}
+
 namespace {
 
 nlohmann::json mean_figures_json(const evaluation::EvaluationMean& m);
@@ -91,19 +105,6 @@ nlohmann::json mean_figures_json(const evaluation::EvaluationMean& m) {
 }
 
 // Totals over the run in ms, and per frame.
-nlohmann::json phases_json(const evaluation::PhaseTimes& p) {
-  const double frames = std::max<double>(1.0, static_cast<double>(p.frames));
-  nlohmann::json j = {{"frames", p.frames}, {"evaluations", p.evaluations}};
-  for (const auto& [name, ms] : {std::pair<const char*, double>{"observe", p.observe_ms},
-                                 {"clearing", p.clearing_ms},
-                                 {"truth_update", p.truth_ms},
-                                 {"mapped", p.mapped_ms},
-                                 {"observed", p.observed_ms},
-                                 {"costmap", p.costmap_ms},
-                                 {"phantoms", p.phantoms_ms}})
-    j[name] = {{"total", ms}, {"per_frame", ms / frames}};
-  return j;
-}
 
 // The final snapshot also says where its phantoms are.
 nlohmann::json final_json(const evaluation::EvaluationSnapshot& s) {

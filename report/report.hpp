@@ -24,6 +24,8 @@ double mean_of(const std::vector<T>& values) {
 }
 // Mean, p50 and p95 of per-frame milliseconds (zeros when empty).
 nlohmann::json stage_stats(std::vector<double> ms);
+// The evaluation's wall-clock phases: per phase its total and per-frame milliseconds (metrics.json and --profile).
+nlohmann::json phases_json(const evaluation::PhaseTimes& phases);
 // Every figure of the run; timings under "timing_ms" (mean, p50, p95 per stage) and "real_time_factor".
 nlohmann::json metrics_json(const RunResult& result);
 std::string junit_xml(const RunResult& result);
