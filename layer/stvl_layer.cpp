@@ -75,7 +75,10 @@ void StvlLayer::update(std::shared_ptr<const Observation> observation, const std
   Sensor& sensor = *sensors_.at(o.sensor_index);
   const auto start = SteadyClock::now();
   const double cpu_start_ms = process_cpu_ms();
-  report = UpdateReport{};
+  report.updates.clear();  // cleared, not replaced: the vectors keep their capacity from frame to frame
+  report.cleared_keys.clear();
+  report.footprint_voxels_cleared = report.reapplied_readings = 0;
+  report.mark_ms = 0.0;
   T_world_base_ = o.T_world_base;
   const double frequency_hz = config_.map.update_frequency_hz;
   const auto tick_s = [&](std::size_t k) { return static_cast<double>(k) / frequency_hz; };

@@ -138,15 +138,18 @@ bool in_outage(const CameraConfig& camera, double time_s) {
   return false;
 }
 
-layer::StvlLayerConfig layer_config(const PipelineConfig& config) {
-  layer::StvlLayerConfig layer{config.map, config.nav2_costmap, {}};
-  for (const auto& c : config.cameras) layer.sensors.push_back({c.name, c.intrinsics.rate_hz, c.sources});
-  return layer;
+// Each camera as a sensor of the layer: its name, rate and sources.
+static std::vector<layer::SensorConfig> layer_sensors(const PipelineConfig& config) {
+  std::vector<layer::SensorConfig> sensors;
+  for (const auto& c : config.cameras) sensors.push_back({c.name, c.intrinsics.rate_hz, c.sources});
+  return sensors;
 }
 
-layer::HeightBand marking_band(const PipelineConfig& config) {
-  return layer::marking_band(layer_config(config).sensors);
+layer::StvlLayerConfig layer_config(const PipelineConfig& config) {
+  return {config.map, config.nav2_costmap, layer_sensors(config)};
 }
+
+layer::HeightBand marking_band(const PipelineConfig& config) { return layer::marking_band(layer_sensors(config)); }
 
 filter::FilterConfig decimation_config(filter::FilterConfig config) {
   config.passthrough_enabled = false;
