@@ -54,6 +54,7 @@ struct Layout {
   std::vector<std::string> files;
   bool file_compression = false, message_compression = false;
   std::vector<std::string> warnings;
+  std::vector<Ros2Topic> topics;  // as metadata.yaml lists them (a topic without messages is in no file)
 };
 
 // The storage files a rosbag2 folder's metadata.yaml names, and its compression; throws for a missing file or a
@@ -76,7 +77,8 @@ Layout layout_from_metadata(const std::string& path, const fs::path& yaml) {
     }
   };
   const std::string version = text("version");
-  if (!version.empty() && version.find_first_not_of("0123456789") == std::string::npos && std::stoi(version) > 9)
+  if (!version.empty() && version.size() < 6 && version.find_first_not_of("0123456789") == std::string::npos &&
+      std::stoi(version) > 9)
     layout.warnings.push_back(yaml.string() + ": metadata version " + version +
                               " is newer than 9, the newest known; read as version 9");
   const std::string mode = text("compression_mode"), format = text("compression_format");
@@ -88,6 +90,16 @@ Layout layout_from_metadata(const std::string& path, const fs::path& yaml) {
   } else if (!mode.empty() && mode != "NONE") {
     throw std::invalid_argument(yaml.string() + ": unknown compression_mode '" + mode + "' (expected FILE or MESSAGE)");
   }
+  const auto topics = info["topics_with_message_count"];
+  if (topics && topics.IsSequence())
+    for (const auto& t : topics) {
+      const auto m = t["topic_metadata"];
+      if (!m || !m["name"] || !m["name"].IsScalar()) continue;
+      const auto scalar = [&](const char* key) {
+        return m[key] && m[key].IsScalar() ? m[key].as<std::string>() : std::string();
+      };
+      layout.topics.push_back(Ros2Topic{scalar("name"), scalar("type"), 0, scalar("serialization_format"), "", ""});
+    }
   const auto files = info["relative_file_paths"];
   if (files && files.IsSequence())
     for (const auto& f : files) layout.files.push_back((fs::path(path) / f.as<std::string>()).string());
@@ -204,6 +216,7 @@ Ros2Source::Ros2Source(const std::string& path) : path_(path) {
   for (auto& [name, t] : topics_) t.count = 0;
   scan(nullptr, [](const Ros2Topic&, std::int64_t, const std::uint8_t*, std::size_t) { return true; });
   counted_ = true;
+  for (const auto& t : layout.topics) topics_.emplace(t.name, t);
 }
 
 Ros2Source::~Ros2Source() = default;
