@@ -118,54 +118,23 @@ MsgType builtin_time() {
   return t;
 }
 
-// A line of '=' (the separator of a ros2msg text's sections).
-bool is_separator(const std::string& line) {
-  return line.size() >= 3 && line.find_first_not_of('=') == std::string::npos;
-}
-
-std::string trimmed(const std::string& line) {
-  const auto b = line.find_first_not_of(" \t\r"), e = line.find_last_not_of(" \t\r");
-  return b == std::string::npos ? "" : line.substr(b, e - b + 1);
-}
-
-// "pkg/srv/X_Event" from a .srv text: request and response parsed apart (the sections after the response serve
-// both), then the event as rosidl_parser's Service derives it.
+// "pkg/srv/X_Event" from a .srv text (request, "---", response, then the sections of the types they use), which
+// the parser gives as the types pkg/srv/X_Request and X_Response; the event is rosidl_parser's Service's.
 TypeHash service_event_hash(const std::string& type, const std::string& text) {
   const std::string service = type.substr(0, type.size() - std::string("_Event").size());
-  std::string request, rest;
-  bool in_request = true;
-  std::size_t begin = 0;
-  while (begin < text.size()) {
-    auto end = text.find('\n', begin);
-    if (end == std::string::npos) end = text.size();
-    const std::string line = text.substr(begin, end - begin);
-    if (in_request && trimmed(line) == "---") {
-      in_request = false;
-    } else {
-      if (in_request && is_separator(trimmed(line))) return {"", type + ": no '---' line before its sections"};
-      (in_request ? request : rest) += line + "\n";
-    }
-    begin = end + 1;
-  }
-  if (in_request) return {"", type + ": the service text has no '---' line"};
-  MsgSchema request_schema, response_schema;
+  MsgSchema event;
   try {
-    request_schema = parse_ros2msg(service + "_Request", request);
-    response_schema = parse_ros2msg(service + "_Response", rest);
+    event = parse_ros2msg(type, text);
   } catch (const std::invalid_argument& e) {
     return {"", type + ": " + e.what()};
   }
-  MsgSchema event;
-  MsgType main;
-  main.name = type;
-  main.fields = {field("info", "service_msgs/msg/ServiceEventInfo"),
-                 field("request", service + "_Request", MsgField::Array::kBounded, 1),
-                 field("response", service + "_Response", MsgField::Array::kBounded, 1)};
-  event.types = {main, request_schema.types[0], response_schema.types[0]};
-  for (std::size_t i = 1; i < response_schema.types.size(); ++i) event.types.push_back(response_schema.types[i]);
-  const auto known = types_by_name(type, event);
-  if (!known.count("service_msgs/msg/ServiceEventInfo")) event.types.push_back(service_event_info());
-  if (!known.count("builtin_interfaces/msg/Time")) event.types.push_back(builtin_time());
+  const auto parts = types_by_name(type, event);
+  if (!parts.count(service + "_Response")) return {"", type + ": the service text has no '---' line"};
+  event.types[0].fields = {field("info", "service_msgs/msg/ServiceEventInfo"),
+                           field("request", service + "_Request", MsgField::Array::kBounded, 1),
+                           field("response", service + "_Response", MsgField::Array::kBounded, 1)};
+  if (!parts.count("service_msgs/msg/ServiceEventInfo")) event.types.push_back(service_event_info());
+  if (!parts.count("builtin_interfaces/msg/Time")) event.types.push_back(builtin_time());
   return ros2_type_hash(type, event);
 }
 
