@@ -2,6 +2,7 @@
 
 #include <openssl/evp.h>
 
+#include <cstdint>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -30,13 +31,6 @@ int primitive_type_id(const std::string& type) {
   return it->second;
 }
 
-// "pkg/Type" -> "pkg/msg/Type"; "pkg/ns/Type" unchanged.
-std::string full_name(const std::string& type) {
-  const auto slash = type.find('/');
-  if (slash == std::string::npos || type.find('/', slash + 1) != std::string::npos) return type;
-  return type.substr(0, slash) + "/msg/" + type.substr(slash + 1);
-}
-
 struct FieldType {
   int type_id = 0;
   std::uint32_t capacity = 0, string_capacity = 0;
@@ -53,7 +47,7 @@ FieldType field_type(const MsgField& f) {
     }
   } else {
     t.type_id = kFieldTypeNested;
-    t.nested_type_name = full_name(f.type);
+    t.nested_type_name = full_msg_type(f.type);
   }
   switch (f.array) {
     case MsgField::Array::kNone: break;
@@ -91,7 +85,7 @@ std::string individual_json(const std::string& name, const MsgType& type) {
 std::map<std::string, const MsgType*> types_by_name(const std::string& type, const MsgSchema& schema) {
   std::map<std::string, const MsgType*> by_name;
   for (std::size_t i = 0; i < schema.types.size(); ++i)
-    by_name.emplace(i == 0 ? full_name(type) : full_name(schema.types[i].name), &schema.types[i]);
+    by_name.emplace(i == 0 ? full_msg_type(type) : full_msg_type(schema.types[i].name), &schema.types[i]);
   return by_name;
 }
 
@@ -150,14 +144,14 @@ std::string ros2_type_description_json(const std::string& type, const MsgSchema&
   // Every type the main one uses, transitively.
   std::set<std::string> referenced;
   std::vector<const MsgType*> pending = {&schema.types[0]};
-  std::vector<std::string> users = {full_name(type)};
+  std::vector<std::string> users = {full_msg_type(type)};
   while (!pending.empty()) {
     const MsgType* t = pending.back();
     const std::string user = users.back();
     pending.pop_back(), users.pop_back();
     for (const auto& f : t->fields) {
       if (f.primitive) continue;
-      const std::string name = full_name(f.type);
+      const std::string name = full_msg_type(f.type);
       if (!referenced.insert(name).second) continue;
       const auto it = by_name.find(name);
       if (it == by_name.end())
@@ -165,7 +159,7 @@ std::string ros2_type_description_json(const std::string& type, const MsgSchema&
       pending.push_back(it->second), users.push_back(name);
     }
   }
-  std::string json = "{\"type_description\": " + individual_json(full_name(type), schema.types[0]) +
+  std::string json = "{\"type_description\": " + individual_json(full_msg_type(type), schema.types[0]) +
                      ", \"referenced_type_descriptions\": [";
   bool first = true;
   for (const auto& name : referenced) {  // std::set: sorted by name, as Python's sorted()
@@ -187,7 +181,7 @@ TypeHash ros2_type_hash_of_schema(const std::string& type, const std::string& en
   if (encoding != "ros2msg") return {"", type + ": a schema in " + encoding + ", not ros2msg"};
   if (text.rfind("IDL: ", 0) == 0 || text.find("\nIDL: ") != std::string::npos)
     return {"", type + ": the schema has IDL sections"};
-  const std::string name = full_name(type);
+  const std::string name = full_msg_type(type);
   if (name.find("/action/") != std::string::npos) return {"", type + ": action types are not supported"};
   if (name.find("/srv/") != std::string::npos) {
     if (!ends_with(name, "_Event")) return {"", type + ": of a service's types only events are supported"};
