@@ -13,6 +13,7 @@
 #include "recording/detail.hpp"
 #include "recording/mcap.hpp"
 #include "recording/ros2_msgs.hpp"
+#include "recording/type_hash.hpp"
 
 namespace stvl::recording::detail {
 namespace {
@@ -215,6 +216,7 @@ class Ros2BagWriter final : public BagSink {
   struct Topic {
     std::uint16_t channel = 0;
     std::string type;
+    std::string type_hash;  // RIHS01 (type_hash.hpp); empty when it cannot be computed, as rosbag2 writes it
     bool latched = false;
     std::uint64_t count = 0;
     std::uint32_t sequence = 0;
@@ -247,6 +249,8 @@ class Ros2BagWriter final : public BagSink {
       if (!schema) schema = mcap_->add_schema(type, "ros2msg", ros2_definition(type));
       Topic tp;
       tp.type = type, tp.latched = latched;
+      // As rosbag2 writes it; our definitions are ROS 2's own field lists, so the hash is ROS 2's.
+      tp.type_hash = ros2_type_hash_of_schema(type, "ros2msg", ros2_definition(type)).rihs01;
       tp.channel = mcap_->add_channel(schema, topic, "cdr", {{"offered_qos_profiles", qos_yaml(latched, "")}});
       it = topics_.emplace(topic, tp).first;
     }
@@ -264,7 +268,9 @@ class Ros2BagWriter final : public BagSink {
       total += t.count;
       topics += "    - topic_metadata:\n        name: " + name + "\n        type: " + t.type +
                 "\n        serialization_format: cdr\n        offered_qos_profiles:\n" +
-                qos_yaml(t.latched, "          ") + "\n      message_count: " + std::to_string(t.count) + "\n";
+                qos_yaml(t.latched, "          ") +
+                "\n        type_description_hash: " + (t.type_hash.empty() ? "\"\"" : t.type_hash) +
+                "\n      message_count: " + std::to_string(t.count) + "\n";
     }
     const std::string times = "      starting_time:\n        nanoseconds_since_epoch: " + std::to_string(start) +
                               "\n      duration:\n        nanoseconds: " + std::to_string(duration) + "\n";

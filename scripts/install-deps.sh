@@ -14,7 +14,7 @@ runtime=(
   libopenvdb-dev libboost-iostreams-dev
   librosbag-storage-dev libroscpp-core-dev libsensor-msgs-dev libtf2-msgs-dev libnav-msgs-dev
   libgeometry-msgs-dev libstd-msgs-dev
-  libzstd-dev liblz4-dev libsqlite3-dev
+  libzstd-dev liblz4-dev libsqlite3-dev libssl-dev
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev libtinyxml2-dev
   libjs-chart.js libjs-three
 )
