@@ -31,6 +31,18 @@ bool ends_with(const std::string& text, const std::string& tail) {
 
 double to_seconds(const ros::Time& t) { return t.toSec(); }
 
+// Every topic of a bag with its type and message count (`use` left empty).
+std::vector<TopicSummary> bag_topics(rosbag::Bag& bag) {
+  std::map<std::string, TopicSummary> topics;
+  rosbag::View all(bag);
+  for (const auto* c : all.getConnections())
+    topics[c->topic] = TopicSummary{c->topic, c->datatype, 0, "ros1", "ros1msg", "", ""};
+  for (auto& [name, t] : topics) t.messages = rosbag::View(bag, rosbag::TopicQuery(name)).size();
+  std::vector<TopicSummary> out;
+  for (auto& [name, t] : topics) out.push_back(t);
+  return out;
+}
+
 class BagRecording final : public Recording {
  public:
   BagRecording(const std::string& path, const RecordingOptions& options) : options_(options) {
@@ -131,6 +143,13 @@ class BagRecording final : public Recording {
     if (librealsense) read_depth_units(types);
     read_depth_frames();
     read_poses(types);
+    info_.topics = bag_topics(bag_);
+    for (auto& t : info_.topics) {
+      if (t.name == depth) t.use = "depth";
+      else if (t.name == info_.info_topic) t.use = "camera_info";
+      else if (!options_.odom_topic.empty() && t.name == options_.odom_topic) t.use = "odometry";
+      else if ((t.name == "/tf" || t.name == "/tf_static") && t.type == "tf2_msgs/TFMessage") t.use = t.name.substr(1);
+    }
     // The first frame's pose now, so that a recording without one fails at open.
     Eigen::Isometry3d T_fixed_camera, T_fixed_base;
     pose_at(info_.start_time_s, 0, T_fixed_camera, T_fixed_base);
@@ -310,6 +329,18 @@ class BagRecording final : public Recording {
 
 std::unique_ptr<Recording> open_bag(const std::string& path, const RecordingOptions& options) {
   return std::make_unique<BagRecording>(path, options);
+}
+
+RecordingContents list_bag(const std::string& path) {
+  RecordingContents contents{path, "ros1 bag", {path}, {}, {}};
+  try {
+    rosbag::Bag bag;
+    bag.open(path, rosbag::bagmode::Read);
+    contents.topics = bag_topics(bag);
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(path + ": cannot read the bag (truncated or corrupt?): " + e.what());
+  }
+  return contents;
 }
 
 }  // namespace stvl::recording::detail

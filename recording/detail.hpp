@@ -15,6 +15,9 @@ std::unique_ptr<Recording> open_bag(const std::string& path, const RecordingOpti
 std::unique_ptr<Recording> open_png_folder(const std::string& path, const RecordingOptions& options);
 // rosbag2: a folder with metadata.yaml, a bare .mcap or a .db3 (ros2_reader.cpp).
 std::unique_ptr<Recording> open_ros2(const std::string& path, const RecordingOptions& options);
+// What a ROS 1 bag (bag_reader.cpp) or rosbag2 storage (ros2_reader.cpp) holds.
+RecordingContents list_bag(const std::string& path);
+RecordingContents list_ros2(const std::string& path);
 // A rosbag2 folder with one MCAP file, written as folder.active until close() (ros2_bag_writer.cpp).
 std::unique_ptr<BagSink> make_ros2_bag_writer(const std::string& folder, BagCompression compression);
 

@@ -20,27 +20,52 @@ const char* to_string(PoseSource source) {
   return "?";
 }
 
-std::unique_ptr<Recording> open_recording(const std::string& path, const RecordingOptions& options) {
+namespace {
+
+enum class Kind { kRos1, kRos2, kPngFolder };
+
+// What `path` holds, by content; throws std::invalid_argument for anything that is not a recording.
+Kind kind_of(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
     bool rosbag2 = fs::exists(fs::path(path) / "metadata.yaml", ec);
     for (const auto& e : fs::directory_iterator(path, ec))
       rosbag2 = rosbag2 || e.path().extension() == ".mcap" || e.path().extension() == ".db3";
-    return rosbag2 ? detail::open_ros2(path, options) : detail::open_png_folder(path, options);
+    return rosbag2 ? Kind::kRos2 : Kind::kPngFolder;
   }
   if (!fs::exists(path, ec)) throw std::invalid_argument(path + ": no such file or folder");
   std::ifstream in(path, std::ios::binary);
   char magic[16] = {};
   in.read(magic, 16);
   const std::string head(magic, static_cast<std::size_t>(in.gcount()));
-  if (head.compare(0, 13, "#ROSBAG V2.0\n") == 0) return detail::open_bag(path, options);
-  if (head.compare(0, 5, "\x89MCAP") == 0 || head.compare(0, 15, "SQLite format 3") == 0)
-    return detail::open_ros2(path, options);
+  if (head.compare(0, 13, "#ROSBAG V2.0\n") == 0) return Kind::kRos1;
+  if (head.compare(0, 5, "\x89MCAP") == 0 || head.compare(0, 15, "SQLite format 3") == 0) return Kind::kRos2;
   throw std::invalid_argument(
       path +
       ": not a recording: neither a ROS 1 bag ('#ROSBAG V2.0'), an MCAP file (bad magic: "
       "no \\x89MCAP0\\r\\n), a rosbag2 sqlite3 file, nor a folder of depth PNGs or rosbag2 files");
+}
+
+}  // namespace
+
+std::unique_ptr<Recording> open_recording(const std::string& path, const RecordingOptions& options) {
+  switch (kind_of(path)) {
+    case Kind::kRos1: return detail::open_bag(path, options);
+    case Kind::kRos2: return detail::open_ros2(path, options);
+    case Kind::kPngFolder: break;
+  }
+  return detail::open_png_folder(path, options);
+}
+
+RecordingContents list_recording(const std::string& path) {
+  switch (kind_of(path)) {
+    case Kind::kRos1: return detail::list_bag(path);
+    case Kind::kRos2: return detail::list_ros2(path);
+    case Kind::kPngFolder: break;
+  }
+  const auto recording = detail::open_png_folder(path, RecordingOptions{});
+  return RecordingContents{path, recording->info().format, {path}, {}, {}};
 }
 
 namespace detail {

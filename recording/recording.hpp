@@ -15,9 +15,11 @@
 #include <Eigen/Geometry>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sensors/camera.hpp"
 #include "sensors/depth_image.hpp"
@@ -50,6 +52,16 @@ enum class PoseSource {
 };
 const char* to_string(PoseSource source);
 
+// One topic of a bag and what a replay makes of it.
+struct TopicSummary {
+  std::string name, type;  // type as recorded ("sensor_msgs/msg/Image", "sensor_msgs/Image" in ROS 1)
+  std::uint64_t messages = 0;
+  std::string message_encoding;  // rosbag2: "cdr", "json", ...; ROS 1: "ros1"
+  std::string schema_encoding;   // rosbag2: "ros2msg", "ros2idl", ...; "" where none is recorded; ROS 1: "ros1msg"
+  std::string use;               // "depth", "camera_info", "tf", "tf_static", "odometry"; "" = not read
+  std::string note;              // why a topic is not read, where that is worth saying
+};
+
 struct RecordingInfo {
   std::string path;
   std::string format;                   // "ros1 bag (realsense-ros)", "ros1 bag (librealsense)", "png folder"
@@ -62,6 +74,7 @@ struct RecordingInfo {
   std::size_t frame_count = 0;              // depth frames in the recording
   sensors::CameraIntrinsics intrinsics;     // of the first frame (min/max range from the options)
   double start_time_s = 0, end_time_s = 0;  // recorded stamps of the first and last depth frame
+  std::vector<TopicSummary> topics;         // bags: every topic, read or not, by name
 };
 
 struct RecordedFrame {
@@ -86,5 +99,15 @@ class Recording {
 
 // A bag file (by its content, not its name) or a folder; throws std::invalid_argument for anything else.
 std::unique_ptr<Recording> open_recording(const std::string& path, const RecordingOptions& options = {});
+
+// What a bag holds, without choosing a depth topic (replay --list-topics): its format, files and every topic
+// (`use` left empty). Throws std::invalid_argument as open_recording; a PNG folder has no topics.
+struct RecordingContents {
+  std::string path, format;
+  std::vector<std::string> files;
+  std::vector<TopicSummary> topics;
+  std::vector<std::string> warnings;
+};
+RecordingContents list_recording(const std::string& path);
 
 }  // namespace stvl::recording

@@ -2,12 +2,12 @@
 
 #include <functional>
 #include <map>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include "recording/cdr.hpp"
+#include "recording/ros2msg.hpp"
 
 namespace stvl::recording::detail {
 namespace {
@@ -54,36 +54,6 @@ const std::map<std::string, std::string>& definitions() {
   return defs;
 }
 
-const std::set<std::string> kPrimitives = {"bool",   "byte",    "char",    "int8",   "uint8",
-                                           "int16",  "uint16",  "int32",   "uint32", "int64",
-                                           "uint64", "float32", "float64", "string", "wstring"};
-
-struct Field {
-  std::string type, name;
-  bool constant = false;
-};
-
-// The base type of a field type ("PointField[]" -> "PointField", "string<=5" -> "string").
-std::string base_type(const std::string& type) {
-  std::string t = type.substr(0, type.find('['));
-  return t.substr(0, t.find("<="));
-}
-
-// Parses one section of ros2msg text; false for a line that is not a field, a constant or a comment.
-bool parse_line(std::string line, Field& field, bool& empty) {
-  static const std::regex kField(
-      R"(^\s*([A-Za-z][A-Za-z0-9_]*(?:/(?:msg/)?[A-Za-z][A-Za-z0-9_]*)?(?:<=\d+)?(?:\[(?:<=)?\d*\])?)\s+([A-Za-z][A-Za-z0-9_]*)\s*(=.*|\s+\S.*)?$)");
-  const auto hash = line.find('#');
-  if (hash != std::string::npos && line.find('=') == std::string::npos) line.erase(hash);
-  empty = line.find_first_not_of(" \t\r") == std::string::npos;
-  if (empty) return true;
-  std::smatch m;
-  if (!std::regex_match(line, m, kField)) return false;
-  field.type = m[1], field.name = m[2];
-  field.constant = m[3].matched && m[3].str()[0] == '=';
-  return true;
-}
-
 }  // namespace
 
 std::string short_type(const std::string& type) {
@@ -98,14 +68,10 @@ std::string ros2_definition(const std::string& type) {
   std::function<void(const std::string&)> visit = [&](const std::string& t) {
     const auto it = definitions().find(t);
     if (it == definitions().end()) throw std::logic_error("ros2_definition: no definition of " + t);
-    std::istringstream in(it->second);
-    for (std::string line; std::getline(in, line);) {
-      Field f;
-      bool empty = false;
-      if (!parse_line(line, f, empty) || empty) continue;
-      std::string dep = base_type(f.type);
-      if (kPrimitives.count(dep)) continue;
-      if (dep.find('/') == std::string::npos) dep = t.substr(0, t.find('/')) + "/" + dep;
+    const MsgSchema schema = parse_ros2msg(t, it->second);
+    for (const auto& f : schema.types.front().fields) {
+      if (f.primitive) continue;
+      const std::string dep = short_type(f.type);
       if (seen.insert(dep).second) {
         order.push_back(dep);
         visit(dep);
@@ -122,46 +88,65 @@ std::string ros2_definition(const std::string& type) {
   return text;
 }
 
-void check_ros2_schema(const std::string& type, const std::string& definition, const std::string& what) {
-  std::istringstream in(definition);
-  std::vector<std::string> main_fields;
-  bool in_main = true;
-  int line_no = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++line_no;
-    if (line.find_first_not_of('=') == std::string::npos && line.size() >= 3) {
-      in_main = false;
-      continue;
-    }
-    if (line.rfind("MSG:", 0) == 0) {
-      in_main = false;
-      continue;
-    }
-    Field f;
-    bool empty = false;
-    if (!parse_line(line, f, empty)) {
-      throw std::invalid_argument(what + ": the schema of " + type + " does not parse (line " +
-                                  std::to_string(line_no) + ": '" + line.substr(0, 80) + "')");
-    }
-    if (!empty && in_main && !f.constant) main_fields.push_back(f.name);
+namespace {
+
+// How a field reads in an error: "uint32 height", "std_msgs/msg/Header header", "float64[9] k".
+std::string describe(const MsgField& f) {
+  std::string t = f.type;
+  if (f.string_bound) t += "<=" + std::to_string(f.string_bound);
+  if (f.array == MsgField::Array::kFixed) t += "[" + std::to_string(f.array_size) + "]";
+  if (f.array == MsgField::Array::kBounded) t += "[<=" + std::to_string(f.array_size) + "]";
+  if (f.array == MsgField::Array::kUnbounded) t += "[]";
+  return t + " " + f.name;
+}
+
+// The first `count` fields of `ours` are `recorded`'s first fields, with the same types, and every message type
+// they use that the schema defines has exactly our fields (so the bytes decoded sit where the decoder reads them).
+// "" or what differs.
+std::string layout_difference(const MsgSchema& ours_schema, const MsgType& ours, const MsgSchema& recorded_schema,
+                              const MsgType& recorded, std::size_t count) {
+  if (recorded.fields.size() < count)
+    return recorded.name + " has " + std::to_string(recorded.fields.size()) + " fields, expected at least " +
+           std::to_string(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const MsgField& o = ours.fields[i];
+    const MsgField& r = recorded.fields[i];
+    if (describe(o) != describe(r))
+      return recorded.name + " field " + std::to_string(i + 1) + " is '" + describe(r) + "', expected '" + describe(o) +
+             "'";
+    if (o.primitive) continue;
+    const MsgType* o_type = ours_schema.find(o.type);
+    const MsgType* r_type = recorded_schema.find(r.type);
+    if (!r_type) continue;  // not defined in the schema: the name, the same as ours, stands for the layout
+    if (r_type->fields.size() != o_type->fields.size())
+      return r.type + " has " + std::to_string(r_type->fields.size()) + " fields, expected " +
+             std::to_string(o_type->fields.size());
+    const std::string nested = layout_difference(ours_schema, *o_type, recorded_schema, *r_type, o_type->fields.size());
+    if (!nested.empty()) return nested;
   }
-  static const std::map<std::string, std::vector<std::string>> kDecoded = {
-      {"sensor_msgs/Image", {"header", "height", "width", "encoding", "is_bigendian", "step", "data"}},
-      {"sensor_msgs/CameraInfo", {"header", "height", "width", "distortion_model", "d", "k"}},
-      {"tf2_msgs/TFMessage", {"transforms"}},
-      {"nav_msgs/Odometry", {"header", "child_frame_id", "pose"}},
-  };
+  return "";
+}
+
+}  // namespace
+
+void check_ros2_schema(const std::string& type, const std::string& definition, const std::string& what) {
+  MsgSchema recorded;
+  try {
+    recorded = parse_ros2msg(type, definition);
+  } catch (const MsgParseError& e) {
+    throw std::invalid_argument(what + ": the schema of " + type + " does not parse (" + e.what() + ")");
+  }
+  // The fields each decoder reads, in order: a prefix of the type's fields.
+  static const std::map<std::string, std::size_t> kDecoded = {
+      {"sensor_msgs/Image", 7}, {"sensor_msgs/CameraInfo", 6}, {"tf2_msgs/TFMessage", 1}, {"nav_msgs/Odometry", 3}};
   const auto it = kDecoded.find(short_type(type));
   if (it == kDecoded.end()) return;
-  const auto& expected = it->second;
-  bool ok = main_fields.size() >= expected.size();
-  for (std::size_t i = 0; ok && i < expected.size(); ++i) ok = main_fields[i] == expected[i];
-  if (!ok) {
-    std::string got;
-    for (const auto& f : main_fields) got += (got.empty() ? "" : " ") + f;
-    throw std::invalid_argument(what + ": the schema of " + type + " does not have the fields of " + type +
-                                " (got: " + (got.empty() ? "none" : got) + ")");
-  }
+  const MsgSchema ours = parse_ros2msg(it->first, ros2_definition(it->first));
+  const std::string difference =
+      layout_difference(ours, ours.types.front(), recorded, recorded.types.front(), it->second);
+  if (!difference.empty())
+    throw std::invalid_argument(what + ": the schema of " + type + " does not have the fields of " + type + " (" +
+                                difference + ")");
 }
 
 namespace {

@@ -1,13 +1,16 @@
 // rosbag2 recordings (MCAP or sqlite3) as frames: realsense-ros 4.x's layout (/camera/camera/depth/...), our
-// export's, or any depth topic named; /tf, /tf_static or odometry for the poses (bag_common.hpp, as ROS 1).
+// export's, or any depth topic named; /tf, /tf_static or odometry for the poses (bag_common.hpp, as ROS 1). Only
+// the topics read must decode; every other one is listed in info().topics, whatever its type and encodings.
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <stdexcept>
 
 #include "recording/bag_common.hpp"
 #include "recording/detail.hpp"
 #include "recording/ros2_msgs.hpp"
 #include "recording/ros2_source.hpp"
+#include "recording/ros2msg.hpp"
 
 namespace stvl::recording::detail {
 namespace {
@@ -16,13 +19,24 @@ bool ends_with(const std::string& text, const std::string& tail) {
   return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
 }
 
+// "its schema does not parse (line ...)" for a topic whose ros2msg schema does not, else "".
+std::string schema_problem(const Ros2Topic& topic) {
+  if (topic.schema_encoding != "ros2msg" || topic.type.empty()) return "";
+  try {
+    parse_ros2msg(topic.type, topic.schema);
+  } catch (const MsgParseError& e) {
+    return std::string("its schema does not parse (") + e.what() + ")";
+  }
+  return "";
+}
+
 class Ros2Recording final : public Recording {
  public:
   Ros2Recording(const std::string& path, const RecordingOptions& options) : options_(options), source_(path) {
     info_.path = path;
     info_.format = source_.format();
-    open();
     for (const auto& w : source_.warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    open();
     cursor_ = source_.cursor(info_.depth_topic);
   }
 
@@ -71,6 +85,7 @@ class Ros2Recording final : public Recording {
     choose_depth_topic();
     choose_info_topic();
     if (!options_.odom_topic.empty()) require_topic(options_.odom_topic, "nav_msgs/Odometry", "--odom-topic");
+    choose_uses();
 
     // One pass: camera info, tf, odometry, and the depth frames' stamps.
     bool first = true;
@@ -94,6 +109,50 @@ class Ros2Recording final : public Recording {
     poses_.pose_at(info_, options_, where(), info_.start_time_s, 0, T_fixed_camera, T_fixed_base);
   }
 
+  // What each topic is read as; every topic read must decode (cdr, and a ros2msg schema with the fields decoded,
+  // or none recorded); any other is listed, and a ros2msg schema of one that does not parse is a warning.
+  void choose_uses() {
+    uses_[info_.depth_topic] = "depth";
+    uses_[info_.info_topic] = "camera_info";
+    if (!options_.odom_topic.empty()) uses_[options_.odom_topic] = "odometry";
+    for (const char* tf : {"/tf", "/tf_static"}) {
+      const auto it = source_.topics().find(tf);
+      if (it != source_.topics().end() && short_type(it->second.type) == "tf2_msgs/TFMessage" && !uses_.count(tf))
+        uses_[tf] = tf + 1;
+    }
+    for (const auto& [name, topic] : source_.topics()) {
+      TopicSummary summary{name, topic.type, topic.count, topic.message_encoding, topic.schema_encoding, "", ""};
+      const auto use = uses_.find(name);
+      if (use != uses_.end()) {
+        summary.use = use->second;
+        require_decodable(topic);
+      } else {
+        summary.note = skipped_note(topic);
+      }
+      info_.topics.push_back(summary);
+    }
+  }
+
+  void require_decodable(const Ros2Topic& topic) const {
+    const std::string where = info_.path + ": topic " + topic.name + " (" + uses_.at(topic.name) + ")";
+    if (topic.message_encoding != "cdr")
+      throw std::invalid_argument(where + ": message encoding '" + topic.message_encoding + "', expected cdr");
+    if (topic.schema_encoding.empty()) return;  // no schema recorded (Humble's sqlite3): read by its type's name
+    if (topic.schema_encoding != "ros2msg")
+      throw std::invalid_argument(where + ": schema encoding '" + topic.schema_encoding +
+                                  "' is not read (expected ros2msg)");
+    check_ros2_schema(topic.type, topic.schema, where);
+  }
+
+  // Why a topic is not read, where that says more than its type (also printed as a warning).
+  std::string skipped_note(const Ros2Topic& topic) const {
+    const std::string note = schema_problem(topic);
+    if (!note.empty())
+      std::fprintf(stderr, "warning: %s: topic %s (%s, not read): %s\n", info_.path.c_str(), topic.name.c_str(),
+                   topic.type.c_str(), note.c_str());
+    return note;
+  }
+
   // The depth topic: --depth-topic, else the only realsense-ros depth image topic.
   void choose_depth_topic() {
     const auto& topics = source_.topics();
@@ -103,7 +162,9 @@ class Ros2Recording final : public Recording {
       return;
     }
     std::vector<std::string> names;
-    for (const auto& [t, info] : topics) names.push_back(t);
+    for (const auto& [t, info] : topics)
+      names.push_back(t + " (" + (info.type.empty() ? "no type" : info.type) + ", " + std::to_string(info.count) +
+                      (info.count == 1 ? " message)" : " messages)"));
     std::vector<std::string> candidates;
     for (const auto& [t, info] : topics)
       if (short_type(info.type) == "sensor_msgs/Image" &&
@@ -155,7 +216,7 @@ class Ros2Recording final : public Recording {
       const CameraInfoMsg m = decode_camera_info(data, size, what);
       infos_.emplace_back(m.stamp.seconds(), make_intrinsics(m.width, m.height, m.k[0], m.k[4], m.k[2], m.k[5],
                                                              options_.rate_hz, options_, what + " k"));
-    } else if ((t.name == "/tf" || t.name == "/tf_static") && short_type(t.type) == "tf2_msgs/TFMessage") {
+    } else if (uses_.count(t.name) && (t.name == "/tf" || t.name == "/tf_static")) {
       for (const auto& tf : decode_tf(data, size, what))
         poses_.add_transform(info_.path, t.name, t.name == "/tf_static", tf.parent, tf.child, tf.stamp.seconds(), tf.t,
                              tf.q);
@@ -179,12 +240,22 @@ class Ros2Recording final : public Recording {
   std::size_t index_ = 0;
   std::vector<std::pair<double, sensors::CameraIntrinsics>> infos_;
   PoseResolver poses_;
+  std::map<std::string, std::string> uses_;  // topic -> what it is read as
 };
 
 }  // namespace
 
 std::unique_ptr<Recording> open_ros2(const std::string& path, const RecordingOptions& options) {
   return std::make_unique<Ros2Recording>(path, options);
+}
+
+RecordingContents list_ros2(const std::string& path) {
+  const Ros2Source source(path);
+  RecordingContents contents{path, source.format(), source.files(), {}, source.warnings()};
+  for (const auto& [name, t] : source.topics())
+    contents.topics.push_back(
+        TopicSummary{name, t.type, t.count, t.message_encoding, t.schema_encoding, "", schema_problem(t)});
+  return contents;
 }
 
 }  // namespace stvl::recording::detail

@@ -7,6 +7,9 @@
 // a '#' outside a quoted string value. TYPE is a primitive (bool byte char float32 float64 int8..uint64 string
 // wstring), `string<=N`, or a message type (`pkg/Type`, `pkg/msg/Type`, or a bare `Type` of the enclosing
 // package), each optionally an array: `[N]` (fixed), `[<=N]` (bounded), `[]` (unbounded).
+// A service's or action's text (a main type under pkg/srv/ or pkg/action/, e.g. the X_Event types rosbag2 records)
+// has parts separated by `---`: they become the types pkg/srv/X_Request, X_Response (pkg/action/X_Goal, X_Result,
+// X_Feedback) after the main type, which then has no fields of its own.
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -51,7 +54,8 @@ std::string full_msg_type(const std::string& type);
 
 // Parses a ros2msg text for `type` (its name for the main section, "pkg/msg/Type" or "pkg/Type"); throws
 // MsgParseError for a line that is neither a field, a constant, a comment, a separator nor a section name, a
-// value that does not fit its type, a duplicate name, or a section whose MSG: line names no pkg/Type.
+// value that does not fit its type, a name used twice in a type, or a section whose MSG: line names no pkg/Type. A
+// type defined twice (older rosbag2 writes shared dependencies again) is found by its first definition.
 MsgSchema parse_ros2msg(const std::string& type, const std::string& text);
 
 }  // namespace stvl::recording::detail

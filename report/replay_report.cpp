@@ -92,6 +92,21 @@ void write_recording_table(std::ostream& h, const ReplayResult& r) {
   h << "</table>\n";
 }
 
+// "Topics": every topic of a bag, what the replay read it as, or that it was not read (and why, where known).
+void write_topics_table(std::ostream& h, const recording::RecordingInfo& info) {
+  if (info.topics.empty()) return;
+  h << "<h2>Topics</h2><table>\n<tr><th>topic</th><th>type</th><th>messages</th><th>encoding</th><th>schema</th>"
+       "<th>read as</th></tr>\n";
+  for (const auto& t : info.topics) {
+    h << "<tr><td>" << xml_escape(t.name) << "</td><td>" << xml_escape(t.type) << "</td><td>" << t.messages
+      << "</td><td>" << xml_escape(t.message_encoding) << "</td><td>"
+      << xml_escape(t.schema_encoding.empty() ? "none" : t.schema_encoding) << "</td><td>"
+      << xml_escape(t.use.empty() ? "not read" + (t.note.empty() ? std::string() : ": " + t.note) : t.use)
+      << "</td></tr>\n";
+  }
+  h << "</table>\n";
+}
+
 // The interactive map view of every final voxel (no truth to colour them by) and the stage series.
 std::string replay_map_html(const ReplayResult& r, const ReportScripts& scripts) {
   std::ostringstream caption;
@@ -128,6 +143,15 @@ void write_recorded_frames(std::ostream& h, const ReplayResult& r, const std::fi
 
 nlohmann::json replay_metrics_json(const ReplayResult& r) {
   const auto& info = r.recording;
+  nlohmann::json topics = nlohmann::json::array();
+  for (const auto& t : info.topics)
+    topics.push_back({{"name", t.name},
+                      {"type", t.type},
+                      {"messages", t.messages},
+                      {"message_encoding", t.message_encoding},
+                      {"schema_encoding", t.schema_encoding},
+                      {"use", t.use},
+                      {"note", t.note}});
   const auto& k = r.pipeline.cameras.front().intrinsics;
   nlohmann::json sources = nlohmann::json::array();
   for (const auto& s : r.sources) {
@@ -157,7 +181,8 @@ nlohmann::json replay_metrics_json(const ReplayResult& r) {
             {"fx", k.fx},
             {"fy", k.fy},
             {"cx", k.cx},
-            {"cy", k.cy}}},
+            {"cy", k.cy},
+            {"topics", topics}}},
           {"frames", r.frames},
           {"sampled_frames", r.sampled_frames},
           {"recorded_s", r.sim_time_s},
@@ -185,6 +210,7 @@ void write_replay_report(const ReplayResult& r, const std::filesystem::path& out
   h.precision(4);
   write_replay_head(h, r.recording, scripts);
   write_recording_table(h, r);
+  write_topics_table(h, r.recording);
   h << replay_map_html(r, scripts);
   if (costmap) {
     h << "<h2>Costmap</h2><p><img src=\"" << png_file_data_uri(out / "costmap.png")

@@ -2,7 +2,7 @@
 # Builds the libFuzzer targets (clang, ASan + UBSan, libraries instrumented too) into build-fuzz/ and runs each
 # for a bounded time.
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]   default 60 s each; targets: scenario filter voxel_map
-#                                                       depth_to_cloud urdf nav2_map (default: all that were built)
+#                                                       depth_to_cloud urdf nav2_map ros2msg (default: all)
 # The working corpus lives in build-fuzz/corpus/<target> (seeded from tests/fuzz/corpus/<target> and
 # tests/regressions/<target>); crashes, leaks, timeouts and OOMs land in build-fuzz/artifacts/<target>/.
 # To keep a crash: minimise it (build-fuzz/bin/fuzz_<target> -minimize_crash=1 -runs=10000 FILE), copy it to
@@ -15,7 +15,7 @@ seconds=${1:-60}
 shift || true
 build=${BUILD_DIR:-build-fuzz}
 jobs=${JOBS:-$(nproc)}
-all_targets=(scenario filter voxel_map depth_to_cloud urdf nav2_map)
+all_targets=(scenario filter voxel_map depth_to_cloud urdf nav2_map ros2msg)
 targets=("$@")
 ((${#targets[@]})) || targets=("${all_targets[@]}")
 
@@ -39,6 +39,9 @@ for t in "${targets[@]}"; do
   mkdir -p "$corpus" "$artifacts"
   cp -n tests/fuzz/corpus/"$t"/* "$corpus"/ 2>/dev/null || true
   cp -n tests/regressions/"$t"/* "$corpus"/ 2>/dev/null || true
+  # ROS 2's own .msg texts, where ../shared (beside the checkout) has them.
+  [[ $t == ros2msg && -d ../shared/ros2_msgs ]] &&
+    for f in ../shared/ros2_msgs/*/msg/*.msg; do cp -n "$f" "$corpus/ros2_$(basename "$(dirname "$(dirname "$f")")")_$(basename "$f")"; done
   extra=()
   [[ -f tests/fuzz/$t.dict ]] && extra+=(-dict="tests/fuzz/$t.dict")
   echo "== fuzz_$t for ${seconds}s"

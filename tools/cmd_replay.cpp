@@ -29,7 +29,7 @@ struct ReplayCommandOptions {
   std::string depth_topic, info_topic, odom_topic, fixed_frame, camera_pose, camera_name;
   double rate_hz = 30.0;
   std::size_t max_frames = 0;
-  bool no_progress = false;
+  bool no_progress = false, list_topics = false;
 };
 
 // "x,y,z,roll,pitch,yaw" (metres, radians): camera_link (x forward, z up) in the fixed frame.
@@ -140,10 +140,42 @@ void print_replay_summary(const ReplayCommandOptions& o, const ReplayResult& res
               result.final_voxels, result.pipeline.map.voxel_size_m, result.lethal_cells, out_dir.c_str());
 }
 
+// --list-topics: every topic of the recording with its type, count and encodings, and what a replay with these
+// options reads it as, or why the replay would stop. Exit 0; 2 when the recording cannot be read at all.
+int list_topics(const ReplayCommandOptions& o, const ReplaySettings& settings) {
+  const recording::RecordingContents contents = recording::list_recording(o.recording);
+  std::vector<recording::TopicSummary> topics = contents.topics;
+  std::string outcome;
+  try {
+    const auto opened = recording::open_recording(o.recording, settings.recording);
+    const auto& info = opened->info();
+    if (!info.topics.empty()) topics = info.topics;
+    outcome = "replay reads " + std::to_string(info.frame_count) + " depth frames" +
+              (info.depth_topic.empty() ? std::string() : " from " + info.depth_topic) +
+              " (poses: " + recording::to_string(info.pose_source) + ")";
+  } catch (const std::invalid_argument& e) {
+    outcome = std::string("replay would stop: ") + e.what();
+  }
+  for (const auto& w : contents.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  std::printf("recording: %s: %s, %zu file(s), %zu topic(s)\n", o.recording.c_str(), contents.format.c_str(),
+              contents.files.size(), topics.size());
+  for (const auto& t : topics) {
+    const std::string encodings =
+        t.message_encoding + "/" + (t.schema_encoding.empty() ? std::string("no schema") : t.schema_encoding);
+    const std::string use =
+        t.use.empty() ? "not read" + (t.note.empty() ? std::string() : ": " + t.note) : "read as " + t.use;
+    std::printf("  %s  %s  %llu message(s)  %s  %s\n", t.name.c_str(), t.type.empty() ? "(no type)" : t.type.c_str(),
+                static_cast<unsigned long long>(t.messages), encodings.c_str(), use.c_str());
+  }
+  std::printf("%s\n", outcome.c_str());
+  return kExitOk;
+}
+
 int replay(const ReplayCommandOptions& o) {
   Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario, o.sets);
   apply_overrides(scenario, o.overrides);
   ReplaySettings settings = replay_settings(o, scenario);
+  if (o.list_topics) return list_topics(o, settings);
   const std::unique_ptr<recording::Recording> recording = recording::open_recording(o.recording, settings.recording);
   settings.camera_name = o.camera_name.empty() ? camera_name_of(recording->info()) : o.camera_name;
   settings.pipeline.cameras.resize(1);
@@ -199,6 +231,8 @@ const CommandRegistration kReplay("replay", [](CLI::App& app) {
                   "Also write the replay as a ROS 1 bag or (FILE.mcap) a rosbag2 folder: depth, clouds, map, costmap");
   add_bag_options(*cmd, o->bag_format, o->bag_compression, o->bag_topics);
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
+  cmd->add_flag("--list-topics", o->list_topics,
+                "List the recording's topics (type, messages, encodings) and what the replay reads; replay nothing");
   return [o] { return replay(*o); };
 });
 
