@@ -9,10 +9,10 @@
 #    without schema, a ros2msg schema that does not parse, a pkg/idl/Type);
 #  - their sqlite3 twins written by write_db3_variants.py (Python's sqlite3): Jazzy's tables with
 #    message_definitions, the skipped topics as sqlite3 has them, and Humble's schema-free copy, the reference;
-#  - each replays with exit 0 to the reference's map.ply byte for byte, and each skipped topic is named by the
-#    replay or its `replay --list-topics` listing;
-#  - the recordings of rosbag2's own tests (../shared/realdata/rosbag2: no depth in them) list their topics with
-#    --list-topics (exit 0) and, replayed, exit 2 saying there is no depth topic and naming them.
+#  - each replays with exit 0 to the reference's map.ply byte for byte, and `replay --list-topics` lists each
+#    skipped topic with its message count and "not read";
+#  - the recordings of rosbag2's own tests (../shared/realdata/rosbag2: no depth in them) list every topic as not
+#    read with --list-topics (exit 0) and, replayed, exit 2 saying there is no depth topic and naming them.
 # Usage: check_ros2_recordings.sh STVL_BENCH SOURCE_DIR OUT_DIR. Exit 77 (skip) without node/npm, the packages
 # (npm ci of mcap_js/ into OUT_DIR/npm) or ../shared beside the checkout.
 set -uo pipefail
@@ -55,9 +55,16 @@ for v in jazzy.mcap jazzy.db3 skip.mcap skip.db3 x; do
   cmp -s "$w/rep_$v/map.ply" "$w/ref/map.ply" && ok "replay $v: map.ply = the reference's" || fail "replay $v: map.ply differs"
   [[ $v == skip.* ]] || continue
   "$bench" replay "$rec" --list-topics >"$w/list_$v.log" 2>&1 || fail "replay --list-topics $v: exit $?, $(tail -2 "$w/list_$v.log")"
+  # The listing: "  TOPIC  TYPE  N message(s)  ENCODINGS  not read[: why]", one line a topic; each skipped topic
+  # has one message per depth frame.
+  frames=$(sed -n 's/^replay reads \([0-9]*\) depth frames.*/\1/p' "$w/list_$v.log")
   missing=""
-  for topic in $skipped; do grep -qF -- "$topic" "$w/rep_$v.log" "$w/list_$v.log" || missing+=" $topic"; done
-  [[ -z $missing ]] && ok "$v: every skipped topic named" || fail "$v: not named:$missing"
+  for topic in $skipped; do
+    awk -v t="$topic" -v n="$frames" '$1 == t && $0 ~ ("  " n " message\\(s\\)  .*  not read") { found = 1 } END { exit !found }' \
+      "$w/list_$v.log" || missing+=" $topic"
+  done
+  [[ -n $frames && -z $missing ]] && ok "$v: every skipped topic listed, $frames messages, not read" ||
+    fail "$v: not listed as skipped:$missing (frames '$frames')"
 done
 
 # 3. rosbag2's own recordings: listed, and without depth refused naming their topics.
@@ -77,7 +84,10 @@ for bag in "$real"/*/; do
   [[ -n $topics ]] || { fail "$name: no topics found by the test"; continue; }
   "$bench" replay "$bag" --list-topics >"$w/real_list_$name.log" 2>&1
   rc=$? missing=""
-  for topic in $topics; do grep -qF -- "$topic" "$w/real_list_$name.log" || missing+=" $topic"; done
+  for topic in $topics; do
+    awk -v t="$topic" '$1 == t && / message\(s\)  .*  not read/ { found = 1 } END { exit !found }' \
+      "$w/real_list_$name.log" || missing+=" $topic"
+  done
   [[ $rc == 0 && -z $missing ]] && ok "$name --list-topics: $topics" ||
     fail "$name --list-topics: exit $rc, not listed:$missing; $(tail -2 "$w/real_list_$name.log")"
   "$bench" replay "$bag" --out "$w/real_$name" --no-progress >"$w/real_$name.log" 2>&1
