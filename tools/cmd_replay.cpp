@@ -156,7 +156,8 @@ int list_topics(const ReplayCommandOptions& o, const ReplaySettings& settings) {
   } catch (const std::invalid_argument& e) {
     outcome = std::string("replay would stop: ") + e.what();
   }
-  for (const auto& w : contents.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  // The recording's warnings (a file cut short, a schema of a topic not read that does not parse) were printed as
+  // it was opened.
   std::printf("recording: %s: %s, %zu file(s), %zu topic(s)\n", o.recording.c_str(), contents.format.c_str(),
               contents.files.size(), topics.size());
   for (const auto& t : topics) {
