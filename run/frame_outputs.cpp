@@ -4,10 +4,44 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <stdexcept>
 
 #include "common/units.hpp"
+#include "recording/bag_writer.hpp"
 
 namespace stvl::run {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Whether `inner` is `outer` or lies below it (both resolved).
+bool is_within(const fs::path& inner, const fs::path& outer) {
+  const fs::path relative = inner.lexically_relative(outer);
+  return !relative.empty() && *relative.begin() != "..";
+}
+
+// An absolute path with symbolic links and "..", "." resolved as far as it exists, without a trailing separator.
+fs::path resolved(const std::string& path) {
+  fs::path p = fs::weakly_canonical(fs::absolute(path)).lexically_normal();
+  return p.filename().empty() ? p.parent_path() : p;
+}
+
+}  // namespace
+
+void check_bag_outside_outputs(const std::string& out_dir, const std::string& bag_path, const std::string& bag_format) {
+  if (out_dir.empty() || bag_path.empty()) return;
+  const bool ros2 = recording::parse_bag_format(bag_format, bag_path) == recording::BagFormat::kRos2;
+  const std::string bag = ros2 ? recording::ros2_bag_folder(bag_path) : bag_path;
+  const fs::path out = resolved(out_dir);
+  for (const std::string& taken : {bag, bag + ".active"}) {
+    const fs::path bag_resolved = resolved(taken);
+    if (!is_within(out, bag_resolved)) continue;
+    throw std::invalid_argument("--bag " + bag_path + " writes " + (ros2 ? "the rosbag2 folder " : "the bag ") + taken +
+                                ", which " + (out == bag_resolved ? "is" : "holds") + " the output folder --out " +
+                                out_dir +
+                                ": the outputs would replace the bag; write the bag beside --out or inside it");
+  }
+}
 
 void StageSeries::append(const pipeline::SensingTimes& t, const layer::UpdateReport& update) {
   render.push_back(t.render_ms);

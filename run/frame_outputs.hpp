@@ -27,6 +27,13 @@ struct RunOptions {
   bool require_path = false;
 };
 
+// Throws std::invalid_argument naming both paths when the bag at bag_path (format "ros1", "ros2" or "" as in
+// RunOptions) would take the place of the output folder out_dir or of a folder above it: a ROS 1 bag's file, a
+// rosbag2 folder (FILE.mcap -> folder FILE) or either's <path>.active being out_dir or holding it. The outputs
+// would replace the bag, or the bag the outputs. A bag inside out_dir is fine (a run moves it with the outputs).
+// Paths are compared resolved (std::filesystem::weakly_canonical); nothing is done when either is empty.
+void check_bag_outside_outputs(const std::string& out_dir, const std::string& bag_path, const std::string& bag_format);
+
 // Wall-clock milliseconds per frame, one series per stage (a frame's sensing and the layer's update, plus what
 // the loop adds); timings are the only part of a run that is not deterministic.
 struct StageSeries {

@@ -136,6 +136,7 @@ class ReplayHooks : public FrameHooks {
 
 ReplayResult replay_recording(recording::Recording& recording, const ReplaySettings& settings,
                               const RunOptions& options) {
+  check_bag_outside_outputs(options.out_dir, options.bag_path, options.bag_format);  // before anything is written
   ReplayResult r;
   r.recording = recording.info();
   r.pipeline = replay_config(settings, r.recording);

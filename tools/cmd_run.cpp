@@ -112,10 +112,12 @@ int run(const RunCommandOptions& o) {
   apply_overrides(scenario, overrides);
   print_lint_findings(scenario);
 
+  const std::string out_dir = o.out_dir.empty() ? "out/" + scenario.name : o.out_dir;
+  check_bag_outside_outputs(out_dir, o.bag, o.bag_format);  // before anything is written
   RunOptions options;
   // Every output goes into a fresh staging folder, moved over --out only once the run is complete
   // (common/staged_directory.hpp); a bag inside --out travels with it.
-  StagedDirectory staged(o.out_dir.empty() ? "out/" + scenario.name : o.out_dir);
+  StagedDirectory staged(out_dir);
   options.out_dir = staged.path().string();
   options.bag_path = o.bag.empty() ? std::string() : staged.redirect(o.bag).string();
   options.bag_compression = o.bag_compression;

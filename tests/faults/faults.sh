@@ -70,6 +70,30 @@ case $case_name in
     expect_no_results "$tmp"
     ;;
 
+  bag_replaces_out | replay_bag_replaces_out)
+    # --bag taking the place of --out or of a folder above it (a rosbag2 folder is named after the .mcap's stem):
+    # the outputs would replace the bag (before, a run lost it and exited 0). Exit 2 before anything is written,
+    # naming both paths. A bag inside --out stays allowed (a run moves it with its outputs).
+    cmd=(run "$scenario" --duration 0.5)
+    if [[ $case_name == replay_* ]]; then
+      "$bench" run "$scenario" --duration 0.5 --out "$tmp/rec/run" --bag "$tmp/rec/src.bag" --no-progress >/dev/null 2>&1 ||
+        fail "could not write the recording to replay"
+      cmd=(replay "$tmp/rec/src.bag")
+    fi
+    t=$tmp/t
+    mkdir -p "$t/x"
+    for args in "$t/same --bag $t/same.mcap" "$t/bag/out --bag $t/bag.mcap" "$t/ros2 --bag $t/ros2 --bag-format ros2" \
+      "$t/ros1 --bag $t/ros1" "$t/x/../dots --bag $t/dots.mcap"; do
+      # shellcheck disable=SC2086  # each case is split into its arguments on purpose
+      run_bench "${cmd[@]}" --no-progress --out $args
+      expect_rc 2
+      read -r out _ bag _ <<<"$args"
+      expect_error_line "--bag ${bag//./[.]} writes .* which (is|holds) the output folder --out ${out//./[.]}:"
+      [[ -e ${out%/out} || -e ${out%/out}.active || -e $bag ]] && fail "left ${out%/out} or its bag"
+    done
+    expect_no_results "$t"
+    ;;
+
   file_size_limit)
     # Disk full, simulated with RLIMIT_FSIZE (writes past 4 MiB fail with EFBIG; SIGXFSZ ignored so that the
     # write fails instead of killing the process). The bag outgrows it within the first frames.
