@@ -117,8 +117,11 @@ Layout layout_from_metadata(const std::string& path, const fs::path& yaml) {
 // .mcap and .db3 files in natural name order).
 Layout storage_layout(const std::string& path) {
   std::error_code ec;
-  if (!fs::is_directory(path, ec)) return Layout{{path}, false, false, {}};
   Layout layout;
+  if (!fs::is_directory(path, ec)) {
+    layout.files.push_back(path);
+    return layout;
+  }
   const fs::path yaml = fs::path(path) / "metadata.yaml";
   if (fs::exists(yaml, ec)) {
     layout = layout_from_metadata(path, yaml);

@@ -63,7 +63,9 @@ TEST(Ros2Msg, ParsesEveryMsgFileOfRos2AsRosbag2EmbedsIt) {
       EXPECT_FALSE(schema.types.front().fields.empty());
       for (const auto& t : schema.types)
         for (const auto& f : t.fields)
-          if (!f.primitive) EXPECT_NE(schema.find(f.type), nullptr) << t.name << "." << f.name << ": " << f.type;
+          if (!f.primitive) {
+            EXPECT_NE(schema.find(f.type), nullptr) << t.name << "." << f.name << ": " << f.type;
+          }
       // The types the replay decodes have the fields the decoders read, in order.
       EXPECT_NO_THROW(check_ros2_schema(type, text, "test"));
       ++files;
