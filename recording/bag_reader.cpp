@@ -149,6 +149,9 @@ class BagRecording final : public Recording {
       else if (t.name == info_.info_topic) t.use = "camera_info";
       else if (!options_.odom_topic.empty() && t.name == options_.odom_topic) t.use = "odometry";
       else if ((t.name == "/tf" || t.name == "/tf_static") && t.type == "tf2_msgs/TFMessage") t.use = t.name.substr(1);
+      else if (librealsense && t.name == depth.substr(0, depth.find("/Depth_")) + "/option/Depth Units/value" &&
+               t.type == "std_msgs/Float32")
+        t.use = "depth_units";
     }
     // The first frame's pose now, so that a recording without one fails at open.
     Eigen::Isometry3d T_fixed_camera, T_fixed_base;

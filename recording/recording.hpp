@@ -58,8 +58,8 @@ struct TopicSummary {
   std::uint64_t messages = 0;
   std::string message_encoding;  // rosbag2: "cdr", "json", ...; ROS 1: "ros1"
   std::string schema_encoding;   // rosbag2: "ros2msg", "ros2idl", ...; "" where none is recorded; ROS 1: "ros1msg"
-  std::string use;               // "depth", "camera_info", "tf", "tf_static", "odometry"; "" = not read
-  std::string note;              // why a topic is not read, where that is worth saying
+  std::string use;  // "depth", "camera_info", "tf", "tf_static", "odometry", "depth_units" (librealsense); "": not read
+  std::string note;  // why a topic is not read, where that is worth saying
 };
 
 struct RecordingInfo {

@@ -1,6 +1,8 @@
 // The real recordings in ../shared/realdata (see its README.md): a librealsense D435 bag and Kinect PNG frames.
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -61,6 +63,15 @@ TEST(RealData, D435BagFromLibrealsense) {
   EXPECT_NEAR(info.intrinsics.cx, 331.39, 0.005);
   EXPECT_NEAR(info.intrinsics.cy, 242.19, 0.005);
   ASSERT_EQ(info.frame_count, 2u);
+  // Every topic is listed; three are read (the realdata README: 2 depth frames, 1 camera_info, device options).
+  std::map<std::string, std::string> read;
+  for (const auto& t : info.topics)
+    if (!t.use.empty()) read[t.use] = t.name + " " + std::to_string(t.messages);
+  EXPECT_GT(info.topics.size(), 10u);
+  EXPECT_EQ(read,
+            (std::map<std::string, std::string>{{"depth", "/device_0/sensor_0/Depth_0/image/data 2"},
+                                                {"camera_info", "/device_0/sensor_0/Depth_0/info/camera_info 1"},
+                                                {"depth_units", "/device_0/sensor_0/option/Depth Units/value 1"}}));
 
   const auto expected = python_frames(kD435Bag, info.depth_topic, info.depth_unit_m);
   ASSERT_EQ(expected.size(), 2u);
