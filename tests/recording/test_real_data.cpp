@@ -1,10 +1,9 @@
 // The real recordings in ../shared/realdata (see its README.md): a librealsense D435 bag and Kinect PNG frames.
 #include <gtest/gtest.h>
 
-#include <map>
-
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
