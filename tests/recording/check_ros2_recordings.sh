@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # rosbag2 files as ROS 2 itself writes them replay to the map of the plain recording (CTest
 # recording.ros2_recordings, label unit):
-#  - a short run's export (depth, camera_info, /tf, /tf_static, /odom) rewritten by mcap_js/ros2_variants.cjs
+#  - a short run's export (depth, camera_info, /tf, /tf_static, /odom), and the real D435 recording of
+#    ../shared/realdata re-exported by a replay as rosbag2, each rewritten by mcap_js/ros2_variants.cjs
 #    (@mcap/core) with the schemas `ros2 bag record` embeds: the .msg files of ../shared/ros2_msgs, comments,
 #    constants and defaults and all, concatenated as rosbag2 does (/odom keeps the export's schema:
 #    nav_msgs/Odometry is not there); and once more with every kind of topic a replay must skip beside the camera's
@@ -32,40 +33,52 @@ w=$out/work failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 ok() { echo "ok: $*"; }
 
-# 1. The export and its variants.
+# 1. The recordings and their variants: a run's export (a simulated D435), and the real D435's two frames
+# (../shared/realdata/d435_office_corner, librealsense's ROS 1 bag) re-exported by a replay as rosbag2.
 "$bench" run --duration 2 --out "$w/run" --bag "$w/x.mcap" --no-progress \
   --bag-topics '/camera/depth/image_rect_raw,/camera/depth/camera_info,/tf*,/odom' >"$w/run.log" 2>&1 || {
   echo "FAIL: the run: $(tail -3 "$w/run.log")"; exit 1; }
-node "$here/mcap_js/ros2_variants.cjs" "$w/x/x_0.mcap" "$msgs" "$w/v" >"$w/variants.log" 2>&1 &&
-  /usr/bin/python3 "$here/write_db3_variants.py" "$w/v" >>"$w/variants.log" 2>&1 || {
-  echo "FAIL: writing the variants: $(tail -5 "$w/variants.log")"; exit 1; }
-sed 's/^/  /' "$w/variants.log"
-skipped=$(/usr/bin/python3 -c 'import json, sys; print(" ".join(t["topic"] for t in json.load(open(sys.argv[1])) if t["skipped"]))' "$w/v/dump.json")
+d435=$src/../shared/realdata/d435_office_corner/single_depth_color_640x480.bag
+"$bench" replay "$d435" --out "$w/d435_ros1" --bag "$w/d435.mcap" --no-progress \
+  --bag-topics '/camera/depth/image_rect_raw,/camera/depth/camera_info,/tf*' >"$w/d435.log" 2>&1 || {
+  echo "FAIL: the D435 re-export: $(tail -3 "$w/d435.log")"; exit 1; }
 
-# 2. Each replays to the reference's map; the skipped topics are named.
-"$bench" replay "$w/v/humble.db3" --out "$w/ref" --no-progress >"$w/ref.log" 2>&1 && [[ -s $w/ref/map.ply ]] || {
-  echo "FAIL: the Humble reference: $(tail -3 "$w/ref.log")"; exit 1; }
-ok "reference: $(grep '^replay: ' "$w/ref.log" | head -1 | cut -c1-160)"
-for v in jazzy.mcap jazzy.db3 skip.mcap skip.db3 x; do
-  [[ $v == x ]] && rec=$w/x || rec=$w/v/$v
-  if ! "$bench" replay "$rec" --out "$w/rep_$v" --no-progress >"$w/rep_$v.log" 2>&1; then
-    fail "replay $v: $(tail -2 "$w/rep_$v.log")"
-    continue
-  fi
-  cmp -s "$w/rep_$v/map.ply" "$w/ref/map.ply" && ok "replay $v: map.ply = the reference's" || fail "replay $v: map.ply differs"
-  [[ $v == skip.* ]] || continue
-  "$bench" replay "$rec" --list-topics >"$w/list_$v.log" 2>&1 || fail "replay --list-topics $v: exit $?, $(tail -2 "$w/list_$v.log")"
-  # The listing: "  TOPIC  TYPE  N message(s)  ENCODINGS  not read[: why]", one line a topic; each skipped topic
-  # has one message per depth frame.
-  frames=$(sed -n 's/^replay reads \([0-9]*\) depth frames.*/\1/p' "$w/list_$v.log")
-  missing=""
-  for topic in $skipped; do
-    awk -v t="$topic" -v n="$frames" '$1 == t && $0 ~ ("  " n " message\\(s\\)  .*  not read") { found = 1 } END { exit !found }' \
-      "$w/list_$v.log" || missing+=" $topic"
+# 2. Each variant replays to its Humble reference's map; the skipped topics are named.
+check_variants() {  # NAME ROSBAG2_FOLDER
+  local name=$1 bag=$2 v=$w/$1 rec frames missing skipped
+  node "$here/mcap_js/ros2_variants.cjs" "$bag/$(basename "$bag")_0.mcap" "$msgs" "$v" >"$v.log" 2>&1 &&
+    /usr/bin/python3 "$here/write_db3_variants.py" "$v" >>"$v.log" 2>&1 || {
+    fail "$name: writing the variants: $(tail -5 "$v.log")"; return; }
+  sed 's/^/  /' "$v.log"
+  skipped=$(/usr/bin/python3 -c 'import json, sys; print(" ".join(t["topic"] for t in json.load(open(sys.argv[1])) if t["skipped"]))' "$v/dump.json")
+  "$bench" replay "$v/humble.db3" --out "$v/ref" --no-progress >"$v/ref.log" 2>&1 && [[ -s $v/ref/map.ply ]] || {
+    fail "$name: the Humble reference: $(tail -3 "$v/ref.log")"; return; }
+  ok "$name reference: $(grep '^replay: ' "$v/ref.log" | head -1 | cut -c1-160)"
+  for variant in jazzy.mcap jazzy.db3 skip.mcap skip.db3 export; do
+    [[ $variant == export ]] && rec=$bag || rec=$v/$variant
+    if ! "$bench" replay "$rec" --out "$v/rep_$variant" --no-progress >"$v/rep_$variant.log" 2>&1; then
+      fail "$name replay $variant: $(tail -2 "$v/rep_$variant.log")"
+      continue
+    fi
+    cmp -s "$v/rep_$variant/map.ply" "$v/ref/map.ply" && ok "$name replay $variant: map.ply = the reference's" ||
+      fail "$name replay $variant: map.ply differs"
+    [[ $variant == skip.* ]] || continue
+    "$bench" replay "$rec" --list-topics >"$v/list_$variant.log" 2>&1 ||
+      fail "$name replay --list-topics $variant: exit $?, $(tail -2 "$v/list_$variant.log")"
+    # The listing: "  TOPIC  TYPE  N message(s)  ENCODINGS  not read[: why]", one line a topic; each skipped topic
+    # has one message per depth frame.
+    frames=$(sed -n 's/^replay reads \([0-9]*\) depth frames.*/\1/p' "$v/list_$variant.log")
+    missing=""
+    for topic in $skipped; do
+      awk -v t="$topic" -v n="$frames" '$1 == t && $0 ~ ("  " n " message\\(s\\)  .*  not read") { found = 1 } END { exit !found }' \
+        "$v/list_$variant.log" || missing+=" $topic"
+    done
+    [[ -n $frames && -z $missing ]] && ok "$name $variant: every skipped topic listed, $frames messages, not read" ||
+      fail "$name $variant: not listed as skipped:$missing (frames '$frames')"
   done
-  [[ -n $frames && -z $missing ]] && ok "$v: every skipped topic listed, $frames messages, not read" ||
-    fail "$v: not listed as skipped:$missing (frames '$frames')"
-done
+}
+check_variants run "$w/x"
+check_variants d435 "$w/d435"
 
 # 3. rosbag2's own recordings: listed, and without depth refused naming their topics.
 topics_of() {  # the topic names of a rosbag2 folder: its .db3 files' topics tables, else metadata.yaml
