@@ -251,7 +251,10 @@ class Ros2BagWriter final : public BagSink {
       tp.type = type, tp.latched = latched;
       // As rosbag2 writes it; our definitions are ROS 2's own field lists, so the hash is ROS 2's.
       tp.type_hash = ros2_type_hash_of_schema(type, "ros2msg", ros2_definition(type)).rihs01;
-      tp.channel = mcap_->add_channel(schema, topic, "cdr", {{"offered_qos_profiles", qos_yaml(latched, "")}});
+      // rosbag2's MCAP storage puts the hash in the channel's metadata too (as its own recordings have it).
+      std::map<std::string, std::string> metadata = {{"offered_qos_profiles", qos_yaml(latched, "")}};
+      if (!tp.type_hash.empty()) metadata["topic_type_hash"] = tp.type_hash;
+      tp.channel = mcap_->add_channel(schema, topic, "cdr", metadata);
       it = topics_.emplace(topic, tp).first;
     }
     if (it->second.type != type) throw std::logic_error("BagWriter: " + topic + " written as two types");

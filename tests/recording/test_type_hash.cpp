@@ -329,6 +329,20 @@ TEST(TypeHashTest, WriterPutsEachTopicsHashInMetadataYaml) {
     EXPECT_EQ(hash, "RIHS01_" + kPublishedHashes.at(type)) << type;
   }
   EXPECT_EQ(written, std::set<std::string>(kWrittenTypes.begin(), kWrittenTypes.end()));
+  // Each channel's metadata carries the hash too, as rosbag2's MCAP storage writes it.
+  McapReader reader((folder / "run_0.mcap").string());
+  McapRecord r;
+  std::map<std::uint16_t, std::string> schema_types;
+  int channels = 0;
+  while (reader.next(r)) {
+    if (r.kind == McapRecord::kSchema) schema_types[r.schema.id] = r.schema.name;
+    if (r.kind != McapRecord::kChannel) continue;
+    ++channels;
+    ASSERT_TRUE(r.channel.metadata.count("topic_type_hash")) << r.channel.topic;
+    EXPECT_EQ(r.channel.metadata.at("topic_type_hash"), hashes.at(schema_types.at(r.channel.schema_id)))
+        << r.channel.topic;
+  }
+  EXPECT_GE(channels, 8);
 }
 
 }  // namespace
