@@ -6,8 +6,8 @@
 //
 // The grid is size_x x size_y columns of 32 bits; level z (0..15) of a column is the pair (bit z, bit z + 16):
 //   low bit set, high bit clear: UNKNOWN (a new or reset column is 0x0000ffff: every level unknown, even levels at
-//   and above size_z, which stay unknown for good; nav2's VoxelLayer adds 16 - z_voxels to unknown_threshold);
-//   both set: MARKED (marking sets both bits); both clear: FREE (clearing clears both).
+//   and above size_z, which only clear_voxel_column changes; nav2's VoxelLayer adds 16 - z_voxels to
+//   unknown_threshold); both set: MARKED (marking sets both bits); both clear: FREE (clearing clears both).
 // A column's marked count is the popcount of its high half; its unknown count that of (high half XOR low half).
 // Everything is in cells: x, y, z are cell coordinates (a line's endpoints are real-valued cell coordinates, nav2's
 // worldToMap3DFloat), lengths are cells. Nothing here knows metres or the world frame.
@@ -98,9 +98,9 @@ class VoxelGrid {
   // nav2's raytraceLine: calls visit(column_index, z_mask) for each voxel of the 3D walk from (x0, y0, z0) to
   // (x1, y1, z1), in order, where z_mask = 0x00010001 << z (the level's two bits). The walk starts min_length_cells
   // along the line (nothing when the line, truncated to whole cells, is shorter), steps along the axis with the
-  // most whole cells to cross (x before y before z on ties) and stops after max_length_cells * (that count / the
-  // line's length) steps, or at the end. Unlike nav2's raytraceLine, which trusts its callers, the endpoints are
-  // checked as nav2's *Line functions check them (a coordinate >= the size: outside), and also below: a
+  // most whole cells to cross (x before y before z on ties) and takes int(min(1, max_length_cells / length) *
+  // that count) steps, the length being the whole line's. Unlike nav2's raytraceLine, which trusts its callers, the
+  // endpoints are checked as nav2's *Line functions check them (a coordinate >= the size: outside), and also below: a
   // coordinate <= -1 or NaN is outside (nav2 would index outside its array); one in (-1, 0) counts as 0, as in
   // nav2. Returns false, visiting nothing, when an endpoint is outside.
   template <class Visit>
