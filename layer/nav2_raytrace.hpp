@@ -7,6 +7,9 @@
 //     jazzy f4108e5 keeps it: include/nav2_costmap_2d/costmap_2d.hpp; the arithmetic is the same);
 //   - plugins/obstacle_layer.cpp (raytraceFreespace, updateRaytraceBounds), main a3a9704 = jazzy f4108e5.
 // Coordinates in the costmap's global frame (map or odom); a cell's offset is my * size_x_cells + mx.
+// raytraceFreespace itself uses only worldToMap (after clipping the end); the NoBounds / EnforceBounds variants are
+// what LayeredCostmap::updateMap (EnforceBounds on the layers' bounds, then x0 >= 0, xn = min(size, xn + 1)), the
+// clear-costmap service and the range / keepout layers use.
 #include <climits>
 #include <cstdint>
 #include <limits>
