@@ -163,5 +163,29 @@ TEST_F(Cli, UnwritableOutExitsTwoNamingIt) {
   EXPECT_THAT(o.output, HasSubstr(out));
 }
 
+// replay --list-topics on rosbag2's own split recording and librealsense's D435 bag (../shared/realdata beside the
+// checkout): every topic with its type and count and what the replay reads; exit 0 even without a depth topic.
+TEST_F(Cli, ReplayListTopicsSaysWhatARecordingHoldsAndWhatIsRead) {
+  const fs::path realdata = fs::path(STVL_SOURCE_DIR) / ".." / "shared" / "realdata";
+  if (!fs::exists(realdata / "rosbag2" / "split_mcap")) GTEST_SKIP() << realdata << " is absent";
+  const Outcome split = run("replay " + quoted((realdata / "rosbag2" / "split_mcap").string()) + " --list-topics");
+  EXPECT_EQ(split.exit_code, 0) << split.output;
+  EXPECT_THAT(split.output, HasSubstr("rosbag2 (mcap), 5 file(s), 8 topic(s)"));
+  EXPECT_THAT(split.output, HasSubstr("  AAA  std_msgs/msg/String  804 message(s)  cdr/ros2msg  not read\n"));
+  EXPECT_THAT(split.output, HasSubstr("replay would stop: "));
+  EXPECT_THAT(split.output, HasSubstr("no depth topic"));
+  const Outcome d435 =
+      run("replay " + quoted((realdata / "d435_office_corner" / "single_depth_color_640x480.bag").string()) +
+          " --list-topics");
+  EXPECT_EQ(d435.exit_code, 0) << d435.output;
+  EXPECT_THAT(d435.output, HasSubstr("/device_0/sensor_0/Depth_0/image/data  sensor_msgs/Image  2 message(s)  "
+                                     "ros1/ros1msg  read as depth"));
+  EXPECT_THAT(d435.output, HasSubstr("replay reads 2 depth frames from /device_0/sensor_0/Depth_0/image/data"));
+  EXPECT_FALSE(fs::exists(dir_ / "out"));  // nothing replayed, nothing written
+  const Outcome missing = run("replay " + quoted((dir_ / "nothing.mcap").string()) + " --list-topics");
+  EXPECT_EQ(missing.exit_code, kBadInput) << missing.output;
+  EXPECT_THAT(missing.output, HasSubstr("nothing.mcap: no such file"));
+}
+
 }  // namespace
 }  // namespace stvl::tools
