@@ -363,39 +363,78 @@ void Ros2Source::add_mcap_channel(const File& file, const McapChannel& channel,
   channels[channel.id] = channel.topic;
 }
 
-namespace {
-// The simplest cursor: messages of the topic gathered a batch at a time by a scan that resumes by index.
-class ScanCursor final : public Ros2Source::Cursor {
+// One topic's messages in storage order, each file read once: an MCAP file record by record, a .db3 file by one
+// statement stepped as frames are asked for.
+class StreamCursor final : public Ros2Source::Cursor {
  public:
-  ScanCursor(Ros2Source& source, std::string topic) : source_(source), topic_(std::move(topic)) {}
+  StreamCursor(Ros2Source& source, std::string topic) : source_(source), topic_(std::move(topic)) {}
+  ~StreamCursor() override { sqlite3_finalize(statement_); }
+
   bool next(std::int64_t& time_ns, std::vector<std::uint8_t>& data) override {
-    if (batch_at_ == batch_.size()) {
-      batch_.clear(), batch_at_ = 0;
-      std::size_t seen = 0, bytes = 0;
-      source_.scan(&topic_, [&](const Ros2Topic&, std::int64_t t, const std::uint8_t* d, std::size_t n) {
-        if (seen++ < consumed_) return true;
-        batch_.emplace_back(t, std::vector<std::uint8_t>(d, d + n));
-        bytes += n;
-        return bytes < (64u << 20);
-      });
-      if (batch_.empty()) return false;
+    while (file_ < source_.files_.size()) {
+      Ros2Source::File& file = *source_.files_[file_];
+      if (file.mcap ? next_mcap(file, time_ns, data) : next_db3(file, time_ns, data)) return true;
+      ++file_;
     }
-    time_ns = batch_[batch_at_].first;
-    data.swap(batch_[batch_at_].second);
-    ++batch_at_, ++consumed_;
-    return true;
+    return false;
   }
 
  private:
+  void deliver(const Ros2Source::File& file, std::int64_t t_ns, const std::uint8_t* bytes, std::size_t size,
+               std::int64_t& time_ns, std::vector<std::uint8_t>& data) {
+    if (source_.message_compression_) source_.decompress_message(bytes, size, file.path + ": " + topic_);
+    time_ns = t_ns;
+    data.assign(bytes, bytes + size);
+  }
+
+  bool next_mcap(const Ros2Source::File& file, std::int64_t& time_ns, std::vector<std::uint8_t>& data) {
+    if (!reader_) reader_ = std::make_unique<McapReader>(file.read_path), channels_.clear();
+    while (reader_->next(record_)) {
+      if (record_.kind == McapRecord::kChannel && record_.channel.topic == topic_) channels_.insert(record_.channel.id);
+      if (record_.kind != McapRecord::kMessage || !channels_.count(record_.channel_id)) continue;
+      deliver(file, static_cast<std::int64_t>(record_.log_time_ns), record_.data.data(), record_.data.size(), time_ns,
+              data);
+      return true;
+    }
+    reader_.reset();
+    return false;
+  }
+
+  bool next_db3(const Ros2Source::File& file, std::int64_t& time_ns, std::vector<std::uint8_t>& data) {
+    if (!statement_) {
+      const std::string sql = "SELECT timestamp, data FROM messages WHERE topic_id = ? ORDER BY timestamp, id";
+      if (sqlite3_prepare_v2(file.db, sql.c_str(), -1, &statement_, nullptr) != SQLITE_OK)
+        throw std::invalid_argument(file.path + ": " + sqlite3_errmsg(file.db) + " (in: " + sql + ")");
+      std::int64_t id = -1;
+      for (const auto& [i, name] : file.topic_by_id)
+        if (name == topic_) id = i;
+      sqlite3_bind_int64(statement_, 1, id);
+    }
+    const int rc = sqlite3_step(statement_);
+    if (rc == SQLITE_ROW) {
+      deliver(file, sqlite3_column_int64(statement_, 0),
+              static_cast<const std::uint8_t*>(sqlite3_column_blob(statement_, 1)),
+              static_cast<std::size_t>(sqlite3_column_bytes(statement_, 1)), time_ns, data);
+      return true;
+    }
+    const std::string error = rc == SQLITE_DONE ? std::string() : sqlite3_errmsg(file.db);
+    sqlite3_finalize(statement_);
+    statement_ = nullptr;
+    if (!error.empty()) throw std::invalid_argument(file.path + ": " + error);
+    return false;
+  }
+
   Ros2Source& source_;
   std::string topic_;
-  std::vector<std::pair<std::int64_t, std::vector<std::uint8_t>>> batch_;
-  std::size_t batch_at_ = 0, consumed_ = 0;
+  std::size_t file_ = 0;
+  std::unique_ptr<McapReader> reader_;
+  McapRecord record_;
+  std::set<std::uint16_t> channels_;  // the open MCAP file's channels of the topic
+  sqlite3_stmt* statement_ = nullptr;
 };
-}  // namespace
 
 std::unique_ptr<Ros2Source::Cursor> Ros2Source::cursor(const std::string& topic) {
-  return std::make_unique<ScanCursor>(*this, topic);
+  return std::make_unique<StreamCursor>(*this, topic);
 }
 
 }  // namespace stvl::recording::detail

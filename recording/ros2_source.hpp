@@ -14,6 +14,7 @@ namespace stvl::recording::detail {
 
 struct McapChannel;
 struct McapSchema;
+class StreamCursor;
 
 struct Ros2Topic {
   std::string name, type;  // type as recorded ("sensor_msgs/msg/Image"; "" for an MCAP channel without schema)
@@ -40,7 +41,8 @@ class Ros2Source {
   const std::map<std::string, Ros2Topic>& topics() const { return topics_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
 
-  // A pull cursor over one topic (the replay's depth frames): next() false at the end.
+  // A pull cursor over one topic (the replay's depth frames), streaming through the files once: next() false at
+  // the end.
   class Cursor {
    public:
     virtual ~Cursor() = default;
@@ -49,6 +51,7 @@ class Ros2Source {
   std::unique_ptr<Cursor> cursor(const std::string& topic);
 
  private:
+  friend class StreamCursor;
   struct File;
   void open_db3(File& file);  // its topics (with their definitions) into topics_, its tables checked
   void add_topic(const std::string& where, Ros2Topic topic);  // the first file's type of a topic stays
