@@ -47,7 +47,9 @@ void add_ros2_costmap(const YAML::Node& params, const std::string& costmap, cons
     c.nodes.layer_name = c.nodes.layer_path = names[i].Scalar();
     c.nodes.costmap_name = c.nodes.costmap_path = costmap;
     c.nodes.costmap = params;
-    c.nodes.layer = params[c.nodes.layer_name];
+    // A layer listed but not configured (nav2 runs it with its defaults) has no mapping: params[] gives an invalid
+    // node then, which yaml-cpp refuses to assign.
+    if (const YAML::Node layer = params[c.nodes.layer_name]; layer.IsDefined()) c.nodes.layer.reset(layer);
     c.nodes.layer_line = std::max(1, key_line(params, c.nodes.layer_name));
     c.line = line_of(names[i]);
     c.plugins_line = key_line(params, foxy ? "plugin_names" : "plugins");

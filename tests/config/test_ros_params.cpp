@@ -11,6 +11,7 @@ namespace {
 
 using test::invalid_argument_of;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using ::testing::StartsWith;
 
 class RosParams : public ::testing::Test {
@@ -208,6 +209,25 @@ TEST_F(RosParams, NonStvlPluginIsNamed) {
             "FILE:7: stvl_layer.plugin: plugin is 'nav2_costmap_2d::VoxelLayer', not "
             "spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer");
   EXPECT_THAT(error(test::nav2_text(test::kLayerBody, "nav2_costmap_2d::VoxelLayer")), HasSubstr("no STVL layer"));
+}
+
+// nav2 runs a layer listed in `plugins` without a mapping of its own (its defaults; inflation_layer often is): the
+// file is read, and the message lists it, not yaml-cpp's "invalid node".
+TEST_F(RosParams, ALayerListedWithoutItsMappingIsListedNotACrash) {
+  const std::string text =
+      "local_costmap:\n  local_costmap:\n    ros__parameters:\n      plugins: [\"voxel_layer\", "
+      "\"inflation_layer\"]\n      voxel_layer:\n        plugin: \"nav2_costmap_2d::VoxelLayer\"\n";
+  const std::string message = error(text);
+  EXPECT_THAT(message, HasSubstr("no STVL layer"));
+  EXPECT_THAT(message, HasSubstr("voxel_layer in local_costmap (nav2_costmap_2d::VoxelLayer)"));
+  EXPECT_THAT(message, HasSubstr("inflation_layer in local_costmap"));
+  EXPECT_THAT(message, Not(HasSubstr("invalid node")));
+  const std::string stvl =
+      "local_costmap:\n  local_costmap:\n    ros__parameters:\n      plugins: [stvl_layer, "
+      "inflation_layer]\n      stvl_layer:\n" +
+      test::indented(std::string("plugin: spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer\n") + test::kLayerBody,
+                     8);
+  EXPECT_EQ(load(stvl).layer_name, "stvl_layer");
 }
 
 TEST_F(RosParams, SeveralCandidatesNeedAName) {
