@@ -11,17 +11,7 @@
 set -uo pipefail
 bench=$1 src=$2 out=$3
 here=$src/tests/recording
-command -v node >/dev/null || { echo "SKIP: node is not installed"; exit 77; }
-command -v npm >/dev/null || { echo "SKIP: npm is not installed"; exit 77; }
-mkdir -p "$out" && rm -rf "$out"/work && mkdir -p "$out/work" "$out/npm"
-if ! cmp -s "$here/mcap_js/package-lock.json" "$out/npm/package-lock.json" || [[ ! -d $out/npm/node_modules ]]; then
-  cp "$here/mcap_js/package.json" "$here/mcap_js/package-lock.json" "$out/npm/"
-  (cd "$out/npm" && npm ci --no-audit --no-fund >npm.log 2>&1) || { echo "SKIP: npm ci failed (offline?): $(tail -3 "$out/npm/npm.log")"; rm -f "$out/npm/package-lock.json"; exit 77; }
-fi
-export NODE_PATH=$out/npm/node_modules
-w=$out/work failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-ok() { echo "ok: $*"; }
+source "$here/mcap_js_env.sh"  # node, npm ci of mcap_js/, NODE_PATH, $w, fail, ok
 
 # 1. Exports, read by the reference library.
 "$bench" run --duration 2 --out "$w/run" --bag "$w/z.mcap" --no-progress >"$w/run.log" 2>&1

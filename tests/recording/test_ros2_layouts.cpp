@@ -58,29 +58,6 @@ void write_metadata(const fs::path& folder, const std::vector<std::string>& file
   write_bytes(folder / "metadata.yaml", y.str());
 }
 
-struct Frame {
-  double stamp_s;
-  std::vector<float> depth;
-  Eigen::Matrix4d T_fixed_camera;
-};
-
-std::vector<Frame> frames_of(const fs::path& path) {
-  const auto recording = open_recording(path.string());
-  std::vector<Frame> out;
-  RecordedFrame f;
-  while (recording->next(f)) out.push_back({f.stamp_s, f.depth.depth_m, f.T_fixed_camera.matrix()});
-  return out;
-}
-
-void expect_same_frames(const std::vector<Frame>& a, const std::vector<Frame>& b) {
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_EQ(a[i].stamp_s, b[i].stamp_s);
-    EXPECT_EQ(a[i].depth, b[i].depth);
-    EXPECT_EQ(a[i].T_fixed_camera, b[i].T_fixed_camera);
-  }
-}
-
 TEST(Ros2Layouts, Rosbag2sOwnRecordingsListEveryTopicWithTheCountsOfTheirMetadata) {
   if (!fs::exists(kRosbag2)) GTEST_SKIP() << kRosbag2 << " is absent (it lies beside the checkout in CI)";
   int folders = 0;
@@ -117,7 +94,7 @@ TEST(Ros2Layouts, FilesAndMessagesCompressedWithZstdReadAsTheSameFrames) {
   const test::TempDir dir("ros2_compressed");
   const fs::path plain = write_ros2_export(dir.path());
   const std::string mcap = read_bytes(plain / "b_0.mcap");
-  const std::vector<Frame> expected = frames_of(plain);
+  const std::vector<RecordedFrame> expected = frames_of(plain);
   ASSERT_EQ(expected.size(), 3u);
 
   const fs::path file_mode = dir.path() / "file_mode";

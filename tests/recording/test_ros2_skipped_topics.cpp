@@ -209,34 +209,6 @@ void write_db3(const fs::path& path, const Records& plain, const Extras& extras,
   db.exec("COMMIT;");
 }
 
-std::vector<RecordedFrame> frames_of(const fs::path& path) {
-  std::vector<RecordedFrame> frames;
-  auto recording = open_recording(path.string());
-  RecordedFrame frame;
-  while (recording->next(frame)) frames.push_back(frame);
-  return frames;
-}
-
-void expect_same_frames(const std::vector<RecordedFrame>& actual, const std::vector<RecordedFrame>& expected) {
-  ASSERT_EQ(actual.size(), expected.size());
-  for (std::size_t i = 0; i < actual.size(); ++i) {
-    SCOPED_TRACE("frame " + std::to_string(i));
-    const auto &a = actual[i], &e = expected[i];
-    EXPECT_EQ(a.depth.width, e.depth.width);
-    EXPECT_EQ(a.depth.height, e.depth.height);
-    EXPECT_EQ(a.depth.depth_m, e.depth.depth_m);
-    EXPECT_EQ(a.intrinsics.width, e.intrinsics.width);
-    EXPECT_EQ(a.intrinsics.height, e.intrinsics.height);
-    EXPECT_EQ(a.intrinsics.fx, e.intrinsics.fx);
-    EXPECT_EQ(a.intrinsics.fy, e.intrinsics.fy);
-    EXPECT_EQ(a.intrinsics.cx, e.intrinsics.cx);
-    EXPECT_EQ(a.intrinsics.cy, e.intrinsics.cy);
-    EXPECT_EQ(a.stamp_s, e.stamp_s);
-    EXPECT_EQ(a.time_s, e.time_s);
-    EXPECT_EQ(a.T_fixed_camera.matrix(), e.T_fixed_camera.matrix());
-  }
-}
-
 // Every extra topic is in the recording's list, not read, with one message per depth frame; the depth topic is read.
 void expect_listed(const fs::path& path, const Extras& extras) {
   const auto recording = open_recording(path.string());
