@@ -47,6 +47,7 @@ class BagRecording final : public Recording {
  public:
   BagRecording(const std::string& path, const RecordingOptions& options) : options_(options) {
     info_.path = path;
+    info_.files = {path};
     try {
       bag_.open(path, rosbag::bagmode::Read);
     } catch (const std::exception& e) {

@@ -114,6 +114,7 @@ class PngFolderRecording final : public Recording {
   PngFolderRecording(const std::string& path, const RecordingOptions& options) : options_(options) {
     const fs::path dir(path);
     info_.path = path;
+    info_.files = {path};
     info_.format = "png folder";
     info_.encoding = "png16";
     info_.camera_frame = "camera";

@@ -75,6 +75,7 @@ struct RecordingInfo {
   sensors::CameraIntrinsics intrinsics;     // of the first frame (min/max range from the options)
   double start_time_s = 0, end_time_s = 0;  // recorded stamps of the first and last depth frame
   std::vector<TopicSummary> topics;         // bags: every topic, read or not, by name
+  std::vector<std::string> files;           // what was read: the bag, a rosbag2 folder's files in order, the folder
 };
 
 struct RecordedFrame {

@@ -35,6 +35,7 @@ class Ros2Recording final : public Recording {
   Ros2Recording(const std::string& path, const RecordingOptions& options) : options_(options), source_(path) {
     info_.path = path;
     info_.format = source_.format();
+    info_.files = source_.files();
     for (const auto& w : source_.warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
     open();
     cursor_ = source_.cursor(info_.depth_topic);

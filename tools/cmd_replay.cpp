@@ -143,21 +143,23 @@ void print_replay_summary(const ReplayCommandOptions& o, const ReplayResult& res
 // --list-topics: every topic of the recording with its type, count and encodings, and what a replay with these
 // options reads it as, or why the replay would stop. Exit 0; 2 when the recording cannot be read at all.
 int list_topics(const ReplayCommandOptions& o, const ReplaySettings& settings) {
-  const recording::RecordingContents contents = recording::list_recording(o.recording);
-  std::vector<recording::TopicSummary> topics = contents.topics;
+  recording::RecordingContents contents;
   std::string outcome;
   try {
     const auto opened = recording::open_recording(o.recording, settings.recording);
     const auto& info = opened->info();
-    if (!info.topics.empty()) topics = info.topics;
+    contents = recording::RecordingContents{info.path, info.format, info.files, info.topics, {}};
     outcome = "replay reads " + std::to_string(info.frame_count) + " depth frames" +
               (info.depth_topic.empty() ? std::string() : " from " + info.depth_topic) +
               " (poses: " + recording::to_string(info.pose_source) + ")";
   } catch (const std::invalid_argument& e) {
+    // Read again without choosing topics (throws, exit 2, when the recording cannot be read at all).
+    contents = recording::list_recording(o.recording);
     outcome = std::string("replay would stop: ") + e.what();
   }
   // The recording's warnings (a file cut short, a schema of a topic not read that does not parse) were printed as
   // it was opened.
+  const std::vector<recording::TopicSummary>& topics = contents.topics;
   std::printf("recording: %s: %s, %zu file(s), %zu topic(s)\n", o.recording.c_str(), contents.format.c_str(),
               contents.files.size(), topics.size());
   for (const auto& t : topics) {
