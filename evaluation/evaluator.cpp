@@ -278,6 +278,7 @@ std::vector<CameraRecall> Evaluator::camera_recalls(double time_s, const VoxelMa
 
 CellGrid Evaluator::project_lethal(const mapping::VoxelMap& map, CellGrid& columns) {
   const ScopedMsTimer timer(times_.costmap_ms);
+  if (layer_costmap_) return lethal_cells(layer_costmap_(), config_.voxel_size_m);
   if (map.empty()) return {};
   mapping::CostmapOptions options;  // its band infinite unless the costmap counts the marking band only
   if (!config_.costmap_every_voxel) {
@@ -298,7 +299,7 @@ void Evaluator::score_costmap(const mapping::VoxelMap& map, const CellGrid& leth
   const CellGrid& footprint = truth_.footprint();
   const std::vector<Eigen::Vector2d> footprint_W =
       mapping::footprint_in_world(config_.robot_footprint_B, T_world_base_);
-  if (!map.empty()) {
+  if (!map.empty() && !layer_costmap_) {
     CellSet freed;
     if (config_.footprint_clearing && !footprint_W.empty())
       for (const auto& [x, y] : mapping::footprint_cells(footprint_W, Eigen::Vector2d::Zero(), cell_m))

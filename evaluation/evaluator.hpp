@@ -4,6 +4,7 @@
 //                 the map's update and after_update() after it (clearing latency of moved bodies);
 //   periodically  evaluate(): a snapshot of every figure against the truth of the world's current state;
 //   at the end    finish(): the final snapshot, means, obstacles, surface distances, clearing.
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -143,6 +144,10 @@ class Evaluator {
   void observe_hidden_clears(double time_s, const CameraView& view, const mapping::VoxelMap& map,
                              const std::vector<VoxelKey>& cleared_keys);
 
+  // The layer's own costmap for the 2D scores, when the layer's costmap is not the projection of its voxels (nav2's
+  // layers raytrace and mark cells themselves): its lethal cells are scored and the projection guard is not run.
+  // Unset (STVL): the costmap is projected from the map's voxels at voxel_size_m.
+  void set_layer_costmap(std::function<mapping::Costmap2D()> costmap) { layer_costmap_ = std::move(costmap); }
   // The robot's pose at the map's last update (the footprint's place for clearing and self-marking).
   void set_robot_pose(const Eigen::Isometry3d& T_world_base) { T_world_base_ = T_world_base; }
   // A snapshot of every figure against the truth of the world's current state (kept for the means).
@@ -175,6 +180,7 @@ class Evaluator {
                      const CellGrid& observed_cells, EvaluationSnapshot& snap);
 
   EvaluationConfig config_;
+  std::function<mapping::Costmap2D()> layer_costmap_;
   Eigen::Isometry3d T_world_base_ = Eigen::Isometry3d::Identity();
   Truth truth_;
   std::map<std::string, ObstacleResult> obstacles_;

@@ -63,6 +63,10 @@ class RunEvaluation {
   // The final snapshot, summary, map view and every check; `map` is the final map.
   RunVerdict finish(const RunEnd& end, const sim::World& world, const mapping::VoxelMap& map);
 
+  // The layer's own costmap for the 2D scores (Evaluator::set_layer_costmap): nav2's layers.
+  void set_layer_costmap(std::function<mapping::Costmap2D()> costmap) {
+    evaluator_.set_layer_costmap(std::move(costmap));
+  }
   // The Evaluator's ground truth, at the world's state of the last update.
   const Truth& truth() const { return evaluator_.truth(); }
   // Another costmap's lethal cells (nav2's master) against that truth's footprint, with the evaluation's

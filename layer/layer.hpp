@@ -3,16 +3,17 @@
 // clock, updates its voxels (or cells) at its ticks, and gives its costmap as it would publish it. The frame loop
 // (run/) calls update() once per observation; a layer calls nothing back.
 //
-//   layer::StvlLayer layer(config);
+//   auto layer = layer::make_layer(config);            // STVL's, or nav2's voxel or obstacle layer
 //   layer::UpdateReport report;
-//   layer.update(observation, sensors_now, report);   // per observation, in stamp order
-//   layer.costmap();                                  // what it would publish now
+//   layer->update(observation, sensors_now, report);  // per observation, in stamp order
+//   layer->costmap();                                 // what it would publish now
 #include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "common/voxel_key.hpp"
+#include "layer/config.hpp"
 #include "layer/nav2_costmap.hpp"
 #include "layer/observation.hpp"
 #include "layer/source_buffer.hpp"
@@ -76,8 +77,10 @@ class Layer {
   // runs the updates due by then; `report` is overwritten.
   virtual void update(std::shared_ptr<const Observation> observation, const std::vector<SensorNow>& sensors,
                       UpdateReport& report) = 0;
-  // The voxels the layer holds, as the last update left them.
+  // The voxels the layer holds, as the last update left them (empty when it has none).
   virtual const mapping::VoxelMap& voxels() const = 0;
+  // Whether the layer keeps voxels at all (nav2's ObstacleLayer keeps cells only): the 3D scores need them.
+  virtual bool has_voxels() const { return true; }
   // The layer's costmap as it would publish it now: its projection, with its footprint freed at the robot's pose
   // of the last observation.
   virtual mapping::Costmap2D costmap() const = 0;
@@ -89,5 +92,8 @@ class Layer {
  protected:
   std::unique_ptr<Nav2Costmap> master_;
 };
+
+// The layer config.type names (StvlLayer or Nav2Layer). Throws std::invalid_argument for a bad config.
+std::unique_ptr<Layer> make_layer(LayerConfig config);
 
 }  // namespace stvl::layer

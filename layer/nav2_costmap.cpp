@@ -118,6 +118,27 @@ void Nav2Costmap::update(const Costmap2D& layer, const std::vector<Eigen::Vector
     }
 }
 
+void Nav2Costmap::combine(const std::vector<std::uint8_t>& layer_cells, int x0, int y0, int xn, int yn,
+                          int combination_method) {
+  if (layer_cells.size() != master_.cells.size())
+    throw std::invalid_argument("Nav2Costmap::combine: the layer's grid is not the master's size");
+  if (combination_method < 0 || combination_method > 2)
+    throw std::invalid_argument("Nav2Costmap::combine: combination_method " + std::to_string(combination_method));
+  x0 = std::max(0, x0), y0 = std::max(0, y0);
+  xn = std::min(master_.width, xn), yn = std::min(master_.height, yn);
+  for (int y = y0; y < yn; ++y)
+    for (int x = x0; x < xn; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * master_.width + x;
+      std::uint8_t& m = master_.cells[i];
+      m = default_value_;  // resetMap
+      const std::uint8_t l = layer_cells[i];
+      if (l == kCostUnknown) continue;
+      if (combination_method == 0) m = l;
+      else if (combination_method == 1 && (m == kCostUnknown || m < l)) m = l;
+      else if (combination_method == 2 && m != kCostUnknown && m < l) m = l;
+    }
+}
+
 std::size_t Nav2Costmap::ghost_cells(const Costmap2D& layer) const {
   std::size_t ghosts = 0;
   for (std::size_t i = 0; i < master_.cells.size() && i < layer.cells.size(); ++i)

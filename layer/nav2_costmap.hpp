@@ -48,6 +48,11 @@ class Nav2Costmap {
   // footprint's vertices (empty without update_footprint_enabled).
   void update(const mapping::Costmap2D& layer, const std::vector<Eigen::Vector2d>& cleared_W,
               const std::vector<Eigen::Vector2d>& footprint_W);
+  // One cycle of a nav2 layer after window_at(): resetMap of the master over [x0, xn) x [y0, yn) (cells), then the
+  // layer's updateCosts with its own grid (the window's size, row by row): combination_method 0
+  // (updateWithOverwrite), 1 (updateWithMax) or 2 (updateWithMaxWithoutUnknownOverwrite); all skip the layer's
+  // NO_INFORMATION. Throws std::invalid_argument for a grid of another size or another method.
+  void combine(const std::vector<std::uint8_t>& layer_cells, int x0, int y0, int xn, int yn, int combination_method);
   // The master costmap as the last update left it.
   const mapping::Costmap2D& master() const { return master_; }
   // Master cells lethal where the layer is not: cells nav2 keeps that STVL no longer has (ghosts).

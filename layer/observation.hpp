@@ -14,6 +14,13 @@
 
 namespace stvl::layer {
 
+// nav2's ranges of one observation source (ObstacleLayer::onInitialize's defaults), metres.
+struct Nav2SourceRanges {
+  double obstacle_max_range_m = 2.5, obstacle_min_range_m = 0.0;
+  double raytrace_max_range_m = 3.0, raytrace_min_range_m = 0.0;
+  bool inf_is_valid = false;  // inf_is_valid: LaserScan's only; a PointCloud2 source never has an Inf point
+};
+
 // One STVL observation source (a sensor topic in STVL) fed by a camera's frames. A marking source marks the
 // frame's decimated cloud with its own range and height band; a clearing source clears with its own frustum
 // (or rays). A marking source and a clearing source on one camera, each with its own ranges, is STVL's
@@ -21,6 +28,10 @@ namespace stvl::layer {
 struct SourceConfig {
   std::string name = "camera";  // the source's name in STVL's observation_sources
   mapping::ObservationSource params;
+  // nav2's layers: the source's ranges (obstacle_max_range, obstacle_min_range, raytrace_max_range,
+  // raytrace_min_range, nav2's defaults); marking, clearing, the height band, observation_persistence and
+  // expected_update_rate are params' (STVL's keys of the same names).
+  Nav2SourceRanges nav2;
 };
 
 // One sensor feeding the layer: its name, the rate its frames are due at (Hz) and the sources its frames feed.

@@ -47,7 +47,7 @@ struct StvlLayer::Applied {
   std::vector<std::pair<const Observation*, const mapping::ObservationSource*>> marking;
 };
 
-StvlLayer::StvlLayer(StvlLayerConfig config) : config_(std::move(config)), map_(config_.map) {
+StvlLayer::StvlLayer(LayerConfig config) : config_(std::move(config)), map_(config_.map) {
   if (config_.nav2_costmap.enabled()) master_ = std::make_unique<Nav2Costmap>(config_.nav2_costmap);
   for (std::size_t i = 0; i < config_.sensors.size(); ++i)
     sensors_.push_back(std::make_unique<Sensor>(config_.sensors[i], i));
@@ -204,7 +204,7 @@ void StvlLayer::feed_master(double time_s, const std::vector<VoxelKey>& removed)
   master_->count_ghosts(time_s, layer);
 }
 
-mapping::CostmapOptions costmap_options(const StvlLayerConfig& config, const Eigen::Isometry3d& T_world_base) {
+mapping::CostmapOptions costmap_options(const LayerConfig& config, const Eigen::Isometry3d& T_world_base) {
   mapping::CostmapOptions options;
   if (config.map.costmap_band == mapping::CostmapBand::kMarkingBand) {  // the bench's; STVL counts every voxel
     const HeightBand band = marking_band(config.sensors);

@@ -18,17 +18,10 @@
 
 namespace stvl::layer {
 
-struct StvlLayerConfig {
-  mapping::StvlConfig map;  // YAML map: STVL's layer keys and the bench's switches
-  // nav2's master costmap around the layer (YAML map.nav2_costmap); off unless its width and height are given.
-  Nav2CostmapConfig nav2_costmap;
-  std::vector<SensorConfig> sensors;  // at least one; each with at least one source
-};
-
 class StvlLayer : public Layer {
  public:
   // Throws std::invalid_argument for a bad map or nav2_costmap config.
-  explicit StvlLayer(StvlLayerConfig config);
+  explicit StvlLayer(LayerConfig config);
   ~StvlLayer() override;
   StvlLayer(const StvlLayer&) = delete;
   StvlLayer& operator=(const StvlLayer&) = delete;
@@ -38,11 +31,11 @@ class StvlLayer : public Layer {
   const mapping::VoxelMap& voxels() const override { return map_; }
   mapping::Costmap2D costmap() const override;
   std::vector<SourceStatus> source_status(double until_s) const override;
-  const StvlLayerConfig& config() const { return config_; }
+  const LayerConfig& config() const { return config_; }
 
  private:
   struct Sensor;
-  StvlLayerConfig config_;
+  LayerConfig config_;
   mapping::VoxelMap map_;
   std::vector<std::unique_ptr<Sensor>> sensors_;
   std::size_t next_tick_ = 0;  // with map.update_frequency_hz: the index k of the next update time k / f
@@ -65,6 +58,6 @@ class StvlLayer : public Layer {
 // The costmap's options: with map.costmap_band marking_band (the bench's) the sensors' marking band (STVL's
 // every_voxel: no band) and, with map.update_footprint_enabled, the footprint at T_world_base freed (STVL's
 // footprint clearing at the robot's pose of the last update).
-mapping::CostmapOptions costmap_options(const StvlLayerConfig& config, const Eigen::Isometry3d& T_world_base);
+mapping::CostmapOptions costmap_options(const LayerConfig& config, const Eigen::Isometry3d& T_world_base);
 
 }  // namespace stvl::layer

@@ -64,6 +64,8 @@ struct PipelineConfig {
   std::vector<CameraConfig> cameras{CameraConfig{}};  // names unique; mounts outside the robot and above the floor
   filter::FilterConfig filter;
   mapping::StvlConfig map;
+  layer::LayerType layer_type = layer::LayerType::kStvl;  // YAML map.layer_type
+  layer::Nav2LayerParams nav2_layer;                      // YAML map.nav2_layer (nav2 layer types)
   // nav2's master costmap around the layer (layer/nav2_costmap.hpp): YAML map.nav2_costmap; off unless its width
   // and height are given.
   layer::Nav2CostmapConfig nav2_costmap;
@@ -72,8 +74,9 @@ struct PipelineConfig {
   std::vector<std::string> robot_geoms_seen;
 };
 
-// The layer's config: the map, nav2's master costmap, and each camera as a sensor (its name, rate and sources).
-layer::StvlLayerConfig layer_config(const PipelineConfig& config);
+// The layer's config: its type, the map, nav2's layer keys and master costmap, and each camera as a sensor (its name,
+// rate and sources).
+layer::LayerConfig layer_config(const PipelineConfig& config);
 
 // The config's marking band (layer::marking_band over its cameras' sources).
 layer::HeightBand marking_band(const PipelineConfig& config);

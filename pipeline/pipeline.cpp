@@ -145,8 +145,8 @@ static std::vector<layer::SensorConfig> layer_sensors(const PipelineConfig& conf
   return sensors;
 }
 
-layer::StvlLayerConfig layer_config(const PipelineConfig& config) {
-  return {config.map, config.nav2_costmap, layer_sensors(config)};
+layer::LayerConfig layer_config(const PipelineConfig& config) {
+  return {config.layer_type, config.map, config.nav2_layer, config.nav2_costmap, layer_sensors(config)};
 }
 
 layer::HeightBand marking_band(const PipelineConfig& config) { return layer::marking_band(layer_sensors(config)); }

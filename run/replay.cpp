@@ -10,7 +10,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/units.hpp"
-#include "layer/stvl_layer.hpp"
+#include "layer/layer.hpp"
 #include "pipeline/sensing.hpp"
 
 namespace stvl::run {
@@ -140,7 +140,8 @@ ReplayResult replay_recording(recording::Recording& recording, const ReplaySetti
   ReplayResult r;
   r.recording = recording.info();
   r.pipeline = replay_config(settings, r.recording);
-  layer::StvlLayer layer(pipeline::layer_config(r.pipeline));
+  const std::unique_ptr<layer::Layer> the_layer = layer::make_layer(pipeline::layer_config(r.pipeline));
+  layer::Layer& layer = *the_layer;
   if (!options.out_dir.empty()) ensure_writable_directory(std::filesystem::path(options.out_dir) / "frames");
   const std::size_t total =
       settings.max_frames > 0 ? std::min(settings.max_frames, r.recording.frame_count) : r.recording.frame_count;

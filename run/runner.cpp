@@ -6,7 +6,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/units.hpp"
-#include "layer/stvl_layer.hpp"
+#include "layer/layer.hpp"
 #include "pipeline/pipeline.hpp"
 #include "sim/contacts.hpp"
 
@@ -135,9 +135,12 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   RunResult r;
   r.scenario = s;
   const std::unique_ptr<pipeline::Pipeline> pipeline = build_pipeline(s);
-  layer::StvlLayer layer(pipeline::layer_config(s.pipeline));
+  const std::unique_ptr<layer::Layer> the_layer = layer::make_layer(pipeline::layer_config(s.pipeline));
+  layer::Layer& layer = *the_layer;
   const sim::World& world = pipeline->simulator().world();
   evaluation::RunEvaluation evaluation(world, config::evaluation_config(s), s.checks, s.pipeline.cameras);
+  if (s.pipeline.layer_type != layer::LayerType::kStvl)
+    evaluation.set_layer_costmap([&layer] { return layer.costmap(); });
   if (!options.out_dir.empty()) ensure_writable_directory(std::filesystem::path(options.out_dir) / "frames");
   r.gl_backend = pipeline->gl_backend();
   r.filter_device = pipeline->filter_device();
