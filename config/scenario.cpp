@@ -24,6 +24,7 @@ using namespace scenario_detail;
 // map.observation as read: every camera's source starts from it.
 struct ObservationDefaults {
   mapping::ObservationSource source;
+  layer::Nav2SourceRanges nav2;  // nav2's layers' ranges (obstacle_max_range, ...)
   std::optional<double> hfov_rad, vfov_rad;
   std::shared_ptr<YamlMap> yaml;  // null when the file has no map.observation
 };
@@ -124,9 +125,10 @@ void read_moving_bodies(YamlMap& root, Scenario& s) {
 }
 
 // `src`; the FOV angles stay unset (the camera's) unless given.
-void read_observation(YamlMap& o, mapping::ObservationSource& src, std::optional<double>& hfov,
-                      std::optional<double>& vfov) {
+void read_observation(YamlMap& o, mapping::ObservationSource& src, layer::Nav2SourceRanges& nav2,
+                      std::optional<double>& hfov, std::optional<double>& vfov) {
   read_source_keys(o, src, kReadByScenario, {"horizontal_fov_angle", "vertical_fov_angle"});
+  read_nav2_ranges(o, nav2);
   read_clearing_model(o, src);
   get_optional(o, "horizontal_fov_angle", hfov);
   get_optional(o, "vertical_fov_angle", vfov);
@@ -138,8 +140,9 @@ void apply_observation(pipeline::CameraConfig& camera, const ObservationDefaults
                        mapping::ClearingMode mode) {
   auto& src = camera.sources.front().params;
   src = defaults.source;
+  camera.sources.front().nav2 = defaults.nav2;
   std::optional<double> hfov = defaults.hfov_rad, vfov = defaults.vfov_rad;
-  if (own) read_observation(*own, src, hfov, vfov);
+  if (own) read_observation(*own, src, camera.sources.front().nav2, hfov, vfov);
   src.horizontal_fov_rad = hfov.value_or(camera.intrinsics.hfov_rad());
   src.vertical_fov_rad = vfov.value_or(camera.intrinsics.vfov_rad());
   YamlMap* o = own ? &*own : defaults.yaml.get();
@@ -179,7 +182,7 @@ void read_ros_params(YamlMap& map, Scenario& s, const std::string& base_dir) {
                  ? ref.path
                  : (std::filesystem::path(base_dir) / ref.path).lexically_normal().string();
   for (const char* key : {"voxel_size", "voxel_decay", "decay_model", "mark_threshold", "observation",
-                          "update_footprint_enabled", "robot_radius", "footprint"})
+                          "update_footprint_enabled", "robot_radius", "footprint", "layer_type", "nav2_layer"})
     if (map.has(key))
       map.fail(map.raw(key), key,
                "comes from the ROS parameter file (map.ros_params: " + ref.path + "); remove it here");
@@ -270,10 +273,12 @@ void read_map(YamlMap map, Scenario& s, ObservationDefaults& observation, const 
                  {"update_frequency", &map, "update_frequency"}},
                 [&] { m.validate(); });
   read_footprint(map, s);
+  read_layer_type(map, s);
   if (map.has("nav2_costmap")) read_nav2_costmap(map.map("nav2_costmap"), s);
   if (map.has("observation")) {
     observation.yaml = std::make_shared<YamlMap>(map.map("observation"));
-    read_observation(*observation.yaml, observation.source, observation.hfov_rad, observation.vfov_rad);
+    read_observation(*observation.yaml, observation.source, observation.nav2, observation.hfov_rad,
+                     observation.vfov_rad);
   }
   map.finish();
 }
@@ -447,6 +452,18 @@ evaluation::EvaluationConfig evaluation_config(const Scenario& s) {
   e.cameras = s.pipeline.cameras.size();
   e.robot_footprint_B = s.pipeline.map.footprint_B;
   e.footprint_clearing = s.pipeline.map.update_footprint_enabled;
+  if (s.pipeline.layer_type != layer::LayerType::kStvl) {
+    // nav2's layers mark inside the sources' band and their own (the voxel layer: below its grid's top too).
+    const layer::Nav2LayerParams& n = s.pipeline.nav2_layer;
+    e.min_obstacle_height_m = std::max(e.min_obstacle_height_m, n.min_obstacle_height_m);
+    e.max_obstacle_height_m = std::min(e.max_obstacle_height_m, n.max_obstacle_height_m);
+    if (s.pipeline.layer_type == layer::LayerType::kNav2Voxel)
+      e.max_obstacle_height_m = std::min(e.max_obstacle_height_m, n.origin_z_m + n.z_voxels * n.z_resolution_m);
+    e.footprint_clearing = n.footprint_clearing_enabled;
+    e.layer_has_voxels = s.pipeline.layer_type == layer::LayerType::kNav2Voxel;
+    e.costmap_projected = false;
+    e.nav2_marking_range = true;
+  }
   e.path_W = s.pipeline.path.waypoints_W;  // a looping path is closed: its last leg goes back to the first point
   if (s.pipeline.path.loop && e.path_W.size() > 1 && e.path_W.back() != e.path_W.front())
     e.path_W.push_back(e.path_W.front());

@@ -103,6 +103,11 @@ void complete_footprint(Scenario& s);
 // path planned on it when robot.waypoints is left out.
 // map.nav2_costmap (scenario_map.cpp): nav2's master costmap to model.
 void read_nav2_costmap(YamlMap costmap, Scenario& s);
+// map.layer_type and, for nav2's layers, map.nav2_layer (nav2's layer keys under their nav2 names).
+void read_layer_type(YamlMap& map, Scenario& s);
+// A source's nav2 ranges (obstacle_max_range, obstacle_min_range, raytrace_max_range, raytrace_min_range): finite
+// and >= 0 m.
+void read_nav2_ranges(YamlMap& o, layer::Nav2SourceRanges& nav2);
 std::shared_ptr<const worldgen::MapWorld> read_nav2_map(YamlMap map, Scenario& s, const std::string& base_dir);
 // robot.waypoints planned on the map for the robot's footprint radius (a URDF robot's when robot.urdf was read, else
 // worlds/robot.xml's), from robot.start when the file gives one (read already), else along the map's longest path,

@@ -80,7 +80,14 @@ void read_nav2_costmap(YamlMap costmap, Scenario& s) {
   layer::Nav2CostmapConfig& c = s.pipeline.nav2_costmap;
   costmap.require("width_m", c.width_m);
   costmap.require("height_m", c.height_m);
+  const bool nav2_layer = s.pipeline.layer_type != layer::LayerType::kStvl;
+  if (nav2_layer) c.resolution_m = s.pipeline.map.voxel_size_m;  // a nav2 layer's grid has one resolution
   costmap.get("resolution_m", c.resolution_m);
+  if (nav2_layer)
+    require_range(costmap, "resolution_m", c.resolution_m,
+                  std::abs(c.resolution_m - s.pipeline.map.voxel_size_m) <= 1e-12,
+                  "must equal map.voxel_size (" + general(s.pipeline.map.voxel_size_m) +
+                      " m) with a nav2 layer, the one resolution of its grid (or leave it out)");
   costmap.get("rolling_window", c.rolling_window);
   costmap.get("combination_method", c.combination_method);
   costmap.get("track_unknown_space", c.track_unknown_space);
@@ -93,6 +100,53 @@ void read_nav2_costmap(YamlMap costmap, Scenario& s) {
                  {"combination_method", &costmap, "combination_method"}},
                 [&] { c.validate(); });
   costmap.finish();
+}
+
+void read_layer_type(YamlMap& map, Scenario& s) {
+  std::string type = layer::to_string(s.pipeline.layer_type);
+  map.get("layer_type", type);
+  validate_keys({{"layer_type", &map, "layer_type"}}, [&] { s.pipeline.layer_type = layer::parse_layer_type(type); });
+  if (!map.has("nav2_layer")) return;
+  if (s.pipeline.layer_type == layer::LayerType::kStvl)
+    map.fail(map.raw("nav2_layer"), "nav2_layer", "needs map.layer_type nav2_voxel or nav2_obstacle");
+  YamlMap n = map.map("nav2_layer");
+  layer::Nav2LayerParams& p = s.pipeline.nav2_layer;
+  n.get("z_voxels", p.z_voxels);
+  n.get("z_resolution", p.z_resolution_m);
+  n.get("origin_z", p.origin_z_m);
+  n.get("unknown_threshold", p.unknown_threshold);
+  n.get("mark_threshold", p.mark_threshold);
+  n.get("min_obstacle_height", p.min_obstacle_height_m);
+  n.get("max_obstacle_height", p.max_obstacle_height_m);
+  n.get("combination_method", p.combination_method);
+  n.get("footprint_clearing_enabled", p.footprint_clearing_enabled);
+  n.get("publish_voxel_map", p.publish_voxel_map);
+  std::string marking = layer::to_string(p.marking_range),
+              purge = p.purge_rule == layer::nav2::PurgeRule::kMain ? "main" : "jazzy";
+  n.get("nav2_marking_range", marking);
+  n.get("nav2_purge_rule", purge);
+  validate_keys({{"nav2_marking_range", &n, "nav2_marking_range"}},
+                [&] { p.marking_range = layer::parse_nav2_marking_range(marking); });
+  if (purge != "jazzy" && purge != "main")
+    n.fail(n.raw("nav2_purge_rule"), "nav2_purge_rule", "expected jazzy or main");
+  p.purge_rule = purge == "main" ? layer::nav2::PurgeRule::kMain : layer::nav2::PurgeRule::kJazzy;
+  std::vector<Blame> blame;
+  for (const char* key : {"z_voxels", "z_resolution", "origin_z", "unknown_threshold", "mark_threshold",
+                          "min_obstacle_height", "max_obstacle_height", "combination_method"})
+    blame.push_back({key, &n, key});
+  validate_keys(blame, [&] { p.validate(); });
+  n.finish();
+}
+
+void read_nav2_ranges(YamlMap& o, layer::Nav2SourceRanges& nav2) {
+  const std::pair<const char*, double*> ranges[] = {{"obstacle_max_range", &nav2.obstacle_max_range_m},
+                                                    {"obstacle_min_range", &nav2.obstacle_min_range_m},
+                                                    {"raytrace_max_range", &nav2.raytrace_max_range_m},
+                                                    {"raytrace_min_range", &nav2.raytrace_min_range_m}};
+  for (const auto& [key, value] : ranges) {
+    o.get(key, *value);
+    require_range(o, key, *value, std::isfinite(*value) && *value >= 0.0 && *value <= 100.0, "must lie in [0, 100] m");
+  }
 }
 
 }  // namespace stvl::config::scenario_detail

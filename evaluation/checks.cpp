@@ -14,6 +14,9 @@ const char* check_status(const CheckResult& c) { return !c.evaluated ? "not_eval
 namespace {
 
 const char* const kNoMean = "not evaluated: no evaluation after the recall window to average (the run was too short)";
+const char* const kNoVoxels = "not evaluated: the layer keeps no voxels (nav2's ObstacleLayer marks cells only)";
+const char* const kNotProjected =
+    "not evaluated: the layer's costmap is not a projection of voxels (nav2's layers raytrace and mark cells)";
 
 CheckResult at_least(const char* name, const char* what, double value, double min) {
   return {name, value >= min, std::string(what) + " " + fixed(value, 4) + ", required >= " + fixed(min, 4)};
@@ -33,17 +36,21 @@ CheckResult camera_recall_check(const std::vector<double>& recalls, const std::v
 
 // The checks of the figures averaged over the evaluations: F1, IoU, costmap precision and recall, camera recall.
 void add_mean_checks(const ChecksConfig& c, const EvaluationMean& mean, const std::vector<std::string>& camera_names,
-                     std::vector<CheckResult>& r) {
+                     bool voxels_3d, std::vector<CheckResult>& r) {
   const bool averaged = mean.snapshots > 0;
-  const auto mean_check = [&](const char* name, const char* what, double value, const std::optional<double>& min) {
-    if (min) r.push_back(averaged ? at_least(name, what, value, *min) : not_evaluated(name, kNoMean));
+  const auto mean_check = [&](const char* name, const char* what, double value, const std::optional<double>& min,
+                              bool needs_voxels) {
+    if (!min) return;
+    if (needs_voxels && !voxels_3d) r.push_back(not_evaluated(name, kNoVoxels));
+    else r.push_back(averaged ? at_least(name, what, value, *min) : not_evaluated(name, kNoMean));
   };
-  mean_check("f1_3d", "mean 3D F1", mean.f1, c.f1_3d_min);
-  mean_check("iou_3d", "mean 3D IoU", mean.iou, c.iou_3d_min);
-  mean_check("costmap_precision", "mean costmap precision", mean.costmap_precision, c.costmap_precision_min);
-  mean_check("costmap_recall", "mean costmap recall", mean.costmap_recall, c.costmap_recall_min);
-  if (c.camera_recall_min && !averaged) r.push_back(not_evaluated("camera_recall", kNoMean));
-  if (c.camera_recall_min && averaged)
+  mean_check("f1_3d", "mean 3D F1", mean.f1, c.f1_3d_min, true);
+  mean_check("iou_3d", "mean 3D IoU", mean.iou, c.iou_3d_min, true);
+  mean_check("costmap_precision", "mean costmap precision", mean.costmap_precision, c.costmap_precision_min, false);
+  mean_check("costmap_recall", "mean costmap recall", mean.costmap_recall, c.costmap_recall_min, false);
+  if (c.camera_recall_min && !voxels_3d) r.push_back(not_evaluated("camera_recall", kNoVoxels));
+  else if (c.camera_recall_min && !averaged) r.push_back(not_evaluated("camera_recall", kNoMean));
+  else if (c.camera_recall_min && averaged)
     r.push_back(camera_recall_check(mean.camera_recall, camera_names, *c.camera_recall_min));
 }
 
@@ -78,7 +85,8 @@ void add_costmap_checks(const ChecksConfig& c, const evaluation::EvaluationSumma
     r.push_back({"phantom_obstacles", e.final.phantom_obstacles <= *c.phantom_obstacles_max,
                  std::to_string(e.final.phantom_obstacles) + " phantom obstacles in the final costmap, allowed " +
                      std::to_string(*c.phantom_obstacles_max)});
-  if (c.costmap_ghosts_max) {
+  if (c.costmap_ghosts_max && !e.costmap_projected) r.push_back(not_evaluated("costmap_ghosts", kNotProjected));
+  if (c.costmap_ghosts_max && e.costmap_projected) {
     const std::size_t ghosts = mean.max_lethal_without_voxels, missing = mean.max_columns_without_lethal;
     const auto allowed = static_cast<std::size_t>(*c.costmap_ghosts_max);
     r.push_back({"costmap_ghosts", ghosts <= allowed && missing <= allowed,
@@ -99,6 +107,14 @@ void add_costmap_checks(const ChecksConfig& c, const evaluation::EvaluationSumma
 
 // The checks of clearing and accuracy: clearing latency, p90 distance to the surface, voxels cleared while hidden.
 void add_clearing_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e, std::vector<CheckResult>& r) {
+  if (!e.voxels_3d) {
+    for (const auto& [name, set] :
+         {std::pair<const char*, bool>{"clearing_latency", c.clearing_latency_max_s.has_value()},
+          {"accuracy_p90", c.accuracy_p90_max_m.has_value()},
+          {"hidden_false_clears", c.hidden_false_clears_max.has_value()}})
+      if (set) r.push_back(not_evaluated(name, kNoVoxels));
+    return;
+  }
   if (c.clearing_latency_max_s) {
     const auto& cl = e.clearing;
     const bool ok = cl.not_cleared == 0 && cl.max_latency_s <= *c.clearing_latency_max_s;
@@ -129,8 +145,10 @@ void add_clearing_checks(const ChecksConfig& c, const evaluation::EvaluationSumm
 std::vector<CheckResult> evaluation_checks(const ChecksConfig& c, const evaluation::EvaluationSummary& e,
                                            const std::vector<std::string>& camera_names) {
   std::vector<CheckResult> r;
-  add_mean_checks(c, e.mean, camera_names, r);
-  if (c.all_obstacles_detected) r.push_back(all_obstacles_detected_check(e.obstacles));
+  add_mean_checks(c, e.mean, camera_names, e.voxels_3d, r);
+  if (c.all_obstacles_detected)
+    r.push_back(e.voxels_3d ? all_obstacles_detected_check(e.obstacles)
+                            : not_evaluated("all_obstacles_detected", kNoVoxels));
   add_costmap_checks(c, e, r);
   add_clearing_checks(c, e, r);
   return r;

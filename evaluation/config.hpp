@@ -18,6 +18,13 @@ struct EvaluationConfig {
   // The map's costmap counts every voxel of a column (STVL's); false: only those in the height band above (the
   // map's costmap_band: marking_band).
   bool costmap_every_voxel = true;
+  // The layer keeps voxels (false: nav2's ObstacleLayer, cells only): the 3D figures and checks need them.
+  bool layer_has_voxels = true;
+  // The layer's costmap is the projection of its voxels (STVL's; false: nav2's layers raytrace and mark cells, so
+  // the projection guard, costmap_ghosts, has nothing to compare).
+  bool costmap_projected = true;
+  // A source's marking range is nav2's obstacle_max_range (nav2's layers) instead of STVL's obstacle_range.
+  bool nav2_marking_range = false;
 
   // YAML evaluation.*, same names.
   double recall_window_s = 2.0;   // recall counts truth voxels the noise-free camera saw this recently

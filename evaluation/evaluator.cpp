@@ -369,6 +369,8 @@ EvaluationSummary Evaluator::finish(double time_s, const sim::World& world, cons
   summary.observed_off_truth_voxels = off_truth_keys_.size();
   summary.false_clears = false_clears_;
   summary.occlusion = hidden_clears_.result();
+  summary.voxels_3d = config_.layer_has_voxels;
+  summary.costmap_projected = config_.costmap_projected;
   summary.truth = {truth_.geom_count(), truth_.mesh_geom_count(), truth_.mesh_triangle_count(), truth_.notes()};
   return summary;
 }

@@ -78,6 +78,9 @@ struct TruthSummary {
 
 struct EvaluationSummary {
   TruthSummary truth;
+  // What the layer allows to judge (EvaluationConfig): 3D figures (false: no voxels, nav2's ObstacleLayer), the
+  // projection guard (false: a costmap not projected from voxels, nav2's layers).
+  bool voxels_3d = true, costmap_projected = true;
   std::vector<EvaluationSnapshot> snapshots;
   EvaluationMean mean;
   EvaluationSnapshot final;               // at the end of the run

@@ -31,7 +31,9 @@ RunEvaluation::RunEvaluation(const sim::World& world, const EvaluationConfig& co
     intrinsics_.push_back(c.intrinsics);
     double range_m = 0.0;
     for (const auto& source : c.sources)
-      if (source.params.marking) range_m = std::max(range_m, source.params.obstacle_range_m);
+      if (source.params.marking)
+        range_m = std::max(
+            range_m, config.nav2_marking_range ? source.nav2.obstacle_max_range_m : source.params.obstacle_range_m);
     marking_range_m_.push_back(range_m);
   }
 }

@@ -113,12 +113,11 @@ Nav2Layer::~Nav2Layer() = default;
 void Nav2Layer::update(std::shared_ptr<const Observation> observation, const std::vector<SensorNow>& sensors,
                        UpdateReport& report) {
   const Observation& o = *observation;
-  const auto start = SteadyClock::now();
   const double cpu_start_ms = process_cpu_ms();
   report.updates.clear();
   report.cleared_keys.clear();
   report.footprint_voxels_cleared = report.reapplied_readings = 0;
-  report.mark_ms = 0.0;
+  report.mark_ms = report.clear_ms = 0.0;
   const double frequency_hz = config_.map.update_frequency_hz;
   const auto tick_s = [&](std::size_t k) { return static_cast<double>(k) / frequency_hz; };
   // Costmap2DROS's update loop: the cycles due before this observation arrives run first, with the robot where the
@@ -126,6 +125,7 @@ void Nav2Layer::update(std::shared_ptr<const Observation> observation, const std
   if (frequency_hz > 0.0)
     for (; tick_s(next_tick_) + kTimeEpsilon_s < o.time_s; ++next_tick_) run_cycle(tick_s(next_tick_), report);
   T_world_base_ = o.T_world_base;
+  const auto start_buffering = SteadyClock::now();
 
   // pointCloud2Callback -> bufferCloud, received at its stamp: the decimated cloud in the global frame, the optical
   // centre as the sensor origin.
@@ -146,6 +146,7 @@ void Nav2Layer::update(std::shared_ptr<const Observation> observation, const std
     }
   }
 
+  report.clear_ms += ms_since(start_buffering);
   bool cycle_now = true;
   if (frequency_hz > 0.0) {
     cycle_now = std::abs(tick_s(next_tick_) - o.time_s) <= kTimeEpsilon_s;
@@ -159,7 +160,6 @@ void Nav2Layer::update(std::shared_ptr<const Observation> observation, const std
     if (frequency_hz > 0.0) ++next_tick_;
     run_cycle(o.time_s, report);
   }
-  report.clear_ms = ms_since(start) - report.mark_ms;
   report.cpu_ms = process_cpu_ms() - cpu_start_ms;
 }
 
@@ -168,6 +168,7 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
   update.time_s = time_s;
   const std::int64_t now_ns = nav2::ros_ns_from_seconds(time_s);
   ++cycles_;
+  const auto start_roll = SteadyClock::now();
   // LayeredCostmap::updateMap: the master rolls first, then each layer's updateBounds rolls its own grid alike.
   const Eigen::Vector2d robot_W = T_world_base_.translation().head<2>();
   master_->window_at(robot_W);
@@ -192,7 +193,8 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
     }
     return current;
   };
-  const auto start_mark = SteadyClock::now();
+  // The cycle's time: rolling, gathering and raytracing count as clearing, marking, the footprint and the combination
+  // as marking (the bench's bookkeeping after it, the view's keys, counts in neither).
   if (config_.type == LayerType::kNav2Voxel) {
     // VoxelLayer::updateBounds: both lists gathered whatever the first says.
     bool current = true;
@@ -200,7 +202,6 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
     current = gather(false, clearing) && current;
     current_ = current;
     for (const auto& obs : clearing) voxel_raytrace(*obs, bounds);
-    for (const auto& obs : marking) voxel_mark(*obs, bounds);
   } else {
     // ObstacleLayer::updateBounds: the clearing buffers only while every marking one is current.
     bool current = true;
@@ -210,13 +211,18 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
     for (const auto& obs : clearing)
       nav2::raytrace_freespace(grid_, obs->origin_W.x(), obs->origin_W.y(), obs->cloud_W, obs->raytrace_max_range_m,
                                obs->raytrace_min_range_m, bounds);
+  }
+  report.clear_ms += ms_since(start_roll);
+  const auto start_mark = SteadyClock::now();
+  if (config_.type == LayerType::kNav2Voxel) {
+    for (const auto& obs : marking) voxel_mark(*obs, bounds);
+  } else {
     nav2::ObstacleMarkingParams params;
     params.min_obstacle_height_m = config_.nav2.min_obstacle_height_m;
     params.max_obstacle_height_m = config_.nav2.max_obstacle_height_m;
     params.range_rule = config_.nav2.marking_range;
     for (const auto& obs : marking) nav2::mark_observation(grid_, *obs, params, bounds);
   }
-  report.mark_ms += ms_since(start_mark);
 
   // The readings applied, once each (a buffer in both lists gives its observations twice), in gathering order.
   std::vector<const nav2::Nav2Observation*> seen;
@@ -263,6 +269,7 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
     }
     master_->combine(grid_.costs, x0, y0, xn, yn, config_.nav2.combination_method);
   }
+  report.mark_ms += ms_since(start_mark);
 
   // What the cycle cleared, as the bench's voxels: those gone from the view that are still inside the window.
   view_stale_ = true;

@@ -131,10 +131,28 @@ nlohmann::json filter_json(const filter::FilterConfig& f, const std::string& dev
 }
 
 // The map's STVL parameters (STVL's key names; decay_model as STVL's integer code) and which of our options ran.
-nlohmann::json map_json(const mapping::StvlConfig& m) {
+// map: the layer's type, STVL's keys (the grid's resolution for nav2's layers) and nav2's layer keys (null for STVL).
+nlohmann::json map_json(const pipeline::PipelineConfig& p) {
+  const mapping::StvlConfig& m = p.map;
   nlohmann::json footprint = nlohmann::json::array();
-  for (const auto& p : m.footprint_B) footprint.push_back({p.x(), p.y()});
-  return {{"voxel_size", m.voxel_size_m},
+  for (const auto& xy : m.footprint_B) footprint.push_back({xy.x(), xy.y()});
+  nlohmann::json nav2;
+  if (p.layer_type != layer::LayerType::kStvl) {
+    const layer::Nav2LayerParams& n = p.nav2_layer;
+    nav2 = {{"z_voxels", n.z_voxels},
+            {"z_resolution", n.z_resolution_m},
+            {"origin_z", n.origin_z_m},
+            {"unknown_threshold", n.unknown_threshold},
+            {"mark_threshold", n.mark_threshold},
+            {"min_obstacle_height", n.min_obstacle_height_m},
+            {"max_obstacle_height", n.max_obstacle_height_m},
+            {"combination_method", n.combination_method},
+            {"footprint_clearing_enabled", n.footprint_clearing_enabled},
+            {"nav2_marking_range", layer::to_string(n.marking_range)}};
+  }
+  return {{"layer_type", layer::to_string(p.layer_type)},
+          {"nav2_layer", nav2},
+          {"voxel_size", m.voxel_size_m},
           {"voxel_decay", m.voxel_decay_s},
           {"decay_model", static_cast<int>(m.decay_model)},
           {"mark_threshold", m.mark_threshold},
@@ -311,6 +329,9 @@ nlohmann::json evaluation_json(const RunResult& r) {
   nlohmann::json snapshots = nlohmann::json::array();
   for (const auto& s : e.snapshots) snapshots.push_back(snapshot_json(s));
   return {{"tolerance_voxels", r.scenario.evaluation.tolerance_voxels},
+          // false: the layer keeps no voxels (nav2's ObstacleLayer): every 3D figure below is 0 and means nothing
+          {"voxels_3d", e.voxels_3d},
+          {"costmap_projected", e.costmap_projected},  // false: the projection guard's counts are not measured
           {"recall_window_s", r.scenario.evaluation.recall_window_s},
           {"phantom_clearance_m", r.scenario.evaluation.phantom_clearance_m},
           {"truth", truth_json(e)},
@@ -383,7 +404,7 @@ nlohmann::json metrics_json(const RunResult& r) {
       {"gl_backend", r.gl_backend},
       {"noise", r.scenario.camera().noise.enabled},
       {"cameras", camera_list_json(r.scenario)},
-      {"map", map_json(r.scenario.pipeline.map)},
+      {"map", map_json(r.scenario.pipeline)},
       {"nav2_costmap", nav2_json(r)},
       {"evaluation", evaluation_json(r)},
       {"checks", checks_json(r)},

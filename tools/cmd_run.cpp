@@ -94,7 +94,10 @@ void print_run_summary(const RunCommandOptions& o, const Scenario& scenario, con
     std::printf("%s %-24s %s\n", !c.evaluated ? "SKIP" : c.passed ? "PASS" : "FAIL", c.name.c_str(), c.message.c_str());
   const auto& m = result.evaluation.mean;
   char quality[96] = "map quality not evaluated (no evaluation after the recall window)";
-  if (m.snapshots > 0) std::snprintf(quality, sizeof quality, "F1 %.3f (P %.3f R %.3f)", m.f1, m.precision, m.recall);
+  if (m.snapshots > 0 && result.evaluation.voxels_3d)
+    std::snprintf(quality, sizeof quality, "F1 %.3f (P %.3f R %.3f)", m.f1, m.precision, m.recall);
+  else if (m.snapshots > 0)  // a layer without voxels (nav2's ObstacleLayer): its costmap's figures
+    std::snprintf(quality, sizeof quality, "no voxels, costmap P %.3f R %.3f", m.costmap_precision, m.costmap_recall);
   std::printf("%s: %zu frames, %.1f s simulated, real-time factor %.2f, %s, outputs in %s\n", scenario.name.c_str(),
               result.frames, result.sim_time_s, result.real_time_factor, quality, out_dir.c_str());
 }
