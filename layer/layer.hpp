@@ -26,6 +26,9 @@ namespace stvl::layer {
 struct AppliedReading {
   std::size_t sensor_index = 0, source_index = 0;
   std::shared_ptr<const Observation> reading;
+  // The cloud (world frame) the layer took from the reading when it is not STVL's (source_marking_W): nav2's
+  // buffers keep the decimated cloud inside the source's height band. Null for STVL.
+  std::shared_ptr<const Eigen::Matrix3Xf> cloud_W;
 };
 
 // One update of the layer: its time and every reading it took, in the order STVL's layer takes them (sensors in
@@ -81,6 +84,9 @@ class Layer {
   virtual const mapping::VoxelMap& voxels() const = 0;
   // Whether the layer keeps voxels at all (nav2's ObstacleLayer keeps cells only): the 3D scores need them.
   virtual bool has_voxels() const { return true; }
+  // Whether costmap() needs voxels to exist (STVL's is their projection: none while the map is empty; nav2's layers
+  // always have their window).
+  virtual bool costmap_needs_voxels() const { return true; }
   // The layer's costmap as it would publish it now: its projection, with its footprint freed at the robot's pose
   // of the last observation.
   virtual mapping::Costmap2D costmap() const = 0;

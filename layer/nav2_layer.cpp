@@ -232,7 +232,13 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
     Source& s = sources_[i];
     const auto it = s.reading_of.find(obs);
     if (it == s.reading_of.end()) continue;
-    update.applied_readings.push_back({s.sensor_index, s.source_index, it->second});
+    // The buffer's cloud, shared with its observation (an aliasing pointer keeps the observation alive).
+    const auto held = std::find_if(s.buffer.observations().begin(), s.buffer.observations().end(),
+                                   [&](const auto& k) { return k.get() == obs; });
+    std::shared_ptr<const Eigen::Matrix3Xf> cloud;
+    if (held != s.buffer.observations().end())
+      cloud = std::shared_ptr<const Eigen::Matrix3Xf>(*held, &(*held)->cloud_W);
+    update.applied_readings.push_back({s.sensor_index, s.source_index, it->second, std::move(cloud)});
     if (obs->stamp_ns == now_ns) continue;
     ++report.reapplied_readings;
     ++s.status.reapplied_readings;

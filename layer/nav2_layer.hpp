@@ -43,6 +43,7 @@ class Nav2Layer : public Layer {
               UpdateReport& report) override;
   const mapping::VoxelMap& voxels() const override;
   bool has_voxels() const override { return config_.type == LayerType::kNav2Voxel; }
+  bool costmap_needs_voxels() const override { return false; }
   mapping::Costmap2D costmap() const override;
   std::vector<SourceStatus> source_status(double until_s) const override;
 

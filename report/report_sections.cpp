@@ -356,7 +356,7 @@ std::string failure_modes_html(const nlohmann::json& metrics) {
 // evaluation's tolerance; phantoms as the evaluation's).
 nlohmann::json nav2_json(const run::RunResult& r) {
   if (!r.nav2_master) return nullptr;
-  const layer::Nav2CostmapConfig& c = r.scenario.pipeline.nav2_costmap;
+  const layer::Nav2CostmapConfig& c = r.nav2_config;
   const layer::Nav2Ghosts& g = r.nav2_ghosts;
   std::size_t lethal = 0;
   for (auto cell : r.nav2_master->cells) lethal += cell == mapping::kCostLethal;
@@ -367,7 +367,9 @@ nlohmann::json nav2_json(const run::RunResult& r) {
           {"height_m", c.height_m},
           {"resolution_m", c.resolution_m},
           {"rolling_window", c.rolling_window},
-          {"combination_method", c.combination_method},
+          {"combination_method", r.scenario.pipeline.layer_type == layer::LayerType::kStvl
+                                     ? c.combination_method
+                                     : r.scenario.pipeline.nav2_layer.combination_method},
           {"track_unknown_space", c.track_unknown_space},
           {"touch_cleared_cells", c.touch_cleared_cells},
           {"updates", g.updates},
@@ -409,7 +411,12 @@ nlohmann::json camera_list_json(const config::Scenario& s) {
            {"vertical_fov_angle", p.vertical_fov_rad},
            {"decay_acceleration", p.decay_acceleration_per_s3},
            {"observation_persistence", p.observation_persistence_s},
-           {"expected_update_rate", p.expected_update_rate_s}});
+           {"expected_update_rate", p.expected_update_rate_s},
+           // nav2's layers' ranges (map.layer_type nav2_voxel / nav2_obstacle read these, not obstacle_range)
+           {"obstacle_max_range", c.sources[k].nav2.obstacle_max_range_m},
+           {"obstacle_min_range", c.sources[k].nav2.obstacle_min_range_m},
+           {"raytrace_max_range", c.sources[k].nav2.raytrace_max_range_m},
+           {"raytrace_min_range", c.sources[k].nav2.raytrace_min_range_m}});
     }
     list.push_back({{"name", c.name},
                     {"width", c.intrinsics.width},

@@ -60,7 +60,7 @@ void BagRecorder::record(const pipeline::Frame& f, const layer::UpdateReport& re
   Eigen::Matrix3Xf voxels;
   const bool want_voxels = publish_map && topics_.wants("/stvl/voxel_grid");
   if (want_voxels) voxels = map.map->voxel_centers();
-  if (publish_map && !map.map->empty() && topics_.wants("/stvl/costmap")) costmap = map.costmap();
+  if (publish_map && map.has_costmap() && topics_.wants("/stvl/costmap")) costmap = map.costmap();
   const std::string& camera = f.camera;
   // The update's readings, as STVL's Mark and ClearFrustums would take them: topic, header stamp, cloud.
   // Recorded at the update's time: an update at an earlier tick (map.update_frequency) goes before this frame.
@@ -75,8 +75,8 @@ void BagRecorder::record(const pipeline::Frame& f, const layer::UpdateReport& re
       const std::string topic = source_cloud_topic(cameras, applied.sensor_index, applied.source_index);
       if (!topics_.wants(topic)) continue;
       const auto& source = cameras.at(applied.sensor_index).sources.at(applied.source_index).params;
-      readings.push_back(
-          {topic, update.time_s, applied.reading->time_s, layer::source_marking_W(*applied.reading, source)});
+      readings.push_back({topic, update.time_s, applied.reading->time_s,
+                          applied.cloud_W ? *applied.cloud_W : layer::source_marking_W(*applied.reading, source)});
     }
   // Cameras whose frames share a time share its robot messages (tf would warn of repeated data).
   const bool robot_messages = !last_robot_time_s_ || f.time_s > *last_robot_time_s_;
@@ -116,7 +116,7 @@ void BagRecorder::record(const pipeline::Frame& f, const layer::UpdateReport& re
 
 void BagRecorder::record_map(double time_s, const MapState& map) {
   std::optional<mapping::Costmap2D> costmap;
-  if (!map.map->empty() && topics_.wants("/stvl/costmap")) costmap = map.costmap();
+  if (map.has_costmap() && topics_.wants("/stvl/costmap")) costmap = map.costmap();
   const bool want_voxels = topics_.wants("/stvl/voxel_grid");
   worker_->submit([bag = bag_.get(), time_s, want_voxels,
                    voxels = want_voxels ? map.map->voxel_centers() : Eigen::Matrix3Xf(), costmap = std::move(costmap)] {

@@ -56,6 +56,9 @@ class BagRecorder {
   struct MapState {
     const mapping::VoxelMap* map = nullptr;
     std::function<mapping::Costmap2D()> costmap;
+    // The costmap exists without voxels (nav2's layers: their window); STVL's has none while the map is empty.
+    bool costmap_without_voxels = false;
+    bool has_costmap() const { return costmap_without_voxels || !map->empty(); }
   };
   // The frame's messages (its camera's intrinsics, from cameras[frame.camera_index]; topics per camera when there
   // are several); for the layer's updates of the frame (report), the readings they took (source_cloud_topic(),

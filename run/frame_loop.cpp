@@ -8,7 +8,7 @@ namespace stvl::run {
 namespace {
 
 BagRecorder::MapState map_state(const layer::Layer& layer) {
-  return {&layer.voxels(), [&layer] { return layer.costmap(); }};
+  return {&layer.voxels(), [&layer] { return layer.costmap(); }, !layer.costmap_needs_voxels()};
 }
 
 // The frame's series: every stage, the hooks' and the bag's time, the clouds' sizes and the map's.
@@ -80,7 +80,7 @@ void write_layer_outputs(const layer::Layer& layer, const std::string& out_dir) 
   const std::filesystem::path out = out_dir;
   layer.voxels().save_vdb((out / "map.vdb").string());
   layer.voxels().save_ply((out / "map.ply").string());
-  if (!layer.voxels().empty()) mapping::write_costmap(layer.costmap(), (out / "costmap").string());
+  if (map_state(layer).has_costmap()) mapping::write_costmap(layer.costmap(), (out / "costmap").string());
   if (const layer::Nav2Costmap* master = layer.master())
     mapping::write_costmap(master->master(), (out / "nav2_costmap").string());
 }

@@ -168,6 +168,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     r.nav2_master = master->master();
     r.nav2_truth = evaluation.against_truth(*r.nav2_master);
     r.nav2_ghosts = master->ghosts();
+    r.nav2_config = master->config();
   }
   for (std::size_t c = 0; c < s.pipeline.cameras.size(); ++c) r.skipped_frames.push_back(pipeline->skipped_frames(c));
   write_layer_outputs(layer, options.out_dir);

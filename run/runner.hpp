@@ -29,6 +29,7 @@ struct RunResult : FrameLoopResult {
   // With map.nav2_costmap: nav2's master costmap at the end and its ghosts over the run.
   std::optional<mapping::Costmap2D> nav2_master;
   layer::Nav2Ghosts nav2_ghosts;
+  layer::Nav2CostmapConfig nav2_config;  // the master's window as the layer ran it (a nav2 layer's default included)
   evaluation::LethalVsTruth nav2_truth;  // nav2_master's lethal cells against the final truth
 
   evaluation::SoakSeries soak;  // evaluation.soak_sample_every_s > 0 only
