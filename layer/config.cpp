@@ -1,6 +1,7 @@
 #include "layer/config.hpp"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "layer/nav2_layer.hpp"
@@ -10,7 +11,9 @@ namespace stvl::layer {
 namespace {
 
 void reject(const std::string& key, double value, const std::string& why) {
-  throw std::invalid_argument("nav2_layer." + key + " = " + std::to_string(value) + ": " + why);
+  std::ostringstream text;
+  text << "nav2_layer." << key << " = " << value << ": " << why;
+  throw std::invalid_argument(text.str());
 }
 
 }  // namespace
