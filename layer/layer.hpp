@@ -84,6 +84,9 @@ class Layer {
   virtual const mapping::VoxelMap& voxels() const = 0;
   // Whether the layer keeps voxels at all (nav2's ObstacleLayer keeps cells only): the 3D scores need them.
   virtual bool has_voxels() const { return true; }
+  // The bytes the layer's map holds: STVL's voxel tree; nav2's voxel columns (4 bytes each) and the layer's own cells
+  // (1 byte each). Buffers, the master and the bench's views aside.
+  virtual std::size_t map_bytes() const = 0;
   // Whether costmap() needs voxels to exist (STVL's is their projection: none while the map is empty; nav2's layers
   // always have their window).
   virtual bool costmap_needs_voxels() const { return true; }

@@ -44,6 +44,9 @@ class Nav2Layer : public Layer {
   const mapping::VoxelMap& voxels() const override;
   bool has_voxels() const override { return config_.type == LayerType::kNav2Voxel; }
   bool costmap_needs_voxels() const override { return false; }
+  std::size_t map_bytes() const override {
+    return voxel_grid_.columns().size() * sizeof(std::uint32_t) + grid_.costs.size();
+  }
   mapping::Costmap2D costmap() const override;
   std::vector<SourceStatus> source_status(double until_s) const override;
 

@@ -29,9 +29,12 @@ class StvlLayer : public Layer {
   void update(std::shared_ptr<const Observation> observation, const std::vector<SensorNow>& sensors,
               UpdateReport& report) override;
   const mapping::VoxelMap& voxels() const override { return map_; }
+  std::size_t map_bytes() const override { return map_.memory_bytes(); }
   mapping::Costmap2D costmap() const override;
   std::vector<SourceStatus> source_status(double until_s) const override;
   const LayerConfig& config() const { return config_; }
+  // Inserts voxels into the map directly, key -> time (benchmarks: a map of a given size before the first update).
+  void set_voxels(const std::vector<mapping::Voxel>& voxels) { map_.set_voxels(voxels); }
 
  private:
   struct Sensor;

@@ -152,6 +152,8 @@ ClearStats VoxelMap::clear(const std::vector<ClearingObservation>& observations,
 std::size_t VoxelMap::size() const { return impl_->grid->activeVoxelCount(); }
 std::size_t VoxelMap::leaf_count() const { return impl_->grid->tree().leafCount(); }
 
+std::size_t VoxelMap::memory_bytes() const { return static_cast<std::size_t>(impl_->grid->tree().memUsage()); }
+
 VoxelKey VoxelMap::key_of(const Eigen::Vector3d& p_W) const {
   Coord key;
   if (!p_W.allFinite() || !impl_->to_key(p_W, key))

@@ -112,6 +112,8 @@ class VoxelMap {
   std::vector<Voxel> voxels() const;       // sorted by key
   Eigen::Matrix3Xf voxel_centers() const;  // in voxel_keys() order
   std::size_t leaf_count() const;
+  // The bytes the voxel tree holds (OpenVDB's Tree::memUsage), the expiry index aside.
+  std::size_t memory_bytes() const;
 
   // Inserts voxels directly (benchmarks, tests): key -> time.
   void set_voxels(const std::vector<Voxel>& voxels);

@@ -193,8 +193,9 @@ TEST(Nav2Layer, CyclesRunAtTheCostmapsFrequency) {
 // obstacle_max_range in metres, but its cell, 25 cells from the origin's, is not past cellDistance(2.5) = 25: #5697
 // marks it, #6092's 2D prefilter and the 3D rule before #5697 do not.
 TEST(Nav2Layer, ObstacleLayerMarksByTheChosenRangeRule) {
-  const std::pair<nav2::MarkingRange, bool> rules[] = {
-      {nav2::MarkingRange::kWorld3d, false}, {nav2::MarkingRange::kCells, true}, {nav2::MarkingRange::kCellsAndWorld2d, false}};
+  const std::pair<nav2::MarkingRange, bool> rules[] = {{nav2::MarkingRange::kWorld3d, false},
+                                                       {nav2::MarkingRange::kCells, true},
+                                                       {nav2::MarkingRange::kCellsAndWorld2d, false}};
   for (const auto& [rule, marked] : rules) {
     LayerConfig c = config_of(LayerType::kNav2Obstacle);
     c.nav2.marking_range = rule;
