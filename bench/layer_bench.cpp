@@ -67,9 +67,8 @@ std::vector<mapping::Voxel> prefill(std::size_t count, double voxel_size_m) {
   voxels.reserve(count);
   const int y0 = static_cast<int>(std::floor(-20.0 / voxel_size_m));
   for (std::size_t i = 0; i < count; ++i)
-    voxels.push_back({{static_cast<int>((i / 100) % 100) - 50, y0 + static_cast<int>(i % 100),
-                       static_cast<int>(i / 10000)},
-                      0.0});
+    voxels.push_back(
+        {{static_cast<int>((i / 100) % 100) - 50, y0 + static_cast<int>(i % 100), static_cast<int>(i / 10000)}, 0.0});
   return voxels;
 }
 
@@ -80,7 +79,9 @@ double p95(std::vector<double> values) {
 }
 
 const char* name_of(layer::LayerType type) {
-  return type == layer::LayerType::kStvl ? "stvl" : type == layer::LayerType::kNav2Voxel ? "nav2_voxel" : "nav2_obstacle";
+  return type == layer::LayerType::kStvl        ? "stvl"
+         : type == layer::LayerType::kNav2Voxel ? "nav2_voxel"
+                                                : "nav2_obstacle";
 }
 
 }  // namespace
@@ -93,7 +94,8 @@ void LayerBenchOptions::validate() const {
     throw std::invalid_argument("frames = " + std::to_string(frames) + " must lie in [1, 100000]");
   if (sizes.empty()) throw std::invalid_argument("sizes is empty");
   for (std::size_t s : sizes)
-    if (s < 16 || s > 10'000'000) throw std::invalid_argument("size = " + std::to_string(s) + " must lie in [16, 10^7]");
+    if (s < 16 || s > 10'000'000)
+      throw std::invalid_argument("size = " + std::to_string(s) + " must lie in [16, 10^7]");
   if (cameras.empty()) throw std::invalid_argument("cameras is empty");
   for (int c : cameras)
     if (c < 1 || c > 3) throw std::invalid_argument("cameras = " + std::to_string(c) + " must lie in [1, 3]");
@@ -110,8 +112,8 @@ LayerBenchResult run_layer_bench(const LayerBenchOptions& options) {
   double points = 0.0;
   for (int c = 0; c < max_cameras; ++c)
     for (int f = 0; f < options.frames; ++f) {
-      frames[c].push_back(synthetic_corridor_frame(options.seed + static_cast<std::uint64_t>(c), f + 7 * c,
-                                                   options.voxel_size_m));
+      frames[c].push_back(
+          synthetic_corridor_frame(options.seed + static_cast<std::uint64_t>(c), f + 7 * c, options.voxel_size_m));
       if (c == 0) points += static_cast<double>(frames[c].back().points_W.cols());
     }
   result.points_per_frame = points / options.frames;

@@ -28,7 +28,7 @@ struct LayerBenchRow {
   std::size_t size = 0;
   int cameras = 1;
   double mean_ms = 0.0, p95_ms = 0.0;  // per update (one per instant)
-  double map_mib = 0.0;  // Layer::map_bytes at the end
+  double map_mib = 0.0;                // Layer::map_bytes at the end
   std::size_t final_voxels = 0, final_lethal_cells = 0;
 };
 

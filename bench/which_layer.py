@@ -21,7 +21,7 @@ Each nav2 layer runs in a rolling window holding its reach (2 * 3.0 + 1 = 7 m at
 here, updates once per camera instant (nav2's update_frequency 0).
 
 Usage: bench/which_layer.py --bin build/bin/stvl-bench --out out/which_layer [--worlds 100] [--jobs 2]
-       [--layers stvl,nav2_voxel,...] [--table-only]
+       [--layers stvl,nav2_voxel,...] [--table-only] [--rerun shipped,generated]
 Exit 0 when every point ran (whatever its checks said), 1 when a point did not run, 2 on bad usage.
 """
 import argparse
@@ -120,6 +120,8 @@ def main():
     parser.add_argument("--layers", default=",".join(LAYERS))
     parser.add_argument("--scenarios", default="scenarios", help="the folder of the shipped scenarios")
     parser.add_argument("--table-only", action="store_true", help="only read the sweeps already in --out")
+    parser.add_argument("--rerun", default="shipped,generated",
+                        help="which world sets to run (the others are only read from --out)")
     args = parser.parse_args()
     layers = args.layers.split(",")
     if any(layer not in LAYERS for layer in layers):
@@ -137,7 +139,7 @@ def main():
         rows = {}
         for layer in layers:
             out = os.path.join(args.out, set_name, layer)
-            if not args.table_only:
+            if not args.table_only and set_name in args.rerun.split(","):
                 sweep(args.bin, out, layer, worlds, args.jobs)
             rows[layer] = collect(out)
             expected = len(worlds.split(",")) if set_name == "shipped" else args.worlds

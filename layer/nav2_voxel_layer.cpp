@@ -1,6 +1,7 @@
 // nav2's VoxelLayer::raytraceFreespace and the marking loop of VoxelLayer::updateBounds, on the Nav2Layer's grids:
 // ros-navigation/navigation2 nav2_costmap_2d/plugins/voxel_layer.cpp and include/nav2_costmap_2d/voxel_layer.hpp
-// (worldToMap3DFloat, worldToMap3D), main a3a97043 = jazzy f4108e5. The voxel layer kept the 3D squared-distance
+// (worldToMap3DFloat, worldToMap3D), jazzy f4108e5 (= main a3a97043 but for the map sizes, see raytrace). The voxel
+// layer kept the 3D squared-distance
 // marking rule of before #5697 (which changed the ObstacleLayer only).
 #include <algorithm>
 #include <cmath>
@@ -47,10 +48,12 @@ void Nav2Layer::voxel_raytrace(const nav2::Nav2Observation& obs, nav2::Bounds& b
   double sensor_x = 0, sensor_y = 0, sensor_z = 0;
   if (!g.to_map_float(ox, oy, oz, sensor_x, sensor_y, sensor_z)) return;  // nav2 warns: the origin is off the map
 
-  // getSizeInMeters{X,Y} = (size - 1 + 0.5) * resolution; getSizeInMetersZ = size_z * z_resolution.
+  // jazzy f4108e5: getSizeInMeters{X,Y} = (size - 1 + 0.5) * resolution (costmap_2d.cpp), getSizeInMetersZ =
+  // (size_z - 1 + 0.5) * z_resolution (voxel_layer.hpp): the rays stop half a level under the grid's top. (main since
+  // PR #6028 uses size * resolution for all three; the window's origin follows the same X/Y sizes here.)
   const double map_end_x = g.origin_x + (g.size_x - 1 + 0.5) * g.resolution;
   const double map_end_y = g.origin_y + (g.size_y - 1 + 0.5) * g.resolution;
-  const double map_end_z = g.origin_z + g.size_z * g.z_resolution;
+  const double map_end_z = g.origin_z + (g.size_z - 1 + 0.5) * g.z_resolution;
   const unsigned unknown_threshold = static_cast<unsigned>(config_.nav2.unknown_threshold) + nav2::kMaxZCells -
                                      voxel_grid_.size_z_cells();  // onInitialize: += VOXEL_BITS - size_z_
   const auto mark_threshold = static_cast<unsigned>(config_.nav2.mark_threshold);

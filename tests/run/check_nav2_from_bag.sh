@@ -4,8 +4,8 @@
 # layer's last grid cell for cell (the bag's last /stvl/costmap) and, for the voxel layer, its marked voxels (the
 # run's map.ply): the bag says what each cycle gathered, and the layer is nav2's. One case per argument:
 #   voxel_corridor     office corridor, one camera, VoxelLayer with z_resolution 0.05 and 16 levels (1:1 voxels; the
-#                      rays reach the map's top: it fails while layer/nav2_voxel_layer.cpp clips them at main's
-#                      getSizeInMetersZ, size_z * z_resolution, with jazzy's getSizeInMetersX/Y for the window)
+#                      rays reach the map's top, clipped at jazzy's getSizeInMetersZ, (size_z - 1 + 0.5) *
+#                      z_resolution: this case found the bench clipping at main's size_z * z_resolution)
 #   voxel_coarse       the same with nav2's defaults z_resolution 0.2, z_voxels 10 (a voxel spans four bench voxels)
 #   voxel_cameras      three cameras at one instant, VoxelLayer
 #   voxel_ticks        a 15 Hz camera at a 4 Hz costmap (cycles at ticks between frames), observation_persistence 0.5
