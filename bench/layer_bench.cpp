@@ -120,9 +120,15 @@ LayerBenchResult run_layer_bench(const LayerBenchOptions& options) {
 
   for (std::size_t size : options.sizes)
     for (int cameras : options.cameras)
-      for (layer::LayerType type :
-           {layer::LayerType::kStvl, layer::LayerType::kNav2Voxel, layer::LayerType::kNav2Obstacle}) {
-        std::unique_ptr<layer::Layer> layer = layer::make_layer(config_of(type, size, cameras, options.voxel_size_m));
+      for (const char* variant : {"stvl", "stvl_full_walk", "nav2_voxel", "nav2_obstacle"}) {
+        const std::string name = variant;
+        const layer::LayerType type = name == "nav2_voxel"      ? layer::LayerType::kNav2Voxel
+                                      : name == "nav2_obstacle" ? layer::LayerType::kNav2Obstacle
+                                                                : layer::LayerType::kStvl;
+        layer::LayerConfig config = config_of(type, size, cameras, options.voxel_size_m);
+        // STVL's own walk visits every voxel at every update; the bench's default (bounded) only the frustum's leaves.
+        if (name == "stvl_full_walk") config.map.clearing_walk = mapping::ClearingWalk::kFullWalk;
+        std::unique_ptr<layer::Layer> layer = layer::make_layer(config);
         if (auto* stvl = dynamic_cast<layer::StvlLayer*>(layer.get()))
           stvl->set_voxels(prefill(size, options.voxel_size_m));
         std::vector<double> update_ms;
@@ -148,7 +154,7 @@ LayerBenchResult run_layer_bench(const LayerBenchOptions& options) {
           update_ms.push_back(instant_ms);
         }
         LayerBenchRow row;
-        row.layer = name_of(type);
+        row.layer = name;
         row.size = size;
         row.cameras = cameras;
         double sum = 0.0;

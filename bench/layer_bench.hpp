@@ -1,6 +1,7 @@
 #pragma once
-// `stvl-bench layer-bench`: the three layers' update cost on the same frames in one run: STVL's layer, nav2's
-// VoxelLayer and nav2's ObstacleLayer (layer::make_layer), fed the synthetic corridor's voxel-filtered D435-like frames
+// `stvl-bench layer-bench`: the three layers' update cost on the same frames in one run: STVL's layer (with the
+// bench's bounded clearing walk, and with STVL's own full walk of every voxel), nav2's VoxelLayer and nav2's
+// ObstacleLayer (layer::make_layer), fed the synthetic corridor's voxel-filtered D435-like frames
 // (bench/synthetic_corridor.hpp) from 1 to 3 cameras at once, as the map grows: STVL's map pre-filled with voxels
 // behind the camera, nav2's grids as windows of that many voxels (columns x z_voxels; a window narrower than the
 // camera's 5 m clips its rays). Per update: the wall-clock milliseconds of Layer::update (buffering, clearing,
@@ -24,7 +25,7 @@ struct LayerBenchOptions {
 };
 
 struct LayerBenchRow {
-  std::string layer;  // stvl | nav2_voxel | nav2_obstacle
+  std::string layer;  // stvl | stvl_full_walk | nav2_voxel | nav2_obstacle
   std::size_t size = 0;
   int cameras = 1;
   double mean_ms = 0.0, p95_ms = 0.0;  // per update (one per instant)
