@@ -32,6 +32,12 @@ int line_of(const YAML::Node& node) { return node.Mark().is_null() ? 1 : node.Ma
 std::string scalar(const YAML::Node& node) { return node && node.IsScalar() ? node.Scalar() : std::string(); }
 bool is_stvl(const std::string& plugin) { return plugin == kStvlPlugin || plugin == kStvlClass; }
 
+}  // namespace
+
+bool is_nav2_layer(const std::string& plugin) { return plugin == kNav2VoxelPlugin || plugin == kNav2ObstaclePlugin; }
+
+namespace {
+
 // nav2: `<node>: ros__parameters: {plugins: [names], <name>: {plugin: type}}` (Foxy: plugin_names/plugin_types).
 void add_ros2_costmap(const YAML::Node& params, const std::string& costmap, const std::string& file,
                       std::vector<Candidate>& out) {
@@ -165,7 +171,8 @@ std::string dotted(const std::string& prefix, const std::string& key) {
 }
 
 LayerNodes locate_layer(const YAML::Node& root, const std::string& file, const std::string& layer,
-                        const std::string& costmap) {
+                        const std::string& costmap, bool stvl_only) {
+  const auto runs = [&](const std::string& plugin) { return is_stvl(plugin) || (!stvl_only && is_nav2_layer(plugin)); };
   if (!root.IsMap()) fail(file, line_of(root), "", "expected a mapping of keys to values");
   bool ros2 = false;
   std::vector<Candidate> ros2_found, ros1_found;
@@ -183,32 +190,35 @@ LayerNodes locate_layer(const YAML::Node& root, const std::string& file, const s
   std::vector<Candidate> chosen;
   for (const auto& c : in_costmap)
     if (layer.empty()
-            ? is_stvl(c.plugin)
+            ? runs(c.plugin)
             : (c.nodes.layer_name == layer || (c.nodes.flavour == RosFlavour::kBare && c.nodes.layer_name.empty())))
       chosen.push_back(c);
+  const std::string what = stvl_only ? "STVL layer" : "3D layer (STVL, nav2's VoxelLayer or ObstacleLayer)";
   if (chosen.empty()) {
-    // nav2's own 3D and 2D layers are named so: the bench does not run them yet.
-    bool nav2_layer = false;
-    for (const auto& c : in_costmap)
-      nav2_layer =
-          nav2_layer || c.plugin == "nav2_costmap_2d::VoxelLayer" || c.plugin == "nav2_costmap_2d::ObstacleLayer";
-    fail(file, first.plugins_line, first.plugins_key,
-         (layer.empty() ? "no STVL layer" : "no layer '" + layer + "'") + " (layers: " + describe(in_costmap) + ")" +
-             (layer.empty() && nav2_layer ? "; nav2's VoxelLayer and ObstacleLayer are not simulated yet: only " +
-                                                std::string(kStvlPlugin) + " runs"
-                                          : std::string()));
+    bool nav2_layer = false;  // a layer the bench runs, but not where only STVL's is read
+    for (const auto& c : in_costmap) nav2_layer = nav2_layer || is_nav2_layer(c.plugin);
+    fail(
+        file, first.plugins_line, first.plugins_key,
+        (layer.empty() ? "no " + what : "no layer '" + layer + "'") + " (layers: " + describe(in_costmap) + ")" +
+            (layer.empty() && nav2_layer && stvl_only ? "; nav2's VoxelLayer and ObstacleLayer run in `stvl-bench run` "
+                                                        "(map.ros_params), not here: only " +
+                                                            std::string(kStvlPlugin)
+                                                      : std::string()));
   }
   if (chosen.size() > 1)
     fail(file, chosen[1].line, chosen[1].nodes.layer_path,
-         (layer.empty() ? "several STVL layers" : "layer '" + layer + "' is in several costmaps") + " (" +
+         (layer.empty() ? "several " + what + "s" : "layer '" + layer + "' is in several costmaps") + " (" +
              describe(chosen) + "); name the " + (layer.empty() ? "layer" : "costmap"));
   const Candidate& c = chosen.front();
-  if (!is_stvl(c.plugin))
+  if (!runs(c.plugin))
     fail(file, c.line, c.plugin_key.empty() ? dotted(c.nodes.layer_path, "plugin") : c.plugin_key,
-         (c.plugin.empty() ? std::string("no plugin type") : "plugin is '" + c.plugin + "'") + ", not " + kStvlPlugin);
+         (c.plugin.empty() ? std::string("no plugin type") : "plugin is '" + c.plugin + "'") + ", not " + kStvlPlugin +
+             (stvl_only ? std::string() : std::string(", ") + kNav2VoxelPlugin + " or " + kNav2ObstaclePlugin));
   if (!c.nodes.layer || !c.nodes.layer.IsMap())
     fail(file, c.line, c.nodes.layer_path, "listed in " + c.plugins_key + " but has no mapping of parameters");
-  return c.nodes;
+  LayerNodes nodes = c.nodes;
+  nodes.plugin = c.plugin;
+  return nodes;
 }
 
 // From the one table (config/stvl_keys.hpp): the keys that ROS version of STVL reads.

@@ -135,6 +135,8 @@ std::optional<std::vector<Eigen::Vector2d>> read_footprint(YamlMap& costmap) {
   return footprint;
 }
 
+}  // namespace
+
 // The costmap's own keys: nav2's ros__parameters; ROS 1's costmap namespace, then the file's root.
 void read_costmap(const LayerNodes& nodes, const std::string& file, RosStvlLayer& out) {
   std::vector<YamlMap> scopes;
@@ -169,8 +171,6 @@ void read_costmap(const LayerNodes& nodes, const std::string& file, RosStvlLayer
       break;
     }
 }
-
-}  // namespace
 
 ReadLayer read_layer(const std::string& path, const std::string& layer, const std::string& costmap,
                      bool allow_negative_decay) {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "config/ros_binding.hpp"
+#include "config/ros_nav2_layer.hpp"
 #include "config/scenario_detail.hpp"
 #include "config/stvl_keys.hpp"
 #include "config/yaml_reader.hpp"
@@ -336,7 +337,12 @@ void read_sensors_and_map(YamlMap& root, Scenario& s, const std::vector<std::opt
       own->fail(YAML::Node(), "", "the sources come from map.ros_params; remove this observation");
   for (std::size_t i = 0; i < s.pipeline.cameras.size(); ++i)
     apply_observation(s.pipeline.cameras[i], observation, camera_overrides[i], s.pipeline.map.clearing_mode);
-  if (s.ros_params) {
+  if (s.ros_params && ros_layer_is_nav2(s.ros_params->path, s.ros_params->layer, s.ros_params->costmap)) {
+    // nav2's VoxelLayer or ObstacleLayer: the plugin decides the layer; the filter stays the scenario's.
+    const RosNav2Layer layer = load_ros_nav2_layer(s.ros_params->path, s.ros_params->layer, s.ros_params->costmap);
+    apply_ros_nav2_layer(layer, s.pipeline);
+    s.footprint_source = "ros_params " + layer.footprint_source + " (" + s.ros_params->path + ")";
+  } else if (s.ros_params) {
     const RosStvlLayer layer = load_ros_stvl_layer(s.ros_params->path, s.ros_params->layer, s.ros_params->costmap);
     apply_ros_layer(layer, s.pipeline, !root.has("filter"));
     const bool footprint = layer.footprint && !layer.footprint->empty();

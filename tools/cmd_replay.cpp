@@ -9,6 +9,7 @@
 #include <string>
 
 #include "config/ros_binding.hpp"
+#include "config/ros_nav2_layer.hpp"
 #include "config/ros_params.hpp"
 #include "config/scenario.hpp"
 #include "report/report.hpp"
@@ -98,9 +99,20 @@ ReplaySettings replay_settings(const ReplayCommandOptions& o, const Scenario& sc
   return settings;
 }
 
-// --params: the file's STVL layer on the pipeline; when its sources name no camera the recording's, the error says
-// which --camera-name would bind it.
+// --params: the file's STVL layer (or nav2's VoxelLayer / ObstacleLayer) on the pipeline; when its sources name no
+// camera the recording's, the error says which --camera-name would bind it.
 void apply_ros_params(const ReplayCommandOptions& o, ReplaySettings& settings) {
+  if (ros_layer_is_nav2(o.params, o.layer, o.costmap)) {  // nav2's VoxelLayer or ObstacleLayer
+    const RosNav2Layer layer = load_ros_nav2_layer(o.params, o.layer, o.costmap);
+    try {
+      apply_ros_nav2_layer(layer, settings.pipeline);
+    } catch (const std::invalid_argument& e) {
+      const std::string camera = layer.sources.empty() ? "" : first_segment(layer.sources.front().topic);
+      if (!o.camera_name.empty() || camera.empty()) throw;
+      throw std::invalid_argument(e.what() + ("; to bind the recording's camera to it, add --camera-name " + camera));
+    }
+    return;
+  }
   const RosStvlLayer layer = load_ros_stvl_layer(o.params, o.layer, o.costmap);
   try {
     apply_ros_layer(layer, settings.pipeline, true);
@@ -212,7 +224,9 @@ const CommandRegistration kReplay("replay", [](CLI::App& app) {
   cmd->add_option("--set", o->sets, "Set a scenario key before it is read, KEY=VALUE (repeatable)")
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  cmd->add_option("--params", o->params, "A nav2 / move_base / bare ROS parameter file whose STVL layer to use");
+  cmd->add_option(
+      "--params", o->params,
+      "A nav2 / move_base / bare ROS parameter file whose STVL layer (or nav2 VoxelLayer / ObstacleLayer) to use");
   cmd->add_option("--layer", o->layer, "The STVL layer's name in --params (default: the only one)");
   cmd->add_option("--costmap", o->costmap, "The costmap holding the layer in --params (default: the only one)");
   cmd->add_option("--voxel-size", o->overrides.voxel_size_m, "Override the map and filter voxel size (m)");

@@ -6,6 +6,7 @@
 
 #include "common/staged_directory.hpp"
 #include "config/ros_binding.hpp"
+#include "config/ros_nav2_layer.hpp"
 #include "recording/bag_writer.hpp"
 #include "report/report.hpp"
 #include "run/runner.hpp"
@@ -60,7 +61,10 @@ void print_urdf_robot(const Scenario& scenario) {
 void print_lint_findings(const Scenario& scenario) {
   const auto& ros = scenario.ros_params;
   if (!ros) return;
-  const auto findings = lint_ros_stvl_layer(ros->path, ros->layer, ros->costmap, bound_cameras(scenario.pipeline));
+  const auto findings =
+      scenario.pipeline.layer_type != layer::LayerType::kStvl
+          ? lint_ros_nav2_layer(ros->path, ros->layer, ros->costmap)
+          : lint_ros_stvl_layer(ros->path, ros->layer, ros->costmap, bound_cameras(scenario.pipeline));
   for (const auto& f : findings) std::printf("lint: %s\n", format_finding(f).c_str());
   if (!findings.empty())
     std::printf("lint: %zu finding%s on %s (stvl-bench lint %s)\n", findings.size(), findings.size() == 1 ? "" : "s",

@@ -222,7 +222,8 @@ TEST_F(RosParams, ALayerListedWithoutItsMappingIsListedNotACrash) {
   EXPECT_THAT(message, HasSubstr("voxel_layer in local_costmap (nav2_costmap_2d::VoxelLayer)"));
   EXPECT_THAT(message, HasSubstr("inflation_layer in local_costmap"));
   EXPECT_THAT(message, Not(HasSubstr("invalid node")));
-  EXPECT_THAT(message, HasSubstr("nav2's VoxelLayer and ObstacleLayer are not simulated yet"));
+  EXPECT_THAT(message,
+              HasSubstr("nav2's VoxelLayer and ObstacleLayer run in `stvl-bench run` (map.ros_params), not here"));
   const std::string stvl =
       "local_costmap:\n  local_costmap:\n    ros__parameters:\n      plugins: [stvl_layer, "
       "inflation_layer]\n      stvl_layer:\n" +
