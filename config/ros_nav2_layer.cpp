@@ -22,16 +22,31 @@ using ros_detail::LayerNodes;
 // The keys VoxelLayer::onInitialize (and the ObstacleLayer's it calls) and ObstacleLayer::onInitialize declare for
 // the plugin and for each source (navigation2 jazzy f4108e5, plugins/voxel_layer.cpp and obstacle_layer.cpp), and
 // nav2's `plugin` itself.
-const std::vector<std::string> kObstacleLayerKeys = {"plugin",           "enabled",
-                                                     "footprint_clearing_enabled", "min_obstacle_height",
-                                                     "max_obstacle_height",        "combination_method",
-                                                     "observation_sources",        "tf_filter_tolerance"};
-const std::vector<std::string> kVoxelOnlyKeys = {"z_voxels",         "origin_z",       "z_resolution",
+const std::vector<std::string> kObstacleLayerKeys = {"plugin",
+                                                     "enabled",
+                                                     "footprint_clearing_enabled",
+                                                     "min_obstacle_height",
+                                                     "max_obstacle_height",
+                                                     "combination_method",
+                                                     "observation_sources",
+                                                     "tf_filter_tolerance"};
+const std::vector<std::string> kVoxelOnlyKeys = {"z_voxels",          "origin_z",       "z_resolution",
                                                  "unknown_threshold", "mark_threshold", "publish_voxel_map"};
-const std::vector<std::string> kSourceKeys = {
-    "topic",        "sensor_frame", "observation_persistence", "expected_update_rate", "data_type",
-    "min_obstacle_height", "max_obstacle_height", "inf_is_valid", "marking", "clearing", "transport_type",
-    "obstacle_max_range", "obstacle_min_range", "raytrace_max_range", "raytrace_min_range"};
+const std::vector<std::string> kSourceKeys = {"topic",
+                                              "sensor_frame",
+                                              "observation_persistence",
+                                              "expected_update_rate",
+                                              "data_type",
+                                              "min_obstacle_height",
+                                              "max_obstacle_height",
+                                              "inf_is_valid",
+                                              "marking",
+                                              "clearing",
+                                              "transport_type",
+                                              "obstacle_max_range",
+                                              "obstacle_min_range",
+                                              "raytrace_max_range",
+                                              "raytrace_min_range"};
 
 std::vector<std::string> layer_keys_of(layer::LayerType type) {
   std::vector<std::string> keys = kObstacleLayerKeys;
@@ -47,8 +62,7 @@ std::vector<std::string> split_words(const std::string& text) {
 }
 
 // One source with ObstacleLayer::onInitialize's defaults.
-RosNav2Source read_source(const LayerNodes& nodes, const std::string& name, const std::string& file,
-                          int sources_line) {
+RosNav2Source read_source(const LayerNodes& nodes, const std::string& name, const std::string& file, int sources_line) {
   const YAML::Node node = nodes.layer[name];
   const std::string path = dotted(nodes.layer_path, name);
   if (!node || !node.IsMap()) {
@@ -86,15 +100,12 @@ RosNav2Source read_source(const LayerNodes& nodes, const std::string& name, cons
   if (s.data_type != "PointCloud2")
     m.fail(m.raw("data_type"), "data_type",
            "'" + s.data_type + "': nav2 reads only PointCloud2 or LaserScan (and throws at startup)");
-  const std::pair<const char*, double> ranges[] = {{"obstacle_max_range", r.obstacle_max_range_m},
-                                                   {"obstacle_min_range", r.obstacle_min_range_m},
-                                                   {"raytrace_max_range", r.raytrace_max_range_m},
-                                                   {"raytrace_min_range", r.raytrace_min_range_m},
-                                                   {"observation_persistence", p.observation_persistence_s},
-                                                   {"expected_update_rate", p.expected_update_rate_s}};
+  const std::pair<const char*, double> ranges[] = {
+      {"obstacle_max_range", r.obstacle_max_range_m},           {"obstacle_min_range", r.obstacle_min_range_m},
+      {"raytrace_max_range", r.raytrace_max_range_m},           {"raytrace_min_range", r.raytrace_min_range_m},
+      {"observation_persistence", p.observation_persistence_s}, {"expected_update_rate", p.expected_update_rate_s}};
   for (const auto& [key, value] : ranges)
-    if (!(std::isfinite(value) && value >= 0.0))
-      m.fail(m.raw(key), key, general(value) + ": must be finite and >= 0");
+    if (!(std::isfinite(value) && value >= 0.0)) m.fail(m.raw(key), key, general(value) + ": must be finite and >= 0");
   for (const char* key : {"min_obstacle_height", "max_obstacle_height"}) {
     const double value = std::string(key) == "min_obstacle_height" ? p.min_obstacle_height_m : p.max_obstacle_height_m;
     if (!std::isfinite(value)) m.fail(m.raw(key), key, "must be finite");
@@ -135,7 +146,8 @@ RosNav2Layer load_ros_nav2_layer(const std::string& path, const std::string& lay
     throw std::invalid_argument(path + ": " + nodes.layer_path + ": nav2's layers are read from nav2 (ROS 2) files");
   RosNav2Layer out;
   out.file = path, out.layer_name = nodes.layer_name, out.costmap_name = nodes.costmap_name, out.plugin = nodes.plugin;
-  out.type = nodes.plugin == ros_detail::kNav2VoxelPlugin ? layer::LayerType::kNav2Voxel : layer::LayerType::kNav2Obstacle;
+  out.type =
+      nodes.plugin == ros_detail::kNav2VoxelPlugin ? layer::LayerType::kNav2Voxel : layer::LayerType::kNav2Obstacle;
 
   // The costmap's keys, Costmap2DROS's defaults where absent.
   RosStvlLayer costmap_keys;
@@ -179,8 +191,8 @@ RosNav2Layer load_ros_nav2_layer(const std::string& path, const std::string& lay
     p.validate();
   } catch (const std::invalid_argument& e) {
     const std::string message = e.what();  // "nav2_layer.<key> = ..."
-    const std::string key = message.substr(std::string("nav2_layer.").size(),
-                                           message.find(' ') - std::string("nav2_layer.").size());
+    const std::string key =
+        message.substr(std::string("nav2_layer.").size(), message.find(' ') - std::string("nav2_layer.").size());
     m.fail(m.raw(key), key, message.substr(message.find('=') + 2));
   }
   if (!out.enabled)
@@ -224,8 +236,9 @@ void apply_ros_nav2_layer(const RosNav2Layer& layer, pipeline::PipelineConfig& c
   }
   for (const auto& c : config.cameras)
     if (c.sources.empty())
-      throw std::invalid_argument(layer.file + ": " + layer.layer_name + ": no observation source is bound to camera '" +
-                                  c.name + "' (bind one through its topic /" + c.name + "/...)");
+      throw std::invalid_argument(layer.file + ": " + layer.layer_name +
+                                  ": no observation source is bound to camera '" + c.name +
+                                  "' (bind one through its topic /" + c.name + "/...)");
 }
 
 std::vector<LintFinding> lint_ros_nav2_layer(const std::string& path, const std::string& layer_name,
@@ -283,10 +296,11 @@ std::vector<LintFinding> lint_ros_nav2_layer(const std::string& path, const std:
     if (q.marking && layer.rolling_window && r.obstacle_max_range_m > half_window_m)
       add(out, path, std::max(s.line, key_line(node, "obstacle_max_range")), dotted(prefix, "obstacle_max_range"),
           general(r.obstacle_max_range_m) + " m reaches past the rolling window's half width " +
-              general(half_window_m) + " m: obstacles seen farther ahead are marked off the grid or rolled out "
-                                       "of it (nav2 starts anyway)",
-          "width and height: " + general(2.0 * r.obstacle_max_range_m) + " (or obstacle_max_range: " +
-              general(half_window_m) + ")");
+              general(half_window_m) +
+              " m: obstacles seen farther ahead are marked off the grid or rolled out "
+              "of it (nav2 starts anyway)",
+          "width and height: " + general(2.0 * r.obstacle_max_range_m) +
+              " (or obstacle_max_range: " + general(half_window_m) + ")");
     if (r.inf_is_valid)
       add(out, path, std::max(s.line, key_line(node, "inf_is_valid")), dotted(prefix, "inf_is_valid"),
           "no effect on a PointCloud2 source (nav2 reads it for LaserScan only)", "remove it");

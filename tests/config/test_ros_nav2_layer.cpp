@@ -5,9 +5,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 #include <string>
 
 #include "config/scenario.hpp"
@@ -28,8 +28,8 @@ std::string write_file(const std::string& name, const std::string& text) {
 
 // A local costmap with one layer of `plugin` and a source `pointcloud` on /camera/depth/points; `extra_layer` and
 // `extra_source` are lines added to the layer's and the source's mapping (indented already).
-std::string params(const std::string& plugin, const std::string& extra_layer = "",
-                   const std::string& extra_source = "", const std::string& costmap_keys = "") {
+std::string params(const std::string& plugin, const std::string& extra_layer = "", const std::string& extra_source = "",
+                   const std::string& costmap_keys = "") {
   return "local_costmap:\n"
          "  local_costmap:\n"
          "    ros__parameters:\n" +
@@ -79,11 +79,12 @@ TEST(RosNav2Layer, DefaultsAreNav2s) {
 
 TEST(RosNav2Layer, KeysAreReadAndBoundToTheCamera) {
   const std::string path = write_file(
-      "k.yaml", params("nav2_costmap_2d::ObstacleLayer", "        max_obstacle_height: 1.2\n        combination_method: 0\n",
-                       "          clearing: true\n          max_obstacle_height: 1.5\n          obstacle_max_range: 2.0\n"
-                       "          raytrace_max_range: 2.5\n          observation_persistence: 0.3\n",
-                       "      width: 4\n      height: 6\n      resolution: 0.05\n      rolling_window: true\n"
-                       "      update_frequency: 10.0\n      robot_radius: 0.3\n"));
+      "k.yaml",
+      params("nav2_costmap_2d::ObstacleLayer", "        max_obstacle_height: 1.2\n        combination_method: 0\n",
+             "          clearing: true\n          max_obstacle_height: 1.5\n          obstacle_max_range: 2.0\n"
+             "          raytrace_max_range: 2.5\n          observation_persistence: 0.3\n",
+             "      width: 4\n      height: 6\n      resolution: 0.05\n      rolling_window: true\n"
+             "      update_frequency: 10.0\n      robot_radius: 0.3\n"));
   const RosNav2Layer l = load_ros_nav2_layer(path, "", "");
   EXPECT_EQ(l.type, layer::LayerType::kNav2Obstacle);
   EXPECT_DOUBLE_EQ(l.params.max_obstacle_height_m, 1.2);
@@ -103,15 +104,16 @@ TEST(RosNav2Layer, KeysAreReadAndBoundToTheCamera) {
   EXPECT_DOUBLE_EQ(config.cameras[0].sources[0].nav2.raytrace_max_range_m, 2.5);
   EXPECT_TRUE(config.cameras[0].sources[0].params.clearing);
   config.cameras[0].name = "front";
-  EXPECT_THAT([&] {
-    try {
-      apply_ros_nav2_layer(l, config);
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  }(),
-              HasSubstr("bound to no camera: topic '/camera/depth/points'"));
+  EXPECT_THAT(
+      [&] {
+        try {
+          apply_ros_nav2_layer(l, config);
+        } catch (const std::invalid_argument& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      }(),
+      HasSubstr("bound to no camera: topic '/camera/depth/points'"));
 }
 
 TEST(RosNav2Layer, BadValuesNameFileLineAndKey) {
@@ -129,17 +131,16 @@ TEST(RosNav2Layer, BadValuesNameFileLineAndKey) {
               HasSubstr("l.yaml:9: obstacles.pointcloud.data_type: LaserScan is not simulated"));  // nav2's default
   std::string range = params(voxel);
   range.replace(range.find("PointCloud2"), 11, "Range");
-  EXPECT_THAT(error_of(write_file("t.yaml", range)),
-              HasSubstr("nav2 reads only PointCloud2 or LaserScan"));
+  EXPECT_THAT(error_of(write_file("t.yaml", range)), HasSubstr("nav2 reads only PointCloud2 or LaserScan"));
 }
 
 TEST(RosNav2Layer, LintFindsWhatNav2StartsWithAnyway) {
-  const std::string path =
-      write_file("lint.yaml", params("nav2_costmap_2d::VoxelLayer",
-                                     "        z_voxels: 16\n        z_resolution: 0.05\n        z_voxel: 3\n",
-                                     "          raytrace_max_range: 2.0\n          marking: true\n          clearing: true\n"
-                                     "          inf_is_valid: true\n          obstacle_range: 3.0\n",
-                                     "      width: 3\n      height: 3\n      rolling_window: true\n"));
+  const std::string path = write_file(
+      "lint.yaml",
+      params("nav2_costmap_2d::VoxelLayer", "        z_voxels: 16\n        z_resolution: 0.05\n        z_voxel: 3\n",
+             "          raytrace_max_range: 2.0\n          marking: true\n          clearing: true\n"
+             "          inf_is_valid: true\n          obstacle_range: 3.0\n",
+             "      width: 3\n      height: 3\n      rolling_window: true\n"));
   const auto findings = lint_ros_nav2_layer(path, "", "");
   std::string all;
   for (const auto& f : findings) all += format_finding(f) + "\n";
@@ -154,10 +155,10 @@ TEST(RosNav2Layer, LintFindsWhatNav2StartsWithAnyway) {
   EXPECT_THAT(all, HasSubstr("2.5 m reaches past the rolling window's half width 1.5 m"));
   EXPECT_THAT(all, HasSubstr("inf_is_valid: no effect on a PointCloud2 source"));
   // A file written as nav2 wants it has none.
-  const std::string clean = write_file(
-      "clean.yaml", params("nav2_costmap_2d::ObstacleLayer", "",
-                           "          max_obstacle_height: 2.0\n          clearing: true\n",
-                           "      width: 6\n      height: 6\n      rolling_window: true\n"));
+  const std::string clean =
+      write_file("clean.yaml", params("nav2_costmap_2d::ObstacleLayer", "",
+                                      "          max_obstacle_height: 2.0\n          clearing: true\n",
+                                      "      width: 6\n      height: 6\n      rolling_window: true\n"));
   EXPECT_TRUE(lint_ros_nav2_layer(clean, "", "").empty()) << format_finding(lint_ros_nav2_layer(clean, "", "")[0]);
 }
 
