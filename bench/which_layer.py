@@ -10,7 +10,10 @@ the layer benchmark's, `stvl-bench-bench layers`: timings of parallel sweeps sha
 
 The layers as their documentation configures them for a D435 on a ground robot:
   stvl           the scenario's own STVL settings (STVL's README example: 0.05 m voxels, 15 s linear decay, frustum
-                 clearing);
+                 clearing), with the bench's fixes where a scenario turns them on (ray-cast clearing, clearing along
+                 pixels without a return, the footprint voxel clearing, the flying-pixel filter);
+  stvl_plain     the same without the map's fixes (frustum clearing, no clearing on no return, no footprint voxel
+                 clearing): STVL's own behaviour but for the per-camera edge filter of flying_pixels.yaml;
   nav2_voxel     nav2_bringup's local costmap voxel_layer (jazzy nav2_params.yaml: z_resolution 0.05, z_voxels 16 from
                  origin_z 0, so it marks up to 0.8 m; max_obstacle_height 2.0, mark_threshold 0; the source's
                  obstacle_max_range 2.5, raytrace_max_range 3.0);
@@ -34,6 +37,8 @@ import sys
 
 LAYERS = {
     "stvl": [],
+    "stvl_plain": ["map.clearing_mode=frustum", "map.observation.clear_on_no_return=false",
+                   "map.clear_footprint_voxels_below=0"],
     "nav2_voxel": ["map.layer_type=nav2_voxel", "map.nav2_layer.z_resolution=0.05", "map.nav2_layer.z_voxels=16"],
     "nav2_voxel_2m": ["map.layer_type=nav2_voxel", "map.nav2_layer.z_resolution=0.125",
                       "map.nav2_layer.z_voxels=16"],
