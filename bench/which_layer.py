@@ -5,7 +5,8 @@ Runs `stvl-bench sweep` once per layer configuration over the shipped scenarios 
 --worlds N, over N generated offices (`--worlds generate:1..N`), then reads every point's metrics.json and writes one
 markdown table per world set: for each layer the mean over the drives of the 3D precision and recall (voxel layers
 only), the costmap precision and recall, the phantoms (final and the worst snapshot), the lethal cells in free space
-along the path and the drives whose checks all passed; each figure's worst drive is named. (The layers' CPU cost is
+along the path, the clearing of moved bodies (stale voxels never cleared, the slowest clearing) and of hidden ones
+(true voxels cleared unseen), the lethal cells on the robot, and the drives whose checks all passed; each figure's worst drive is named. (The layers' CPU cost is
 the layer benchmark's, `stvl-bench-bench layers`: timings of parallel sweeps share the cores.)
 
 The layers as their documentation configures them for a D435 on a ground robot:
@@ -68,6 +69,12 @@ def figures(metrics):
         "final_phantoms": final["phantom_obstacles"],
         "worst_phantoms": mean["max_phantom_obstacles"],
         "path_free_lethal": mean["max_path_free_lethal"],
+        # moved bodies' stale voxels the camera saw through: never cleared, the slowest cleared, true voxels cleared
+        # while hidden (voxel layers only); lethal cells on the robot at worst
+        "not_cleared": e["clearing"]["not_cleared"] if voxels else None,
+        "clearing_latency": e["clearing"]["max_latency_s"] if voxels else None,
+        "hidden_false_clears": e["failure_modes"]["occlusion"]["hidden_false_clears"] if voxels else None,
+        "self_lethal": e["failure_modes"]["self_marking"]["max_self_lethal_cells"],
         "passed": 1.0 if metrics["passed"] else 0.0,
     }
 
@@ -77,7 +84,9 @@ COLUMNS = [
     ("precision", "3D P", "{:.3f}", True), ("recall", "3D R", "{:.3f}", True),
     ("costmap_precision", "costmap P", "{:.3f}", True), ("costmap_recall", "costmap R", "{:.3f}", True),
     ("final_phantoms", "final phantoms", "{:.2f}", False), ("worst_phantoms", "worst phantoms", "{:.2f}", False),
-    ("path_free_lethal", "path cells", "{:.1f}", False), ("passed", "all checks pass", "{:.0%}", True),
+    ("path_free_lethal", "path cells", "{:.1f}", False), ("not_cleared", "never cleared", "{:.0f}", False),
+    ("clearing_latency", "clearing latency s", "{:.2f}", False), ("hidden_false_clears", "hidden clears", "{:.0f}", False),
+    ("self_lethal", "self cells", "{:.1f}", False), ("passed", "all checks pass", "{:.0%}", True),
 ]
 
 
