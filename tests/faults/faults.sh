@@ -335,15 +335,36 @@ EOF
                             pattern="p\.yaml:[0-9]+: YAML syntax error" ;;
       ros_layer_missing) cp "$params" "$tmp/p.yaml"; layer=stvl
                          pattern="p\.yaml:[0-9]+: .*stvl.*(stvl_layer)" ;;
-      ros_plugin_not_stvl) sed 's#spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer#nav2_costmap_2d::VoxelLayer#' \
+      ros_plugin_not_stvl) sed 's#spatio_temporal_voxel_layer/SpatioTemporalVoxelLayer#my_pkg::MyLayer#' \
                              "$params" >"$tmp/p.yaml"
-                           pattern="p\.yaml:24: stvl_layer\.plugin: .*nav2_costmap_2d::VoxelLayer" ;;
+                           pattern="p\.yaml:24: stvl_layer\.plugin: plugin is 'my_pkg::MyLayer', not .*VoxelLayer" ;;
       ros_source_unbound) sed 's#topic: /intel_realsense_r200_depth/points#topic: /other_camera/points#' \
                             "$params" >"$tmp/p.yaml"
                           pattern="p\.yaml:42: stvl_layer\.pointcloud: bound to no camera" ;;
     esac
     sed -e "s#^world: .*#world: $src/worlds/office_corridor.xml#" -e "s#ros_params: .*#ros_params: $tmp/p.yaml#" \
       -e "s#layer: stvl_layer#layer: $layer#" "$src/scenarios/nav2_stvl_tutorial.yaml" >"$tmp/s.yaml"
+    run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "$pattern"
+    expect_no_results "$tmp"
+    ;;
+
+  nav2_laserscan | nav2_z_voxels | nav2_range_nan | nav2_source_unbound)
+    # nav2's VoxelLayer file of scenarios/nav2_voxel_layer.yaml edited: each edit exits 2 naming file, line and key.
+    params=$src/scenarios/ros/nav2_voxel_layer.yaml
+    case $case_name in
+      nav2_laserscan) sed 's#data_type: "PointCloud2"#data_type: "LaserScan"#' "$params" >"$tmp/p.yaml"
+                      pattern="p\.yaml:35: voxel_layer\.pointcloud\.data_type: LaserScan is not simulated" ;;
+      nav2_z_voxels) sed 's#z_voxels: 16#z_voxels: 17#' "$params" >"$tmp/p.yaml"
+                     pattern="p\.yaml:29: voxel_layer\.z_voxels: 17: must lie in \[1, 16\]" ;;
+      nav2_range_nan) sed 's#raytrace_max_range: 3.0#raytrace_max_range: .nan#' "$params" >"$tmp/p.yaml"
+                      pattern="p\.yaml:40: voxel_layer\.pointcloud\.raytrace_max_range: nan: must be finite" ;;
+      nav2_source_unbound) sed 's#topic: /camera/depth/points#topic: /other_camera/points#' "$params" >"$tmp/p.yaml"
+                           pattern="p\.yaml:[0-9]+: voxel_layer\.pointcloud: bound to no camera" ;;
+    esac
+    sed -e "s#^world: .*#world: $src/worlds/office_corridor.xml#" -e "s#ros_params: .*#ros_params: $tmp/p.yaml#" \
+      "$src/scenarios/nav2_voxel_layer.yaml" >"$tmp/s.yaml"
     run_bench run "$tmp/s.yaml" --out "$tmp/out" --no-progress --duration 1
     expect_rc 2
     expect_error_line "$pattern"
