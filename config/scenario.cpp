@@ -43,7 +43,8 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   s.pipeline.path.waypoints_W.clear();
   for (const auto& xy : waypoints) s.pipeline.path.waypoints_W.push_back(to_point2(xy, robot, "waypoints"));
   robot.require("speed_mps", s.pipeline.path.cruise_speed_mps);
-  robot.get("loop", s.pipeline.path.loop);  // soak (issue #270): a patrol that never ends
+  robot.get("loop", s.pipeline.path.loop);        // soak (issue #270): a patrol that never ends
+  robot.get("reverse", s.pipeline.path.reverse);  // backwards, the rear leading (nav2 #5476's reversing robot)
   read_urdf_robot(robot, s, base_dir);
   if (plan) plan_on_map(*map_world, robot, s);
   validate_keys({{"waypoints", &robot, "waypoints"},

@@ -110,6 +110,14 @@ Twist2D PathFollower::rotate_toward(double heading_rad, double yaw_rad) {
 }
 
 Twist2D PathFollower::update(const Eigen::Vector2d& p_W, double yaw_rad) {
+  if (!path_.reverse) return update_forward(p_W, yaw_rad);
+  // Backwards: follow the path with the rear as the front (heading yaw + pi); the same turn rate in the world, the
+  // linear speed negated.
+  const Twist2D t = update_forward(p_W, wrap_angle(yaw_rad + M_PI));
+  return Twist2D{-t.v_mps, t.omega_radps};
+}
+
+Twist2D PathFollower::update_forward(const Eigen::Vector2d& p_W, double yaw_rad) {
   if (!has_path() || finished_) return {};
   const double leg_start = leg_ == 0 ? 0.0 : s_corner_[leg_ - 1];
   const double leg_end = s_corner_[leg_];

@@ -22,7 +22,8 @@ struct Pose2D {
 struct Path {
   std::vector<Eigen::Vector2d> waypoints_W;
   double cruise_speed_mps = 0.5;
-  bool loop = false;  // after the last waypoint, back to the first and around again (never finished)
+  bool loop = false;     // after the last waypoint, back to the first and around again (never finished)
+  bool reverse = false;  // driven backwards, the rear leading (YAML robot.reverse): negative linear speeds
 };
 
 struct Twist2D {
@@ -63,6 +64,8 @@ class PathFollower {
   const Path& path() const { return path_; }
 
  private:
+  // update() for a robot heading yaw_rad forward (reverse: the rear's heading, the speed negated by update()).
+  Twist2D update_forward(const Eigen::Vector2d& p_W, double yaw_rad);
   enum class Mode { align, track, turn_at_corner };
   Eigen::Vector2d point_at(double s) const;  // arc length along the whole path
   double project(const Eigen::Vector2d& p_W, double s_from, double s_to) const;

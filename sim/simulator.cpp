@@ -42,6 +42,10 @@ void Simulator::set_start_pose(const Pose2D& pose_W) {
 void Simulator::set_path(const Path& path) {
   follower_.set_path(path);
   if (!kinematic_) return;
+  if (path.reverse)
+    throw std::invalid_argument(
+        "robot.reverse needs robot.drive physics: the kinematic drive places the base "
+        "facing along the path");
   const Eigen::Isometry3d T = robot_.T_world_base();
   const Eigen::Vector3d x_axis = T.linear().col(0);
   kinematic_->set_path(path, {T.translation().x(), T.translation().y(), std::atan2(x_axis.y(), x_axis.x())}, time_s());

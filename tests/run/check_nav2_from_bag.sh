@@ -16,6 +16,9 @@
 #   obstacle_receding_pre_5697, obstacle_receding_5697, obstacle_receding_6092
 #                      the walking person, ObstacleLayer with each marking rule: 3D squared distance (before #5697),
 #                      cell distance (#5697), 2D world pre-filter + cell distance (#6092)
+#   voxel_reversing, obstacle_reversing_pre_5697, obstacle_reversing_6092
+#                      the robot driving in reverse (robot.reverse) away from the corridor's obstacles past
+#                      obstacle_max_range 1.5 = raytrace_max_range (#5476 as reported), VoxelLayer and ObstacleLayer
 #   voxel_footprint    the robot that sees its own bumper on a 2 m drive, VoxelLayer with a footprint: updateFootprint
 #                      and updateCosts' setConvexPolygonCost(footprint, FREE_SPACE) at every cycle
 # Exit 0 agree, 1 disagree, 2 bad input, 77 skipped (no rosbag for /usr/bin/python3).
@@ -30,6 +33,11 @@ corridor=("$src/scenarios/office_corridor.yaml" --duration 4)
 cameras=("$src/scenarios/delivery_robot_3cams.yaml" --duration 4)
 receding=("$src/scenarios/person_walks_away.yaml" --duration 6 --set map.observation.obstacle_max_range=1.5
           --set map.observation.raytrace_max_range=1.5)
+# The robot backing away (robot.reverse) from the corridor's obstacles ahead past obstacle_max_range 1.5 while they
+# stay within raytrace_max_range 1.5: navigation2 #5476 as reported (a reversing robot).
+reversing=("$src/scenarios/office_corridor.yaml" --duration 9 --set 'robot.start=[7.0, 0.0, 0.0]'
+           --set 'robot.waypoints=[[7.0, 0.0], [3.0, 0.0]]' --set robot.reverse=true
+           --set map.observation.obstacle_max_range=1.5 --set map.observation.raytrace_max_range=1.5)
 voxel=(--set map.layer_type=nav2_voxel)
 obstacle=(--set map.layer_type=nav2_obstacle)
 case $case in
@@ -41,11 +49,14 @@ case $case in
   voxel_ticks) args=("${corridor[@]}" "${voxel[@]}" --set map.update_frequency=4
                      --set map.observation.observation_persistence=0.5) ;;
   voxel_receding) args=("${receding[@]}" "${voxel[@]}") ;;
+  voxel_reversing) args=("${reversing[@]}" "${voxel[@]}") ;;
   voxel_footprint) args=("$src/scenarios/robot_sees_itself_driving.yaml" --duration 3 "${voxel[@]}") ;;
   obstacle_corridor) args=("${corridor[@]}" "${obstacle[@]}") ;;
   obstacle_cameras) args=("${cameras[@]}" "${obstacle[@]}") ;;
   obstacle_receding_pre_5697 | obstacle_receding_5697 | obstacle_receding_6092)
     args=("${receding[@]}" "${obstacle[@]}" --set "map.nav2_layer.nav2_marking_range=${case#obstacle_receding_}") ;;
+  obstacle_reversing_pre_5697 | obstacle_reversing_6092)
+    args=("${reversing[@]}" "${obstacle[@]}" --set "map.nav2_layer.nav2_marking_range=${case#obstacle_reversing_}") ;;
   *) echo "unknown case $case" >&2; exit 2 ;;
 esac
 # The run's own checks may fail on a cut-short run; only its outputs matter here. The bag keeps what the checker reads.

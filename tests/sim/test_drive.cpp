@@ -90,6 +90,24 @@ TEST(PathFollowing, LoopingPathPassesTheFirstWaypointAgainEachLap) {
   EXPECT_LT(max_cross_track_m, kMaxCrossTrack_m);
 }
 
+// robot.reverse: facing +x, the robot backs 2 m along -x (nav2 #5476's reversing robot): it ends at the path's end
+// still facing +x, never turned round, with negative speed commands only.
+TEST(PathFollowing, ReversesAlongThePathRearFirst) {
+  Simulator sim(World::from_string(test::kFlatWorld, test::worlds_dir()));
+  sim.set_start_pose({3.0, 0.0, 0.0});
+  Path path{{{3.0, 0.0}, {1.0, 0.0}}, 0.4};
+  path.reverse = true;
+  const DriveResult r = drive(sim, path, 30.0);
+  ASSERT_TRUE(r.finished);
+  EXPECT_NEAR(r.end_W.x(), 1.0, 0.05);
+  EXPECT_LT(r.max_cross_track_m, 0.05);
+  const Eigen::Matrix3d R = sim.T_world_base().rotation();
+  EXPECT_LT(std::abs(std::atan2(R(1, 0), R(0, 0))), 0.1);  // still facing +x
+  PathFollower follower;
+  follower.set_path(path);
+  EXPECT_LT(follower.update({3.0, 0.0}, 0.0).v_mps, 0.0);
+}
+
 TEST(PathFollowing, ClosedLoopIsNotClosedTwice) {
   PathFollower follower;
   follower.set_path({{{0, 0}, {1, 0}, {1, 1}, {0, 0}}, 0.5, true});
