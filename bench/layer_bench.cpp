@@ -78,12 +78,6 @@ double p95(std::vector<double> values) {
   return values[static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(values.size()))) - 1];
 }
 
-const char* name_of(layer::LayerType type) {
-  return type == layer::LayerType::kStvl        ? "stvl"
-         : type == layer::LayerType::kNav2Voxel ? "nav2_voxel"
-                                                : "nav2_obstacle";
-}
-
 }  // namespace
 
 void LayerBenchOptions::validate() const {

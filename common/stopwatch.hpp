@@ -2,6 +2,9 @@
 // Wall-clock time on the steady clock: the frame loop's stage timings, the evaluation's phase times and the
 // benchmarks (the only parts of the project that read the wall clock; none of it reaches a deterministic output).
 #include <chrono>
+#include <ctime>
+
+#include "common/units.hpp"
 
 namespace stvl {
 
@@ -15,6 +18,13 @@ inline double ms_since(SteadyClock::time_point start) {
 // Seconds since `start` on the steady clock.
 inline double s_since(SteadyClock::time_point start) {
   return std::chrono::duration<double>(SteadyClock::now() - start).count();
+}
+
+// The process's CPU time (all threads) in milliseconds, CLOCK_PROCESS_CPUTIME_ID: a layer's cpu_ms per update.
+inline double process_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return kMsPerSecond * static_cast<double>(t.tv_sec) + kMsPerNanosecond * static_cast<double>(t.tv_nsec);
 }
 
 // Started on construction; reads the time since then (or since the last restart()).

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -14,12 +13,6 @@
 
 namespace stvl::layer {
 namespace {
-
-double process_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return kMsPerSecond * static_cast<double>(t.tv_sec) + kMsPerNanosecond * static_cast<double>(t.tv_nsec);
-}
 
 void reject_range(const std::string& source, const std::string& key, double value) {
   throw std::invalid_argument("observation source '" + source + "': " + key + " = " + std::to_string(value) +
@@ -224,6 +217,25 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
     for (const auto& obs : marking) nav2::mark_observation(grid_, *obs, params, bounds);
   }
 
+  report_applied(applied, time_s, update, report);
+
+  // updateFootprint: the footprint's vertices touch the bounds.
+  std::vector<Eigen::Vector2d> footprint_W;
+  if (config_.nav2.footprint_clearing_enabled && !config_.map.footprint_B.empty()) {
+    footprint_W = mapping::footprint_in_world(config_.map.footprint_B, T_world_base_);
+    for (const auto& p : footprint_W) bounds.touch(p.x(), p.y());
+  }
+
+  update_costs(bounds, footprint_W);
+  report.mark_ms += ms_since(start_mark);
+
+  record_cleared_keys(report);
+  master_->count_ghosts(time_s, costmap());
+}
+
+void Nav2Layer::report_applied(const std::vector<std::pair<std::size_t, const nav2::Nav2Observation*>>& applied,
+                               double time_s, LayerUpdate& update, UpdateReport& report) {
+  const std::int64_t now_ns = nav2::ros_ns_from_seconds(time_s);
   // The readings applied, once each (a buffer in both lists gives its observations twice), in gathering order.
   std::vector<const nav2::Nav2Observation*> seen;
   for (const auto& [i, obs] : applied) {
@@ -244,14 +256,9 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
     ++s.status.reapplied_readings;
     s.status.max_reapplied_age_s = std::max(s.status.max_reapplied_age_s, time_s - it->second->time_s);
   }
+}
 
-  // updateFootprint: the footprint's vertices touch the bounds.
-  std::vector<Eigen::Vector2d> footprint_W;
-  if (config_.nav2.footprint_clearing_enabled && !config_.map.footprint_B.empty()) {
-    footprint_W = mapping::footprint_in_world(config_.map.footprint_B, T_world_base_);
-    for (const auto& p : footprint_W) bounds.touch(p.x(), p.y());
-  }
-
+void Nav2Layer::update_costs(const nav2::Bounds& bounds, const std::vector<Eigen::Vector2d>& footprint_W) {
   // LayeredCostmap::updateMap: reset the master inside the bounds, then updateCosts.
   int x0 = 0, y0 = 0, xn = 0, yn = 0;
   nav2::world_to_map_enforce_bounds(grid_, bounds.min_x_m, bounds.min_y_m, x0, y0);
@@ -275,8 +282,9 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
     }
     master_->combine(grid_.costs, x0, y0, xn, yn, config_.nav2.combination_method);
   }
-  report.mark_ms += ms_since(start_mark);
+}
 
+void Nav2Layer::record_cleared_keys(UpdateReport& report) {
   // What the cycle cleared, as the bench's voxels: those gone from the view that are still inside the window.
   view_stale_ = true;
   if (config_.type == LayerType::kNav2Voxel) {
@@ -291,7 +299,6 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
       if (!std::binary_search(keys.begin(), keys.end(), k) && in_window(k)) report.cleared_keys.push_back(k);
     last_keys_ = std::move(keys);
   }
-  master_->count_ghosts(time_s, costmap());
 }
 
 void Nav2Layer::roll_to(double new_origin_x_m, double new_origin_y_m) {

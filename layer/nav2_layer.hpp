@@ -74,6 +74,16 @@ class Nav2Layer : public Layer {
 
   // One costmap cycle at time_s (appended to report.updates).
   void run_cycle(double time_s, UpdateReport& report);
+  // The readings a cycle at time_s gathered (source index, observation; a buffer in both lists twice) into
+  // update.applied_readings, once each, and the re-applied ones into the report and the sources' status.
+  void report_applied(const std::vector<std::pair<std::size_t, const nav2::Nav2Observation*>>& applied, double time_s,
+                      LayerUpdate& update, UpdateReport& report);
+  // LayeredCostmap::updateMap after updateBounds: the master reset inside the bounds, the footprint freed in the
+  // layer's grid (updateCosts' setConvexPolygonCost, footprint_W empty: off) and the grid combined there.
+  void update_costs(const nav2::Bounds& bounds, const std::vector<Eigen::Vector2d>& footprint_W);
+  // The bench's bookkeeping: the voxels the cycle removed from the view (still inside the window) into
+  // report.cleared_keys; the view is rebuilt on demand.
+  void record_cleared_keys(UpdateReport& report);
   // updateOrigin of the layer's grid (and voxel columns) to the master's new origin.
   void roll_to(double origin_x_m, double origin_y_m);
   // The voxel layer's raytraceFreespace and marking (nav2_voxel_layer.cpp).

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <utility>
 
 #include "common/stopwatch.hpp"
@@ -10,15 +9,6 @@
 #include "mapping/footprint.hpp"
 
 namespace stvl::layer {
-namespace {
-
-double process_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return kMsPerSecond * static_cast<double>(t.tv_sec) + kMsPerNanosecond * static_cast<double>(t.tv_nsec);
-}
-
-}  // namespace
 
 // One sensor's observation sources: their buffers and what they report.
 struct StvlLayer::Sensor {
@@ -136,7 +126,7 @@ StvlLayer::Applied StvlLayer::collect(double time_s, std::size_t sensor_index, c
       const auto& params = c.config.sources[s].params;
       if (!frame_of_this_update && params.drop_when_not_current && !c.buffers[s].current(time_s)) continue;
       for (const auto& r : c.buffers[s].readings()) {
-        if (params.clearing || params.marking) update.applied_readings.push_back({index, s, r});
+        if (params.clearing || params.marking) update.applied_readings.push_back({index, s, r, nullptr});
         if (params.clearing) applied.clearing.push_back({r->T_world_camera, params, &r->decimated_W, &r->no_return_W});
         if (params.marking) applied.marking.emplace_back(r.get(), &params);
         if (at_this_instant(r->time_s)) continue;  // this instant's own reading
