@@ -7,7 +7,8 @@ find_package(Boost REQUIRED)
 
 find_path(STVL_ROSBAG_INCLUDE_DIR rosbag/bag.h)
 find_path(STVL_ROS_MSGS_INCLUDE_DIR sensor_msgs/PointCloud2.h)
-foreach(header tf2_msgs/TFMessage.h nav_msgs/Odometry.h nav_msgs/OccupancyGrid.h geometry_msgs/PoseStamped.h)
+foreach(header tf2_msgs/TFMessage.h nav_msgs/Odometry.h nav_msgs/OccupancyGrid.h nav_msgs/Path.h
+               geometry_msgs/PoseStamped.h geometry_msgs/Twist.h)
   if(NOT EXISTS ${STVL_ROS_MSGS_INCLUDE_DIR}/${header})
     message(FATAL_ERROR "StvlRosbag: ${header} not found; run scripts/install-deps.sh")
   endif()

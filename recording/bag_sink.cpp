@@ -1,11 +1,39 @@
-// What both export formats share: the format and topic choices, and the writer for a format.
+// What both export formats share: the format, compression and topic choices, the costs as occupancy, and the
+// writer for a format.
 #include <filesystem>
 #include <stdexcept>
 
+#include "common/enum_names.hpp"
 #include "recording/bag_writer.hpp"
 #include "recording/detail.hpp"
 
 namespace stvl::recording {
+
+namespace {
+constexpr EnumName<BagCompression> kCompressionNames[] = {{BagCompression::kNone, "none"},
+                                                          {BagCompression::kBz2, "bz2"},
+                                                          {BagCompression::kLz4, "lz4"},
+                                                          {BagCompression::kZstd, "zstd"}};
+}  // namespace
+
+BagCompression parse_bag_compression(const std::string& name) {
+  return parse_enum(name, kCompressionNames, "bag compression");
+}
+
+std::string to_string(BagCompression compression) { return enum_name(compression, kCompressionNames); }
+
+std::vector<std::int8_t> occupancy_values(const mapping::Costmap2D& costmap) {
+  std::vector<std::int8_t> data(costmap.cells.size());
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const int c = costmap.cells[i];
+    data[i] = static_cast<std::int8_t>(c == mapping::kCostUnknown  ? -1
+                                       : c == mapping::kCostLethal ? 100
+                                       : c == 253                  ? 99
+                                       : c == mapping::kCostFree   ? 0
+                                                                   : 1 + 97 * (c - 1) / 251);
+  }
+  return data;
+}
 
 BagFormat parse_bag_format(const std::string& name, const std::string& path) {
   if (name == "ros1") return BagFormat::kRos1;

@@ -2,8 +2,10 @@
 
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/Twist.h>
 #include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Odometry.h>
+#include <nav_msgs/Path.h>
 #include <rosbag/bag.h>
 
 #include <sensor_msgs/CameraInfo.h>
@@ -22,7 +24,6 @@
 #include <system_error>
 #include <utility>
 
-#include "common/enum_names.hpp"
 #include "common/units.hpp"
 
 // Debian 12 packages no C++ header for rosgraph_msgs/Clock (libros-rosgraph-msgs-dev is not a dependency), so the
@@ -116,6 +117,13 @@ geometry_msgs::TransformStamped to_transform(const ros::Time& stamp, const std::
   return tf;
 }
 
+void require_topic(const std::string& topic) {
+  if (topic.size() < 2 || topic.front() != '/') {
+    throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points or /plan, got '" +
+                                topic + "'");
+  }
+}
+
 void require_image_size(int width, int height, std::size_t size, const char* what) {
   if (width <= 0 || height <= 0) {
     throw std::invalid_argument(std::string("BagWriter: ") + what + " size must be positive, got " +
@@ -128,19 +136,6 @@ void require_image_size(int width, int height, std::size_t size, const char* wha
 }
 
 }  // namespace
-
-namespace {
-constexpr EnumName<BagCompression> kCompressionNames[] = {{BagCompression::kNone, "none"},
-                                                          {BagCompression::kBz2, "bz2"},
-                                                          {BagCompression::kLz4, "lz4"},
-                                                          {BagCompression::kZstd, "zstd"}};
-}  // namespace
-
-BagCompression parse_bag_compression(const std::string& name) {
-  return parse_enum(name, kCompressionNames, "bag compression");
-}
-
-std::string to_string(BagCompression compression) { return enum_name(compression, kCompressionNames); }
 
 struct BagWriter::Impl {
   // A heap Bag so that one whose write or close failed (a full disk) can be abandoned: rosbag's ~Bag() retries
@@ -338,10 +333,7 @@ void BagWriter::write_points_stamped(const std::string& topic, double t_s, doubl
 
 void BagWriter::write_cloud(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
                             const Eigen::Matrix3Xf& points, bool latched) {
-  if (topic.size() < 2 || topic.front() != '/') {
-    throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points, got '" + topic +
-                                "'");
-  }
+  require_topic(topic);
   if (frame_id.empty()) throw std::invalid_argument("BagWriter: empty frame_id for " + topic);
   const ros::Time stamp = to_ros_time(stamp_s);
   sensor_msgs::PointCloud2& msg = impl_->cloud;
@@ -370,25 +362,12 @@ void BagWriter::write_cloud(const std::string& topic, double t_s, double stamp_s
   impl_->write(topic, to_ros_time(t_s), msg, latched);
 }
 
-std::vector<std::int8_t> occupancy_values(const mapping::Costmap2D& costmap) {
-  std::vector<std::int8_t> data(costmap.cells.size());
-  for (std::size_t i = 0; i < data.size(); ++i) {
-    const int c = costmap.cells[i];
-    data[i] = static_cast<std::int8_t>(c == mapping::kCostUnknown  ? -1
-                                       : c == mapping::kCostLethal ? 100
-                                       : c == 253                  ? 99
-                                       : c == mapping::kCostFree   ? 0
-                                                                   : 1 + 97 * (c - 1) / 251);
-  }
-  return data;
-}
-
-void BagWriter::write_costmap(double t_s, const mapping::Costmap2D& costmap) {
+void BagWriter::write_costmap_on(const std::string& topic, double t_s, const mapping::Costmap2D& costmap) {
+  require_topic(topic);
   require_image_size(costmap.width, costmap.height, costmap.cells.size(), "costmap");
   if (!(costmap.resolution_m > 0.0) || !std::isfinite(costmap.resolution_m) || !costmap.origin_m.allFinite()) {
     throw std::invalid_argument("BagWriter: costmap needs a finite origin and a resolution > 0");
   }
-  const std::string topic = "/stvl/costmap";
   const ros::Time stamp = to_ros_time(t_s);
   nav_msgs::OccupancyGrid msg;
   msg.header = impl_->header(topic, stamp, kMapFrame);
@@ -401,6 +380,38 @@ void BagWriter::write_costmap(double t_s, const mapping::Costmap2D& costmap) {
   msg.info.origin.orientation.w = 1.0;
   msg.data = occupancy_values(costmap);
   impl_->write(topic, stamp, msg);
+}
+
+void BagWriter::write_path(const std::string& topic, double t_s, const std::vector<Eigen::Vector3d>& poses_xy_yaw_W) {
+  require_topic(topic);
+  for (const auto& p : poses_xy_yaw_W) {
+    if (!p.allFinite()) throw std::invalid_argument("BagWriter: a pose of the path on " + topic + " is not finite");
+  }
+  const ros::Time stamp = to_ros_time(t_s);
+  nav_msgs::Path msg;
+  msg.header = impl_->header(topic, stamp, kMapFrame);
+  msg.poses.resize(poses_xy_yaw_W.size());
+  for (std::size_t i = 0; i < poses_xy_yaw_W.size(); ++i) {
+    const Eigen::Vector3d& p = poses_xy_yaw_W[i];
+    geometry_msgs::PoseStamped& pose = msg.poses[i];
+    pose.header = msg.header;
+    pose.pose.position.x = p.x();
+    pose.pose.position.y = p.y();
+    pose.pose.orientation.z = std::sin(0.5 * p.z());
+    pose.pose.orientation.w = std::cos(0.5 * p.z());
+  }
+  impl_->write(topic, stamp, msg);
+}
+
+void BagWriter::write_twist(const std::string& topic, double t_s, double v_mps, double omega_radps) {
+  require_topic(topic);
+  if (!std::isfinite(v_mps) || !std::isfinite(omega_radps)) {
+    throw std::invalid_argument("BagWriter: the twist on " + topic + " is not finite");
+  }
+  geometry_msgs::Twist msg;
+  msg.linear.x = v_mps;
+  msg.angular.z = omega_radps;
+  impl_->write(topic, to_ros_time(t_s), msg);
 }
 
 void BagWriter::close() {

@@ -33,6 +33,13 @@ inline std::string camera_optical_frame(const std::string& camera) { return came
 inline std::string camera_topic(const std::string& camera, const std::string& what) {
   return "/" + camera + "/" + what;
 }
+// The topics nav2 (Jazzy) publishes its drive on: planner_server's path, the controller's velocity command and
+// the two costmaps.
+inline constexpr const char* kPlanTopic = "/plan";
+inline constexpr const char* kCmdVelTopic = "/cmd_vel";
+inline constexpr const char* kLocalCostmapTopic = "/local_costmap/costmap";
+inline constexpr const char* kGlobalCostmapTopic = "/global_costmap/costmap";
+inline constexpr const char* kStvlCostmapTopic = "/stvl/costmap";
 
 enum class BagCompression { kNone, kBz2, kLz4, kZstd };  // ROS 1: none, bz2, lz4; ROS 2 (MCAP chunks): none, lz4, zstd
 enum class BagFormat { kRos1, kRos2 };
@@ -87,7 +94,20 @@ class BagSink {
   // was taken at) that a map update applied at t_s.
   virtual void write_points_stamped(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
                                     const Eigen::Matrix3Xf& points) = 0;
-  virtual void write_costmap(double t_s, const mapping::Costmap2D& costmap) = 0;
+  // nav_msgs/OccupancyGrid on `topic` (absolute), frame map, row-major from the origin cell; costs translated as
+  // nav2's costmap publisher does (occupancy_values()).
+  virtual void write_costmap_on(const std::string& topic, double t_s, const mapping::Costmap2D& costmap) = 0;
+  // The layer's costmap: write_costmap_on(kStvlCostmapTopic, ...).
+  void write_costmap(double t_s, const mapping::Costmap2D& costmap) {
+    write_costmap_on(kStvlCostmapTopic, t_s, costmap);
+  }
+  // nav_msgs/Path on `topic` (absolute), frame map, as planner_server publishes /plan: one
+  // geometry_msgs/PoseStamped per pose (x_m, y_m, yaw_rad in the map frame; z = 0, the orientation a rotation by
+  // yaw about z), every pose's header the path's. An empty path is written as one without poses.
+  virtual void write_path(const std::string& topic, double t_s, const std::vector<Eigen::Vector3d>& poses_xy_yaw_W) = 0;
+  // geometry_msgs/Twist on `topic` (absolute), as nav2's controller publishes /cmd_vel (unstamped, Jazzy's
+  // default): linear.x = v_mps, angular.z = omega_radps, the rest 0. Recorded at t_s + kBagTimeOffset_s.
+  virtual void write_twist(const std::string& topic, double t_s, double v_mps, double omega_radps) = 0;
   // Finishes the export and gives it its final name; further writes throw.
   virtual void close() = 0;
   virtual std::uint64_t bytes_written() const = 0;
@@ -134,9 +154,13 @@ class BagWriter : public BagSink {
                     bool latched = false) override;
   void write_points_stamped(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
                             const Eigen::Matrix3Xf& points) override;
-  // /stvl/costmap nav_msgs/OccupancyGrid, frame map, row-major from the origin cell; costs translated as
-  // nav2's costmap publisher does (occupancy_values()).
-  void write_costmap(double t_s, const mapping::Costmap2D& costmap) override;
+  // nav_msgs/OccupancyGrid, frame map, row-major from the origin cell; costs translated as nav2's costmap
+  // publisher does (occupancy_values()).
+  void write_costmap_on(const std::string& topic, double t_s, const mapping::Costmap2D& costmap) override;
+  // nav_msgs/Path, frame map; each pose's header (seq included) is the path's.
+  void write_path(const std::string& topic, double t_s, const std::vector<Eigen::Vector3d>& poses_xy_yaw_W) override;
+  // geometry_msgs/Twist (no header: ROS 1's /cmd_vel type).
+  void write_twist(const std::string& topic, double t_s, double v_mps, double omega_radps) override;
 
   // Writes the index, closes the file and renames path.active -> path. Further writes throw.
   void close() override;

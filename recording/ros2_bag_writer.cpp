@@ -40,6 +40,12 @@ void require_finite(const Eigen::Isometry3d& T, const char* name) {
   if (!T.matrix().allFinite()) throw std::invalid_argument(std::string("BagWriter: pose ") + name + " is not finite");
 }
 
+void require_topic(const std::string& topic) {
+  if (topic.size() < 2 || topic.front() != '/')
+    throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points or /plan, got '" +
+                                topic + "'");
+}
+
 class Ros2BagWriter final : public BagSink {
  public:
   Ros2BagWriter(std::string folder, BagCompression compression)
@@ -156,9 +162,7 @@ class Ros2BagWriter final : public BagSink {
   }
   void write_cloud(const std::string& topic, double t_s, double stamp_s, const std::string& frame_id,
                    const Eigen::Matrix3Xf& points, bool latched) {
-    if (topic.size() < 2 || topic.front() != '/')
-      throw std::invalid_argument("BagWriter: topic must be an absolute name like /camera/depth/points, got '" + topic +
-                                  "'");
+    require_topic(topic);
     if (frame_id.empty()) throw std::invalid_argument("BagWriter: empty frame_id for " + topic);
     const auto n = static_cast<std::uint32_t>(points.cols());
     CdrWriter w(buf_);
@@ -175,7 +179,8 @@ class Ros2BagWriter final : public BagSink {
     w.put(std::uint8_t(points.allFinite() ? 1 : 0));
     write(topic, "sensor_msgs/msg/PointCloud2", stamp_ns(t_s), latched);
   }
-  void write_costmap(double t_s, const mapping::Costmap2D& costmap) override {
+  void write_costmap_on(const std::string& topic, double t_s, const mapping::Costmap2D& costmap) override {
+    require_topic(topic);
     if (costmap.width <= 0 || costmap.height <= 0 ||
         costmap.cells.size() != std::size_t(costmap.width) * costmap.height)
       throw std::invalid_argument("BagWriter: costmap size disagrees with its cells");
@@ -192,7 +197,32 @@ class Ros2BagWriter final : public BagSink {
     put_pose(w, origin);
     const std::vector<std::int8_t> values = occupancy_values(costmap);
     w.put_bytes(values.data(), values.size());
-    write("/stvl/costmap", "nav_msgs/msg/OccupancyGrid", t);
+    write(topic, "nav_msgs/msg/OccupancyGrid", t);
+  }
+  void write_path(const std::string& topic, double t_s, const std::vector<Eigen::Vector3d>& poses_xy_yaw_W) override {
+    require_topic(topic);
+    for (const auto& p : poses_xy_yaw_W)
+      if (!p.allFinite()) throw std::invalid_argument("BagWriter: a pose of the path on " + topic + " is not finite");
+    const auto t = stamp_ns(t_s);
+    CdrWriter w(buf_);
+    put_header(w, t, kMapFrame);
+    w.put(static_cast<std::uint32_t>(poses_xy_yaw_W.size()));
+    for (const auto& p : poses_xy_yaw_W) {
+      put_header(w, t, kMapFrame);  // planner_server gives every pose the path's header
+      const double pose[7] = {p.x(), p.y(), 0.0, 0.0, 0.0, std::sin(0.5 * p.z()), std::cos(0.5 * p.z())};
+      w.put_array(pose, 7);
+    }
+    write(topic, "nav_msgs/msg/Path", t);
+  }
+  void write_twist(const std::string& topic, double t_s, double v_mps, double omega_radps) override {
+    require_topic(topic);
+    if (!std::isfinite(v_mps) || !std::isfinite(omega_radps))
+      throw std::invalid_argument("BagWriter: the twist on " + topic + " is not finite");
+    const auto t = stamp_ns(t_s);
+    CdrWriter w(buf_);
+    const double twist[6] = {v_mps, 0, 0, 0, 0, omega_radps};  // linear x y z, angular x y z
+    w.put_array(twist, 6);
+    write(topic, "geometry_msgs/msg/Twist", t);
   }
 
   void close() override {

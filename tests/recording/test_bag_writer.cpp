@@ -104,6 +104,11 @@ void write_run(BagWriter& writer) {
     costmap.cells[k] = mapping::kCostLethal;
     costmap.cells[23] = mapping::kCostUnknown;
     writer.write_costmap(t_s, costmap);
+    // The navigation drive as nav2 publishes it.
+    writer.write_costmap_on(kLocalCostmapTopic, t_s, costmap);
+    writer.write_costmap_on(kGlobalCostmapTopic, t_s, costmap);
+    writer.write_path(kPlanTopic, t_s, {{0.05 * k, 0.0, 0.01 * k}, {1.0, 0.5, 1.2}});
+    writer.write_twist(kCmdVelTopic, t_s, 0.5, 0.1);
   }
 }
 
@@ -127,6 +132,10 @@ std::string expectations_json(BagCompression compression, int frame_count) {
       {"/stvl/filtered_points", "sensor_msgs/PointCloud2", frame_count, kMapFrame, false},
       {"/stvl/voxel_grid", "sensor_msgs/PointCloud2", frame_count, kMapFrame, false},
       {"/stvl/costmap", "nav_msgs/OccupancyGrid", frame_count, kMapFrame, false},
+      {"/local_costmap/costmap", "nav_msgs/OccupancyGrid", frame_count, kMapFrame, false},
+      {"/global_costmap/costmap", "nav_msgs/OccupancyGrid", frame_count, kMapFrame, false},
+      {"/plan", "nav_msgs/Path", frame_count, kMapFrame, false},
+      {"/cmd_vel", "geometry_msgs/Twist", frame_count, nullptr, false},
       {"/ground_truth/occupancy", "sensor_msgs/PointCloud2", 1, kMapFrame, true},
   };
   std::ostringstream json;
