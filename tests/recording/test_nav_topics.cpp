@@ -7,10 +7,12 @@
 #include <nav_msgs/Path.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -261,6 +263,51 @@ TEST(NavTopicsRos2, PathTwistAndCostmapsDecodeFromTheMcapFile) {
     EXPECT_EQ(origin[6], 1.0) << topic;
     const auto [data, size] = g.get_bytes();
     EXPECT_EQ(std::vector<std::int8_t>(data, data + size), kOccupancy) << topic;
+  }
+}
+
+// @mcap/core reads the file and @foxglove/rosmsg2-serialization decodes every message from the schemas it carries
+// (mcap_js/verify_mcap.cjs, installed by recording.ros2_interop; skipped without it).
+TEST(NavTopicsRos2, ReferenceImplementationDecodesThem) {
+  const fs::path modules = STVL_MCAP_JS_MODULES;
+  if (!fs::is_directory(modules / "@mcap" / "core")) GTEST_SKIP() << modules << " has no @mcap/core yet";
+  if (test::run_shell("node --version").exit_code != 0) GTEST_SKIP() << "node is not installed";
+  const test::TempDir dir("nav_topics_js");
+  auto sink = make_bag_writer((dir.path() / "nav").string(), BagFormat::kRos2, BagCompression::kLz4);
+  write_nav(*sink);
+  sink->close();
+  const std::string script = std::string(STVL_SOURCE_DIR) + "/tests/recording/mcap_js/verify_mcap.cjs";
+  const test::Outcome out =
+      test::run_shell("NODE_PATH=" + test::quoted(modules.string()) + " node " + test::quoted(script) + " " +
+                      test::quoted((dir.path() / "nav" / "nav_0.mcap").string()));
+  ASSERT_EQ(out.exit_code, 0) << out.output;
+  const YAML::Node topics = YAML::Load(out.output)["topics"];  // JSON is YAML
+  EXPECT_EQ(topics["/plan"]["type"].as<std::string>(), "nav_msgs/msg/Path");
+  EXPECT_EQ(topics["/plan"]["count"].as<int>(), 2);
+  const YAML::Node plan = topics["/plan"]["first"];
+  EXPECT_EQ(plan["frame_id"].as<std::string>(), kMapFrame);
+  ASSERT_EQ(plan["poses"].size(), kPoses.size());
+  for (std::size_t i = 0; i < kPoses.size(); ++i) {
+    const YAML::Node p = plan["poses"][i];
+    EXPECT_EQ(p[0].as<double>(), kPoses[i].x()) << i;
+    EXPECT_EQ(p[1].as<double>(), kPoses[i].y()) << i;
+    EXPECT_EQ(p[2].as<double>(), 0.0) << i;
+    expect_yaw(p[3].as<double>(), p[4].as<double>(), p[5].as<double>(), p[6].as<double>(), kPoses[i].z(),
+               "pose " + std::to_string(i));
+  }
+  EXPECT_EQ(topics["/cmd_vel"]["type"].as<std::string>(), "geometry_msgs/msg/Twist");
+  const YAML::Node twist = topics["/cmd_vel"]["first"];
+  EXPECT_EQ(twist["linear"][0].as<double>(), kV_mps);
+  EXPECT_EQ(twist["angular"][2].as<double>(), kOmega_radps);
+  for (const char* topic : {kLocalCostmapTopic, kGlobalCostmapTopic, kStvlCostmapTopic}) {
+    EXPECT_EQ(topics[topic]["type"].as<std::string>(), "nav_msgs/msg/OccupancyGrid") << topic;
+    const YAML::Node grid = topics[topic]["first"];
+    EXPECT_EQ(grid["frame_id"].as<std::string>(), kMapFrame) << topic;
+    EXPECT_EQ(grid["width"].as<int>(), 3) << topic;
+    EXPECT_EQ(grid["height"].as<int>(), 2) << topic;
+    std::vector<std::int8_t> data;
+    for (const auto& v : grid["data"]) data.push_back(static_cast<std::int8_t>(v.as<int>()));
+    EXPECT_EQ(data, kOccupancy) << topic;
   }
 }
 

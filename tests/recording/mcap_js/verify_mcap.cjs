@@ -62,6 +62,11 @@ async function main() {
     if (name === "sensor_msgs/msg/Image" && msg.data.length !== msg.step * msg.height) fail(channel.topic + ": data length");
     if (name === "sensor_msgs/msg/PointCloud2" && msg.data.length !== msg.row_step * msg.height) fail(channel.topic + ": cloud length");
     if (name === "nav_msgs/msg/OccupancyGrid" && msg.data.length !== msg.info.width * msg.info.height) fail(channel.topic + ": grid length");
+    if (name === "nav_msgs/msg/Path")
+      for (const p of msg.poses)
+        if (p.header.frame_id !== msg.header.frame_id || p.header.stamp.sec !== msg.header.stamp.sec ||
+            p.header.stamp.nanosec !== msg.header.stamp.nanosec)
+          fail(channel.topic + ": a pose's header differs from the path's");
     if (msg.header && BigInt(msg.header.stamp.sec) * 1000000000n + BigInt(msg.header.stamp.nanosec) !== m.logTime)
       fail(channel.topic + ": header stamp differs from the log time");
     if (t.count === 1) {
@@ -69,6 +74,13 @@ async function main() {
       if (name === "sensor_msgs/msg/CameraInfo") t.first = { k: Array.from(msg.k), frame_id: msg.header.frame_id };
       if (name === "tf2_msgs/msg/TFMessage") t.first = { edges: msg.transforms.map((x) => x.header.frame_id + "->" + x.child_frame_id) };
       if (name === "sensor_msgs/msg/PointCloud2") t.first = { fields: msg.fields.map((f) => f.name).join(""), point_step: msg.point_step };
+      if (name === "nav_msgs/msg/Path")
+        t.first = { frame_id: msg.header.frame_id, poses: msg.poses.map((p) => [p.pose.position.x, p.pose.position.y,
+          p.pose.position.z, p.pose.orientation.x, p.pose.orientation.y, p.pose.orientation.z, p.pose.orientation.w]) };
+      if (name === "geometry_msgs/msg/Twist") t.first = { linear: [msg.linear.x, msg.linear.y, msg.linear.z],
+        angular: [msg.angular.x, msg.angular.y, msg.angular.z] };
+      if (name === "nav_msgs/msg/OccupancyGrid") t.first = { frame_id: msg.header.frame_id, width: msg.info.width,
+        height: msg.info.height, resolution: msg.info.resolution, data: msg.data.length <= 4096 ? Array.from(msg.data) : [] };
     }
   }
   await handle.close();
