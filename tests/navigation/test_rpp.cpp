@@ -259,6 +259,42 @@ TEST(Rpp, FootprintCostRasterisesEdgesOnly) {
   EXPECT_EQ(footprint_cost_at_pose(free_map(), {2.4, 0, 0}, square), 254.0);
 }
 
+TEST(Rpp, CollisionProjectionStopsBeforeTheTimeLimit) {
+  // Steps of 0.1 s while i * 0.1 < 1.0: the ninth and last puts the front vertex (0.45 + 0.11) in the cell
+  // [0.55, 0.60); a wall one cell further, [0.60, 0.65), is not checked. Inscribed (253) cells never collide.
+  auto wall_at = [](double x_m, std::uint8_t cost) {
+    auto map = free_map();
+    for (double y = -2.45; y < 2.5; y += 0.05) set_cell_at(map, x_m, y, cost);
+    return map;
+  };
+  auto rpp = make(plain_params());
+  auto status_with = [&](const mapping::Costmap2D& map) {
+    rpp.set_plan(ray({0, 0}, 0.0, 2.0));
+    return rpp.compute({0, 0, 0}, {}, map, kDt, 0.25).status;
+  };
+  EXPECT_EQ(status_with(wall_at(0.57, mapping::kCostLethal)), RppStatus::kCollisionAhead);
+  EXPECT_EQ(status_with(wall_at(0.62, mapping::kCostLethal)), RppStatus::kOk);
+  EXPECT_EQ(status_with(wall_at(0.57, 253)), RppStatus::kOk);
+}
+
+TEST(Rpp, FootprintEdgeFollowsNav2sLineIterator) {
+  // Cells (50, 50) -> (53, 51): Bresenham visits (50,50), (51,50), (52,51), (53,51), not (51,51).
+  auto map = free_map();
+  map.cells[50 * 100 + 51] = 100;
+  map.cells[51 * 100 + 51] = 200;
+  EXPECT_EQ(footprint_cost_at_pose(map, {0, 0, 0}, {{0.025, 0.025}, {0.175, 0.075}}), 100.0);
+  map.cells[51 * 100 + 52] = 150;
+  EXPECT_EQ(footprint_cost_at_pose(map, {0, 0, 0}, {{0.025, 0.025}, {0.175, 0.075}}), 150.0);
+}
+
+TEST(Rpp, ClosestPoseTiesGoToTheLaterPose) {
+  // Poses at x = -0.1, 0.1, 0.3, ...: the robot at 0 is 0.1 from the first two; nav2's min_by keeps the later.
+  auto rpp = make(plain_params());
+  rpp.set_plan(ray({-0.1, 0}, 0.0, 2.0, 0.2));
+  ASSERT_EQ(rpp.compute({0, 0, 0}, {}, free_map(), kDt, 0.25).status, RppStatus::kOk);
+  EXPECT_NEAR(rpp.plan_W().front().x_m, 0.1, 1e-12);
+}
+
 TEST(Rpp, UnknownCellsCollideUnlessTracked) {
   auto map = free_map();
   for (double y = -2.45; y < 2.5; y += 0.05) set_cell_at(map, 0.52, y, mapping::kCostUnknown);
@@ -307,6 +343,25 @@ TEST(Rpp, PrunesThePlanBehindTheRobot) {
   ASSERT_EQ(rpp.compute({1.0, 0.02, 0}, {}, free_map(), kDt, 0.25).status, RppStatus::kOk);
   ASSERT_EQ(rpp.plan_W().size(), 21u);  // poses from x = 1.0 on
   EXPECT_NEAR(rpp.plan_W().front().x_m, 1.0, 1e-12);
+}
+
+TEST(Rpp, ClosestPoseSearchIsBoundedAlongThePlan) {
+  // Out along y = 0 to x = 1.5 and back along y = 0.1: the robot at (0, 0.07) is nearest the return leg's end,
+  // but the search stops after max_robot_pose_search_dist of path, so the plan's start stays the closest pose.
+  auto loop = ray({0, 0}, 0.0, 1.5);
+  for (const Pose2& q : ray({1.5, 0.1}, M_PI, 1.5)) loop.push_back(q);
+  ASSERT_EQ(loop.size(), 62u);
+  RppParams p = plain_params();
+  p.max_robot_pose_search_dist = 1.0;
+  auto bounded = make(p);
+  bounded.set_plan(loop);
+  bounded.compute({0, 0.07, 0}, {}, free_map(), kDt, 0.25);
+  EXPECT_EQ(bounded.plan_W().size(), 62u);
+  p.max_robot_pose_search_dist = -1.0;  // the whole plan
+  auto unbounded = make(p);
+  unbounded.set_plan(loop);
+  unbounded.compute({0, 0.07, 0}, {}, free_map(), kDt, 0.25);
+  EXPECT_EQ(unbounded.plan_W().size(), 2u);  // the closest (last) pose and the one before it
 }
 
 TEST(Rpp, ReversingFollowsAPathBehindAndStopsAtTheCusp) {
