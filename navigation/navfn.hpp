@@ -81,6 +81,7 @@ class NavFn {
   std::uint8_t cost(int x, int y) const { return cost_[static_cast<std::size_t>(y) * nx_ + x]; }
   float potential(int x, int y) const { return pot_[y * nx_ + x]; }
   float potential_at(int index) const { return pot_[index]; }
+  const float* potentials() const { return pot_; }              // nx * ny, row 0 first
   const std::vector<float>& path_x() const { return path_x_; }  // calcPath's points in cells, start to goal
   const std::vector<float>& path_y() const { return path_y_; }
   int cycles() const { return cycles_; }
