@@ -12,7 +12,9 @@
 // it is the nearest seed there. Such a cell gets a farther source (lower or equal cost) or, when no neighbour's source
 // lies within the cell radius, stays unvisited. A single seed (or seeds whose wavefronts never compete) always gets
 // exact distances: the staircase path from the seed to any cell within the radius moves away from the seed at each
-// step. tests/navigation/test_inflation.cpp holds a grid where inflate and inflate_reference differ.
+// step. Three seeds suffice for a difference: tests/navigation/test_inflation.cpp holds such a grid (none was seen in
+// 100000 random two-seed grids). Checked against nav2's own updateCosts, compiled with stubs outside this repository:
+// identical cells on 3000 random grids (unknown cells, both flags, resolutions 0.05 and 0.1).
 //
 // Queued entries whose bin lies before the one being processed: nav2 appends them to an already processed (and
 // freed) bin, where they wait for the next updateCosts call (it logs "The inflation list must be empty" then and

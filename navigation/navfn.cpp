@@ -3,6 +3,9 @@
 // gradients are float, the quadratic update's polynomial and INVSQRT2 are double literals rounded to float, calcPath's
 // grid fallback compares against an int minimum, hypot of ints is double and of floats is float.
 //
+// Checked against nav2's own navfn.cpp, compiled with stubs outside this repository: bit-identical potentials and
+// calcPath points on 400 random inflated grids (Dijkstra and A*, allow_unknown both ways) and a 3000 x 3000 grid.
+//
 // Left out: the planner's cancel checker (nothing cancels here) and the debug statistics; clearRobotCell writes
 // into a copy of the costmap rather than the shared master costmap (nav2's write persists until the costmap's next
 // update overwrites that cell).

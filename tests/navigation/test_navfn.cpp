@@ -105,6 +105,20 @@ TEST(Navfn, StraightPathOnAnEmptyGrid) {
   EXPECT_EQ(r.goal_used_W, Eigen::Vector2d(8.0, 2.5));
 }
 
+TEST(Navfn, PlannerRoundsToCellIndices) {
+  // NavfnPlanner::worldToMap rounds and mapToWorld adds no half cell: the robot at x = 1.03 m (20.6 cells) starts
+  // the path at cell 21, x = 1.05 m; Costmap2D::worldToMap (createPlan's checks) floors.
+  const auto g = grid(200, 100, 0.05);
+  const PlanResult r = navfn_plan(g, {1.03, 2.5}, {8.0, 2.5}, NavfnParams{});
+  ASSERT_TRUE(r.found) << r.failure;
+  EXPECT_NEAR(r.path_W.front().x(), 1.05, 1e-9);
+  // A start in the last half cell of the top row rounds past the grid (nav2 writes outside its arrays): refused.
+  const auto small = grid(40, 40, 0.05);
+  const PlanResult past = navfn_plan(small, {1.0, 1.99}, {1.0, 1.0}, NavfnParams{});
+  EXPECT_FALSE(past.found);
+  EXPECT_EQ(past.failure_kind, PlanFailure::kStartOutsideMap);
+}
+
 TEST(Navfn, DiagonalPathStaysNearTheLine) {
   const auto g = grid(200, 200, 0.05);
   const Eigen::Vector2d start(1.0, 1.0), goal(8.0, 6.0);
