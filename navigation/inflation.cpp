@@ -16,10 +16,10 @@
 // 100000 random two-seed grids). Checked against nav2's own updateCosts, compiled with stubs outside this repository:
 // identical cells on 3000 random grids (unknown cells, both flags, resolutions 0.05 and 0.1).
 //
-// Queued entries whose bin lies before the one being processed: nav2 appends them to an already processed (and
-// freed) bin, where they wait for the next updateCosts call (it logs "The inflation list must be empty" then and
-// processes them against the next grid). In this one-shot version they are dropped; within one call nav2 never
-// processes them either.
+// A cell queued into a bin before the one being processed would, in nav2, land in an already processed (and freed)
+// bin and wait there for the next updateCosts call (which logs "The inflation list must be empty"). That was never
+// seen (nav2's own code on 3000 random grids, this code on 20000); should it happen, this one-shot version drops the
+// entry, which within one call is what nav2 does too.
 #include "navigation/inflation.hpp"
 
 #include <algorithm>
