@@ -36,6 +36,11 @@ int float_to_int_x86(float f) {
   return INT_MIN;
 }
 
+int checked_side(int cells) {
+  if (cells < 1) throw std::invalid_argument("NavFn: grid must be at least 1 x 1");
+  return cells;
+}
+
 }  // namespace
 
 std::uint8_t navfn_cost(std::uint8_t costmap_cost, bool allow_unknown) {
@@ -50,8 +55,8 @@ std::uint8_t navfn_cost(std::uint8_t costmap_cost, bool allow_unknown) {
 }
 
 NavFn::NavFn(int nx, int ny)
-    : nx_(nx),
-      ny_(ny),
+    : nx_(checked_side(nx)),
+      ny_(checked_side(ny)),
       ns_(nx * ny),
       pad_(2 * nx + 2),
       cost_(static_cast<std::size_t>(ns_), 0),
@@ -63,7 +68,6 @@ NavFn::NavFn(int nx, int ny)
       grady_(grady_store_.data() + pad_),
       pending_(static_cast<std::size_t>(ns_), 0),
       pri_inc_(2 * kNavfnCostNeutral) {
-  if (nx < 1 || ny < 1) throw std::invalid_argument("NavFn: grid must be at least 1 x 1");
   for (auto& b : buf_) b.assign(kPriorityBufSize, 0);
   cur_p_ = buf_[0].data();
   next_p_ = buf_[1].data();

@@ -40,8 +40,9 @@ struct PlanResult {
   float goal_potential = 0.0f;                            // NavFn potential at goal_used_W (1e10: never reached)
   int propagation_cycles = 0;                             // cycles of the Dijkstra / A* loop
   int path_steps = 0;                                     // calcPath's points (0 when it failed)
-  // use_final_approach_orientation: the yaw nav2 gives the last pose (direction of the last path step); unset
-  // otherwise (nav2 keeps the goal's orientation) and for one-pose plans (nav2 uses the start's orientation).
+  // use_final_approach_orientation: the yaw nav2 gives the last pose (direction of the last path step). Unset
+  // otherwise (nav2 keeps the goal's orientation) and for start == goal's one-pose plan (nav2: the goal's orientation,
+  // or the start's with use_final_approach_orientation); orientations are not inputs here.
   std::optional<double> final_yaw;
 };
 
