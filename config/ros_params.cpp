@@ -107,7 +107,8 @@ std::vector<std::string> split_words(const std::string& text) {
   return words;
 }
 
-// "[[x, y], ...]" (nav2's and costmap_2d's string form) or a YAML list; "[]" is no footprint.
+}  // namespace
+
 std::optional<std::vector<Eigen::Vector2d>> read_footprint(YamlMap& costmap) {
   YAML::Node node = costmap.raw("footprint");
   if (!node) return std::nullopt;
@@ -134,8 +135,6 @@ std::optional<std::vector<Eigen::Vector2d>> read_footprint(YamlMap& costmap) {
   }
   return footprint;
 }
-
-}  // namespace
 
 // The costmap's own keys: nav2's ros__parameters; ROS 1's costmap namespace, then the file's root.
 void read_costmap(const LayerNodes& nodes, const std::string& file, RosStvlLayer& out) {

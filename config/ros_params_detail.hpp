@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "config/ros_params.hpp"
+#include "config/yaml_reader.hpp"
 
 namespace stvl::config::ros_detail {
 
@@ -52,6 +53,10 @@ const std::vector<std::string>& source_keys(RosFlavour flavour);
 // The enclosing costmap's keys into out (resolution, robot_radius, width, height, rolling_window, update_frequency,
 // track_unknown_space, footprint): nav2's ros__parameters, or ROS 1's costmap namespace, then the root.
 void read_costmap(const LayerNodes& nodes, const std::string& file, RosStvlLayer& out);
+
+// A costmap's `footprint`: "[[x, y], ...]" (nav2's and costmap_2d's string form) or a YAML list; "[]" is no
+// footprint (nullopt). Throws through costmap.fail() for a malformed one.
+std::optional<std::vector<Eigen::Vector2d>> read_footprint(YamlMap& costmap);
 
 struct ReadLayer {
   RosStvlLayer layer;

@@ -31,7 +31,7 @@ struct ObservationDefaults {
 };
 
 void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides, const std::string& base_dir,
-                const worldgen::MapWorld* map_world) {
+                const worldgen::MapWorld* map_world, bool closed_loop) {
   std::vector<double> start{0.0, 0.0, 0.0};
   robot.get("start", start);
   if (start.size() != 3) robot.fail(robot.raw("start"), "start", "expected [x_m, y_m, yaw_deg]");
@@ -39,18 +39,21 @@ void read_robot(YamlMap robot, Scenario& s, std::vector<std::optional<YamlMap>>&
   s.pipeline.start_pose = {start[0], start[1], start[2] * kRadPerDeg};
   std::vector<std::vector<double>> waypoints;
   const bool plan = map_world && !robot.has("waypoints");  // nav2_map without waypoints: planned for the robot below
-  if (!plan) robot.require("waypoints", waypoints);
+  if (!plan && !closed_loop) robot.require("waypoints", waypoints);
+  robot.get("waypoints", waypoints);  // closed loop: the goal's default
   s.pipeline.path.waypoints_W.clear();
   for (const auto& xy : waypoints) s.pipeline.path.waypoints_W.push_back(to_point2(xy, robot, "waypoints"));
-  robot.require("speed_mps", s.pipeline.path.cruise_speed_mps);
+  if (closed_loop) robot.get("speed_mps", s.pipeline.path.cruise_speed_mps);  // RPP's desired_linear_vel drives
+  else robot.require("speed_mps", s.pipeline.path.cruise_speed_mps);
   robot.get("loop", s.pipeline.path.loop);        // soak (issue #270): a patrol that never ends
   robot.get("reverse", s.pipeline.path.reverse);  // backwards, the rear leading (nav2 #5476's reversing robot)
   read_urdf_robot(robot, s, base_dir);
   if (plan) plan_on_map(*map_world, robot, s);
-  validate_keys({{"waypoints", &robot, "waypoints"},
-                 {"waypoint", &robot, "waypoints"},
-                 {"cruise_speed_mps", &robot, "speed_mps"}},
-                [&] { sim::PathFollower(s.pipeline.sim.follower).set_path(s.pipeline.path); });
+  if (!closed_loop || s.pipeline.path.waypoints_W.size() >= 2)
+    validate_keys({{"waypoints", &robot, "waypoints"},
+                   {"waypoint", &robot, "waypoints"},
+                   {"cruise_speed_mps", &robot, "speed_mps"}},
+                  [&] { sim::PathFollower(s.pipeline.sim.follower).set_path(s.pipeline.path); });
   if (robot.has("camera_mount")) {
     auto mount = robot.map("camera_mount");
     auto& m = s.pipeline.sim.camera_mount;
@@ -305,11 +308,11 @@ std::shared_ptr<const worldgen::MapWorld> read_world(YamlMap& root, Scenario& s,
 // duration_s, stop_at_path_end and the robot (its cameras' own observation keys into camera_overrides); a world
 // built from a nav2 map runs for the planned drive unless waypoints or duration_s are given.
 void read_run_and_robot(YamlMap& root, Scenario& s, std::vector<std::optional<YamlMap>>& camera_overrides,
-                        const std::string& base_dir, const worldgen::MapWorld* map_world) {
+                        const std::string& base_dir, const worldgen::MapWorld* map_world, bool closed_loop) {
   root.get("duration_s", s.duration_s);
   require_range(root, "duration_s", s.duration_s, s.duration_s > 0 && s.duration_s <= 3600, "must lie in (0, 3600] s");
   root.get("stop_at_path_end", s.stop_at_path_end);
-  read_robot(root.map("robot"), s, camera_overrides, base_dir, map_world);
+  read_robot(root.map("robot"), s, camera_overrides, base_dir, map_world, closed_loop);
   if (YamlMap robot = root.map("robot"); map_world && !robot.has("waypoints") && !root.has("duration_s"))
     s.duration_s = planned_duration_s(robot, s);
   if (s.pipeline.path.loop) {  // a looping path has no end to stop at
@@ -362,10 +365,19 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   const std::shared_ptr<const worldgen::MapWorld> map_world = read_world(root, s, base_dir);
   root.get("seed", s.pipeline.seed);
   std::vector<std::optional<YamlMap>> camera_overrides{std::nullopt};
-  read_run_and_robot(root, s, camera_overrides, base_dir, map_world.get());
+  const bool closed_loop = navigation_closed_loop(root);
+  read_run_and_robot(root, s, camera_overrides, base_dir, map_world.get(), closed_loop);
   read_moving_bodies(root, s);
   read_sensors_and_map(root, s, camera_overrides, base_dir);
   complete_footprint(s);
+  if (root.has("navigation")) read_navigation(root.map("navigation"), s, s.pipeline.path.waypoints_W, base_dir);
+  if (closed_loop) {  // nav2 drives: no path to follow or stop at
+    if (root.has("stop_at_path_end") && s.stop_at_path_end)
+      root.fail(root.raw("stop_at_path_end"), "stop_at_path_end",
+                "navigation.mode closed_loop stops when the navigation ends; leave it out");
+    s.stop_at_path_end = false;
+    s.pipeline.path.waypoints_W.clear();
+  }
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
   // The default checks (evaluation/checks.hpp) where the scenario sets no threshold of its own.

@@ -6,8 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "config/ros_lint.hpp"
 #include "evaluation/checks.hpp"
 #include "evaluation/config.hpp"
+#include "navigation/config.hpp"
 #include "pipeline/pipeline.hpp"
 
 namespace stvl::config {
@@ -37,6 +39,13 @@ struct Scenario {
   evaluation::EvaluationConfig evaluation;
   evaluation::ChecksConfig checks;
   OutputConfig outputs;
+  // navigation: the fixed path (mode path, the default) or nav2 driving to a goal from the costmaps (closed_loop;
+  // then pipeline.path is empty and stop_at_path_end false).
+  navigation::NavigationConfig navigation;
+  // The nav2 parameter file the closed loop's servers came from ("" none), and its findings: plugins not modelled
+  // and what stands in for them (config/ros_navigation.hpp).
+  std::string navigation_ros_params;
+  std::vector<LintFinding> navigation_findings;
   std::optional<RosParamsRef> ros_params;
   // "file:line: robot.cameras[i].mount" per camera ("" for the one-camera form), for errors the pipeline finds
   // only once the world is loaded (a camera inside the robot's body).

@@ -52,18 +52,27 @@ void read_checks(YamlMap c, Scenario& s) {
     if (*value) require_range(c, key, **value, **value >= 0.0 && **value <= 1.0, "must lie in [0, 1]");
   }
   c.get("all_obstacles_detected", ch.all_obstacles_detected);
+  c.get("navigation_success", ch.navigation_success);
   // Counts allowed at most (phantoms, cells, voxels).
   const std::pair<const char*, std::optional<int>*> counts[] = {
-      {"phantom_obstacles_max", &ch.phantom_obstacles_max}, {"costmap_ghosts_max", &ch.costmap_ghosts_max},
-      {"outage_cleared_max", &ch.outage_cleared_max},       {"hidden_false_clears_max", &ch.hidden_false_clears_max},
-      {"self_lethal_cells_max", &ch.self_lethal_cells_max}, {"path_free_lethal_max", &ch.path_free_lethal_max}};
+      {"phantom_obstacles_max", &ch.phantom_obstacles_max},
+      {"costmap_ghosts_max", &ch.costmap_ghosts_max},
+      {"outage_cleared_max", &ch.outage_cleared_max},
+      {"hidden_false_clears_max", &ch.hidden_false_clears_max},
+      {"self_lethal_cells_max", &ch.self_lethal_cells_max},
+      {"path_free_lethal_max", &ch.path_free_lethal_max},
+      {"collisions_max", &ch.collisions_max},
+      {"recoveries_max", &ch.recoveries_max}};
   for (const auto& [key, value] : counts) {
     get_optional(c, key, *value);
     if (*value) require_range(c, key, **value, **value >= 0, "must be >= 0");
   }
   // Times allowed at most.
   const std::pair<const char*, std::optional<double>*> durations[] = {
-      {"clearing_latency_max_s", &ch.clearing_latency_max_s}, {"outage_resume_max_s", &ch.outage_resume_max_s}};
+      {"clearing_latency_max_s", &ch.clearing_latency_max_s},
+      {"outage_resume_max_s", &ch.outage_resume_max_s},
+      {"time_to_goal_max_s", &ch.time_to_goal_max_s},
+      {"blocked_time_max_s", &ch.blocked_time_max_s}};
   for (const auto& [key, value] : durations) {
     get_optional(c, key, *value);
     if (*value) require_range(c, key, **value, std::isfinite(**value) && **value >= 0, "must be finite and >= 0 s");
@@ -75,6 +84,12 @@ void read_checks(YamlMap c, Scenario& s) {
   if (ch.self_lethal_cells_max && s.pipeline.map.footprint_B.empty())
     c.fail(c.raw("self_lethal_cells_max"), "self_lethal_cells_max",
            "needs the robot's footprint (map.robot_radius or map.footprint)");
+
+  // The drive's checks judge a closed loop.
+  for (const char* key :
+       {"navigation_success", "collisions_max", "time_to_goal_max_s", "recoveries_max", "blocked_time_max_s"})
+    if (c.has(key) && s.navigation.mode != navigation::NavigationMode::kClosedLoop)
+      c.fail(c.raw(key), key, "judges a drive: needs navigation.mode closed_loop");
 
   for (const auto& [key, value] :
        {std::pair<const char*, std::optional<double>*>{"soak_rss_growth_max", &ch.soak_rss_growth_max},

@@ -34,6 +34,14 @@ struct ChecksConfig {
   std::optional<int> outage_cleared_max;
   std::optional<double> outage_resume_max_s;
 
+  // Closed loop (navigation.mode closed_loop; evaluation/drive.hpp): the goal reached, collisions at most, time to
+  // the goal at most, recoveries at most, planning cycles blocked by phantoms at most (seconds).
+  bool navigation_success = false;
+  std::optional<int> collisions_max;
+  std::optional<double> time_to_goal_max_s;
+  std::optional<int> recoveries_max;
+  std::optional<double> blocked_time_max_s;
+
   // Soak (issue #270; need evaluation.soak_sample_every_s): growth allowed as a fraction of the first lap's.
   std::optional<double> soak_rss_growth_max;     // resident memory after the first lap vs at its end
   std::optional<double> soak_map_ms_growth_max;  // per-frame map cost of the last lap's samples vs the first lap

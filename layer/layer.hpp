@@ -93,6 +93,10 @@ class Layer {
   // The layer's costmap as it would publish it now: its projection, with its footprint freed at the robot's pose
   // of the last observation.
   virtual mapping::Costmap2D costmap() const = 0;
+  // nav2's ClearEntireCostmap on the costmap holding this layer (Costmap2DROS::resetLayers): the master, if any, back
+  // to its default everywhere and the layer's reset(): STVL's (SpatioTemporalVoxelLayer::reset: every voxel gone),
+  // nav2's (ObstacleLayer/VoxelLayer::reset: every cell and voxel back to the default). Buffers are kept.
+  virtual void reset() = 0;
   // Every source's status (sensors in order, their sources in order), spans of staleness closed at until_s.
   virtual std::vector<SourceStatus> source_status(double until_s) const = 0;
   // nav2's master costmap this layer feeds (map.nav2_costmap), as the last update left it; null when not modelled.

@@ -53,6 +53,8 @@ class Nav2Costmap {
   // (updateWithOverwrite), 1 (updateWithMax) or 2 (updateWithMaxWithoutUnknownOverwrite); all skip the layer's
   // NO_INFORMATION. Throws std::invalid_argument for a grid of another size or another method.
   void combine(const std::vector<std::uint8_t>& layer_cells, int x0, int y0, int xn, int yn, int combination_method);
+  // resetLayers' master: every cell back to the default (free, or unknown with track_unknown_space).
+  void reset() { master_.cells.assign(master_.cells.size(), default_value_); }
   // The master costmap as the last update left it.
   const mapping::Costmap2D& master() const { return master_; }
   // Master cells lethal where the layer is not: cells nav2 keeps that STVL no longer has (ghosts).

@@ -334,6 +334,17 @@ void Nav2Layer::roll_to(double new_origin_x_m, double new_origin_y_m) {
     throw std::logic_error("Nav2Layer: the layer's grid and the master rolled apart");
 }
 
+void Nav2Layer::reset() {
+  // navigation2 jazzy f4108e5 voxel_layer.cpp / obstacle_layer.cpp reset(): resetMaps() (every cell the default),
+  // the voxel grid reset, current_ true; the buffers kept.
+  grid_.costs.assign(grid_.costs.size(),
+                     master_->config().track_unknown_space ? nav2::kNoInformation : nav2::kFreeSpace);
+  voxel_grid_.reset();
+  current_ = true;
+  view_stale_ = true;
+  master_->reset();
+}
+
 mapping::Costmap2D Nav2Layer::costmap() const {
   mapping::Costmap2D out;
   out.width = static_cast<int>(grid_.size_x_cells), out.height = static_cast<int>(grid_.size_y_cells);

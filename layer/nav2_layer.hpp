@@ -48,6 +48,7 @@ class Nav2Layer : public Layer {
     return voxel_grid_.columns().size() * sizeof(std::uint32_t) + grid_.costs.size();
   }
   mapping::Costmap2D costmap() const override;
+  void reset() override;
   std::vector<SourceStatus> source_status(double until_s) const override;
 
   // The voxel layer's grid (empty for the obstacle layer) and the layer's own 2D grid, as the last cycle left them.

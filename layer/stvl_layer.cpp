@@ -57,6 +57,12 @@ std::vector<SourceStatus> StvlLayer::source_status(double until_s) const {
   return all;
 }
 
+void StvlLayer::reset() {
+  // spatio_temporal_voxel_layer.cpp (ros2 branch) reset(): resetMaps() and ResetGrid(), the buffers kept.
+  map_.erase(map_.voxel_keys());
+  if (master_) master_->reset();
+}
+
 mapping::Costmap2D StvlLayer::costmap() const { return map_.project_costmap(costmap_options(config_, T_world_base_)); }
 
 void StvlLayer::update(std::shared_ptr<const Observation> observation, const std::vector<SensorNow>& sensors,

@@ -8,7 +8,10 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
+
+#include "navigation/footprint.hpp"
 
 namespace stvl::navigation {
 namespace {
@@ -21,58 +24,6 @@ constexpr double kFreeSpace = 0.0;      // nav2_costmap_2d FREE_SPACE
 double normalize_angle(double a) {
   const double r = std::fmod(a + M_PI, 2.0 * M_PI);
   return r <= 0.0 ? r + M_PI : r - M_PI;
-}
-
-// nav2_costmap_2d::Costmap2D::worldToMap (costmap_2d.cpp).
-bool world_to_map(const mapping::Costmap2D& map, double x_m, double y_m, int& mx, int& my) {
-  if (x_m < map.origin_m.x() || y_m < map.origin_m.y()) return false;
-  const double fx = (x_m - map.origin_m.x()) / map.resolution_m;
-  const double fy = (y_m - map.origin_m.y()) / map.resolution_m;
-  if (!(fx < map.width) || !(fy < map.height)) return false;  // also rejects NaN
-  mx = static_cast<int>(fx);
-  my = static_cast<int>(fy);
-  return true;
-}
-
-double cell_cost(const mapping::Costmap2D& map, int mx, int my) {
-  return static_cast<double>(map.cells[static_cast<std::size_t>(my) * map.width + mx]);
-}
-
-// FootprintCollisionChecker::lineCost (nav2_costmap_2d/src/footprint_collision_checker.cpp) over
-// nav2_util::LineIterator (nav2_util/include/nav2_util/line_iterator.hpp): Bresenham from (x0,y0) to (x1,y1).
-double line_cost(const mapping::Costmap2D& map, int x0, int x1, int y0, int y1) {
-  const int dx = std::abs(x1 - x0), dy = std::abs(y1 - y0);
-  const int sx = x1 >= x0 ? 1 : -1, sy = y1 >= y0 ? 1 : -1;
-  // The major axis steps every pixel, the minor one when the numerator overflows.
-  const bool x_major = dx >= dy;
-  const int den = x_major ? dx : dy, add = x_major ? dy : dx, pixels = den;
-  int num = den / 2, x = x0, y = y0;
-  double cost = 0.0;
-  for (int i = 0; i <= pixels; ++i) {
-    const double c = cell_cost(map, x, y);
-    if (c == kLethal) return c;
-    cost = std::max(cost, c);
-    num += add;
-    if (num >= den) {
-      num -= den;
-      if (x_major) y += sy;
-      else x += sx;
-    }
-    if (x_major) x += sx;
-    else y += sy;
-  }
-  return cost;
-}
-
-// Costmap2DROS::setRobotFootprint's padFootprint (nav2_costmap_2d/src/footprint.cpp): sign0(v) * padding.
-double sign0(double v) { return v < 0.0 ? -1.0 : (v > 0.0 ? 1.0 : 0.0); }
-
-// costmap_math.cpp distanceToLine: distance from the origin to the segment a-b.
-double origin_to_segment(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-  const Eigen::Vector2d c = b - a;
-  const double t = (-a).dot(c) / c.squaredNorm();
-  const Eigen::Vector2d q = t < 0 ? a : (t > 1 ? b : Eigen::Vector2d(a + t * c));
-  return std::hypot(q.x(), q.y());
 }
 
 // nav2_util::geometry_utils::euclidean_distance (2D).
@@ -153,26 +104,8 @@ Eigen::Vector2d circle_segment_intersection(const Eigen::Vector2d& p1, const Eig
 
 double footprint_cost_at_pose(const mapping::Costmap2D& costmap, const Pose2& pose_W,
                               const std::vector<Eigen::Vector2d>& footprint_m) {
-  // FootprintCollisionChecker::footprintCostAtPose + footprintCost: edges i -> i+1, then last -> first.
-  const double c = std::cos(pose_W.yaw_rad), s = std::sin(pose_W.yaw_rad);
-  std::vector<std::pair<int, int>> cells;
-  cells.reserve(footprint_m.size());
-  double cost = 0.0;
-  for (std::size_t i = 0; i < footprint_m.size(); ++i) {
-    const Eigen::Vector2d& f = footprint_m[i];
-    int mx = 0, my = 0;
-    if (!world_to_map(costmap, pose_W.x_m + (f.x() * c - f.y() * s), pose_W.y_m + (f.x() * s + f.y() * c), mx, my)) {
-      return kLethal;
-    }
-    cells.emplace_back(mx, my);
-    if (i == 0) continue;
-    const auto& a = cells[i - 1];
-    cost = std::max(line_cost(costmap, a.first, mx, a.second, my), cost);
-    if (cost == kLethal) return cost;
-  }
-  if (cells.empty()) return cost;
-  return std::max(
-      line_cost(costmap, cells.front().first, cells.back().first, cells.front().second, cells.back().second), cost);
+  // FootprintCollisionChecker::footprintCostAtPose: the footprint placed, then footprintCost (footprint.hpp).
+  return footprint_cost(costmap, place_footprint(footprint_m, pose_W.x_m, pose_W.y_m, pose_W.yaw_rad));
 }
 
 void RppParams::validate() const {
@@ -220,16 +153,13 @@ RegulatedPurePursuit::RegulatedPurePursuit(RppParams params, LocalCostmapConfig 
   if (!params_.use_fixed_curvature_lookahead) params_.interpolate_curvature_after_goal = false;
   if (params_.inflation_cost_scaling_factor <= 0.0) params_.use_cost_regulated_linear_velocity_scaling = false;
 
-  // Costmap2DROS: makeFootprintFromRadius (16 points) or the polygon, then padFootprint with a float padding.
-  const double padding = static_cast<float>(costmap_config.footprint_padding_m);
-  if (!std::isfinite(padding)) throw std::invalid_argument("LocalCostmapConfig.footprint_padding_m must be finite");
+  // Costmap2DROS: makeFootprintFromRadius (16 points) or the polygon, then padFootprint (footprint.hpp).
+  if (!std::isfinite(costmap_config.footprint_padding_m))
+    throw std::invalid_argument("LocalCostmapConfig.footprint_padding_m must be finite");
   if (costmap_config.footprint_m.empty()) {
     const double r = costmap_config.robot_radius_m;
     if (!(std::isfinite(r) && r > 0.0)) throw std::invalid_argument("LocalCostmapConfig.robot_radius_m must be > 0");
-    for (int i = 0; i < 16; ++i) {
-      const double angle = i * 2 * M_PI / 16;
-      footprint_m_.emplace_back(std::cos(angle) * r, std::sin(angle) * r);
-    }
+    footprint_m_ = footprint_from_radius(r);
   } else {
     if (costmap_config.footprint_m.size() < 3) {
       throw std::invalid_argument("LocalCostmapConfig.footprint_m needs at least three points");
@@ -239,18 +169,9 @@ RegulatedPurePursuit::RegulatedPurePursuit(RppParams params, LocalCostmapConfig 
     }
     footprint_m_ = costmap_config.footprint_m;
   }
-  for (Eigen::Vector2d& p : footprint_m_) p += Eigen::Vector2d(sign0(p.x()) * padding, sign0(p.y()) * padding);
-
+  footprint_m_ = pad_footprint(footprint_m_, costmap_config.footprint_padding_m);
   // LayeredCostmap::setFootprint -> calculateMinAndMaxDistances (footprint.cpp): over vertices and edges.
-  inscribed_radius_m_ = std::numeric_limits<double>::max();
-  circumscribed_radius_m_ = 0.0;
-  for (std::size_t i = 0; i < footprint_m_.size(); ++i) {
-    const Eigen::Vector2d& a = footprint_m_[i];
-    const Eigen::Vector2d& b = footprint_m_[(i + 1) % footprint_m_.size()];
-    const double vertex = std::hypot(a.x(), a.y()), edge = origin_to_segment(a, b);
-    inscribed_radius_m_ = std::min({inscribed_radius_m_, vertex, edge});
-    circumscribed_radius_m_ = std::max({circumscribed_radius_m_, vertex, edge});
-  }
+  std::tie(inscribed_radius_m_, circumscribed_radius_m_) = inscribed_circumscribed_m(footprint_m_);
 }
 
 void RegulatedPurePursuit::set_plan(std::vector<Pose2> path_W) {
@@ -389,12 +310,12 @@ RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& curr
   } else {
     // applyConstraints, with CollisionChecker::costAtPose at the robot's cell.
     int mx = 0, my = 0;
-    if (!world_to_map(costmap, robot_W.x_m, robot_W.y_m, mx, my)) {
+    if (!world_to_cell(costmap, robot_W.x_m, robot_W.y_m, mx, my)) {
       return fail(RppStatus::kCostmapTooSmall,
                   "RegulatedPurePursuitController: Dimensions of the costmap are too small to encapsulate the robot "
                   "footprint at current speeds!");
     }
-    const double pose_cost = cell_cost(costmap, mx, my);
+    const double pose_cost = costmap.cells[static_cast<std::size_t>(my) * costmap.width + mx];
     double v = params_.desired_linear_vel;
     const double curvature_v = params_.use_regulated_linear_velocity_scaling
                                    ? curvature_constraint(v, curvature, params_.regulated_linear_scaling_min_radius)
@@ -428,7 +349,7 @@ RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& curr
   if (params_.use_collision_detection) {
     auto in_collision = [&](double x, double y, double theta) {
       int cx = 0, cy = 0;
-      if (!world_to_map(costmap, x, y, cx, cy)) return false;  // nav2 warns and proceeds
+      if (!world_to_cell(costmap, x, y, cx, cy)) return false;  // nav2 warns and proceeds
       const double cost = footprint_cost_at_pose(costmap, {x, y, theta}, footprint_m_);
       if (cost == kNoInformation && track_unknown_space_) return false;
       return cost >= kLethal;

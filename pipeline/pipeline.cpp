@@ -72,7 +72,7 @@ std::unique_ptr<sim::Simulator> make_simulator(const PipelineConfig& c) {
   world.show_robot_geoms_to_cameras(c.robot_geoms_seen);
   auto sim = std::make_unique<sim::Simulator>(std::move(world), c.sim);
   sim->set_start_pose(c.start_pose);
-  sim->set_path(c.path);
+  if (!c.path.waypoints_W.empty()) sim->set_path(c.path);  // none in closed loop: navigation/ drives
   if (!c.moving_bodies.empty()) sim->set_mocap_tracks(c.moving_bodies);
   return sim;
 }

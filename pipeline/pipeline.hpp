@@ -42,6 +42,10 @@ class Pipeline {
 
   const PipelineConfig& config() const { return config_; }   // as given to the constructor
   const sim::Simulator& simulator() const { return *sim_; }  // the world and robot it steps
+  // Closed loop: the simulator's wheels driven by `controller` every period_s (sim::Simulator::set_controller).
+  void set_controller(sim::Simulator::TwistController controller, double period_s) {
+    sim_->set_controller(std::move(controller), period_s);
+  }
   // Frames of camera `camera` not taken because they fell in one of its outages.
   std::size_t skipped_frames(std::size_t camera) const;
   // Cameras that take a frame at the same instant (same simulated state) render together (default on): the first

@@ -60,7 +60,7 @@ bool glob_match(const char* pattern, const char* text) {
 }
 const char* const kDefaultTopics[] = {
     "/clock", "/tf", "/tf_static", "/odom", "/ground_truth/*", "/*/depth/image_rect_raw", "/*/depth/camera_info",
-    "/stvl/*"};
+    "/stvl/*", "/plan", "/cmd_vel", "/local_costmap/costmap", "/global_costmap/costmap"};
 }  // namespace
 
 BagTopics::BagTopics(const std::string& spec) : spec_(spec.empty() ? "all" : spec) {

@@ -57,7 +57,8 @@ BagFormat parse_bag_format(const std::string& name, const std::string& path);
 std::string ros2_bag_folder(const std::string& path);
 
 // The topics a bag gets: "all", "default" (what a person opens to look at a run: depth image and camera_info,
-// filtered clouds, voxels, costmap, tf, odometry, clock, ground truth; not the full clouds */depth/points), or a
+// filtered clouds, voxels, costmap, tf, odometry, clock, ground truth, and a closed loop's /plan, /cmd_vel and
+// /local_costmap/costmap, /global_costmap/costmap; not the full clouds */depth/points), or a
 // comma-separated list of topics, globs ('*' matches anything, '/' too) and those two words.
 class BagTopics {
  public:

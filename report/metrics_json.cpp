@@ -419,6 +419,7 @@ nlohmann::json metrics_json(const RunResult& r) {
   };
   if (r.scenario.pipeline.urdf_robot) metrics["robot"] = urdf_robot_json(r.scenario);
   if (r.soak.sample_every_s > 0) add_soak_json(r, metrics);
+  if (r.drive) metrics["navigation"] = navigation_json(r);
   return metrics;
 }
 

@@ -182,6 +182,7 @@ void write_report(const RunResult& r, const std::filesystem::path& out) {
   write_map_quality(h, r);
   h << map_contents_html(r);
   h << interactive_body_html(r, scripts);
+  h << navigation_html(r);
   h << top_down_html(r, top_down_png, scripts.complete());
   write_obstacles_and_clearing(h, r.evaluation);
   h << failure_modes_html(metrics);

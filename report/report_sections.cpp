@@ -20,6 +20,10 @@ constexpr int kScaleStripPx = 28;  // under the map: the scale bar
 
 // The colours of top_down_image(), named for its legend.
 constexpr Rgb kTruth{190, 190, 190}, kMissed{40, 90, 230}, kTrue{30, 160, 60}, kFalse{220, 40, 40}, kPath{0, 0, 0};
+// The closed loop's overlays: global plans (every kPlanEvery-th), the goal, recoveries, stalls, collisions.
+constexpr Rgb kPlan{120, 180, 255}, kGoal{0, 150, 150}, kRecovery{255, 140, 0}, kStall{150, 0, 200},
+    kCollision{110, 0, 0};
+constexpr std::size_t kPlanEvery = 5;
 
 std::string css(Rgb c) {
   char text[16];
@@ -57,6 +61,7 @@ TopDownGeometry geometry_of(const run::RunResult& r) {
   const auto& td = r.top_down;
   g.bounds = td.bounds_W;
   for (const auto& p : r.path_W) g.bounds.extend(p);
+  if (r.drive) g.bounds.extend(Eigen::Vector2d(r.scenario.navigation.goal.x_m, r.scenario.navigation.goal.y_m));
   if (g.bounds.isEmpty()) g.bounds = Eigen::AlignedBox2d(Eigen::Vector2d(-1, -1), Eigen::Vector2d(1, 1));
   const int cells_x = static_cast<int>(std::ceil(g.bounds.sizes().x() / td.cell_m)) + 2;
   const int cells_y = static_cast<int>(std::ceil(g.bounds.sizes().y() / td.cell_m)) + 2;
@@ -113,8 +118,31 @@ RgbImage top_down_image(const run::RunResult& r) {
   paint(td.false_negative, kMissed);
   paint(td.true_positive, kTrue);
   paint(td.false_positive, kFalse);
+  if (r.drive) {  // closed loop: every few global plans under the driven path, then the events on top
+    const auto& plans = r.drive->plan_log;
+    for (std::size_t k = 0; k < plans.size(); k += kPlanEvery)
+      for (std::size_t i = 1; i < plans[k].path_W.size(); ++i)
+        image.line(px(plans[k].path_W[i - 1].x()), py(plans[k].path_W[i - 1].y()), px(plans[k].path_W[i].x()),
+                   py(plans[k].path_W[i].y()), kPlan);
+  }
   for (std::size_t i = 1; i < r.path_W.size(); ++i)
     image.line(px(r.path_W[i - 1].x()), py(r.path_W[i - 1].y()), px(r.path_W[i].x()), py(r.path_W[i].y()), kPath);
+  if (r.drive) {
+    const auto mark = [&](const Eigen::Vector2d& p, Rgb color, int half) {
+      image.fill_rect(px(p.x()) - half, py(p.y()) - half, px(p.x()) + half, py(p.y()) + half, color);
+    };
+    const int half = std::max(2, scale);
+    const auto& goal = r.scenario.navigation.goal;
+    mark({goal.x_m, goal.y_m}, kGoal, half + 1);
+    for (const auto& e : r.drive->events)
+      if (e.kind == "recovery") mark(e.at_W, kRecovery, half);
+    for (const auto& st : r.drive->stalls) mark(st.at_W, kStall, half);
+    for (const auto& c : r.drive->collisions) {
+      const int x = px(c.at_W.x()), y = py(c.at_W.y()), k = 2 * half;
+      image.line(x - k, y - k, x + k, y + k, kCollision);
+      image.line(x - k, y + k, x + k, y - k, kCollision);
+    }
+  }
   // The scale bar under the map, from its left edge: a bar with end ticks, scale_bar_m() long.
   const int bar_px = static_cast<int>(std::lround(scale_bar_m(g.bounds.sizes().x()) * g.px_per_m));
   const int y0 = g.map_height + 10, x0 = 10;
@@ -131,7 +159,11 @@ std::string top_down_html(const run::RunResult& r, const std::string& png_bytes,
   if (zoom) h << "<p>Zoom <input type=\"range\" id=\"topdown-zoom\" min=\"1\" max=\"8\" step=\"0.5\" value=\"1\"></p>";
   h << "<p class=\"legend\">" << swatch(kTrue, "lethal, on a true obstacle")
     << swatch(kFalse, "lethal where the truth is free") << swatch(kMissed, "obstacle seen but not lethal")
-    << swatch(kTruth, "true footprint (not seen)") << swatch(kPath, "the robot's path") << "</p>\n";
+    << swatch(kTruth, "true footprint (not seen)") << swatch(kPath, "the robot's path");
+  if (r.drive)
+    h << swatch(kPlan, "global plans (every " + std::to_string(kPlanEvery) + "th)") << swatch(kGoal, "goal")
+      << swatch(kRecovery, "recoveries") << swatch(kStall, "stalls") << swatch(kCollision, "collisions (cross)");
+  h << "</p>\n";
   h << "<div style=\"overflow:auto;max-height:75vh\"><img id=\"topdown\" src=\"" << png_data_uri(png_bytes)
     << "\" alt=\"top-down map\" style=\"max-width:100%;image-rendering:pixelated\"></div>";
   char scale[200];

@@ -49,5 +49,11 @@ nlohmann::json nav2_json(const run::RunResult& r);
 // (angles in radians, lengths in metres), the sensor frame, the band's frame and the topic of its clouds in the
 // bag: enough to feed STVL's own code the bag.
 nlohmann::json camera_list_json(const config::Scenario& s);
+// metrics.json navigation (navigation_json.cpp; a run with navigation.mode closed_loop, r.drive set): the goal, the
+// drive's figures against the truth, the tree's events and every planning cycle's attribution.
+nlohmann::json navigation_json(const run::RunResult& r);
+// report.html "Closed loop" (navigation_html.cpp): the drive's figures, a speed and event timeline, the events and
+// the planning cycles blocked by phantoms or driving into the unseen; "" without a closed loop.
+std::string navigation_html(const run::RunResult& r);
 
 }  // namespace stvl::report

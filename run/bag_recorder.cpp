@@ -114,6 +114,20 @@ void BagRecorder::record(const pipeline::Frame& f, const layer::UpdateReport& re
   });
 }
 
+void BagRecorder::record_navigation(NavigationMessages m) {
+  const recording::BagTopics& w = topics_;
+  if (!w.wants(recording::kCmdVelTopic)) m.twists.clear();
+  if (!w.wants(recording::kPlanTopic)) m.plans.clear();
+  if (!w.wants(recording::kLocalCostmapTopic)) m.local.clear();
+  if (!w.wants(recording::kGlobalCostmapTopic)) m.global.clear();
+  worker_->submit([bag = bag_.get(), m = std::move(m)] {
+    for (const auto& [t, twist] : m.twists) bag->write_twist(recording::kCmdVelTopic, t, twist.x(), twist.y());
+    for (const auto& [t, poses] : m.plans) bag->write_path(recording::kPlanTopic, t, poses);
+    for (const auto& [t, costmap] : m.local) bag->write_costmap_on(recording::kLocalCostmapTopic, t, costmap);
+    for (const auto& [t, costmap] : m.global) bag->write_costmap_on(recording::kGlobalCostmapTopic, t, costmap);
+  });
+}
+
 void BagRecorder::record_map(double time_s, const MapState& map) {
   std::optional<mapping::Costmap2D> costmap;
   if (map.has_costmap() && topics_.wants("/stvl/costmap")) costmap = map.costmap();

@@ -66,6 +66,15 @@ class BagRecorder {
   // the map and costmap too when publish_map.
   void record(const pipeline::Frame& frame, const layer::UpdateReport& report,
               const std::vector<pipeline::CameraConfig>& cameras, const MapState& map, bool publish_map);
+  // A closed loop's messages as nav2 publishes them (navigation2 jazzy): the controller's twists on /cmd_vel at
+  // their ticks, the global plans on /plan at their planning cycles, the costmaps on /local_costmap/costmap and
+  // /global_costmap/costmap at their publish times. Each at its own time (all before the frame that follows).
+  struct NavigationMessages {
+    std::vector<std::pair<double, Eigen::Vector2d>> twists;              // (t_s, (v_mps, omega_radps))
+    std::vector<std::pair<double, std::vector<Eigen::Vector3d>>> plans;  // (t_s, poses x, y, yaw)
+    std::vector<std::pair<double, mapping::Costmap2D>> local, global;    // (t_s, costmap)
+  };
+  void record_navigation(NavigationMessages messages);
   // The map and costmap once more at time_s (the end of the run).
   void record_map(double time_s, const MapState& map);
   // Waits for the writer thread, writes the index and renames path.active to path.

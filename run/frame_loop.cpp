@@ -59,6 +59,7 @@ FrameLoopResult run_frame_loop(FrameSource& source, layer::Layer& layer, FrameHo
     // The map goes into the bag after an update (with several cameras at one instant: after the last of them).
     const bool publish_map =
         settings.publish_after_updates_only ? report.map_updated() && publish.due(f.time_s) : publish.due(f.time_s);
+    if (bag) hooks.before_bag(*bag, f);
     if (bag) bag->record(f, report, source.cameras(), map_state(layer), publish_map);
     append_series(f, report, layer, hooks.last_frame_ms(), ms_since(bag_start), r);
     if (hooks.done(f, report, r.frames)) break;

@@ -42,6 +42,9 @@ class FrameHooks {
   virtual void before_update(const pipeline::Frame&, const layer::Layer&) {}
   // Once the layer took the frame's observation.
   virtual void after_update(const pipeline::Frame&, const layer::UpdateReport&, const layer::Layer&) {}
+  // Just before the frame's messages go into the bag: messages of the hooks' own (a closed loop's /cmd_vel, /plan,
+  // costmaps), each stamped at or before the frame.
+  virtual void before_bag(BagRecorder&, const pipeline::Frame&) {}
   // Wall-clock milliseconds the hooks spent on the last frame (the series' evaluation stage).
   virtual double last_frame_ms() const { return 0.0; }
   // After the frame's outputs, with the frames taken so far: whether the loop ends here.

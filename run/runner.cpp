@@ -8,6 +8,7 @@
 #include "common/units.hpp"
 #include "layer/layer.hpp"
 #include "pipeline/pipeline.hpp"
+#include "run/closed_loop.hpp"
 #include "sim/contacts.hpp"
 
 namespace stvl::run {
@@ -53,8 +54,9 @@ class SimulatedFrames : public FrameSource {
 class RunHooks : public FrameHooks {
  public:
   RunHooks(const config::Scenario& s, const RunOptions& options, const pipeline::Pipeline& pipeline,
-           evaluation::RunEvaluation& evaluation)
+           evaluation::RunEvaluation& evaluation, ClosedLoop* closed_loop)
       : s_(s),
+        closed_loop_(closed_loop),
         sim_(pipeline.simulator()),
         evaluation_(evaluation),
         progress_(options.progress, s.duration_s),
@@ -71,16 +73,20 @@ class RunHooks : public FrameHooks {
   }
   void after_update(const pipeline::Frame& f, const layer::UpdateReport& report, const layer::Layer& layer) override {
     evaluation_.after_update(f, report, sim_.world(), layer.voxels());
+    if (closed_loop_) closed_loop_->after_frame(f.time_s);
     samplers_[f.camera_index].offer(f, s_.pipeline.cameras[f.camera_index].intrinsics.min_range_m);
     const Eigen::Vector2d p_W = f.T_world_base.translation().head<2>();
     if (!((p_W - moved_at_W_).norm() <= 0.02)) moved_at_W_ = p_W, moved_s_ = f.time_s;
     soak_.frame(f.time_s, report.clear_ms + report.mark_ms, report.cpu_ms, sim_.laps_completed(), layer.voxels());
   }
   double last_frame_ms() const override { return evaluation_.last_frame_ms(); }
+  void before_bag(BagRecorder& bag, const pipeline::Frame& f) override {
+    if (closed_loop_) closed_loop_->record_bag(bag, f.time_s);
+  }
   bool done(const pipeline::Frame& f, const layer::UpdateReport& report, std::size_t frames) override {
     progress_.update(f.time_s, frames);
     path_done_ = s_.stop_at_path_end && report.map_updated() && sim_.path_finished();
-    return path_done_;
+    return path_done_ || (closed_loop_ && closed_loop_->finished());
   }
   // Once the loop has ended.
   void finish() { progress_.done(); }
@@ -90,6 +96,7 @@ class RunHooks : public FrameHooks {
 
  private:
   const config::Scenario& s_;
+  ClosedLoop* closed_loop_;
   const sim::Simulator& sim_;
   evaluation::RunEvaluation& evaluation_;
   Progress progress_;
@@ -151,7 +158,10 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   settings.publish_period_s = s.outputs.publish_period_s;
   settings.stop_requested = options.stop_requested;
   SimulatedFrames frames(*pipeline, s.duration_s, evaluation.truth());
-  RunHooks hooks(s, options, *pipeline, evaluation);
+  std::unique_ptr<ClosedLoop> closed_loop;
+  if (s.navigation.mode == navigation::NavigationMode::kClosedLoop)
+    closed_loop = std::make_unique<ClosedLoop>(s, *pipeline, layer, evaluation, !options.bag_path.empty());
+  RunHooks hooks(s, options, *pipeline, evaluation, closed_loop.get());
   static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
   hooks.finish();
   r.soak = hooks.soak();
@@ -164,6 +174,10 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   r.map_view = std::move(verdict.map_view);
   r.outages = std::move(verdict.outages);
   r.checks = std::move(verdict.checks);
+  if (closed_loop) {
+    r.drive = closed_loop->finish(r.sim_time_s);
+    for (auto& check : evaluation::drive_checks(s.checks, *r.drive)) r.checks.push_back(std::move(check));
+  }
   if (const layer::Nav2Costmap* master = layer.master()) {
     r.nav2_master = master->master();
     r.nav2_truth = evaluation.against_truth(*r.nav2_master);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "config/scenario.hpp"
+#include "evaluation/drive.hpp"
 #include "evaluation/run_evaluation.hpp"
 #include "run/frame_loop.hpp"
 
@@ -33,6 +34,8 @@ struct RunResult : FrameLoopResult {
   evaluation::LethalVsTruth nav2_truth;  // nav2_master's lethal cells against the final truth
 
   evaluation::SoakSeries soak;  // evaluation.soak_sample_every_s > 0 only
+  // navigation.mode closed_loop: what the drive cost, against the truth (evaluation/drive.hpp).
+  std::optional<evaluation::DriveSummary> drive;
   // Every check passed and the run was not interrupted.
   bool passed() const;
 };

@@ -57,7 +57,20 @@ void Simulator::set_mocap_tracks(std::vector<MocapTrack> tracks) {
   world_.forward();
 }
 
+void Simulator::set_controller(TwistController controller, double period_s) {
+  if (!(period_s > 0) || !std::isfinite(period_s))
+    throw std::invalid_argument("controller period " + std::to_string(period_s) + " s must be a positive number");
+  if (follower_.has_path()) throw std::invalid_argument("a robot with a path takes no controller");
+  controller_ = std::move(controller);
+  steps_per_controller_ = std::max(1L, std::lround(period_s / world_.timestep_s()));
+  step_count_ = 0;  // the first call at the next step
+}
+
 void Simulator::step() {
+  if (controller_ && step_count_ % steps_per_controller_ == 0) {
+    commanded_ = controller_(time_s());
+    if (!kinematic_) robot_.command_twist(commanded_.v_mps, commanded_.omega_radps);
+  }
   if (kinematic_) {
     kinematic_step();
     return;
@@ -84,9 +97,16 @@ void Simulator::kinematic_step() {
   const double dt = world_.timestep_s();
   mjModel* m = world_.mutable_model();
   mjData* d = world_.data();
-  mj_step2(m, d);  // the rest of the world moves on; the robot's own integration is overwritten below
-  const KinematicDrive::State state =
-      kinematic_->has_path() ? kinematic_->at(d->time) : KinematicDrive::State{hold_, {}};
+  mj_step2(m, d);     // the rest of the world moves on; the robot's own integration is overwritten below
+  if (controller_) {  // the commanded twist integrated along an arc's chord (midpoint heading)
+    const double yaw_mid = hold_.yaw_rad + 0.5 * commanded_.omega_radps * dt;
+    hold_.x_m += commanded_.v_mps * std::cos(yaw_mid) * dt;
+    hold_.y_m += commanded_.v_mps * std::sin(yaw_mid) * dt;
+    hold_.yaw_rad = std::remainder(hold_.yaw_rad + commanded_.omega_radps * dt, 2 * M_PI);
+  }
+  const KinematicDrive::State state = kinematic_->has_path()
+                                          ? kinematic_->at(d->time)
+                                          : KinematicDrive::State{hold_, controller_ ? commanded_ : Twist2D{}};
   robot_.place(state.pose, state.twist, dt);
   mocap_.apply(m, d, d->time);
   mj_step1(m, d);

@@ -3,6 +3,7 @@
 //   stvl::sim::Simulator sim(stvl::sim::World::from_file("worlds/office_corridor.xml"));
 //   sim.set_path({{{0, 0}, {5, 0}}, 0.6});
 //   while (!sim.path_finished() && sim.time_s() < 30) sim.step();
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -42,6 +43,14 @@ class Simulator {
   // Returns to the first waypoint of a looping path so far (0 for other paths).
   int laps_completed() const { return kinematic_ ? kinematic_->laps_completed(time_s()) : follower_.laps_completed(); }
   void set_mocap_tracks(std::vector<MocapTrack> tracks);
+  // Closed loop (navigation/): `controller` is called every period_s of simulated time (its first call at the next
+  // step) with the time and returns the body twist to drive, in place of the path follower (physics: through the
+  // wheels' acceleration limits; kinematic: the base moved by the twist). Throws std::invalid_argument for a
+  // period that is not a positive number or a robot with a path.
+  using TwistController = std::function<Twist2D(double time_s)>;
+  void set_controller(TwistController controller, double period_s);
+  // The twist the controller asked for last (zero without one).
+  const Twist2D& commanded_twist() const { return commanded_; }
 
   // One physics step: controller (every control_period_s), wheel commands, physics, mocap
   // script at the new time, kinematics, odometry. A kinematic drive places the base after the physics instead.
@@ -77,6 +86,9 @@ class Simulator {
   MocapScript mocap_;
   std::optional<KinematicDrive> kinematic_;  // with DriveMode::kKinematic
   Pose2D hold_;                              // where a kinematic robot without a path stays
+  TwistController controller_;
+  Twist2D commanded_;
+  long steps_per_controller_ = 1;
   int steps_per_control_ = 10;
   long step_count_ = 0;
 };

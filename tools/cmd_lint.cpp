@@ -6,6 +6,7 @@
 
 #include "config/ros_lint.hpp"
 #include "config/ros_nav2_layer.hpp"
+#include "config/ros_navigation.hpp"
 #include "config/ros_params_detail.hpp"
 #include "tools/command.hpp"
 
@@ -28,6 +29,8 @@ const char* flavour_name(RosFlavour flavour) {
   return "?";
 }
 
+int lint_layer(const LintOptions& o);
+
 // nav2's VoxelLayer or ObstacleLayer: its own findings (config/ros_nav2_layer.hpp).
 int lint_nav2(const LintOptions& o) {
   const auto findings = lint_ros_nav2_layer(o.params, o.layer, o.costmap);
@@ -39,7 +42,28 @@ int lint_nav2(const LintOptions& o) {
   return findings.empty() ? kExitOk : kExitCheckFailed;
 }
 
+// The closed loop's servers (controller_server, planner_server, ...): plugins not modelled and what stands in. A file
+// without nav2's servers has none.
+std::size_t lint_navigation(const LintOptions& o) {
+  navigation::NavigationConfig c;
+  std::vector<LintFinding> findings;
+  try {
+    findings = read_ros_navigation(o.params, c);
+  } catch (const std::invalid_argument& e) {
+    if (std::string(e.what()).find("no nav2 server") != std::string::npos) return 0;
+    throw;
+  }
+  for (const auto& f : findings) std::printf("%s\n", format_finding(f).c_str());
+  return findings.size();
+}
+
 int lint(const LintOptions& o) {
+  const std::size_t navigation_findings = lint_navigation(o);
+  const int layer = lint_layer(o);
+  return navigation_findings > 0 && layer == kExitOk ? kExitCheckFailed : layer;
+}
+
+int lint_layer(const LintOptions& o) {
   if (ros_layer_is_nav2(o.params, o.layer, o.costmap)) return lint_nav2(o);
   const auto findings = lint_ros_stvl_layer(o.params, o.layer, o.costmap);
   const RosStvlLayer layer = ros_detail::read_layer(o.params, o.layer, o.costmap, true).layer;

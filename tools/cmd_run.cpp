@@ -59,6 +59,8 @@ void print_urdf_robot(const Scenario& scenario) {
 
 // The linter's findings on the scenario's ROS parameter file, with the FOV of the camera each source is bound to.
 void print_lint_findings(const Scenario& scenario) {
+  // The closed loop's servers: plugins not modelled and what stands in (the run goes on).
+  for (const auto& f : scenario.navigation_findings) std::printf("lint: %s\n", format_finding(f).c_str());
   const auto& ros = scenario.ros_params;
   if (!ros) return;
   const auto findings =

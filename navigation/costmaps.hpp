@@ -1,0 +1,51 @@
+#pragma once
+// nav2's two costmaps around the 3D layer (Costmap2DROS + LayeredCostmap, navigation2 jazzy f4108e5), each with its
+// clock (update_frequency) and its inflation layer:
+//   local:  a rolling window (width x height, its origin moved by whole cells to keep the robot in the middle), the
+//           layer's cells combined with updateWithMax, then inflation;
+//   global: the static map's grid (StaticLayer: the building as a mapping run left it), the layer's cells combined
+//           with updateWithMax, then inflation.
+// The bench runs one instance of the layer where nav2 runs one per costmap (same sensors, same parameters): both
+// costmaps read its current grid. Inflation is recomputed over the whole grid at each update (nav2: inside the
+// bounds grown by the inflation radius; cells beyond keep what they had).
+#include <Eigen/Core>
+
+#include "mapping/costmap.hpp"
+#include "navigation/config.hpp"
+
+namespace stvl::navigation {
+
+class NavCostmap {
+ public:
+  // Rolling (params.rolling_window): a width x height window; otherwise base_map's grid (the static layer) with
+  // base_map's cells under the layer. inscribed_radius_m: the footprint's, for the inflation. Throws
+  // std::invalid_argument for a window of no cells or a static map of another resolution.
+  NavCostmap(const CostmapParams& params, double inscribed_radius_m, mapping::Costmap2D base_map = {});
+
+  // Whether an update is due at time_s (the first one always; then every 1 / update_frequency).
+  bool due(double time_s) const;
+  // One update at time_s: the window to the robot (rolling), the base (default or static map), the layer's cells
+  // combined (updateWithMax: the layer's NO_INFORMATION skipped), inflation.
+  void update(double time_s, const mapping::Costmap2D& layer_W, const Eigen::Vector2d& robot_W);
+  // ClearEntireCostmap: every layer reset (the static layer's cells come back), then inflation.
+  void clear();
+
+  // The costmap the planner, controller and behaviours read (inflated), and its combined layers before inflation.
+  const mapping::Costmap2D& costmap() const { return inflated_; }
+  const mapping::Costmap2D& combined() const { return combined_; }
+  const CostmapParams& params() const { return params_; }
+  double updated_at_s() const { return updated_at_s_; }
+
+ private:
+  void reset_to_base();
+  void inflate_now();
+
+  CostmapParams params_;
+  double inscribed_radius_m_;
+  mapping::Costmap2D base_, combined_, inflated_;
+  std::uint8_t default_value_;
+  double updated_at_s_ = -1;
+  long updates_ = 0;
+};
+
+}  // namespace stvl::navigation

@@ -1,0 +1,149 @@
+#include "run/closed_loop.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "navigation/footprint.hpp"
+#include "sim/contacts.hpp"
+
+namespace stvl::run {
+namespace {
+
+navigation::Pose2 pose_of(const Eigen::Isometry3d& T) {
+  const Eigen::Vector3d x_axis = T.linear().col(0);
+  return {T.translation().x(), T.translation().y(), std::atan2(x_axis.y(), x_axis.x())};
+}
+
+std::string xy(const Eigen::Vector2d& p) {
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(2);
+  o << "(" << p.x() << ", " << p.y() << ")";
+  return o.str();
+}
+
+// The free cell of `costmap` nearest to p (cost below inscribed), or p itself when there is none.
+Eigen::Vector2d nearest_free(const mapping::Costmap2D& m, const Eigen::Vector2d& p) {
+  double best = INFINITY;
+  Eigen::Vector2d at = p;
+  for (int y = 0; y < m.height; ++y)
+    for (int x = 0; x < m.width; ++x) {
+      if (m.cells[static_cast<std::size_t>(y) * m.width + x] >= navigation::kCostInscribed) continue;
+      const Eigen::Vector2d c = m.origin_m + Eigen::Vector2d(x + 0.5, y + 0.5) * m.resolution_m;
+      if ((c - p).squaredNorm() < best) best = (c - p).squaredNorm(), at = c;
+    }
+  return at;
+}
+
+}  // namespace
+
+ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, layer::Layer& layer,
+                       const evaluation::RunEvaluation& evaluation, bool bag)
+    : s_(s), pipeline_(pipeline), layer_(layer), evaluation_(evaluation), bag_(bag) {
+  const navigation::NavigationConfig& c = s.navigation;
+  const sim::World& world = pipeline.simulator().world();
+  const evaluation::EvaluationConfig e = config::evaluation_config(s);
+  Eigen::AlignedBox2d extent = world.extent_xy();
+  const navigation::Pose2 start = robot_pose();
+  extent.extend(Eigen::Vector2d(start.x_m, start.y_m));
+  mapping::Costmap2D building = evaluation::building_map(world, c.static_bodies, c.global_costmap.resolution_m,
+                                                         e.min_obstacle_height_m, e.max_obstacle_height_m, extent);
+  // The goal against the truth now: inside the map, clear of every true obstacle by the inscribed radius, reachable.
+  const Eigen::Vector2d goal(c.goal.x_m, c.goal.y_m);
+  const std::string goal_text = "navigation.goal " + xy(goal) + " m";
+  if (!Eigen::AlignedBox2d(building.origin_m,
+                           building.origin_m + Eigen::Vector2d(building.width, building.height) * building.resolution_m)
+           .contains(goal))
+    throw std::invalid_argument(s.file + ": " + goal_text + " lies outside the map, x " +
+                                std::to_string(building.origin_m.x()) + " .. " +
+                                std::to_string(building.origin_m.x() + building.width * building.resolution_m) +
+                                " m, y " + std::to_string(building.origin_m.y()) + " .. " +
+                                std::to_string(building.origin_m.y() + building.height * building.resolution_m) + " m");
+  drive_ = std::make_unique<evaluation::DriveEvaluation>(c, building, e.voxel_size_m,
+                                                         s.pipeline.sim.drive == sim::DriveMode::kKinematic);
+  const mapping::Costmap2D truth = drive_->truth_inflated(evaluation.truth());
+  int gx, gy;
+  navigation::world_to_cell(truth, goal.x(), goal.y(), gx, gy);
+  if (truth.cells[static_cast<std::size_t>(gy) * truth.width + gx] >= navigation::kCostInscribed)
+    throw std::invalid_argument(s.file + ": " + goal_text +
+                                " is in or within the robot's inscribed radius of an obstacle; the nearest free cell "
+                                "is " +
+                                xy(nearest_free(truth, goal)) + " m");
+  navigation::NavfnParams strict = c.planner;
+  strict.tolerance_m = 0;
+  if (!navigation::navfn_plan(truth, {start.x_m, start.y_m}, goal, strict).found)
+    throw std::invalid_argument(s.file + ": " + goal_text + " cannot be reached from the start " +
+                                xy({start.x_m, start.y_m}) + " m even on the true map (NavFn finds no path)");
+  navigator_ = std::make_unique<navigation::Navigator>(c, std::move(building));
+  navigator_->set_clear_layer([this] { layer_.reset(); });
+  navigator_->set_plan_observer([this](const navigation::PlanCycle& cycle, const navigation::NavCostmap& global) {
+    drive_->plan_cycle(cycle, global, evaluation_.truth());
+  });
+  pipeline.set_controller(
+      [this](double time_s) {
+        const sim::Simulator& sim = pipeline_.simulator();
+        const Eigen::Vector2d rates = sim.robot().wheel_rates_radps();
+        const double r = sim.robot().wheel_radius_m(), track = sim.robot().track_width_m();
+        const navigation::Twist velocity{0.5 * r * (rates.x() + rates.y()), r * (rates.y() - rates.x()) / track};
+        const navigation::Twist t = navigator_->tick(time_s, robot_pose(), velocity);
+        if (bag_ && navigator_->status() == navigation::NavigationStatus::kRunning)
+          twists_.emplace_back(time_s, Eigen::Vector2d(t.v_mps, t.omega_radps));
+        return sim::Twist2D{t.v_mps, t.omega_radps};
+      },
+      1.0 / c.controller_frequency_hz);
+}
+
+navigation::Pose2 ClosedLoop::robot_pose() const { return pose_of(pipeline_.simulator().T_world_base()); }
+
+void ClosedLoop::after_frame(double time_s) {
+  const navigation::Pose2 robot = robot_pose();
+  const navigation::NavCostmap& local = navigator_->local_costmap();
+  const navigation::NavCostmap& global = navigator_->global_costmap();
+  if (local.due(time_s) || global.due(time_s)) {
+    // The local costmap reads nav2's master around the layer when the scenario models it (map.nav2_costmap: its
+    // bounds and ghosts), else the layer's own grid; the global one the layer's grid.
+    const mapping::Costmap2D grid = layer_.costmap();
+    if (local.due(time_s) && layer_.master()) {
+      navigator_->update_costmaps(time_s, layer_.master()->master(), robot, /*local=*/true, /*global=*/false);
+      if (global.due(time_s)) navigator_->update_costmaps(time_s, grid, robot, false, true);
+    } else {
+      navigator_->update_costmaps(time_s, grid, robot, true, true);
+    }
+  }
+  const sim::Simulator& sim = pipeline_.simulator();
+  const sim::Twist2D& command = sim.commanded_twist();
+  drive_->frame(time_s, robot, {command.v_mps, command.omega_radps}, evaluation_.truth(),
+                sim::robot_contacts(sim.world(), sim.robot().base_body_id()),
+                navigator_->status() == navigation::NavigationStatus::kRunning);
+}
+
+void ClosedLoop::record_bag(BagRecorder& bag, double time_s) {
+  BagRecorder::NavigationMessages m;
+  m.twists.swap(twists_);
+  const auto& plans = navigator_->plans();
+  for (; plans_written_ < plans.size(); ++plans_written_) {
+    const navigation::PlanCycle& p = plans[plans_written_];
+    if (!p.found) continue;
+    std::vector<Eigen::Vector3d> poses;
+    for (std::size_t i = 0; i < p.path_W.size(); ++i)
+      poses.emplace_back(p.path_W[i].x(), p.path_W[i].y(),
+                         i + 1 == p.path_W.size() ? s_.navigation.goal.yaw_rad : 0.0);  // as NavFn orients them
+    m.plans.emplace_back(p.time_s, std::move(poses));
+  }
+  const navigation::NavCostmap& local = navigator_->local_costmap();
+  const navigation::NavCostmap& global = navigator_->global_costmap();
+  constexpr double kEpsilon_s = 1e-9;
+  if (time_s + kEpsilon_s >= next_local_publish_s_) {
+    m.local.emplace_back(time_s, local.costmap());
+    next_local_publish_s_ = time_s + 1.0 / local.params().publish_frequency_hz;
+  }
+  if (time_s + kEpsilon_s >= next_global_publish_s_) {
+    m.global.emplace_back(time_s, global.costmap());
+    next_global_publish_s_ = time_s + 1.0 / global.params().publish_frequency_hz;
+  }
+  bag.record_navigation(std::move(m));
+}
+
+evaluation::DriveSummary ClosedLoop::finish(double end_s) { return drive_->finish(*navigator_, end_s); }
+
+}  // namespace stvl::run
