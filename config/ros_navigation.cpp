@@ -5,6 +5,7 @@
 #include "config/ros_navigation.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include "config/ros_params_detail.hpp"
 #include "config/yaml_reader.hpp"
@@ -124,8 +125,10 @@ void read_planner(const YAML::Node& root, const std::string& file, navigation::N
   }
 }
 
+// footprint_read: whether a costmap read before gave the footprint (the global one's then stays unread).
 void read_costmap(const YAML::Node& root, const std::string& file, const std::string& name,
-                  navigation::NavigationConfig& c, navigation::CostmapParams& m, std::vector<LintFinding>& out) {
+                  navigation::NavigationConfig& c, navigation::CostmapParams& m, bool& footprint_read,
+                  std::vector<LintFinding>& out) {
   std::string path;
   const YAML::Node node = parameters(root, name, path);
   if (!node.IsMap()) return;
@@ -138,12 +141,16 @@ void read_costmap(const YAML::Node& root, const std::string& file, const std::st
   if (costmap.has("rolling_window")) costmap.get("rolling_window", m.rolling_window);
   if (costmap.has("track_unknown_space")) costmap.get("track_unknown_space", m.track_unknown_space);
   // The robot's footprint: the local costmap's (the controller's and behaviours'); the global one's if only it has.
-  if (name == "local_costmap" || (c.footprint_m.empty() && !costmap.has("robot_radius"))) {
-    if (costmap.has("footprint"))
-      if (auto footprint = ros_detail::read_footprint(costmap)) c.footprint_m = *footprint;
-    if (costmap.has("robot_radius")) {
+  const bool footprint_keys = costmap.has("footprint") || costmap.has("robot_radius");
+  if (footprint_keys && (name == "local_costmap" || !footprint_read)) {
+    footprint_read = true;
+    std::optional<std::vector<Eigen::Vector2d>> footprint;
+    if (costmap.has("footprint")) footprint = ros_detail::read_footprint(costmap);
+    if (footprint) {
+      c.footprint_m = *footprint;  // nav2: a footprint wins over robot_radius
+    } else if (costmap.has("robot_radius")) {
       get(costmap, "robot_radius", c.robot_radius_m);
-      if (!costmap.has("footprint")) c.footprint_m.clear();
+      c.footprint_m.clear();
     }
     get(costmap, "footprint_padding", c.footprint_padding_m);
   }
@@ -209,8 +216,9 @@ std::vector<LintFinding> read_ros_navigation(const std::string& path, navigation
   std::vector<LintFinding> out;
   read_controller(root, path, c, out);
   read_planner(root, path, c, out);
-  read_costmap(root, path, "local_costmap", c, c.local_costmap, out);
-  read_costmap(root, path, "global_costmap", c, c.global_costmap, out);
+  bool footprint_read = false;
+  read_costmap(root, path, "local_costmap", c, c.local_costmap, footprint_read, out);
+  read_costmap(root, path, "global_costmap", c, c.global_costmap, footprint_read, out);
   read_behaviors(root, path, c);
   read_bt(root, path, out);
   return out;

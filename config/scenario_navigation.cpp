@@ -2,6 +2,7 @@
 // (navigation/config.hpp), each named as nav2's parameter files name it; errors blame file, line and key.
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include "config/ros_navigation.hpp"
 #include "config/scenario_detail.hpp"
@@ -99,26 +100,12 @@ void read_navigation(YamlMap n, Scenario& s, const std::vector<Eigen::Vector2d>&
   } else {
     n.fail(YAML::Node(), "goal", "closed_loop needs a goal [x_m, y_m, yaw_deg] (or robot.waypoints to end at)");
   }
-  // The footprint: navigation.robot_radius, else the scenario's (map.footprint, map.robot_radius, ros_params,
-  // the URDF), else robot.xml's reach about base_link.
+  // The footprint: navigation.robot_radius, else the nav2 parameter file's, else the scenario's (map.footprint,
+  // map.robot_radius, map.ros_params, the URDF), else robot.xml's reach about base_link.
   std::vector<Blame> blame{{"navigation.mode", &n, "mode"}};  // first: blamed when no key is named
   std::vector<std::unique_ptr<YamlMap>> keep;
-  if (n.has("robot_radius")) {
-    n.get("robot_radius", c.robot_radius_m);
-    require_range(n, "robot_radius", c.robot_radius_m, std::isfinite(c.robot_radius_m) && c.robot_radius_m > 0,
-                  "must be > 0 m");
-  } else if (!s.pipeline.map.footprint_B.empty()) {
-    c.footprint_m = s.pipeline.map.footprint_B;
-  } else if (!s.pipeline.world_path.empty() || !s.pipeline.world_include_dir.empty()) {
-    const std::filesystem::path dir = s.pipeline.world_xml.empty()
-                                          ? std::filesystem::path(s.pipeline.world_path).parent_path()
-                                          : std::filesystem::path(s.pipeline.world_include_dir);
-    try {
-      c.robot_radius_m = worldgen::robot_footprint_radius_m((dir / "robot.xml").string());
-    } catch (const std::exception& e) {
-      n.fail(YAML::Node(), "robot_radius", std::string("give it: the robot's reach could not be read: ") + e.what());
-    }
-  }
+  c.robot_radius_m = std::numeric_limits<double>::quiet_NaN();  // unknown until a source below gives it
+  if (!s.pipeline.map.footprint_B.empty()) c.footprint_m = s.pipeline.map.footprint_B;
   // The user's nav2 parameter file (navigation.ros_params, else map.ros_params when it holds nav2's servers): its
   // values over the defaults; the keys below over the file's.
   std::string ros_params;
@@ -141,9 +128,21 @@ void read_navigation(YamlMap n, Scenario& s, const std::vector<Eigen::Vector2d>&
       if (std::string(e.what()).find("no nav2 server") == std::string::npos) throw;  // a file of the layer alone
     }
   }
-  if (n.has("robot_radius")) {  // over the file's footprint too
+  if (n.has("robot_radius")) {  // over the scenario's and the file's footprint
     n.get("robot_radius", c.robot_radius_m);
+    require_range(n, "robot_radius", c.robot_radius_m, std::isfinite(c.robot_radius_m) && c.robot_radius_m > 0,
+                  "must be > 0 m");
     c.footprint_m.clear();
+  }
+  if (c.footprint_m.empty() && !std::isfinite(c.robot_radius_m)) {  // robot.xml's reach about base_link
+    const std::filesystem::path dir = s.pipeline.world_xml.empty()
+                                          ? std::filesystem::path(s.pipeline.world_path).parent_path()
+                                          : std::filesystem::path(s.pipeline.world_include_dir);
+    try {
+      c.robot_radius_m = worldgen::robot_footprint_radius_m((dir / "robot.xml").string());
+    } catch (const std::exception& e) {
+      n.fail(YAML::Node(), "robot_radius", std::string("give it: the robot's reach could not be read: ") + e.what());
+    }
   }
   read_numbers(n, {{"controller_frequency", &c.controller_frequency_hz},
                    {"failure_tolerance", &c.failure_tolerance_s},

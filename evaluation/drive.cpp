@@ -120,8 +120,11 @@ mapping::Costmap2D building_map(const sim::World& world, const std::vector<std::
   return m;
 }
 
-std::vector<CheckResult> drive_checks(const ChecksConfig& c, const DriveSummary& d) {
+std::vector<CheckResult> drive_checks(const ChecksConfig& c, const DriveSummary& d, bool cut_short,
+                                      bool required_when_cut_short) {
   std::vector<CheckResult> out;
+  const bool unjudged = cut_short && !d.success && !required_when_cut_short;
+  const std::string why = "--duration cut the run short before the goal (" + d.outcome + ")";
   const auto text = [](double v) {
     std::ostringstream o;
     o.setf(std::ios::fixed);
@@ -129,14 +132,17 @@ std::vector<CheckResult> drive_checks(const ChecksConfig& c, const DriveSummary&
     o << v;
     return o.str();
   };
-  if (c.navigation_success) out.push_back({"navigation_success", d.success, d.outcome});
+  if (c.navigation_success)
+    out.push_back(unjudged ? not_evaluated("navigation_success", why)
+                           : CheckResult{"navigation_success", d.success, d.outcome});
   if (c.collisions_max) {
     std::string m = std::to_string(d.collisions.size()) + " collisions (max " + std::to_string(*c.collisions_max) + ")";
     if (!d.collisions.empty())
       m += ": first with " + d.collisions.front().body + " at " + text(d.collisions.front().time_s) + " s";
     out.push_back({"collisions", static_cast<int>(d.collisions.size()) <= *c.collisions_max, m});
   }
-  if (c.time_to_goal_max_s)
+  if (c.time_to_goal_max_s && unjudged) out.push_back(not_evaluated("time_to_goal", why));
+  else if (c.time_to_goal_max_s)
     out.push_back({"time_to_goal", d.success && d.time_to_goal_s <= *c.time_to_goal_max_s,
                    d.success ? text(d.time_to_goal_s) + " s (max " + text(*c.time_to_goal_max_s) + " s)"
                              : "goal not reached (" + d.outcome + ")"});
@@ -243,8 +249,13 @@ void DriveEvaluation::plan_cycle(const navigation::PlanCycle& cycle, const navig
   a.truth_length_m = length_of(t.path_W);
   if (first_plan_s_ < 0) {  // SPL's shortest path: from where the drive started, on the truth then
     first_plan_s_ = cycle.time_s;
-    s_.shortest_truth_m =
-        shortest_free_path_m(inflated, {cycle.robot_W.x_m, cycle.robot_W.y_m}, {config_.goal.x_m, config_.goal.y_m});
+    const Eigen::Vector2d from(cycle.robot_W.x_m, cycle.robot_W.y_m), to(config_.goal.x_m, config_.goal.y_m);
+    s_.shortest_truth_m = shortest_free_path_m(inflated, from, to);
+    if (s_.shortest_truth_m == 0) {  // a moving body shuts the way now: the static map's shortest path then
+      mapping::Costmap2D building = building_;
+      navigation::inflate(building, config_.inscribed_radius_m(), config_.global_costmap.inflation);
+      s_.shortest_truth_m = shortest_free_path_m(building, from, to);
+    }
   }
   a.blocked_by_phantoms = a.truth_found && (!a.layer_found || a.layer_length_m >= kLongerFactor * a.truth_length_m);
   const mapping::Costmap2D& layer = global.combined();
@@ -313,9 +324,8 @@ DriveSummary DriveEvaluation::finish(const navigation::Navigator& navigator, dou
   if (s_.success) {
     o << "goal reached at " << s_.time_to_goal_s << " s";
   } else {
-    o << (navigator.status() == navigation::NavigationStatus::kFailed
-              ? "navigation failed: " + navigator.failure()
-              : std::string("goal not reached by ") + std::to_string(end_s) + " s");
+    if (navigator.status() == navigation::NavigationStatus::kFailed) o << "navigation failed: " << navigator.failure();
+    else o << "goal not reached by " << end_s << " s";
     if (!s_.collisions.empty())
       o << "; collided with " << s_.collisions.front().body << " at " << s_.collisions.front().time_s << " s";
     if (!s_.stalls.empty()) {

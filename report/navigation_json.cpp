@@ -62,6 +62,7 @@ nlohmann::json navigation_json(const run::RunResult& r) {
           {"blocked_cycles", d.blocked_cycles},
           {"unseen_cycles", d.unseen_cycles},
           {"events", events},
+          {"timing_ms", {{"navigation", d.navigation_ms}, {"attribution", d.attribution_ms}}},
           {"planning_cycles", cycles}};
 }
 

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/format.hpp"
+#include "common/stopwatch.hpp"
 #include "navigation/footprint.hpp"
 #include "sim/contacts.hpp"
 
@@ -55,20 +57,25 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
                            building.origin_m + Eigen::Vector2d(building.width, building.height) * building.resolution_m)
            .contains(goal))
     throw std::invalid_argument(s.file + ": " + goal_text + " lies outside the map, x " +
-                                std::to_string(building.origin_m.x()) + " .. " +
-                                std::to_string(building.origin_m.x() + building.width * building.resolution_m) +
-                                " m, y " + std::to_string(building.origin_m.y()) + " .. " +
-                                std::to_string(building.origin_m.y() + building.height * building.resolution_m) + " m");
+                                fixed(building.origin_m.x(), 2) + " .. " +
+                                fixed(building.origin_m.x() + building.width * building.resolution_m, 2) + " m, y " +
+                                fixed(building.origin_m.y(), 2) + " .. " +
+                                fixed(building.origin_m.y() + building.height * building.resolution_m, 2) + " m");
   drive_ = std::make_unique<evaluation::DriveEvaluation>(c, building, e.voxel_size_m,
                                                          s.pipeline.sim.drive == sim::DriveMode::kKinematic);
-  const mapping::Costmap2D truth = drive_->truth_inflated(evaluation.truth());
+  // With moving bodies (people, carts) the truth now may block a way that opens later: the check then uses the
+  // static map alone (the building), so that only a goal the building itself shuts off is refused.
+  mapping::Costmap2D truth =
+      evaluation.truth().has_moving_bodies() ? building : drive_->truth_inflated(evaluation.truth());
+  if (evaluation.truth().has_moving_bodies())
+    navigation::inflate(truth, c.inscribed_radius_m(), c.global_costmap.inflation);
+  const std::string on = evaluation.truth().has_moving_bodies() ? "on the static map" : "on the true map";
   int gx, gy;
   navigation::world_to_cell(truth, goal.x(), goal.y(), gx, gy);
   if (truth.cells[static_cast<std::size_t>(gy) * truth.width + gx] >= navigation::kCostInscribed)
     throw std::invalid_argument(s.file + ": " + goal_text +
-                                " is in or within the robot's inscribed radius of an obstacle; the nearest free cell "
-                                "is " +
-                                xy(nearest_free(truth, goal)) + " m");
+                                " is in or within the robot's inscribed radius of an obstacle (" + on +
+                                "); the nearest free cell is " + xy(nearest_free(truth, goal)) + " m");
   navigation::NavfnParams strict = c.planner;
   strict.tolerance_m = 0;
   if (!navigation::navfn_plan(truth, {start.x_m, start.y_m}, goal, strict).found)
@@ -77,7 +84,9 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
   navigator_ = std::make_unique<navigation::Navigator>(c, std::move(building));
   navigator_->set_clear_layer([this] { layer_.reset(); });
   navigator_->set_plan_observer([this](const navigation::PlanCycle& cycle, const navigation::NavCostmap& global) {
+    const auto start = SteadyClock::now();
     drive_->plan_cycle(cycle, global, evaluation_.truth());
+    attribution_ms_ += ms_since(start);
   });
   pipeline.set_controller(
       [this](double time_s) {
@@ -85,7 +94,9 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
         const Eigen::Vector2d rates = sim.robot().wheel_rates_radps();
         const double r = sim.robot().wheel_radius_m(), track = sim.robot().track_width_m();
         const navigation::Twist velocity{0.5 * r * (rates.x() + rates.y()), r * (rates.y() - rates.x()) / track};
+        const auto start = SteadyClock::now();
         const navigation::Twist t = navigator_->tick(time_s, robot_pose(), velocity);
+        navigation_ms_ += ms_since(start);
         if (bag_ && navigator_->status() == navigation::NavigationStatus::kRunning)
           twists_.emplace_back(time_s, Eigen::Vector2d(t.v_mps, t.omega_radps));
         return sim::Twist2D{t.v_mps, t.omega_radps};
@@ -96,6 +107,7 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
 navigation::Pose2 ClosedLoop::robot_pose() const { return pose_of(pipeline_.simulator().T_world_base()); }
 
 void ClosedLoop::after_frame(double time_s) {
+  const auto start = SteadyClock::now();
   const navigation::Pose2 robot = robot_pose();
   const navigation::NavCostmap& local = navigator_->local_costmap();
   const navigation::NavCostmap& global = navigator_->global_costmap();
@@ -110,11 +122,14 @@ void ClosedLoop::after_frame(double time_s) {
       navigator_->update_costmaps(time_s, grid, robot, true, true);
     }
   }
+  navigation_ms_ += ms_since(start);
+  const auto judged = SteadyClock::now();
   const sim::Simulator& sim = pipeline_.simulator();
   const sim::Twist2D& command = sim.commanded_twist();
   drive_->frame(time_s, robot, {command.v_mps, command.omega_radps}, evaluation_.truth(),
                 sim::robot_contacts(sim.world(), sim.robot().base_body_id()),
                 navigator_->status() == navigation::NavigationStatus::kRunning);
+  attribution_ms_ += ms_since(judged);
 }
 
 void ClosedLoop::record_bag(BagRecorder& bag, double time_s) {
@@ -144,6 +159,11 @@ void ClosedLoop::record_bag(BagRecorder& bag, double time_s) {
   bag.record_navigation(std::move(m));
 }
 
-evaluation::DriveSummary ClosedLoop::finish(double end_s) { return drive_->finish(*navigator_, end_s); }
+evaluation::DriveSummary ClosedLoop::finish(double end_s) {
+  evaluation::DriveSummary d = drive_->finish(*navigator_, end_s);
+  d.navigation_ms = navigation_ms_;
+  d.attribution_ms = attribution_ms_;
+  return d;
+}
 
 }  // namespace stvl::run

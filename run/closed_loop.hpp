@@ -49,6 +49,7 @@ class ClosedLoop {
   std::vector<std::pair<double, Eigen::Vector2d>> twists_;  // the controller's ticks since the last bag frame
   std::size_t plans_written_ = 0;
   double next_local_publish_s_ = 0, next_global_publish_s_ = 0;
+  double navigation_ms_ = 0, attribution_ms_ = 0;  // wall clock: nav2's side, the truth's side
 };
 
 }  // namespace stvl::run

@@ -176,7 +176,8 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   r.checks = std::move(verdict.checks);
   if (closed_loop) {
     r.drive = closed_loop->finish(r.sim_time_s);
-    for (auto& check : evaluation::drive_checks(s.checks, *r.drive)) r.checks.push_back(std::move(check));
+    for (auto& check : evaluation::drive_checks(s.checks, *r.drive, options.cut_short_from_s > 0, options.require_path))
+      r.checks.push_back(std::move(check));
   }
   if (const layer::Nav2Costmap* master = layer.master()) {
     r.nav2_master = master->master();
