@@ -58,9 +58,18 @@ bool glob_match(const char* pattern, const char* text) {
   if (*pattern == '*') return glob_match(pattern + 1, text) || (*text && glob_match(pattern, text + 1));
   return *text == *pattern && glob_match(pattern + 1, text + 1);
 }
-const char* const kDefaultTopics[] = {
-    "/clock", "/tf", "/tf_static", "/odom", "/ground_truth/*", "/*/depth/image_rect_raw", "/*/depth/camera_info",
-    "/stvl/*", "/plan", "/cmd_vel", "/local_costmap/costmap", "/global_costmap/costmap"};
+const char* const kDefaultTopics[] = {"/clock",
+                                      "/tf",
+                                      "/tf_static",
+                                      "/odom",
+                                      "/ground_truth/*",
+                                      "/*/depth/image_rect_raw",
+                                      "/*/depth/camera_info",
+                                      "/stvl/*",
+                                      "/plan",
+                                      "/cmd_vel",
+                                      "/local_costmap/costmap",
+                                      "/global_costmap/costmap"};
 }  // namespace
 
 BagTopics::BagTopics(const std::string& spec) : spec_(spec.empty() ? "all" : spec) {
