@@ -2,10 +2,14 @@
 """The failure-mode twins in closed loop (issue 41): each scenario driven by nav2 (navigation.mode closed_loop) to a
 goal past the failure, once with STVL's behaviour and once with the bench's fix, and what the drive cost in each.
 
-  bench/closed_loop_twins.py --bench build/bin/stvl-bench --out OUT [--only NAME] [--table-only]
+  bench/closed_loop_twins.py --bench build/bin/stvl-bench --out OUT [--only NAME]
+  bench/closed_loop_twins.py --worlds STVL_SWEEP OURS_SWEEP   # two `stvl-bench sweep --worlds` folders
 
-Writes OUT/<twin>/<stvl|ours>/metrics.json and prints a Markdown table (docs/fidelity.md, "Closed loop").
+Writes OUT/<twin>/<stvl|ours>/metrics.json and prints a Markdown table (docs/fidelity.md, "Closed loop"); with
+--worlds, the table over generated offices driven in closed loop under both behaviours.
 """
+import glob
+import math
 import argparse
 import json
 import os
@@ -71,12 +75,65 @@ def cell(n):
     return text
 
 
+def drives(sweep):
+    out = []
+    for path in sorted(glob.glob(os.path.join(sweep, "*", "metrics.json"))):
+        with open(path) as f:
+            m = json.load(f)
+        if "navigation" in m:
+            out.append(m)
+    return out
+
+
+def p95(values):
+    v = sorted(values)
+    return v[min(len(v) - 1, int(math.ceil(0.95 * len(v))) - 1)] if v else float("nan")
+
+
+def worlds_table(stvl_dir, ours_dir):
+    columns = [drives(stvl_dir), drives(ours_dir)]
+    def row(label, f):
+        return "| %s | %s | %s |" % (label, f(columns[0]), f(columns[1]))
+    n = lambda ms: [m["navigation"] for m in ms]
+    reached = lambda ms: [x for x in n(ms) if x["success"]]
+    mean = lambda v: sum(v) / len(v) if v else float("nan")
+    lines = ["| figure | STVL's behaviour | ours (the fixes) |", "|---|---|---|",
+             row("drives", lambda ms: str(len(ms))),
+             row("goal reached", lambda ms: "%d of %d" % (len(reached(ms)), len(ms))),
+             row("time to goal: mean (p95)", lambda ms: "%.1f s (%.1f s)" % (
+                 mean([x["time_to_goal_s"] for x in reached(ms)]), p95([x["time_to_goal_s"] for x in reached(ms)]))),
+             row("SPL: mean", lambda ms: "%.3f" % mean([x["spl"] for x in n(ms)])),
+             row("recoveries per world: mean (worlds with any)", lambda ms: "%.2f (%d)" % (
+                 mean([x["recoveries"] for x in n(ms)]), sum(1 for x in n(ms) if x["recoveries"]))),
+             row("collisions per world: mean (worlds with any)", lambda ms: "%.2f (%d)" % (
+                 mean([len(x["collisions"]) for x in n(ms)]), sum(1 for x in n(ms) if x["collisions"]))),
+             row("time stalled per world: mean", lambda ms: "%.1f s" % mean([x["stalled_s"] for x in n(ms)])),
+             row("blocked by phantoms: mean s per world (worlds with any)", lambda ms: "%.2f s (%d)" % (
+                 mean([x["blocked_time_s"] for x in n(ms)]), sum(1 for x in n(ms) if x["blocked_time_s"] > 0))),
+             row("planning cycles into the unseen: mean per world (worlds with any)", lambda ms: "%.2f (%d)" % (
+                 mean([x["unseen_cycles"] for x in n(ms)]), sum(1 for x in n(ms) if x["unseen_cycles"]))),
+             row("final phantom obstacles: mean", lambda ms: "%.2f" % mean(
+                 [m["evaluation"]["final"]["phantom_obstacles"] for m in ms]))]
+    failed = [(m["scenario"], m["navigation"]["outcome"]) for m in columns[0] + columns[1]
+              if not m["navigation"]["success"]]
+    return "\n".join(lines), failed
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--bench", required=True)
-    ap.add_argument("--out", required=True)
+    ap.add_argument("--bench")
+    ap.add_argument("--out")
     ap.add_argument("--only", action="append")
+    ap.add_argument("--worlds", nargs=2, metavar=("STVL_SWEEP", "OURS_SWEEP"))
     a = ap.parse_args()
+    if a.worlds:
+        table, failed = worlds_table(*a.worlds)
+        print(table)
+        for scenario, outcome in failed:
+            print("not reached: %s: %s" % (scenario, outcome))
+        return
+    if not a.bench or not a.out:
+        ap.error("--bench and --out (or --worlds)")
     rows = []
     for name, (scenario, common, stvl, ours, what) in TWINS.items():
         if a.only and name not in a.only:
