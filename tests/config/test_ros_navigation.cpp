@@ -7,6 +7,8 @@
 #include <fstream>
 #include <string>
 
+#include <unistd.h>
+
 #include "config/ros_navigation.hpp"
 #include "config/scenario.hpp"
 #include "tests/support/invalid_argument.hpp"
@@ -17,7 +19,8 @@ namespace {
 using ::testing::HasSubstr;
 
 std::string write_file(const std::string& name, const std::string& text) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "stvl_ros_navigation";
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("stvl_ros_navigation_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   std::ofstream((dir / name).string()) << text;
   return (dir / name).string();
@@ -145,10 +148,11 @@ TEST(RosNavigation, BadValuesAndFilesWithoutServersAreErrors) {
 
 TEST(RosNavigation, AScenarioTakesItsServersFromTheFileAndItsOwnKeysWin) {
   const std::string params = write_file("scenario_nav2.yaml", kParams);
-  const Scenario s = parse_scenario("name: c\nworld: w.xml\nrobot: {start: [0, 0, 0]}\nnavigation:\n"
-                                    "  mode: closed_loop\n  goal: [5, 0, 0]\n  ros_params: " +
-                                        params + "\n  controller_frequency: 15\n",
-                                    "x.yaml", "/base");
+  const Scenario s = parse_scenario(
+      "name: c\nworld: w.xml\nrobot: {start: [0, 0, 0]}\nnavigation:\n"
+      "  mode: closed_loop\n  goal: [5, 0, 0]\n  ros_params: " +
+          params + "\n  controller_frequency: 15\n",
+      "x.yaml", "/base");
   EXPECT_EQ(s.navigation_ros_params, params);
   EXPECT_DOUBLE_EQ(s.navigation.controller_frequency_hz, 15.0);  // the scenario's key over the file's 10
   EXPECT_DOUBLE_EQ(s.navigation.controller.desired_linear_vel, 0.7);
