@@ -2,8 +2,9 @@
 # The closed loop end to end (issue 41). Usage: check_closed_loop.sh BIN OUT SCENARIOS_DIR
 #  1. closed_loop_corridor cut to 6 s with a ROS 1 bag: /cmd_vel at the controller's 20 Hz, /plan at the planner's
 #     1 Hz, both costmaps at their publish rates, as nav2 publishes them; navigation_success not evaluated (cut short).
-#  2. goals refused at load (exit 2): in a wall (naming the nearest free cell), outside the map.
-#  3. the occluded box's twin in closed loop: with STVL's frustum clearing the robot drives into something it did not
+#  2. the same seed gives the same drive: a second 6 s run's plans, events, path and map equal the first's.
+#  3. goals refused at load (exit 2): in a wall (naming the nearest free cell), outside the map.
+#  4. the occluded box's twin in closed loop: with STVL's frustum clearing the robot drives into something it did not
 #     see or touches the cart (measured: a collision with the cart at 3.87 s and a plan through the box's 10 cells);
 #     with ray-cast clearing (the scenario's) it touches nothing.
 set -euo pipefail
@@ -33,6 +34,15 @@ status = {c["name"]: c["status"] for c in m["checks"]}
 assert status["navigation_success"] == "not_evaluated", status
 assert m["navigation"]["plans"] >= 6 and not m["navigation"]["success"]
 print("PASS: the bag carries the drive as nav2 publishes it:", dict(counts))
+PY
+"$bin" run "$scenarios/closed_loop_corridor.yaml" --duration 6 --out "$out/again" --no-progress >"$out/again.log" 2>&1
+cmp "$out/bag/map.ply" "$out/again/map.ply"
+/usr/bin/python3 - "$out/bag/metrics.json" "$out/again/metrics.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p))["navigation"] for p in sys.argv[1:3])
+for key in ("planning_cycles", "events", "path_length_m", "min_clearance_m", "stalls", "collisions"):
+    assert a[key] == b[key], f"{key} differs between two runs of the same seed"
+print("PASS: the same seed, the same drive:", a["plans"], "plans,", round(a["path_length_m"], 6), "m")
 PY
 expect_refused() {  # NAME MESSAGE -- run arguments...
   local name=$1 message=$2 rc=0
