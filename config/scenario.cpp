@@ -370,7 +370,8 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   read_moving_bodies(root, s);
   read_sensors_and_map(root, s, camera_overrides, base_dir);
   complete_footprint(s);
-  if (root.has("navigation")) read_navigation(root.map("navigation"), s, s.pipeline.path.waypoints_W, base_dir);
+  if (root.has("navigation"))
+    read_navigation(root.map("navigation"), s, s.pipeline.path.waypoints_W, base_dir, map_world.get());
   if (closed_loop) {  // nav2 drives: no path to follow or stop at
     if (root.has("stop_at_path_end") && s.stop_at_path_end)
       root.fail(root.raw("stop_at_path_end"), "stop_at_path_end",

@@ -95,8 +95,9 @@ void read_checks(YamlMap c, Scenario& s);
 // scenario_navigation.cpp: whether navigation.mode is closed_loop (read before the robot, whose waypoints it makes
 // optional), and the navigation section (the goal defaults to the last of waypoints_W).
 bool navigation_closed_loop(YamlMap& root);
+// map_world: the nav2 map the world was built from (null for an MJCF world): the goal must lie on a free cell of it.
 void read_navigation(YamlMap n, Scenario& s, const std::vector<Eigen::Vector2d>& waypoints_W,
-                     const std::string& base_dir);
+                     const std::string& base_dir, const worldgen::MapWorld* map_world);
 
 // scenario_robot.cpp: robot.urdf with package_path, wheels and drive (the robot built, sim.robot and sim.drive set
 // from it; without urdf those keys are errors); a camera's `frame` (a URDF link) as its mount; the URDF's

@@ -6,6 +6,7 @@
 
 #include "config/ros_navigation.hpp"
 #include "config/scenario_detail.hpp"
+#include "worldgen/map_world.hpp"
 #include "worldgen/mjcf_writer.hpp"
 
 namespace stvl::config::scenario_detail {
@@ -54,6 +55,28 @@ void read_costmap(YamlMap m, navigation::CostmapParams& c, bool rolling, const c
   m.finish();
 }
 
+// A goal on a nav2 map must lie on one of its free cells: not outside it, not in a wall, not in unknown space (the
+// world built from it has nothing there, but nav2's global costmap would be unknown). Names the nearest free cell.
+void check_goal_on_map(YamlMap& n, const worldgen::MapWorld& world, const navigation::Pose2& goal) {
+  const worldgen::OccupancyGrid& grid = world.grid;
+  const Eigen::Vector2d p(goal.x_m, goal.y_m);
+  const auto cell = grid.frame.cell_of(p);
+  if (cell && grid.at(*cell) == worldgen::Cell::kFree) return;
+  const char* where = !cell                                         ? "outside the nav2 map"
+                      : grid.at(*cell) == worldgen::Cell::kOccupied ? "in an occupied cell of the nav2 map"
+                                                                    : "in unknown space of the nav2 map";
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector2d nearest = p;
+  for (std::size_t i = 0; i < grid.cells.size(); ++i) {
+    if (grid.cells[i] != worldgen::Cell::kFree) continue;
+    const Eigen::Vector2d c = grid.frame.cell_center_W(grid.frame.cell(i));
+    if ((c - p).squaredNorm() < best) best = (c - p).squaredNorm(), nearest = c;
+  }
+  n.fail(n.has("goal") ? n.raw("goal") : YAML::Node(), "goal",
+         "(" + fixed(p.x(), 2) + ", " + fixed(p.y(), 2) + ") m lies " + where + " (" + world.map_yaml +
+             "); the nearest free cell is (" + fixed(nearest.x(), 2) + ", " + fixed(nearest.y(), 2) + ") m");
+}
+
 }  // namespace
 
 bool navigation_closed_loop(YamlMap& root) {
@@ -74,7 +97,7 @@ bool navigation_closed_loop(YamlMap& root) {
 }
 
 void read_navigation(YamlMap n, Scenario& s, const std::vector<Eigen::Vector2d>& waypoints_W,
-                     const std::string& base_dir) {
+                     const std::string& base_dir, const worldgen::MapWorld* map_world) {
   navigation::NavigationConfig& c = s.navigation;
   std::string mode = "path";
   n.get("mode", mode);
@@ -100,6 +123,7 @@ void read_navigation(YamlMap n, Scenario& s, const std::vector<Eigen::Vector2d>&
   } else {
     n.fail(YAML::Node(), "goal", "closed_loop needs a goal [x_m, y_m, yaw_deg] (or robot.waypoints to end at)");
   }
+  if (map_world) check_goal_on_map(n, *map_world, c.goal);
   // The footprint: navigation.robot_radius, else the nav2 parameter file's, else the scenario's (map.footprint,
   // map.robot_radius, map.ros_params, the URDF), else robot.xml's reach about base_link.
   std::vector<Blame> blame{{"navigation.mode", &n, "mode"}};  // first: blamed when no key is named

@@ -128,5 +128,17 @@ TEST(ScenarioNavigation, ErrorsNameTheKeyAndLine) {
       HasSubstr("[x_m, y_m, yaw_deg]"));
 }
 
+TEST(ScenarioNavigation, AGoalOnANav2MapMustBeOnAFreeCell) {
+  const std::string file = std::string(STVL_SOURCE_DIR) + "/scenarios/office_floor_map.yaml";
+  const Scenario s = load_scenario(file, {"navigation.mode=closed_loop"});  // the planned path's end
+  EXPECT_EQ(s.navigation.mode, navigation::NavigationMode::kClosedLoop);
+  EXPECT_TRUE(s.pipeline.path.waypoints_W.empty());
+  const std::string error = invalid_argument_of([&] {
+    load_scenario(file, {"navigation.mode=closed_loop", "navigation.goal=[100,0,0]"});
+  });
+  EXPECT_THAT(error, HasSubstr("lies outside the nav2 map"));
+  EXPECT_THAT(error, HasSubstr("the nearest free cell is"));
+}
+
 }  // namespace
 }  // namespace stvl::config
