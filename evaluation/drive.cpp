@@ -151,8 +151,9 @@ std::vector<CheckResult> drive_checks(const ChecksConfig& c, const DriveSummary&
                    std::to_string(d.recoveries) + " recoveries (max " + std::to_string(*c.recoveries_max) + ")"});
   if (c.blocked_time_max_s)
     out.push_back({"blocked_time", d.blocked_time_s <= *c.blocked_time_max_s,
-                   text(d.blocked_time_s) + " s blocked by phantoms over " + std::to_string(d.blocked_cycles) +
-                       " planning cycles (max " + text(*c.blocked_time_max_s) + " s)"});
+                   text(d.blocked_time_s) + " s blocked by phantoms (" + std::to_string(d.blocked_cycles) + " of " +
+                       std::to_string(d.attributions.size()) + " planning cycles; max " + text(*c.blocked_time_max_s) +
+                       " s)"});
   return out;
 }
 
