@@ -38,12 +38,6 @@ mapping::Costmap2D office(const NavBenchOptions& o) {
   return m;
 }
 
-double length_m(const std::vector<Eigen::Vector2d>& path) {
-  double l = 0;
-  for (std::size_t i = 1; i < path.size(); ++i) l += (path[i] - path[i - 1]).norm();
-  return l;
-}
-
 }  // namespace
 
 NavBenchResult run_nav_bench(const NavBenchOptions& o) {
@@ -77,10 +71,10 @@ NavBenchResult run_nav_bench(const NavBenchOptions& o) {
   r.dijkstra_ms =
       time_ms([&] { plan = navigation::navfn_plan(inflated, start, goal, planner); }, 1, o.repetitions).first;
   if (!plan.found) throw std::runtime_error("nav-bench: NavFn found no plan (" + plan.failure + ")");
-  r.dijkstra_length_m = length_m(plan.path_W);
+  r.dijkstra_length_m = navigation::path_length_m(plan.path_W);
   planner.use_astar = true;
   r.astar_ms = time_ms([&] { plan = navigation::navfn_plan(inflated, start, goal, planner); }, 1, o.repetitions).first;
-  r.astar_length_m = length_m(plan.path_W);
+  r.astar_length_m = navigation::path_length_m(plan.path_W);
   return r;
 }
 

@@ -48,12 +48,6 @@ double signed_distance_to_polygon(const Eigen::Vector2d& p, const std::vector<Ei
   return inside ? -best : best;
 }
 
-double length_of(const std::vector<Eigen::Vector2d>& path) {
-  double length = 0;
-  for (std::size_t i = 1; i < path.size(); ++i) length += (path[i] - path[i - 1]).norm();
-  return length;
-}
-
 // The shortest path from start to goal through cells the robot's centre may take (cost below inscribed): 8-connected
 // Dijkstra on the cell centres, the two ends joined to their cells' centres. 0 when there is none.
 double shortest_free_path_m(const mapping::Costmap2D& m, const Eigen::Vector2d& start, const Eigen::Vector2d& goal) {
@@ -247,7 +241,7 @@ void DriveEvaluation::plan_cycle(const navigation::PlanCycle& cycle, const navig
   const navigation::PlanResult t = navigation::navfn_plan(inflated, {cycle.robot_W.x_m, cycle.robot_W.y_m},
                                                           {config_.goal.x_m, config_.goal.y_m}, config_.planner);
   a.truth_found = t.found;
-  a.truth_length_m = length_of(t.path_W);
+  a.truth_length_m = navigation::path_length_m(t.path_W);
   if (first_plan_s_ < 0) {  // SPL's shortest path: from where the drive started, on the truth then
     first_plan_s_ = cycle.time_s;
     const Eigen::Vector2d from(cycle.robot_W.x_m, cycle.robot_W.y_m), to(config_.goal.x_m, config_.goal.y_m);

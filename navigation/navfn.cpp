@@ -495,4 +495,10 @@ PlanResult navfn_plan(const mapping::Costmap2D& costmap, const Eigen::Vector2d& 
   return result;
 }
 
+double path_length_m(const std::vector<Eigen::Vector2d>& path_W) {
+  double length = 0;
+  for (std::size_t i = 1; i < path_W.size(); ++i) length += (path_W[i] - path_W[i - 1]).norm();
+  return length;
+}
+
 }  // namespace stvl::navigation

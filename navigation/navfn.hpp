@@ -52,6 +52,9 @@ struct PlanResult {
 PlanResult navfn_plan(const mapping::Costmap2D& costmap, const Eigen::Vector2d& start_W, const Eigen::Vector2d& goal_W,
                       const NavfnParams& p);
 
+// The length of a plan: the sum of its segments (m).
+double path_length_m(const std::vector<Eigen::Vector2d>& path_W);
+
 // NavFn's cell costs (navfn.hpp's defines).
 constexpr std::uint8_t kNavfnCostNeutral = 50;  // COST_NEUTRAL
 constexpr std::uint8_t kNavfnCostObs = 254;     // COST_OBS

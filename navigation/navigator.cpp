@@ -7,12 +7,6 @@
 namespace stvl::navigation {
 namespace {
 
-double path_length_m(const std::vector<Eigen::Vector2d>& path) {
-  double length = 0;
-  for (std::size_t i = 1; i < path.size(); ++i) length += (path[i] - path[i - 1]).norm();
-  return length;
-}
-
 std::string fixed2(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%.2f", v);

@@ -111,17 +111,15 @@ void ClosedLoop::after_frame(double time_s) {
   const navigation::Pose2 robot = robot_pose();
   const navigation::NavCostmap& local = navigator_->local_costmap();
   const navigation::NavCostmap& global = navigator_->global_costmap();
-  if (local.due(time_s) || global.due(time_s)) {
-    // The local costmap reads nav2's master around the layer when the scenario models it (map.nav2_costmap: its
-    // bounds and ghosts), else the layer's own grid; the global one the layer's grid.
+  // The local costmap reads nav2's master around the layer when the scenario models it (map.nav2_costmap: its
+  // bounds and ghosts), else the layer's own grid; the global one the layer's grid, projected only when one is due.
+  const bool local_due = local.due(time_s), global_due = global.due(time_s);
+  const layer::Nav2Costmap* master = layer_.master();
+  if (global_due || (local_due && !master)) {
     const mapping::Costmap2D grid = layer_.costmap();
-    if (local.due(time_s) && layer_.master()) {
-      navigator_->update_costmaps(time_s, layer_.master()->master(), robot, /*local=*/true, /*global=*/false);
-      if (global.due(time_s)) navigator_->update_costmaps(time_s, grid, robot, false, true);
-    } else {
-      navigator_->update_costmaps(time_s, grid, robot, true, true);
-    }
+    navigator_->update_costmaps(time_s, grid, robot, /*local=*/local_due && !master, /*global=*/global_due);
   }
+  if (local_due && master) navigator_->update_costmaps(time_s, master->master(), robot, true, false);
   navigation_ms_ += ms_since(start);
   const auto judged = SteadyClock::now();
   const sim::Simulator& sim = pipeline_.simulator();
