@@ -4,16 +4,12 @@
 #include <gtest/gtest.h>
 
 #include "navigation/footprint.hpp"
+#include "tests/navigation/grids.hpp"
 
 namespace stvl::navigation {
 namespace {
 
-mapping::Costmap2D grid(int w, int h, double res = 0.1) {
-  mapping::Costmap2D m;
-  m.width = w, m.height = h, m.resolution_m = res;
-  m.cells.assign(static_cast<std::size_t>(w) * h, mapping::kCostFree);
-  return m;
-}
+using test::grid;
 
 TEST(Footprint, FromRadiusIs16PointsAndItsInscribedRadiusIsTheEdgeDistance) {
   const auto f = footprint_from_radius(0.22);
@@ -46,7 +42,7 @@ TEST(Footprint, LineIteratorMatchesBresenhamBothEndsIncluded) {
 }
 
 TEST(Footprint, CostIsTheHighestOnTheOutlineOnly) {
-  mapping::Costmap2D m = grid(20, 20);
+  mapping::Costmap2D m = grid(20, 20, 0.1);
   const std::vector<Eigen::Vector2d> square{{0.25, 0.25}, {-0.25, 0.25}, {-0.25, -0.25}, {0.25, -0.25}};
   const auto placed = place_footprint(square, 1.0, 1.0, 0.0);
   EXPECT_EQ(footprint_cost(m, placed), 0.0);
@@ -59,7 +55,7 @@ TEST(Footprint, CostIsTheHighestOnTheOutlineOnly) {
 }
 
 TEST(Footprint, OffTheMapIsLethal) {
-  const mapping::Costmap2D m = grid(10, 10);
+  const mapping::Costmap2D m = grid(10, 10, 0.1);
   const auto placed = place_footprint(footprint_from_radius(0.3), 0.1, 0.5, 0.0);  // reaches x = -0.2
   EXPECT_EQ(footprint_cost(m, placed), 254.0);
   int mx, my;

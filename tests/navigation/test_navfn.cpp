@@ -9,20 +9,13 @@
 
 #include "navigation/inflation.hpp"
 #include "navigation/navfn.hpp"
+#include "tests/navigation/grids.hpp"
 
 namespace stvl::navigation {
 namespace {
 
-mapping::Costmap2D grid(int width, int height, double resolution_m, std::uint8_t fill = mapping::kCostFree) {
-  mapping::Costmap2D g;
-  g.width = width;
-  g.height = height;
-  g.resolution_m = resolution_m;
-  g.cells.assign(static_cast<std::size_t>(width) * height, fill);
-  return g;
-}
-
-std::uint8_t& cell(mapping::Costmap2D& g, int x, int y) { return g.cells[static_cast<std::size_t>(y) * g.width + x]; }
+using test::cell;
+using test::grid;
 
 double length_m(const std::vector<Eigen::Vector2d>& path) {
   double sum = 0.0;
