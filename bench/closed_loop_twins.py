@@ -30,6 +30,9 @@ TWINS = {
                   "moving_bodies[0].keyframes[0].position=[9.8,0.35,0.0]"],
         ["map.observation.clear_on_no_return=false"], [],
         "pixels without a return clear nothing (no-return phantom across a narrow passage)"),
+    "phantom_in_doorway": (
+        "phantom_in_doorway.yaml", [], ["map.observation.clear_on_no_return=false"], [],
+        "pixels without a return clear nothing (the person's old place across the only doorway)"),
     "person_walks_away": (
         "person_walks_away.yaml", CLOSED + ["navigation.goal=[20.0,0.0,0.0]", "duration_s=90"],
         ["map.observation.clear_on_no_return=false"], [],
@@ -67,9 +70,11 @@ def run(bench, out, name, which, sets):
 
 def cell(n):
     collisions = len(n["collisions"])
-    text = "%s, %.1f s, SPL %.2f, stalled %.1f s, %d recoveries, blocked %.1f s, %d into the unseen, %d collisions" % (
+    controller_failures = sum(e["kind"] == "controller_failed" for e in n["events"])
+    text = ("%s, %.1f s, SPL %.2f, stalled %.1f s, %d recoveries, %d controller failures, %d cycles blocked by "
+            "phantoms (%.1f s), %d into the unseen, %d collisions") % (
         "reached" if n["success"] else "NOT reached", n["time_to_goal_s"], n["spl"], n["stalled_s"], n["recoveries"],
-        n["blocked_time_s"], n["unseen_cycles"], collisions)
+        controller_failures, n["blocked_cycles"], n["blocked_time_s"], n["unseen_cycles"], collisions)
     if not n["success"]:
         text += " (%s)" % n["outcome"]
     return text

@@ -5,9 +5,9 @@
 //           layer's cells combined with updateWithMax, then inflation;
 //   global: the static map's grid (StaticLayer: the building as a mapping run left it), the layer's cells combined
 //           with updateWithMax, then inflation.
-// The bench runs one instance of the layer where nav2 runs one per costmap (same sensors, same parameters): both
-// costmaps read its current grid. Inflation is recomputed over the whole grid at each update (nav2: inside the
-// bounds grown by the inflation radius; cells beyond keep what they had).
+// Each costmap reads its own 3D layer's grid (run/closed_loop: STVL runs one instance per costmap, fed the same
+// observations, as nav2 does; the bench's nav2 layers keep one window both read). Inflation is recomputed over the
+// whole grid at each update (nav2: inside the bounds grown by the inflation radius; cells beyond keep what they had).
 #include <Eigen/Core>
 
 #include "mapping/costmap.hpp"

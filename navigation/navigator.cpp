@@ -60,13 +60,13 @@ void Navigator::finish(double time_s, NavigationStatus status, const std::string
 
 void Navigator::clear_global(double time_s, const Pose2& robot, const std::string& why) {
   event(time_s, robot, "clear_global_costmap", why);
-  if (clear_layer_) clear_layer_();
+  if (clear_global_layer_) clear_global_layer_();
   global_.clear();
 }
 
 void Navigator::clear_local(double time_s, const Pose2& robot, const std::string& why) {
   event(time_s, robot, "clear_local_costmap", why);
-  if (clear_layer_) clear_layer_();
+  if (clear_local_layer_) clear_local_layer_();
   local_.clear();
 }
 

@@ -53,8 +53,12 @@ class Navigator {
   // std::invalid_argument for a config that validate() refuses.
   Navigator(NavigationConfig config, mapping::Costmap2D static_map);
 
-  // ClearEntireCostmap also resets the 3D layer (one instance serves both costmaps): called at each clearing.
-  void set_clear_layer(std::function<void()> clear_layer) { clear_layer_ = std::move(clear_layer); }
+  // ClearEntireCostmap also resets the costmap's 3D layer (nav2 runs one instance per costmap): `local` is called
+  // at each ClearLocalCostmap, `global` at each ClearGlobalCostmap (either may be empty).
+  void set_clear_layers(std::function<void()> local, std::function<void()> global) {
+    clear_local_layer_ = std::move(local);
+    clear_global_layer_ = std::move(global);
+  }
   // Called after every ComputePathToPose with its result and the global costmap it planned on.
   void set_plan_observer(std::function<void(const PlanCycle&, const NavCostmap& global)> observer) {
     plan_observer_ = std::move(observer);
@@ -100,7 +104,7 @@ class Navigator {
   SimpleGoalChecker goal_checker_;
   SimpleProgressChecker progress_checker_;
   Behavior behavior_;
-  std::function<void()> clear_layer_;
+  std::function<void()> clear_local_layer_, clear_global_layer_;
   std::function<void(const PlanCycle&, const NavCostmap&)> plan_observer_;
 
   Stage stage_ = Stage::kPipeline;

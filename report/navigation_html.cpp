@@ -1,51 +1,14 @@
-// report.html "Closed loop" (issue 41): the drive's figures against the truth, a speed and event timeline, the
-// tree's events and the planning cycles blocked by phantoms or driving into the unseen.
-#include <algorithm>
-#include <cmath>
+// report.html "Closed loop" (issue 41): the drive's figures against the truth, a speed and event chart (its canvas;
+// report_page draws it with Chart.js), the tree's events and the planning cycles blocked by phantoms or driving
+// into the unseen.
 #include <sstream>
 
 #include "common/format.hpp"
 #include "common/markup.hpp"
-#include "report/raster.hpp"
 #include "report/report_sections.hpp"
 
 namespace stvl::report {
 namespace {
-
-constexpr int kWidth = 900, kHeight = 180, kMargin = 10;
-
-// Speed (black) over time, the commanded turn rate (grey), and the events as coloured ticks at the top: recoveries
-// orange, failed plans red, clearings blue, the goal green; stalls shaded purple.
-RgbImage timeline(const evaluation::DriveSummary& d, double end_s) {
-  RgbImage image(kWidth, kHeight);
-  if (d.trajectory.empty() || end_s <= 0) return image;
-  double v_max = 0.1;
-  for (const auto& s : d.trajectory) v_max = std::max({v_max, std::abs(s.v_mps), std::abs(s.omega_radps)});
-  const auto px = [&](double t) { return kMargin + static_cast<int>(t / end_s * (kWidth - 2 * kMargin)); };
-  const auto py = [&](double v) {
-    return kHeight - kMargin - static_cast<int>((v + v_max) / (2 * v_max) * (kHeight - 3 * kMargin));
-  };
-  for (const auto& st : d.stalls)
-    image.fill_rect(px(st.from_s), kMargin, px(st.to_s), kHeight - kMargin, {235, 215, 245});
-  image.line(px(0), py(0), px(end_s), py(0), {200, 200, 200});
-  for (std::size_t i = 1; i < d.trajectory.size(); ++i) {
-    const auto &a = d.trajectory[i - 1], &b = d.trajectory[i];
-    image.line(px(a.time_s), py(a.omega_radps), px(b.time_s), py(b.omega_radps), {160, 160, 160});
-    image.line(px(a.time_s), py(a.v_mps), px(b.time_s), py(b.v_mps), {0, 0, 0});
-  }
-  for (const auto& e : d.events) {
-    Rgb c{0, 0, 0};
-    if (e.kind == "recovery") c = {255, 140, 0};
-    else if (e.kind == "plan_failed" || e.kind == "controller_failed" || e.kind == "navigation_failed")
-      c = {220, 40, 40};
-    else if (e.kind == "clear_local_costmap" || e.kind == "clear_global_costmap") c = {40, 90, 230};
-    else if (e.kind == "goal_reached") c = {30, 160, 60};
-    else continue;
-    image.fill_rect(px(e.time_s), 2, px(e.time_s) + 1, kMargin + 4, c);
-  }
-  for (const auto& c : d.collisions) image.fill_rect(px(c.time_s) - 1, 2, px(c.time_s) + 1, kHeight - 2, {110, 0, 0});
-  return image;
-}
 
 std::string xy(const Eigen::Vector2d& p) { return "(" + fixed(p.x(), 2) + ", " + fixed(p.y(), 2) + ")"; }
 
@@ -72,11 +35,9 @@ std::string navigation_html(const run::RunResult& r) {
     << " s</td><td>" << d.plans << " (" << d.plan_failures << ")</td><td>" << d.recoveries << "</td><td>"
     << fixed(d.blocked_time_s, 1) << " s, " << d.blocked_cycles << " cycles</td><td>" << d.unseen_cycles
     << " cycles</td></tr></table>\n";
-  h << "<p class=\"legend\">Timeline: speed (black) and turn rate (grey) from the truth; ticks at the top: recoveries "
-       "(orange), failures (red), costmap clearings (blue), the goal (green); stalls shaded purple, collisions dark "
-       "red.</p>\n<img src=\""
-    << png_data_uri(encode_png(timeline(d, r.sim_time_s))) << "\" alt=\"speed and event timeline\" width=\"" << kWidth
-    << "\">\n";
+  h << "<p class=\"legend\">The drive over time: speed (black) and turn rate (grey) from the truth; recoveries, "
+       "failures, costmap clearings and the goal as markers (hover for the event); stalls as purple bars, collisions "
+       "as dark red crosses.</p>\n<div class=\"chartbox\"><canvas class=\"chart\" id=\"chart-drive\"></canvas></div>\n";
   h << "<details><summary>Events (" << d.events.size() << ")</summary><table><tr><th>t (s)</th><th>event</th>"
     << "<th>detail</th><th>at (m)</th></tr>\n";
   for (const auto& e : d.events)

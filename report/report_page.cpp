@@ -46,6 +46,24 @@ nlohmann::json page_data(const PageSeries& p, const std::vector<evaluation::Eval
     quality["precision"].push_back(rounded(s.precision, 1e-4));
     quality["recall"].push_back(rounded(s.recall, 1e-4));
   }
+  nlohmann::json drive = nullptr;
+  if (p.drive) {
+    const evaluation::DriveSummary& d = *p.drive;
+    drive = {{"t", nlohmann::json::array()},      {"v", nlohmann::json::array()},
+             {"w", nlohmann::json::array()},      {"events", nlohmann::json::array()},
+             {"stalls", nlohmann::json::array()}, {"collisions", nlohmann::json::array()}};
+    for (const auto& s : d.trajectory) {
+      drive["t"].push_back(rounded(s.time_s, 0.001));
+      drive["v"].push_back(rounded(s.v_mps, 0.001));
+      drive["w"].push_back(rounded(s.omega_radps, 0.001));
+    }
+    for (const auto& e : d.events)
+      if (e.kind != "plan")
+        drive["events"].push_back({{"t", rounded(e.time_s, 0.001)}, {"kind", e.kind}, {"detail", e.detail}});
+    for (const auto& st : d.stalls) drive["stalls"].push_back({rounded(st.from_s, 0.001), rounded(st.to_s, 0.001)});
+    for (const auto& c : d.collisions)
+      drive["collisions"].push_back({{"t", rounded(c.time_s, 0.001)}, {"body", c.body}});
+  }
   nlohmann::json path = nlohmann::json::array();
   for (const auto& xy : *p.path_W) path.push_back(rounded(xy.x(), 0.001)), path.push_back(rounded(xy.y(), 0.001));
   const MapView& v = *p.view;
@@ -54,6 +72,7 @@ nlohmann::json page_data(const PageSeries& p, const std::vector<evaluation::Eval
           {"points_raw", nlohmann::json(*p.points_raw)},
           {"points_filtered", nlohmann::json(*p.points_filtered)},
           {"map_voxels", nlohmann::json(*p.map_voxels)},
+          {"drive", drive},
           {"view",
            {{"voxel_m", v.voxel_size_m},
             {"tp", flat_points(v.mapped_true_W)},
@@ -70,6 +89,7 @@ PageSeries run_series(const RunResult& r) {
               {"clear", &t.clear},   {"mark", &t.mark},   {"evaluation", &t.evaluation}, {"bag", &t.bag}};
   p.points_raw = &r.points_raw, p.points_filtered = &r.points_filtered, p.map_voxels = &r.map_voxels;
   p.path_W = &r.path_W, p.view = &r.map_view;
+  if (r.drive) p.drive = &*r.drive;
   return p;
 }
 
@@ -113,6 +133,47 @@ document.addEventListener('DOMContentLoaded', function () {
   chart('chart-voxels', {type: 'line', data: {labels: frames, datasets: [
       {label: 'voxels in the map', data: D.map_voxels, borderColor: '#28a03c', backgroundColor: '#28a03c', pointRadius: 0}]},
     options: {scales: axes('frame', 'voxels')}});
+  if (D.drive && document.getElementById('chart-drive')) {
+    // The drive over simulated time: speed and turn rate from the truth; events as markers on a lane each above
+    // them (the tooltip names them), stalls as purple bars along the bottom, collisions as dark red crosses.
+    var R = D.drive, top = 0.1;
+    R.v.concat(R.w).forEach(function (x) { top = Math.max(top, Math.abs(x)); });
+    var lanes = {recovery: ['recoveries', '#ff8c00', 1.5], plan_failed: ['failures', '#dc2828', 1.4],
+                 controller_failed: ['failures', '#dc2828', 1.4], navigation_failed: ['failures', '#dc2828', 1.4],
+                 clear_local_costmap: ['costmap clearings', '#285ae6', 1.3],
+                 clear_global_costmap: ['costmap clearings', '#285ae6', 1.3], goal_reached: ['goal', '#1ea03c', 1.2]};
+    var marks = {};
+    R.events.forEach(function (e) {
+      var lane = lanes[e.kind] || ['other events', '#777777', 1.6];
+      (marks[lane[0]] = marks[lane[0]] || {color: lane[1], points: []}).points.push(
+          {x: e.t, y: lane[2] * top, what: e.kind + (e.detail ? ': ' + e.detail : '')});
+    });
+    function xy(ys) { return R.t.map(function (t, i) { return {x: t, y: ys[i]}; }); }
+    var sets = [
+      {label: 'speed (m/s)', data: xy(R.v), borderColor: '#000', backgroundColor: '#000', pointRadius: 0,
+       borderWidth: 1.5},
+      {label: 'turn rate (rad/s)', data: xy(R.w), borderColor: '#a0a0a0', backgroundColor: '#a0a0a0', pointRadius: 0,
+       borderWidth: 1}];
+    Object.keys(marks).forEach(function (k) {
+      sets.push({label: k, type: 'scatter', data: marks[k].points, borderColor: marks[k].color,
+                 backgroundColor: marks[k].color, pointRadius: 5, pointStyle: 'triangle'});
+    });
+    var stalls = [];
+    R.stalls.forEach(function (s) {
+      stalls.push({x: s[0], y: -top * 1.05}, {x: s[1], y: -top * 1.05}, {x: s[1], y: null});
+    });
+    if (stalls.length) sets.push({label: 'stalled', data: stalls, borderColor: '#b48cd2', backgroundColor: '#b48cd2',
+                                  borderWidth: 8, pointRadius: 0, spanGaps: false});
+    if (R.collisions.length) sets.push({label: 'collisions', type: 'scatter', borderColor: '#6e0000',
+        backgroundColor: '#6e0000', pointStyle: 'crossRot', pointRadius: 9, borderWidth: 3,
+        data: R.collisions.map(function (c) { return {x: c.t, y: 0, what: 'collision with ' + c.body}; })});
+    chart('chart-drive', {type: 'line', data: {datasets: sets}, options: {
+        interaction: {mode: 'nearest', intersect: false},
+        plugins: {tooltip: {callbacks: {label: function (c) {
+          return c.raw && c.raw.what ? c.raw.what : c.dataset.label + ': ' + c.parsed.y.toFixed(3); }}}},
+        scales: axes('simulated time (s)', 'speed (m/s), turn rate (rad/s)',
+                     {x: {type: 'linear', min: 0}, y: {min: -top * 1.15, max: top * 1.7}})}});
+  }
 
   // 3D view: world frame, z up.
   var canvas = document.getElementById('view3d');

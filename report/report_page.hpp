@@ -1,6 +1,7 @@
 #pragma once
 // The interactive part of report.html: Chart.js charts (time per frame by stage, stacked; precision, recall and
-// F1 over time; points per frame raw and decimated; voxels in the map) and a three.js view of the final map
+// F1 over time; points per frame raw and decimated; voxels in the map; in closed loop the drive's speed, turn rate
+// and events, drawn in the "Closed loop" section's canvas chart-drive) and a three.js view of the final map
 // (voxels within tolerance of the truth green, the others red, the truth faint grey, the robot's path black;
 // orbit controls). The libraries come from Debian's libjs-chart.js and libjs-three and are inlined, so the page
 // opens offline from a CI artifact. The page checks itself once drawn and writes what it found (script errors,
@@ -37,6 +38,7 @@ struct PageSeries {
   const std::vector<std::size_t>* map_voxels = nullptr;
   const std::vector<Eigen::Vector2d>* path_W = nullptr;
   const MapView* view = nullptr;
+  const evaluation::DriveSummary* drive = nullptr;  // closed loop: the drive's chart (speed, turn rate, events)
 };
 std::string interactive_body_html(const PageSeries& series, const std::string& view_caption_html,
                                   const ReportScripts& scripts);

@@ -82,7 +82,12 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
     throw std::invalid_argument(s.file + ": " + goal_text + " cannot be reached from the start " +
                                 xy({start.x_m, start.y_m}) + " m even on the true map (NavFn finds no path)");
   navigator_ = std::make_unique<navigation::Navigator>(c, std::move(building));
-  navigator_->set_clear_layer([this] { layer_.reset(); });
+  // nav2 runs one STVL instance per costmap, each reset by its own costmap's clearing; the bench's nav2 layers keep
+  // one window (the local costmap's), which both costmaps read and both clearings reset.
+  if (s.pipeline.layer_type == layer::LayerType::kStvl)
+    global_layer_ = layer::make_layer(pipeline::layer_config(s.pipeline));
+  layer::Layer& global_layer = global_layer_ ? *global_layer_ : layer_;
+  navigator_->set_clear_layers([this] { layer_.reset(); }, [&global_layer] { global_layer.reset(); });
   navigator_->set_plan_observer([this](const navigation::PlanCycle& cycle, const navigation::NavCostmap& global) {
     const auto start = SteadyClock::now();
     drive_->plan_cycle(cycle, global, evaluation_.truth());
@@ -106,16 +111,22 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
 
 navigation::Pose2 ClosedLoop::robot_pose() const { return pose_of(pipeline_.simulator().T_world_base()); }
 
-void ClosedLoop::after_frame(double time_s) {
+void ClosedLoop::after_frame(const pipeline::Frame& frame) {
+  const double time_s = frame.time_s;
   const auto start = SteadyClock::now();
+  if (global_layer_) global_layer_->update(frame.observation, frame.cameras_now, global_report_);
   const navigation::Pose2 robot = robot_pose();
   const navigation::NavCostmap& local = navigator_->local_costmap();
   const navigation::NavCostmap& global = navigator_->global_costmap();
   // The local costmap reads nav2's master around the layer when the scenario models it (map.nav2_costmap: its
-  // bounds and ghosts), else the layer's own grid; the global one the layer's grid, projected only when one is due.
+  // bounds and ghosts), else the layer's own grid; the global one its layer's grid. Grids are projected only when
+  // a costmap that reads them is due.
   const bool local_due = local.due(time_s), global_due = global.due(time_s);
   const layer::Nav2Costmap* master = layer_.master();
-  if (global_due || (local_due && !master)) {
+  if (global_layer_) {
+    if (global_due) navigator_->update_costmaps(time_s, global_layer_->costmap(), robot, false, true);
+    if (local_due && !master) navigator_->update_costmaps(time_s, layer_.costmap(), robot, true, false);
+  } else if (global_due || (local_due && !master)) {
     const mapping::Costmap2D grid = layer_.costmap();
     navigator_->update_costmaps(time_s, grid, robot, /*local=*/local_due && !master, /*global=*/global_due);
   }

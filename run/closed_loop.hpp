@@ -26,8 +26,9 @@ class ClosedLoop {
   // bag: the run writes one (the controller's twists are kept for it).
   ClosedLoop(const config::Scenario& scenario, pipeline::Pipeline& pipeline, layer::Layer& layer,
              const evaluation::RunEvaluation& evaluation, bool bag);
-  // After each frame's layer update: the costmaps due take the layer's grid; the drive's figures.
-  void after_frame(double time_s);
+  // After each frame's layer update: the global costmap's own layer takes the frame's observation, the costmaps due
+  // take their layers' grids; the drive's figures.
+  void after_frame(const pipeline::Frame& frame);
   // Before the frame at time_s goes into the bag: the twists, plans and costmaps published since the last frame.
   void record_bag(BagRecorder& bag, double time_s);
   // Whether the navigation ended (the goal reached or given up).
@@ -41,7 +42,11 @@ class ClosedLoop {
 
   const config::Scenario& s_;
   pipeline::Pipeline& pipeline_;
-  layer::Layer& layer_;
+  layer::Layer& layer_;  // the local costmap's (the run's layer: its map is the one scored)
+  // The global costmap's own instance (nav2 runs one per costmap), fed the same observations; null where the
+  // local one serves both (nav2's layers: their window is the local costmap's).
+  std::unique_ptr<layer::Layer> global_layer_;
+  layer::UpdateReport global_report_;
   const evaluation::RunEvaluation& evaluation_;
   std::unique_ptr<navigation::Navigator> navigator_;
   std::unique_ptr<evaluation::DriveEvaluation> drive_;

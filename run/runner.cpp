@@ -73,7 +73,7 @@ class RunHooks : public FrameHooks {
   }
   void after_update(const pipeline::Frame& f, const layer::UpdateReport& report, const layer::Layer& layer) override {
     evaluation_.after_update(f, report, sim_.world(), layer.voxels());
-    if (closed_loop_) closed_loop_->after_frame(f.time_s);
+    if (closed_loop_) closed_loop_->after_frame(f);
     samplers_[f.camera_index].offer(f, s_.pipeline.cameras[f.camera_index].intrinsics.min_range_m);
     const Eigen::Vector2d p_W = f.T_world_base.translation().head<2>();
     if (!((p_W - moved_at_W_).norm() <= 0.02)) moved_at_W_ = p_W, moved_s_ = f.time_s;

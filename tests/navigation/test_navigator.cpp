@@ -99,11 +99,17 @@ TEST(Navigator, ClearingResetsTheLayerThroughTheCallback) {
   mapping::Costmap2D blocked = room();
   for (int y = 0; y < 80; ++y) blocked.cells[y * 200 + 100] = mapping::kCostLethal;
   Navigator nav(config({8.0, 2.0, 0.0}), blocked);
-  int resets = 0;
-  nav.set_clear_layer([&] { ++resets; });
+  int local_resets = 0, global_resets = 0;
+  nav.set_clear_layers([&] { ++local_resets; }, [&] { ++global_resets; });
   Drive d{nav, empty_layer(), {1.0, 2.0, 0.0}};
   d.run(1.0);
-  EXPECT_GE(resets, 1);  // ClearGlobalCostmap-Context at the first failed plan
+  EXPECT_GE(global_resets, 1);  // ClearGlobalCostmap-Context at the first failed plan
+  // Each costmap's clearing resets its own layer: the planner's context clears the global one alone, the
+  // recoveries' ClearingActions both (here: 2 contexts and 1 recovery in the first second).
+  EXPECT_EQ(global_resets, static_cast<int>(kinds(nav, "clear_global_costmap").size()));
+  EXPECT_EQ(local_resets, static_cast<int>(kinds(nav, "clear_local_costmap").size()));
+  EXPECT_GT(global_resets, local_resets);
+  EXPECT_GE(local_resets, 1);
 }
 
 TEST(Navigator, AnObstacleOnlyTheLayerSeesIsDrivenAround) {
