@@ -123,7 +123,15 @@ void read_navigation(YamlMap n, Scenario& s, const std::vector<Eigen::Vector2d>&
   } else {
     n.fail(YAML::Node(), "goal", "closed_loop needs a goal [x_m, y_m, yaw_deg] (or robot.waypoints to end at)");
   }
-  if (map_world) check_goal_on_map(n, *map_world, c.goal);
+  if (map_world) {
+    check_goal_on_map(n, *map_world, c.goal);
+    // The global costmap's StaticLayer reads the map itself (nav2 ignores its origin yaw: a rotated map keeps the
+    // building's bodies, rasterized, so that the static layer lies where the walls are).
+    const worldgen::Nav2Map& m = map_world->map;
+    if (m.meta.origin_yaw_rad == 0.0)
+      c.static_map = navigation::OccupancyMap{
+          m.width, m.height, m.meta.resolution_m, {m.meta.origin_x_m, m.meta.origin_y_m}, m.data};
+  }
   // The footprint: navigation.robot_radius, else the nav2 parameter file's, else the scenario's (map.footprint,
   // map.robot_radius, map.ros_params, the URDF), else robot.xml's reach about base_link.
   std::vector<Blame> blame{{"navigation.mode", &n, "mode"}};  // first: blamed when no key is named

@@ -255,13 +255,16 @@ void DriveEvaluation::plan_cycle(const navigation::PlanCycle& cycle, const navig
   a.blocked_by_phantoms = a.truth_found && (!a.layer_found || a.layer_length_m >= kLongerFactor * a.truth_length_m);
   const mapping::Costmap2D& layer = global.combined();
   if (a.blocked_by_phantoms) {
-    // The layer's lethal cells where the truth has none within a cell, near the truth's plan.
+    // The layer's lethal cells where the truth has none within a cell, near the truth's plan. The global costmap's
+    // grid may be a nav2 map's (its own origin and resolution): cells meet the truth's by their centres.
     const double near_m = config_.global_costmap.inflation.inflation_radius_m;
     for (int y = 0; y < layer.height; ++y)
       for (int x = 0; x < layer.width; ++x) {
-        if (layer.cells[index_of(layer, x, y)] != mapping::kCostLethal || lethal_near(truth_combined, x, y, 1))
-          continue;
+        if (layer.cells[index_of(layer, x, y)] != mapping::kCostLethal) continue;
         const Eigen::Vector2d c = cell_centre(layer, x, y);
+        int tx, ty;
+        if (!navigation::world_to_cell(truth_combined, c.x(), c.y(), tx, ty) || lethal_near(truth_combined, tx, ty, 1))
+          continue;
         bool near = false;
         for (const auto& q : t.path_W)
           if ((q - c).squaredNorm() <= near_m * near_m) {
@@ -277,9 +280,12 @@ void DriveEvaluation::plan_cycle(const navigation::PlanCycle& cycle, const navig
     std::vector<std::size_t> seen;
     for (const auto& q : cycle.path_W) {
       int x, y;
+      int lx, ly;
       if (!navigation::world_to_cell(truth_combined, q.x(), q.y(), x, y)) continue;
       const std::size_t i = index_of(truth_combined, x, y);
-      if (truth_combined.cells[i] != mapping::kCostLethal || layer.cells[i] == mapping::kCostLethal) continue;
+      const bool layer_lethal = navigation::world_to_cell(layer, q.x(), q.y(), lx, ly) &&
+                                layer.cells[index_of(layer, lx, ly)] == mapping::kCostLethal;
+      if (truth_combined.cells[i] != mapping::kCostLethal || layer_lethal) continue;
       if (std::find(seen.begin(), seen.end(), i) != seen.end()) continue;
       seen.push_back(i);
       ++a.unseen_cells;

@@ -2,6 +2,8 @@
 // The closed loop's settings: nav2's keys (nav2_bringup jazzy f4108e5 params/nav2_params.yaml where nav2's own
 // defaults leave a choice to the robot: costmap sizes, inflation, failure_tolerance), grouped as nav2's servers are.
 // Scenario YAML `navigation:` (config/scenario_navigation.cpp) fills it; every default here is the YAML key's.
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,15 @@ struct BehaviorParams {
   double wait_duration_s = 5.0;        // <Wait wait_duration>
 };
 
+// A nav2 map as map_server publishes it (nav_msgs/OccupancyGrid): -1 unknown, 0 free .. 100 occupied, row 0 at
+// origin_m's y; for the global costmap's StaticLayer (static_layer_costmap in costmaps.hpp).
+struct OccupancyMap {
+  int width = 0, height = 0;
+  double resolution_m = 0.05;
+  Eigen::Vector2d origin_m = Eigen::Vector2d::Zero();
+  std::vector<std::int8_t> data;  // data[row * width + col]
+};
+
 struct NavigationConfig {
   NavigationMode mode = NavigationMode::kPath;  // navigation.mode
   Pose2 goal;                                   // navigation.goal [x, y, yaw] (world = map frame)
@@ -68,6 +79,9 @@ struct NavigationConfig {
   BehaviorParams behaviors;                // behavior_server
   // The bodies a mapping run would have left in the static map: names starting with one of these.
   std::vector<std::string> static_bodies{"wall", "door"};
+  // A scenario's nav2_map: the global costmap's StaticLayer reads it (its size, resolution and unknown cells)
+  // instead of the bodies above.
+  std::optional<OccupancyMap> static_map;
 
   // Throws std::invalid_argument naming the key (navigation.local_costmap.inflation_radius, ...) for values out
   // of range, an inflation radius below the inscribed radius included.

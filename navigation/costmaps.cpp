@@ -7,6 +7,24 @@
 
 namespace stvl::navigation {
 
+mapping::Costmap2D static_layer_costmap(const OccupancyMap& map, bool track_unknown_space) {
+  // lethal_cost_threshold 100, unknown_cost_value -1: nav2 compares the message's bytes as unsigned char.
+  constexpr unsigned kLethalThreshold = 100, kUnknown = 255;
+  if (map.width <= 0 || map.height <= 0 || map.data.size() != static_cast<std::size_t>(map.width) * map.height)
+    throw std::invalid_argument("static map of " + std::to_string(map.width) + " x " + std::to_string(map.height) +
+                                " cells with " + std::to_string(map.data.size()) + " values");
+  mapping::Costmap2D m;
+  m.width = map.width, m.height = map.height, m.resolution_m = map.resolution_m, m.origin_m = map.origin_m;
+  m.cells.resize(map.data.size());
+  for (std::size_t i = 0; i < map.data.size(); ++i) {
+    const unsigned value = static_cast<std::uint8_t>(map.data[i]);
+    if (value == kUnknown) m.cells[i] = track_unknown_space ? mapping::kCostUnknown : mapping::kCostFree;
+    else if (value >= kLethalThreshold) m.cells[i] = mapping::kCostLethal;
+    else m.cells[i] = mapping::kCostFree;  // trinary_costmap
+  }
+  return m;
+}
+
 NavCostmap::NavCostmap(const CostmapParams& params, double inscribed_radius_m, mapping::Costmap2D base_map)
     : params_(params),
       inscribed_radius_m_(inscribed_radius_m),

@@ -15,6 +15,12 @@
 
 namespace stvl::navigation {
 
+// StaticLayer::processMap and interpretValue (nav2_costmap_2d/plugins/static_layer.cpp, jazzy f4108e5) with
+// nav2's defaults (lethal_cost_threshold 100, unknown_cost_value -1, trinary_costmap true): 100 -> LETHAL 254,
+// -1 -> NO_INFORMATION 255 with track_unknown_space (FREE 0 without), anything else FREE. The grid takes the map's
+// size, resolution and origin, as a non-rolling costmap's master does (its origin yaw is not read, as nav2's).
+mapping::Costmap2D static_layer_costmap(const OccupancyMap& map, bool track_unknown_space);
+
 class NavCostmap {
  public:
   // Rolling (params.rolling_window): a width x height window; otherwise base_map's grid (the static layer) with

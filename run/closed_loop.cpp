@@ -81,7 +81,14 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
   if (!navigation::navfn_plan(truth, {start.x_m, start.y_m}, goal, strict).found)
     throw std::invalid_argument(s.file + ": " + goal_text + " cannot be reached from the start " +
                                 xy({start.x_m, start.y_m}) + " m even on the true map (NavFn finds no path)");
-  navigator_ = std::make_unique<navigation::Navigator>(c, std::move(building));
+  if (c.static_map) {  // a nav2 map: the global costmap is the StaticLayer's grid of it, at its resolution
+    navigation::NavigationConfig with_map = c;
+    with_map.global_costmap.resolution_m = c.static_map->resolution_m;
+    navigator_ = std::make_unique<navigation::Navigator>(
+        with_map, navigation::static_layer_costmap(*c.static_map, c.global_costmap.track_unknown_space));
+  } else {
+    navigator_ = std::make_unique<navigation::Navigator>(c, std::move(building));
+  }
   // nav2 runs one STVL instance per costmap, each reset by its own costmap's clearing; the bench's nav2 layers keep
   // one window (the local costmap's), which both costmaps read and both clearings reset.
   if (s.pipeline.layer_type == layer::LayerType::kStvl)

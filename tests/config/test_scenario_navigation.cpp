@@ -3,6 +3,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -133,6 +134,13 @@ TEST(ScenarioNavigation, AGoalOnANav2MapMustBeOnAFreeCell) {
   const Scenario s = load_scenario(file, {"navigation.mode=closed_loop"});  // the planned path's end
   EXPECT_EQ(s.navigation.mode, navigation::NavigationMode::kClosedLoop);
   EXPECT_TRUE(s.pipeline.path.waypoints_W.empty());
+  // The global costmap's StaticLayer reads the map itself: worlds/maps/office_floor.yaml, 200 x 120 at 0.05 m.
+  ASSERT_TRUE(s.navigation.static_map.has_value());
+  EXPECT_EQ(s.navigation.static_map->width, 200);
+  EXPECT_EQ(s.navigation.static_map->height, 120);
+  EXPECT_EQ(s.navigation.static_map->origin_m, Eigen::Vector2d(-1.0, -2.0));
+  EXPECT_EQ(s.navigation.static_map->data.front(), 100);  // the outer wall's corner cell
+  EXPECT_NE(std::count(s.navigation.static_map->data.begin(), s.navigation.static_map->data.end(), -1), 0);
   const std::string error = invalid_argument_of([&] {
     load_scenario(file, {"navigation.mode=closed_loop", "navigation.goal=[100,0,0]"});
   });

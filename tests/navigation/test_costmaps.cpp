@@ -80,5 +80,22 @@ TEST(Costmaps, RefuseAStaticMapOfAnotherResolutionOrNoCells) {
   EXPECT_THROW(NavCostmap(tiny, 0.2), std::invalid_argument);
 }
 
+TEST(Costmaps, StaticLayerReadsANav2MapAsNav2sInterpretValue) {
+  // A 4 x 2 map at 0.1 m from (-1, -2): 100 lethal, -1 unknown, the rest (0, and 50 or 99 in a scale-mode map)
+  // free under trinary_costmap; an out-of-range byte (-2, 254 unsigned) is >= the lethal threshold as in nav2.
+  OccupancyMap map{4, 2, 0.1, {-1.0, -2.0}, {0, 100, -1, 50, 99, -2, 0, 100}};
+  const mapping::Costmap2D tracked = static_layer_costmap(map, /*track_unknown_space=*/true);
+  EXPECT_EQ(tracked.width, 4);
+  EXPECT_EQ(tracked.height, 2);
+  EXPECT_DOUBLE_EQ(tracked.resolution_m, 0.1);
+  EXPECT_EQ(tracked.origin_m, Eigen::Vector2d(-1.0, -2.0));
+  const std::vector<std::uint8_t> expected{0, 254, 255, 0, 0, 254, 0, 254};
+  EXPECT_EQ(tracked.cells, expected);
+  const mapping::Costmap2D untracked = static_layer_costmap(map, false);
+  EXPECT_EQ(untracked.cells[2], mapping::kCostFree);  // unknown is free without track_unknown_space
+  map.data.pop_back();
+  EXPECT_THROW(static_layer_costmap(map, true), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace stvl::navigation

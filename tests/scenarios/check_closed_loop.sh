@@ -10,6 +10,9 @@
 #  5. the no-return phantom's twin in the doorway (phantom_in_doorway.yaml): without clear_on_no_return (STVL's
 #     behaviour) a planning cycle is blocked by the person's old place while the truth is free, and the controller
 #     stops before it (measured: the cycle at 3 s, 101 named cells; a controller failure at 6.35 s); with it neither.
+#  6. a nav2 map in closed loop (office_floor_map.yaml): the global costmap is the map as nav2's StaticLayer reads it
+#     (its 200 x 120 cells at 0.05 m from (-1, -2), the unknown corner kept unknown: -1 in the bag's OccupancyGrid),
+#     and the drive reaches the planned path's end.
 set -euo pipefail
 bin=$1 out=$2 scenarios=$3
 rm -rf "$out" && mkdir -p "$out"
@@ -80,3 +83,21 @@ controller_failures="sum(e['kind'] == 'controller_failed' for e in n['events'])"
 twin phantom_in_doorway.yaml doorway_stvl "n['blocked_cycles'] >= 1 and $controller_failures >= 1" -- \
   --set map.observation.clear_on_no_return=false
 twin phantom_in_doorway.yaml doorway_ours "n['success'] and n['blocked_cycles'] == 0 and $controller_failures == 0" --
+"$bin" run "$scenarios/office_floor_map.yaml" --set navigation.mode=closed_loop --bag "$out/map.bag" \
+  --bag-topics /global_costmap/costmap --out "$out/map" --no-progress >"$out/map.log" 2>&1
+/usr/bin/python3 - "$out/map.bag" "$out/map/metrics.json" <<'PY'
+import json, sys
+import rosbag
+grids = [m for _, m, _ in rosbag.Bag(sys.argv[1]).read_messages(topics=["/global_costmap/costmap"])]
+assert grids, "no global costmap in the bag"
+g = grids[0]
+i = g.info
+assert (i.width, i.height) == (200, 120) and abs(i.resolution - 0.05) < 1e-6, (i.width, i.height, i.resolution)
+assert abs(i.origin.position.x + 1.0) < 1e-6 and abs(i.origin.position.y + 2.0) < 1e-6, i.origin.position
+unknown = sum(1 for v in g.data if v == -1)
+assert unknown > 100, f"the map's unknown corner: {unknown} unknown cells"
+n = json.load(open(sys.argv[2]))["navigation"]
+assert n["success"], n["outcome"]
+print(f"PASS: nav2 map in closed loop: global costmap {i.width} x {i.height} from the map, {unknown} unknown cells; "
+      f"{n['outcome']}")
+PY
