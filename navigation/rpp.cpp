@@ -191,26 +191,7 @@ void RegulatedPurePursuit::reset() {
   has_reached_xy_tolerance_ = false;
 }
 
-RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& current_speed,
-                                         const mapping::Costmap2D& costmap, double dt_s, double goal_xy_tolerance_m) {
-  if (!(costmap.width > 0 && costmap.height > 0 && costmap.resolution_m > 0.0 &&
-        costmap.cells.size() == static_cast<std::size_t>(costmap.width) * costmap.height)) {
-    throw std::invalid_argument("RegulatedPurePursuit::compute: malformed costmap");
-  }
-  if (!(std::isfinite(dt_s) && dt_s > 0.0)) throw std::invalid_argument("RegulatedPurePursuit::compute: dt_s <= 0");
-  RppCommand out;
-  auto fail = [&out](RppStatus status, const char* message) {
-    out.twist = Twist{};
-    out.status = status;
-    out.message = message;
-    return out;
-  };
-
-  // PathHandler::transformGlobalPlan (path_handler.cpp).
-  if (plan_W_.empty()) return fail(RppStatus::kNoPath, "Received plan with zero length");
-  if (params_.interpolate_curvature_after_goal && plan_W_.size() == 1) {
-    return fail(RppStatus::kInvalidPath, "Received plan with length of one");
-  }
+std::vector<Pose2> RegulatedPurePursuit::transform_plan(const Pose2& robot_W, const mapping::Costmap2D& costmap) {
   const double search_dist_m =
       params_.max_robot_pose_search_dist.value_or((costmap.width - 1 + 0.5) * costmap.resolution_m / 2.0);
   // first_after_integrated_distance: the first pose whose integrated distance along the plan exceeds the bound.
@@ -249,6 +230,99 @@ RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& curr
     plan_R.push_back({cr * dx + sr * dy, -sr * dx + cr * dy, normalize_angle(plan_W_[i].yaw_rad - robot_W.yaw_rad)});
   }
   plan_W_.erase(plan_W_.begin(), plan_W_.begin() + static_cast<std::ptrdiff_t>(begin));
+  return plan_R;
+}
+
+Twist RegulatedPurePursuit::rotate_to_heading(double angle_rad, const Twist& current_speed, double dt_s) const {
+  const double sign = angle_rad > 0.0 ? 1.0 : -1.0;
+  double w = std::clamp(sign * params_.rotate_to_heading_angular_vel,
+                        current_speed.omega_radps - params_.max_angular_accel * dt_s,
+                        current_speed.omega_radps + params_.max_angular_accel * dt_s);
+  const double max_to_stop = std::sqrt(2 * params_.max_angular_accel * std::fabs(angle_rad));
+  if (std::fabs(w) > max_to_stop) w = sign * max_to_stop;
+  return Twist{0.0, w};
+}
+
+double RegulatedPurePursuit::regulated_speed(double pose_cost, double curvature, const std::vector<Pose2>& plan_R,
+                                             double x_vel_sign, const Twist& current_speed, double dt_s) {
+  double v = params_.desired_linear_vel;
+  const double curvature_v = params_.use_regulated_linear_velocity_scaling
+                                 ? curvature_constraint(v, curvature, params_.regulated_linear_scaling_min_radius)
+                                 : v;
+  double cost_v = v;
+  // heuristics::costConstraint: the obstacle distance implied by the inflation decay at the robot's cell.
+  if (params_.use_cost_regulated_linear_velocity_scaling && pose_cost != kNoInformation && pose_cost != kFreeSpace) {
+    const double k = params_.inflation_cost_scaling_factor;
+    // nav2 writes log(253.0f): with libstdc++'s <math.h> in scope that is the float overload.
+    const double log_inscribed = static_cast<double>(std::log(253.0f));
+    const double obstacle_m = (k * inscribed_radius_m_ - std::log(pose_cost) + log_inscribed) / k;
+    if (obstacle_m < params_.cost_scaling_dist) {
+      cost_v = v * (params_.cost_scaling_gain * obstacle_m / params_.cost_scaling_dist);
+    }
+  }
+  v = std::max(std::min(cost_v, curvature_v), params_.regulated_linear_scaling_min_speed);
+  v = approach_constraint(v, plan_R, params_.min_approach_linear_velocity, params_.approach_velocity_scaling_dist);
+  v = x_vel_sign * std::clamp(std::fabs(v), 0.0, params_.desired_linear_vel);
+  if (cancelling_) {
+    v = current_speed.v_mps - x_vel_sign * dt_s * params_.cancel_deceleration;
+    if ((x_vel_sign > 0 && v <= 0) || (x_vel_sign < 0 && v >= 0)) {
+      v = 0.0;
+      finished_cancelling_ = true;
+    }
+  }
+  return v;
+}
+
+bool RegulatedPurePursuit::collision_imminent(const Pose2& robot_W, const Twist& cmd, double carrot_m,
+                                              const mapping::Costmap2D& costmap) const {
+  auto in_collision = [&](double x, double y, double theta) {
+    int cx = 0, cy = 0;
+    if (!world_to_cell(costmap, x, y, cx, cy)) return false;  // nav2 warns and proceeds
+    const double cost = footprint_cost_at_pose(costmap, {x, y, theta}, footprint_m_);
+    if (cost == kNoInformation && track_unknown_space_) return false;
+    return cost >= kLethal;
+  };
+  if (in_collision(robot_W.x_m, robot_W.y_m, robot_W.yaw_rad)) return true;
+  const double v = cmd.v_mps, w = cmd.omega_radps;
+  double step_s = std::numeric_limits<double>::infinity();  // nav2 divides by zero speed here
+  if (std::fabs(v) < 0.01 && std::fabs(w) > 0.01) {
+    step_s = 2.0 * std::sin((costmap.resolution_m / 2) / circumscribed_radius_m_) / std::fabs(w);
+  } else if (v != 0.0) {
+    step_s = costmap.resolution_m / std::fabs(v);
+  }
+  Pose2 p = robot_W;
+  for (int i = 1; i * step_s < params_.max_allowed_time_to_collision_up_to_carrot;) {
+    ++i;
+    p.x_m += step_s * (v * std::cos(p.yaw_rad));
+    p.y_m += step_s * (v * std::sin(p.yaw_rad));
+    p.yaw_rad += step_s * w;
+    if (std::hypot(p.x_m - robot_W.x_m, p.y_m - robot_W.y_m) > carrot_m) break;
+    if (in_collision(p.x_m, p.y_m, p.yaw_rad)) return true;
+  }
+  return false;
+}
+
+RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& current_speed,
+                                         const mapping::Costmap2D& costmap, double dt_s, double goal_xy_tolerance_m) {
+  if (!(costmap.width > 0 && costmap.height > 0 && costmap.resolution_m > 0.0 &&
+        costmap.cells.size() == static_cast<std::size_t>(costmap.width) * costmap.height)) {
+    throw std::invalid_argument("RegulatedPurePursuit::compute: malformed costmap");
+  }
+  if (!(std::isfinite(dt_s) && dt_s > 0.0)) throw std::invalid_argument("RegulatedPurePursuit::compute: dt_s <= 0");
+  RppCommand out;
+  auto fail = [&out](RppStatus status, const char* message) {
+    out.twist = Twist{};
+    out.status = status;
+    out.message = message;
+    return out;
+  };
+
+  // PathHandler::transformGlobalPlan (path_handler.cpp).
+  if (plan_W_.empty()) return fail(RppStatus::kNoPath, "Received plan with zero length");
+  if (params_.interpolate_curvature_after_goal && plan_W_.size() == 1) {
+    return fail(RppStatus::kInvalidPath, "Received plan with length of one");
+  }
+  const std::vector<Pose2> plan_R = transform_plan(robot_W, costmap);
   if (plan_R.empty()) return fail(RppStatus::kInvalidPath, "Resulting plan has 0 poses in it.");
 
   // getLookAheadDistance, and the cusp limit when reversing.
@@ -270,23 +344,13 @@ RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& curr
     rotate_carrot_R = lookahead_point(curvature_lookahead_m, plan_R, params_.interpolate_curvature_after_goal);
     curvature = curvature_of(rotate_carrot_R);
   }
+  const double cr = std::cos(robot_W.yaw_rad), sr = std::sin(robot_W.yaw_rad);
   out.lookahead_m = lookahead_m;
   out.carrot_W = Eigen::Vector2d(robot_W.x_m + cr * carrot_R.x() - sr * carrot_R.y(),
                                  robot_W.y_m + sr * carrot_R.x() + cr * carrot_R.y());
   out.curvature_per_m = curvature;
   const double x_vel_sign = params_.allow_reversing && carrot_R.x() < 0.0 ? -1.0 : 1.0;
 
-  // rotateToHeading: in place at rotate_to_heading_angular_vel, limited by max_angular_accel over dt and by
-  // the speed that still stops at the target angle.
-  auto rotate_to = [&](double angle_rad) {
-    const double sign = angle_rad > 0.0 ? 1.0 : -1.0;
-    double w = std::clamp(sign * params_.rotate_to_heading_angular_vel,
-                          current_speed.omega_radps - params_.max_angular_accel * dt_s,
-                          current_speed.omega_radps + params_.max_angular_accel * dt_s);
-    const double max_to_stop = std::sqrt(2 * params_.max_angular_accel * std::fabs(angle_rad));
-    if (std::fabs(w) > max_to_stop) w = sign * max_to_stop;
-    return Twist{0.0, w};
-  };
   // shouldRotateToGoalHeading (stateful latch on the carrot's distance) and shouldRotateToPath.
   bool to_goal_heading = false;
   if (params_.use_rotate_to_heading) {
@@ -303,10 +367,10 @@ RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& curr
   Twist cmd;
   if (to_goal_heading) {
     out.rotating_to_heading = true;
-    cmd = rotate_to(plan_R.back().yaw_rad);
+    cmd = rotate_to_heading(plan_R.back().yaw_rad, current_speed, dt_s);
   } else if (params_.use_rotate_to_heading && std::fabs(angle_to_path) > params_.rotate_to_heading_min_angle) {
     out.rotating_to_heading = true;
-    cmd = rotate_to(angle_to_path);
+    cmd = rotate_to_heading(angle_to_path, current_speed, dt_s);
   } else {
     // applyConstraints, with CollisionChecker::costAtPose at the robot's cell.
     int mx = 0, my = 0;
@@ -316,64 +380,13 @@ RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& curr
                   "footprint at current speeds!");
     }
     const double pose_cost = costmap.cells[static_cast<std::size_t>(my) * costmap.width + mx];
-    double v = params_.desired_linear_vel;
-    const double curvature_v = params_.use_regulated_linear_velocity_scaling
-                                   ? curvature_constraint(v, curvature, params_.regulated_linear_scaling_min_radius)
-                                   : v;
-    double cost_v = v;
-    // heuristics::costConstraint: the obstacle distance implied by the inflation decay at the robot's cell.
-    if (params_.use_cost_regulated_linear_velocity_scaling && pose_cost != kNoInformation && pose_cost != kFreeSpace) {
-      const double k = params_.inflation_cost_scaling_factor;
-      // nav2 writes log(253.0f): with libstdc++'s <math.h> in scope that is the float overload.
-      const double log_inscribed = static_cast<double>(std::log(253.0f));
-      const double obstacle_m = (k * inscribed_radius_m_ - std::log(pose_cost) + log_inscribed) / k;
-      if (obstacle_m < params_.cost_scaling_dist) {
-        cost_v = v * (params_.cost_scaling_gain * obstacle_m / params_.cost_scaling_dist);
-      }
-    }
-    v = std::max(std::min(cost_v, curvature_v), params_.regulated_linear_scaling_min_speed);
-    v = approach_constraint(v, plan_R, params_.min_approach_linear_velocity, params_.approach_velocity_scaling_dist);
-    v = x_vel_sign * std::clamp(std::fabs(v), 0.0, params_.desired_linear_vel);
-    if (cancelling_) {
-      v = current_speed.v_mps - x_vel_sign * dt_s * params_.cancel_deceleration;
-      if ((x_vel_sign > 0 && v <= 0) || (x_vel_sign < 0 && v >= 0)) {
-        v = 0.0;
-        finished_cancelling_ = true;
-      }
-    }
+    const double v = regulated_speed(pose_cost, curvature, plan_R, x_vel_sign, current_speed, dt_s);
     cmd = Twist{v, v * curvature};
   }
-
-  // CollisionChecker::isCollisionImminent (collision_checker.cpp): the current pose, then the commanded arc in
-  // steps that move the robot about one cell, up to the time limit or the carrot's distance.
-  if (params_.use_collision_detection) {
-    auto in_collision = [&](double x, double y, double theta) {
-      int cx = 0, cy = 0;
-      if (!world_to_cell(costmap, x, y, cx, cy)) return false;  // nav2 warns and proceeds
-      const double cost = footprint_cost_at_pose(costmap, {x, y, theta}, footprint_m_);
-      if (cost == kNoInformation && track_unknown_space_) return false;
-      return cost >= kLethal;
-    };
-    bool collision = in_collision(robot_W.x_m, robot_W.y_m, robot_W.yaw_rad);
-    const double v = cmd.v_mps, w = cmd.omega_radps;
-    double step_s = std::numeric_limits<double>::infinity();  // nav2 divides by zero speed here
-    if (std::fabs(v) < 0.01 && std::fabs(w) > 0.01) {
-      step_s = 2.0 * std::sin((costmap.resolution_m / 2) / circumscribed_radius_m_) / std::fabs(w);
-    } else if (v != 0.0) {
-      step_s = costmap.resolution_m / std::fabs(v);
-    }
-    const double carrot_m = std::hypot(carrot_R.x(), carrot_R.y());
-    Pose2 p = robot_W;
-    for (int i = 1; !collision && i * step_s < params_.max_allowed_time_to_collision_up_to_carrot;) {
-      ++i;
-      p.x_m += step_s * (v * std::cos(p.yaw_rad));
-      p.y_m += step_s * (v * std::sin(p.yaw_rad));
-      p.yaw_rad += step_s * w;
-      if (std::hypot(p.x_m - robot_W.x_m, p.y_m - robot_W.y_m) > carrot_m) break;
-      collision = in_collision(p.x_m, p.y_m, p.yaw_rad);
-    }
-    if (collision) return fail(RppStatus::kCollisionAhead, "RegulatedPurePursuitController detected collision ahead!");
-  }
+  // CollisionChecker::isCollisionImminent (collision_checker.cpp).
+  if (params_.use_collision_detection &&
+      collision_imminent(robot_W, cmd, std::hypot(carrot_R.x(), carrot_R.y()), costmap))
+    return fail(RppStatus::kCollisionAhead, "RegulatedPurePursuitController detected collision ahead!");
   out.twist = cmd;
   return out;
 }

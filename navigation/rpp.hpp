@@ -134,6 +134,20 @@ class RegulatedPurePursuit {
   const RppParams& params() const { return params_; }
 
  private:
+  // PathHandler::transformGlobalPlan: the stored plan pruned up to the pose nearest the robot, and its poses within
+  // the local costmap's half extent in the robot's frame.
+  std::vector<Pose2> transform_plan(const Pose2& robot_W, const mapping::Costmap2D& costmap);
+  // rotateToHeading: in place at rotate_to_heading_angular_vel, limited by max_angular_accel over dt and by the
+  // speed that still stops at the target angle.
+  Twist rotate_to_heading(double angle_rad, const Twist& current_speed, double dt_s) const;
+  // applyConstraints: the linear speed after the curvature, cost and approach regulation and the cancel ramp.
+  double regulated_speed(double pose_cost, double curvature, const std::vector<Pose2>& plan_R, double x_vel_sign,
+                         const Twist& current_speed, double dt_s);
+  // CollisionChecker::isCollisionImminent: the current pose, then the commanded arc in steps that move the robot
+  // about one cell, up to the time limit or the carrot's distance (carrot_m).
+  bool collision_imminent(const Pose2& robot_W, const Twist& cmd, double carrot_m,
+                          const mapping::Costmap2D& costmap) const;
+
   RppParams params_;
   bool track_unknown_space_ = false;
   std::vector<Eigen::Vector2d> footprint_m_;
