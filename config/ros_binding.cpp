@@ -70,6 +70,7 @@ void apply_map_settings(const RosStvlLayer& layer, pipeline::PipelineConfig& con
   config.map.mark_threshold = layer.map.mark_threshold;
   if (layer.update_frequency_hz) config.map.update_frequency_hz = *layer.update_frequency_hz;
   config.map.update_footprint_enabled = layer.update_footprint_enabled;
+  config.tf.transform_tolerance_s = layer.transform_tolerance_s;  // the message filter's wait (cameras with timing)
   config.map.footprint_B.clear();
   if (layer.footprint && !layer.footprint->empty()) config.map.footprint_B = *layer.footprint;
   else if (layer.robot_radius_m) config.map.footprint_B = mapping::footprint_from_radius(*layer.robot_radius_m);

@@ -357,6 +357,20 @@ void read_sensors_and_map(YamlMap& root, Scenario& s, const std::vector<std::opt
   }
 }
 
+// tf (issue 43): the robot's odometry transforms as they reach the tf buffer, and the layer's transform_tolerance
+// (over map.ros_params' transform_tolerance).
+void read_tf(YamlMap tf, Scenario& s) {
+  layer::TfTimingConfig& t = s.pipeline.tf;
+  tf.get("odom_rate_hz", t.odom_rate_hz);
+  tf.get("odom_latency_s", t.odom_latency_s);
+  tf.get("transform_tolerance", t.transform_tolerance_s);
+  tf.finish();
+  validate_keys({{"odom_rate_hz", &tf, "odom_rate_hz"},
+                 {"odom_latency_s", &tf, "odom_latency_s"},
+                 {"transform_tolerance", &tf, "transform_tolerance"}},
+                [&] { t.validate(); });
+}
+
 Scenario parse_root(YamlMap root, const std::string& base_dir) {
   Scenario s;
   s.file = root.file();
@@ -369,6 +383,7 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   read_run_and_robot(root, s, camera_overrides, base_dir, map_world.get(), closed_loop);
   read_moving_bodies(root, s);
   read_sensors_and_map(root, s, camera_overrides, base_dir);
+  if (root.has("tf")) read_tf(root.map("tf"), s);
   complete_footprint(s);
   if (root.has("navigation"))
     read_navigation(root.map("navigation"), s, s.pipeline.path.waypoints_W, base_dir, map_world.get());

@@ -105,6 +105,32 @@ void read_edge_filter(YamlMap& camera, pipeline::CameraConfig& c) {
   validate_keys({{"max_jump_at_1m_m", &edge, "max_jump_at_1m_m"}}, [&] { c.edge_filter.validate(); });
 }
 
+// camera.timing (issue 43: sensors/camera_timing.hpp), when given.
+void read_timing(YamlMap& camera, pipeline::CameraConfig& c) {
+  if (!camera.has("timing")) return;
+  auto timing = camera.map("timing");
+  auto& t = c.timing;
+  timing.get("latency_mean_s", t.latency_mean_s);
+  timing.get("latency_jitter_s", t.latency_jitter_s);
+  std::string stamp = sensors::to_string(t.stamp);
+  timing.get("stamp", stamp);
+  try {
+    t.stamp = sensors::parse_stamp_mode(stamp);
+  } catch (const std::invalid_argument& e) {
+    timing.fail(timing.raw("stamp"), "stamp", e.what());
+  }
+  timing.get("stamp_offset_s", t.stamp_offset_s);
+  timing.get("drop_probability", t.drop_probability);
+  timing.get("drop_burst_frames", t.drop_burst_frames);
+  timing.finish();
+  validate_keys({{"latency_mean_s", &timing, "latency_mean_s"},
+                 {"latency_jitter_s", &timing, "latency_jitter_s"},
+                 {"stamp_offset_s", &timing, "stamp_offset_s"},
+                 {"drop_probability", &timing, "drop_probability"},
+                 {"drop_burst_frames", &timing, "drop_burst_frames"}},
+                [&] { t.validate(); });
+}
+
 }  // namespace
 
 // The keys of a camera (top-level `camera` or an entry of robot.cameras) that describe the sensor itself.
@@ -113,6 +139,7 @@ void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c) {
   read_gl_backend(camera, c);
   read_noise(camera, c);
   read_edge_filter(camera, c);
+  read_timing(camera, c);
 }
 
 // A camera's outages: [{from_s, to_s}], each inside the run, from_s < to_s, none overlapping another.

@@ -8,8 +8,10 @@
 
 #include "filter/filter.hpp"
 #include "layer/stvl_layer.hpp"
+#include "layer/tf_filter.hpp"
 #include "mapping/config.hpp"
 #include "sensors/camera.hpp"
+#include "sensors/camera_timing.hpp"
 #include "sensors/depth_edge_filter.hpp"
 #include "sensors/depth_noise.hpp"
 #include "sensors/gl_context.hpp"
@@ -40,6 +42,8 @@ struct CameraConfig {
   sensors::DepthEdgeFilterConfig edge_filter;
   std::vector<SourceConfig> sources{SourceConfig{}};  // at least one
   std::vector<Outage> outages;  // sorted, disjoint, from_s >= 0: its frames in these windows are never taken
+  // When its frames reach the map and what their stamps say (YAML camera.timing; off: a perfect camera).
+  sensors::CameraTimingConfig timing;
 };
 
 // Whether time_s lies in one of the camera's outages.
@@ -69,6 +73,9 @@ struct PipelineConfig {
   // nav2's master costmap around the layer (layer/nav2_costmap.hpp): YAML map.nav2_costmap; off unless its width
   // and height are given.
   layer::Nav2CostmapConfig nav2_costmap;
+  // tf as the robot has it (YAML tf) and the layer's transform_tolerance, for cameras with timing.
+  layer::TfTimingConfig tf;
+  bool timing_enabled() const;  // a camera has timing, or tf.odom_latency_s > 0
   // Robot geoms the cameras see (sim::World::show_robot_geoms_to_cameras): drawn by the depth renderer, so
   // the map marks the robot's own body as STVL would; ground truth still skips them. Default: none.
   std::vector<std::string> robot_geoms_seen;

@@ -132,6 +132,12 @@ void validate_cameras(const PipelineConfig& config) {
   }
 }
 
+bool PipelineConfig::timing_enabled() const {
+  for (const auto& c : cameras)
+    if (c.timing.enabled()) return true;
+  return tf.odom_latency_s > 0.0;
+}
+
 bool in_outage(const CameraConfig& camera, double time_s) {
   for (const auto& o : camera.outages)
     if (time_s >= o.from_s && time_s < o.to_s) return true;

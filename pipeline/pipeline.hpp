@@ -46,6 +46,9 @@ class Pipeline {
   void set_controller(sim::Simulator::TwistController controller, double period_s) {
     sim_->set_controller(std::move(controller), period_s);
   }
+  // Runs the simulator up to time_s without taking a frame (monotonic: an earlier time does nothing); the frames
+  // after it are those it would have taken anyway (the simulator steps whole timesteps either way).
+  void run_until(double time_s) { sim_->run_until(time_s); }
   // Frames of camera `camera` not taken because they fell in one of its outages.
   std::size_t skipped_frames(std::size_t camera) const;
   // Cameras that take a frame at the same instant (same simulated state) render together (default on): the first

@@ -245,6 +245,40 @@ nlohmann::json outage_json(const RunResult& r) {
   return {{"cameras", cameras}};
 }
 
+// Cameras with timing (issue 43): per camera its timing settings and what they did, and tf's settings.
+nlohmann::json frame_timing_json(const RunResult& r) {
+  const pipeline::PipelineConfig& p = r.scenario.pipeline;
+  nlohmann::json cameras = nlohmann::json::array();
+  for (std::size_t c = 0; c < r.camera_timing.size(); ++c) {
+    const run::CameraTimingStats& st = r.camera_timing[c];
+    const sensors::CameraTimingConfig& t = p.cameras[c].timing;
+    std::size_t dropped = 0;
+    for (const auto& [reason, n] : st.dropped) dropped += n;
+    cameras.push_back({{"name", p.cameras[c].name},
+                       {"latency_mean_s", t.latency_mean_s},
+                       {"latency_jitter_s", t.latency_jitter_s},
+                       {"stamp", sensors::to_string(t.stamp)},
+                       {"stamp_offset_s", t.stamp_offset_s},
+                       {"drop_probability", t.drop_probability},
+                       {"drop_burst_frames", t.drop_burst_frames},
+                       {"captured", st.captured},
+                       {"delivered", st.delivered},
+                       {"dropped", dropped},
+                       {"dropped_by_reason", st.dropped},
+                       {"after_end", st.after_end},
+                       {"mean_delay_s", st.mean_delay_s},
+                       {"max_delay_s", st.max_delay_s},
+                       {"mean_stamp_error_s", st.mean_stamp_error_s},
+                       {"max_stamp_error_s", st.max_stamp_error_s}});
+  }
+  return {{"tf",
+           {{"odom_rate_hz", p.tf.odom_rate_hz},
+            {"odom_latency_s", p.tf.odom_latency_s},
+            {"transform_tolerance_s", p.tf.transform_tolerance_s},
+            {"queue_size", p.tf.queue_size}}},
+          {"cameras", cameras}};
+}
+
 // robot.urdf: the robot from the URDF, its wheels, the drive used and why, and where the footprint came from.
 nlohmann::json urdf_robot_json(const config::Scenario& s) {
   const sim::UrdfRobot& robot = *s.pipeline.urdf_robot;
@@ -420,6 +454,7 @@ nlohmann::json metrics_json(const RunResult& r) {
   if (r.scenario.pipeline.urdf_robot) metrics["robot"] = urdf_robot_json(r.scenario);
   if (r.soak.sample_every_s > 0) add_soak_json(r, metrics);
   if (r.drive) metrics["navigation"] = navigation_json(r);
+  if (!r.camera_timing.empty()) metrics["frame_timing"] = frame_timing_json(r);
   return metrics;
 }
 

@@ -162,7 +162,13 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   if (s.navigation.mode == navigation::NavigationMode::kClosedLoop)
     closed_loop = std::make_unique<ClosedLoop>(s, *pipeline, layer, evaluation, !options.bag_path.empty());
   RunHooks hooks(s, options, *pipeline, evaluation, closed_loop.get());
-  static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
+  if (s.pipeline.timing_enabled()) {  // frames as the robot's subscriber gets them (issue 43)
+    TimedFrames timed(frames, *pipeline, s.pipeline.seed, s.duration_s);
+    static_cast<FrameLoopResult&>(r) = run_frame_loop(timed, layer, hooks, settings);
+    r.camera_timing = timed.stats();
+  } else {
+    static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
+  }
   hooks.finish();
   r.soak = hooks.soak();
   if (r.interrupted) return r;  // no result file is written

@@ -10,6 +10,7 @@
 #include "evaluation/drive.hpp"
 #include "evaluation/run_evaluation.hpp"
 #include "run/frame_loop.hpp"
+#include "run/timed_frames.hpp"
 
 namespace stvl::run {
 
@@ -25,6 +26,9 @@ struct RunResult : FrameLoopResult {
   std::string gl_backend, filter_device;
   // Camera outages: each camera's frames not taken, each outage's result.
   std::vector<std::size_t> skipped_frames;
+  // Cameras with timing (camera.timing, tf): per camera, what their latency, stamps, drops and the tf message
+  // filter did to their frames (run/timed_frames.hpp); empty for a run without timing.
+  std::vector<CameraTimingStats> camera_timing;
   std::vector<evaluation::OutageResult> outages;
 
   // With map.nav2_costmap: nav2's master costmap at the end and its ghosts over the run.

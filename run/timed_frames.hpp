@@ -1,0 +1,76 @@
+#pragma once
+// Time as a failure (issue 43): the simulated frames as a robot's subscriber gets them. Each camera's frames arrive
+// after their latency, carry the stamp their driver writes, and some are lost (sensors/camera_timing.hpp); each
+// reading then waits in the layer's tf message filter for the robot's pose at its stamp, or is dropped
+// (layer/tf_filter.hpp). The layer gets the readings in delivery order at their delivery time (its clock: decay,
+// update ticks, staleness), their clouds placed with the pose tf gives at the stamp: a stamp off the capture time
+// on a moving robot smears every surface.
+//
+//   SimulatedFrames -> TimedFrames -> frame loop -> layer
+//
+// The simulator runs on to each odometry message's time to record the poses tf interpolates (whole timesteps, so
+// the run's physics is that of an untimed run).
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pipeline/pipeline.hpp"
+#include "run/frame_loop.hpp"
+
+namespace stvl::run {
+
+// What the timing did to one camera's frames over a run.
+struct CameraTimingStats {
+  std::size_t captured = 0, delivered = 0;
+  std::map<std::string, std::size_t> dropped;  // by reason: camera, tf_timeout, queue_full
+  double mean_delay_s = 0, max_delay_s = 0;    // capture to delivery, of those delivered
+  double mean_stamp_error_s = 0, max_stamp_error_s = 0;  // |stamp - capture|, of those delivered
+  std::size_t after_end = 0;  // delivered after the run's end (not dropped: the run stopped first)
+};
+
+class TimedFrames : public FrameSource {
+ public:
+  // inner: the pipeline's frames (SimulatedFrames, which ends at duration_s); seed: the scenario's (each camera's
+  // draws derive from it and the camera's index).
+  TimedFrames(FrameSource& inner, pipeline::Pipeline& pipeline, std::uint64_t seed, double duration_s);
+  const pipeline::Frame* next() override;
+  const std::vector<pipeline::CameraConfig>& cameras() const override { return inner_.cameras(); }
+  std::unique_ptr<BagRecorder> open_bag(const std::string& path, const BagSettings& settings,
+                                        const pipeline::Frame* first) override {
+    return inner_.open_bag(path, settings, first);
+  }
+  // Per camera, in camera order.
+  const std::vector<CameraTimingStats>& stats() const { return stats_; }
+
+ private:
+  struct Pending {
+    pipeline::Frame frame;  // a copy: the pipeline overwrites its own at the next step
+    double capture_s = 0, stamp_s = 0, delivered_s = 0;
+    std::uint64_t order = 0;
+  };
+  // Records the robot's pose at every odometry message time up to time_s (running the simulator there).
+  void record_poses_until(double time_s);
+  // The robot's pose tf gives at stamp_s (interpolated between the recorded messages around it).
+  Eigen::Isometry3d pose_at(double stamp_s) const;
+  // The next captured frame's timing: kept pending (in delivery order) or counted as dropped. False at the end.
+  bool capture();
+  void deliver(Pending& p);
+
+  FrameSource& inner_;
+  pipeline::Pipeline& pipeline_;
+  std::uint64_t seed_;
+  double duration_s_;
+  const layer::TfTimingConfig tf_;
+  std::vector<CameraTimingStats> stats_;
+  std::vector<Pending> pending_;  // ordered by delivery time, then capture order
+  std::vector<std::deque<double>> queued_;  // per camera: delivery times of its readings waiting in the filter
+  std::vector<Eigen::Isometry3d> poses_;    // the robot at odometry message k (time k / rate)
+  std::uint64_t order_ = 0;
+  bool inner_done_ = false;
+  pipeline::Frame out_;
+  const pipeline::Frame* passthrough_ = nullptr;  // a frame of a fallen robot: handed on as it is
+};
+
+}  // namespace stvl::run
