@@ -26,14 +26,10 @@ double transform_available_s(const TfTimingConfig& c, double stamp_s) {
 
 const char* to_string(DropReason reason) {
   switch (reason) {
-    case DropReason::kCamera:
-      return "camera";
-    case DropReason::kTfTimeout:
-      return "tf_timeout";
-    case DropReason::kQueueFull:
-      return "queue_full";
-    default:
-      return "delivered";
+    case DropReason::kCamera: return "camera";
+    case DropReason::kTfTimeout: return "tf_timeout";
+    case DropReason::kQueueFull: return "queue_full";
+    default: return "delivered";
   }
 }
 

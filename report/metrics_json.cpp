@@ -266,6 +266,7 @@ nlohmann::json frame_timing_json(const RunResult& r) {
                        {"dropped", dropped},
                        {"dropped_by_reason", st.dropped},
                        {"after_end", st.after_end},
+                       {"in_flight_at_end", st.captured - st.delivered - dropped - st.after_end},
                        {"mean_delay_s", st.mean_delay_s},
                        {"max_delay_s", st.max_delay_s},
                        {"mean_stamp_error_s", st.mean_stamp_error_s},

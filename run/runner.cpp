@@ -180,6 +180,15 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   r.map_view = std::move(verdict.map_view);
   r.outages = std::move(verdict.outages);
   r.checks = std::move(verdict.checks);
+  for (std::size_t c = 0; c < r.camera_timing.size(); ++c)  // timing that starves the map fails the run
+    if (const CameraTimingStats& t = r.camera_timing[c]; t.captured > 0 && t.delivered == 0) {
+      std::string reasons;
+      for (const auto& [reason, n] : t.dropped)
+        reasons += (reasons.empty() ? "" : ", ") + reason + " " + std::to_string(n);
+      r.checks.push_back({"frames_reached_map", false,
+                          "camera '" + s.pipeline.cameras[c].name + "': none of its " + std::to_string(t.captured) +
+                              " frames reached the map (dropped: " + (reasons.empty() ? "none" : reasons) + ")"});
+    }
   if (closed_loop) {
     r.drive = closed_loop->finish(r.sim_time_s);
     for (auto& check : evaluation::drive_checks(s.checks, *r.drive, options.cut_short_from_s > 0, options.require_path))

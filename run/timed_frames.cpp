@@ -138,8 +138,7 @@ const pipeline::Frame* TimedFrames::next() {
       passthrough_ = nullptr;
       return f;
     }
-    const double next_capture_s =
-        inner_done_ ? std::numeric_limits<double>::infinity() : pipeline_.next_time_s();
+    const double next_capture_s = inner_done_ ? std::numeric_limits<double>::infinity() : pipeline_.next_time_s();
     // A pending reading goes when no later capture can be delivered before it (latencies are >= 0).
     if (!pending_.empty() && pending_.front().delivered_s <= next_capture_s) {
       Pending p = std::move(pending_.front());

@@ -24,8 +24,8 @@ namespace stvl::run {
 // What the timing did to one camera's frames over a run.
 struct CameraTimingStats {
   std::size_t captured = 0, delivered = 0;
-  std::map<std::string, std::size_t> dropped;  // by reason: camera, tf_timeout, queue_full
-  double mean_delay_s = 0, max_delay_s = 0;    // capture to delivery, of those delivered
+  std::map<std::string, std::size_t> dropped;            // by reason: camera, tf_timeout, queue_full
+  double mean_delay_s = 0, max_delay_s = 0;              // capture to delivery, of those delivered
   double mean_stamp_error_s = 0, max_stamp_error_s = 0;  // |stamp - capture|, of those delivered
   std::size_t after_end = 0;  // delivered after the run's end (not dropped: the run stopped first)
 };
@@ -64,7 +64,7 @@ class TimedFrames : public FrameSource {
   double duration_s_;
   const layer::TfTimingConfig tf_;
   std::vector<CameraTimingStats> stats_;
-  std::vector<Pending> pending_;  // ordered by delivery time, then capture order
+  std::vector<Pending> pending_;            // ordered by delivery time, then capture order
   std::vector<std::deque<double>> queued_;  // per camera: delivery times of its readings waiting in the filter
   std::vector<Eigen::Isometry3d> poses_;    // the robot at odometry message k (time k / rate)
   std::uint64_t order_ = 0;

@@ -32,18 +32,14 @@ StampMode parse_stamp_mode(const std::string& text) {
 
 const char* to_string(StampMode mode) {
   switch (mode) {
-    case StampMode::kArrival:
-      return "arrival";
-    case StampMode::kOffset:
-      return "offset";
-    default:
-      return "capture";
+    case StampMode::kArrival: return "arrival";
+    case StampMode::kOffset: return "offset";
+    default: return "capture";
   }
 }
 
 bool CameraTimingConfig::enabled() const {
-  return latency_mean_s != 0.0 || latency_jitter_s != 0.0 || stamp != StampMode::kCapture ||
-         drop_probability != 0.0;
+  return latency_mean_s != 0.0 || latency_jitter_s != 0.0 || stamp != StampMode::kCapture || drop_probability != 0.0;
 }
 
 void CameraTimingConfig::validate() const {
@@ -59,8 +55,7 @@ void CameraTimingConfig::validate() const {
   require(drop_burst_frames >= 1 && drop_burst_frames <= 10000, "drop_burst_frames", "must lie in [1, 10000]");
 }
 
-FrameTiming frame_timing(const CameraTimingConfig& c, std::uint64_t seed, std::uint64_t frame_index,
-                         double capture_s) {
+FrameTiming frame_timing(const CameraTimingConfig& c, std::uint64_t seed, std::uint64_t frame_index, double capture_s) {
   FrameTiming t;
   double latency_s = c.latency_mean_s;
   if (c.latency_jitter_s > 0.0) {  // Box-Muller on two draws of the frame's latency stream
@@ -70,14 +65,9 @@ FrameTiming frame_timing(const CameraTimingConfig& c, std::uint64_t seed, std::u
   }
   t.arrival_s = capture_s + latency_s;
   switch (c.stamp) {
-    case StampMode::kArrival:
-      t.stamp_s = t.arrival_s;
-      break;
-    case StampMode::kOffset:
-      t.stamp_s = capture_s + c.stamp_offset_s;
-      break;
-    default:
-      t.stamp_s = capture_s;
+    case StampMode::kArrival: t.stamp_s = t.arrival_s; break;
+    case StampMode::kOffset: t.stamp_s = capture_s + c.stamp_offset_s; break;
+    default: t.stamp_s = capture_s;
   }
   if (c.drop_probability > 0.0) {
     const std::uint64_t first = frame_index + 1 >= static_cast<std::uint64_t>(c.drop_burst_frames)

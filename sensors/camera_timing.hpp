@@ -15,8 +15,8 @@ const char* to_string(StampMode mode);
 
 // YAML camera.timing (per camera); the defaults are a perfect camera (no latency, stamped at capture, nothing lost).
 struct CameraTimingConfig {
-  double latency_mean_s = 0.0;    // latency_mean_s: capture to arrival
-  double latency_jitter_s = 0.0;  // latency_jitter_s: standard deviation of a normal about the mean, cut at 0
+  double latency_mean_s = 0.0;            // latency_mean_s: capture to arrival
+  double latency_jitter_s = 0.0;          // latency_jitter_s: standard deviation of a normal about the mean, cut at 0
   StampMode stamp = StampMode::kCapture;  // stamp
   double stamp_offset_s = 0.0;            // stamp_offset_s: stamp = capture + offset (stamp: offset)
   double drop_probability = 0.0;          // drop_probability: a frame's chance to start a burst of lost frames

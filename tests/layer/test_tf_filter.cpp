@@ -10,7 +10,7 @@ namespace stvl::layer {
 namespace {
 
 TEST(TfFilter, ALookupWaitsForTheFirstMessageAtOrAfterTheStamp) {
-  TfTimingConfig c;  // odom at 50 Hz, no latency
+  TfTimingConfig c;                                           // odom at 50 Hz, no latency
   EXPECT_NEAR(transform_available_s(c, 1.005), 1.02, 1e-12);  // between the messages of 1.00 and 1.02
   EXPECT_NEAR(transform_available_s(c, 1.02), 1.02, 1e-12);   // on a message: that one
   c.odom_latency_s = 0.1;

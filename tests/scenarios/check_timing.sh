@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Time as a failure end to end (issue 43). Usage: check_timing.sh BIN OUT SCENARIOS_DIR
+#  1. timing that changes nothing (stamps at capture through the filter, odometry on tf at the camera's 15 Hz and
+#     times) leaves the map bit for bit as an untimed run: the timed path adds nothing of its own.
+#  2. late_frames stamped at arrival smears the turning robot's map (measured: mean costmap precision 0.921 ->
+#     0.863, accuracy p99 0.191 -> 0.275 m, final phantoms 0 -> 1); required: precision at least 0.03 lower, p99 at
+#     least 0.04 m higher, a phantom left.
+#  3. late_transforms with transform_tolerance 0.1 s (below the 0.153 s a reading waits for its pose): every reading
+#     dropped as tf_timeout, the run fails (frames_reached_map), exit 1.
+#  4. the same seed gives the same latencies, drops and map; 5. bad timing values: exit 2 naming key and line.
+set -euo pipefail
+bin=$1 out=$2 scenarios=$3
+rm -rf "$out" && mkdir -p "$out"
+run() {  # NAME SCENARIO -- args... ; exit code in $rc
+  local name=$1 scenario=$2
+  shift 3
+  rc=0
+  "$bin" run "$scenarios/$scenario" --out "$out/$name" --no-progress "$@" >"$out/$name.log" 2>&1 || rc=$?
+}
+run plain office_corridor.yaml -- --duration 4
+run neutral office_corridor.yaml -- --duration 4 --set camera.timing.stamp=offset --set tf.odom_rate_hz=15
+cmp "$out/plain/map.ply" "$out/neutral/map.ply"
+cmp "$out/plain/costmap.pgm" "$out/neutral/costmap.pgm"
+echo "PASS: timing that changes nothing leaves the map bit for bit"
+run capture late_frames.yaml --
+run arrival late_frames.yaml -- --set camera.timing.stamp=arrival
+/usr/bin/python3 - "$out/capture/metrics.json" "$out/arrival/metrics.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+cp = [m["evaluation"]["mean"]["costmap_precision"] for m in (a, b)]
+p99 = [m["evaluation"]["accuracy_m"]["p99"] for m in (a, b)]
+ph = [m["evaluation"]["final"]["phantom_obstacles"] for m in (a, b)]
+err = b["frame_timing"]["cameras"][0]["mean_stamp_error_s"]
+print(f"capture vs arrival: costmap precision {cp[0]:.3f} -> {cp[1]:.3f}, accuracy p99 {p99[0]:.3f} -> {p99[1]:.3f} m, "
+      f"final phantoms {ph[0]} -> {ph[1]}, mean stamp error {err:.3f} s")
+assert cp[1] <= cp[0] - 0.03, "stamping at arrival must cost costmap precision"
+assert p99[1] >= p99[0] + 0.04, "stamping at arrival must smear surfaces"
+assert ph[1] >= 1 and ph[0] == 0, "the smear leaves a phantom; stamped at capture none"
+assert abs(err - 0.1) < 0.01, err
+print("PASS: stamps at arrival smear the map, stamps at capture do not")
+PY
+run dropped late_transforms.yaml -- --set tf.transform_tolerance=0.1
+((rc == 1)) || { echo "FAIL: late_transforms with transform_tolerance 0.1 exited $rc, expected 1"; exit 1; }
+grep -q "FAIL frames_reached_map" "$out/dropped.log"
+/usr/bin/python3 - "$out/dropped/metrics.json" <<'PY'
+import json, sys
+c = json.load(open(sys.argv[1]))["frame_timing"]["cameras"][0]
+assert c["delivered"] == 0 and c["dropped_by_reason"] == {"tf_timeout": c["captured"]}, c
+print(f"PASS: transform_tolerance below the wait drops all {c['captured']} readings as tf_timeout")
+PY
+jitter=(--duration 4 --set camera.timing.latency_mean_s=0.05 --set camera.timing.latency_jitter_s=0.03
+        --set camera.timing.drop_probability=0.1 --set camera.timing.drop_burst_frames=3)
+run once office_corridor.yaml -- "${jitter[@]}"
+run twice office_corridor.yaml -- "${jitter[@]}"
+cmp "$out/once/map.ply" "$out/twice/map.ply"
+/usr/bin/python3 - "$out/once/metrics.json" "$out/twice/metrics.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p))["frame_timing"] for p in sys.argv[1:3])
+assert a == b, "the same seed must give the same latencies and drops"
+c = a["cameras"][0]
+assert c["dropped_by_reason"].get("camera", 0) > 0 and c["delivered"] > 0, c
+print(f"PASS: same seed, same timing: {c['dropped_by_reason']} dropped, {c['delivered']} delivered")
+PY
+expect_bad() {  # KEY -- sets...
+  local key=$1
+  shift 2
+  run bad office_corridor.yaml -- --duration 1 "$@"
+  if ((rc != 2)) || ! grep -q "$key" "$out/bad.log"; then
+    echo "FAIL: expected exit 2 naming $key, got $rc:"; cat "$out/bad.log"; exit 1
+  fi
+  echo "PASS: refused: $(grep -m1 "$key" "$out/bad.log")"
+}
+expect_bad latency_mean_s -- --set camera.timing.latency_mean_s=.nan
+expect_bad drop_probability -- --set camera.timing.drop_probability=1.5
+expect_bad stamp -- --set camera.timing.stamp=header
+expect_bad odom_rate_hz -- --set tf.odom_rate_hz=0
+expect_bad latency_means -- --set camera.timing.latency_means=0.1
