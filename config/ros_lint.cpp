@@ -340,7 +340,7 @@ std::vector<LintFinding> lint_ros_stvl_layer(const std::string& path, const std:
 }
 
 std::string format_finding(const LintFinding& f) {
-  return f.file + ":" + std::to_string(f.line) + ": " + f.key + ": " + f.what_stvl_does +
+  return f.file + (f.line > 0 ? ":" + std::to_string(f.line) : "") + ": " + f.key + ": " + f.what_stvl_does +
          "; write instead: " + f.write_instead;
 }
 

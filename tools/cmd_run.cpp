@@ -7,6 +7,7 @@
 #include "common/staged_directory.hpp"
 #include "config/ros_binding.hpp"
 #include "config/ros_nav2_layer.hpp"
+#include "config/timing_lint.hpp"
 #include "recording/bag_writer.hpp"
 #include "report/report.hpp"
 #include "run/runner.hpp"
@@ -61,6 +62,8 @@ void print_urdf_robot(const Scenario& scenario) {
 void print_lint_findings(const Scenario& scenario) {
   // The closed loop's servers: plugins not modelled and what stands in (the run goes on).
   for (const auto& f : scenario.navigation_findings) std::printf("lint: %s\n", format_finding(f).c_str());
+  // Camera timing against the layer's parameters (issue 43).
+  for (const auto& f : lint_timing(scenario)) std::printf("lint: %s\n", format_finding(f).c_str());
   const auto& ros = scenario.ros_params;
   if (!ros) return;
   const auto findings =
