@@ -36,8 +36,8 @@ std::vector<LintFinding> lint_timing(const Scenario& s) {
     if (tf.transform_tolerance_s < wait_hi - 1e-9) {
       const bool every = tf.transform_tolerance_s < wait_lo - 1e-9;
       out.push_back({s.file, 0, "tf.transform_tolerance",
-                     fixed(tf.transform_tolerance_s, 3) + " s: " + readings + " wait " + fixed(wait_lo, 3) +
-                         " to " + fixed(wait_hi, 3) + " s for the robot's pose at their stamp (odometry every " +
+                     fixed(tf.transform_tolerance_s, 3) + " s: " + readings + " wait " + fixed(wait_lo, 3) + " to " +
+                         fixed(wait_hi, 3) + " s for the robot's pose at their stamp (odometry every " +
                          fixed(1.0 / tf.odom_rate_hz, 3) + " s, " + fixed(tf.odom_latency_s, 3) + " s late; stamp " +
                          sensors::to_string(t.stamp) + ", latency " + fixed(latency_lo, 3) + " to " +
                          fixed(latency_hi, 3) + " s): the message filter drops " +

@@ -20,8 +20,9 @@ TEST(TimingLint, NoTimingNoFindings) { EXPECT_TRUE(lint_timing(with("")).empty()
 TEST(TimingLint, ToleranceBelowEveryWaitDropsEveryReading) {
   // Odometry at 20 Hz, 0.2 s late; frames 0.05 s late, stamped at capture: a reading waits 0.2 - 0.05 = 0.15 s
   // (a message right at its stamp) to 0.05 + 0.2 - 0.05 = 0.2 s. Tolerance 0.1: every reading dropped; fix 0.20.
-  const auto findings = lint_timing(with("camera: {timing: {latency_mean_s: 0.05}}\n"
-                                         "tf: {odom_rate_hz: 20, odom_latency_s: 0.2, transform_tolerance: 0.1}\n"));
+  const auto findings =
+      lint_timing(with("camera: {timing: {latency_mean_s: 0.05}}\n"
+                       "tf: {odom_rate_hz: 20, odom_latency_s: 0.2, transform_tolerance: 0.1}\n"));
   ASSERT_EQ(findings.size(), 1u);
   EXPECT_EQ(findings[0].key, "tf.transform_tolerance");
   EXPECT_THAT(findings[0].what_stvl_does, HasSubstr("wait 0.150 to 0.200 s"));
@@ -46,9 +47,9 @@ TEST(TimingLint, ToleranceInsideTheWaitsDropsSomeAndStampsAtArrivalWaitLonger) {
 
 TEST(TimingLint, ExpectedUpdateRateShorterThanTheGapBetweenReadings) {
   // A 2 Hz camera (STVL #333) with jitter 0.02: readings up to 0.5 + 0.12 s apart; expected_update_rate 0.3.
-  const auto findings = lint_timing(
-      with("camera: {rate_hz: 2, timing: {latency_mean_s: 0.1, latency_jitter_s: 0.02}}\n"
-           "map: {observation: {expected_update_rate: 0.3}}\n"));
+  const auto findings =
+      lint_timing(with("camera: {rate_hz: 2, timing: {latency_mean_s: 0.1, latency_jitter_s: 0.02}}\n"
+                       "map: {observation: {expected_update_rate: 0.3}}\n"));
   ASSERT_EQ(findings.size(), 1u);
   EXPECT_THAT(findings[0].key, HasSubstr("expected_update_rate"));
   EXPECT_THAT(findings[0].what_stvl_does, HasSubstr("up to 0.620 s apart"));
