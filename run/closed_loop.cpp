@@ -107,6 +107,7 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
         const double r = sim.robot().wheel_radius_m(), track = sim.robot().track_width_m();
         const navigation::Twist velocity{0.5 * r * (rates.x() + rates.y()), r * (rates.y() - rates.x()) / track};
         const auto start = SteadyClock::now();
+        update_costmaps(time_s);  // nav2's costmaps run on their own timers, frames or not
         const navigation::Twist t = navigator_->tick(time_s, robot_pose(), velocity);
         navigation_ms_ += ms_since(start);
         if (bag_ && navigator_->status() == navigation::NavigationStatus::kRunning)
@@ -118,10 +119,7 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
 
 navigation::Pose2 ClosedLoop::robot_pose() const { return pose_of(pipeline_.simulator().T_world_base()); }
 
-void ClosedLoop::after_frame(const pipeline::Frame& frame) {
-  const double time_s = frame.time_s;
-  const auto start = SteadyClock::now();
-  if (global_layer_) global_layer_->update(frame.observation, frame.cameras_now, global_report_);
+void ClosedLoop::update_costmaps(double time_s) {
   const navigation::Pose2 robot = robot_pose();
   const navigation::NavCostmap& local = navigator_->local_costmap();
   const navigation::NavCostmap& global = navigator_->global_costmap();
@@ -138,11 +136,17 @@ void ClosedLoop::after_frame(const pipeline::Frame& frame) {
     navigator_->update_costmaps(time_s, grid, robot, /*local=*/local_due && !master, /*global=*/global_due);
   }
   if (local_due && master) navigator_->update_costmaps(time_s, master->master(), robot, true, false);
+}
+
+void ClosedLoop::after_frame(const pipeline::Frame& frame) {
+  const double time_s = frame.time_s;
+  const auto start = SteadyClock::now();
+  if (global_layer_) global_layer_->update(frame.observation, frame.cameras_now, global_report_);
   navigation_ms_ += ms_since(start);
   const auto judged = SteadyClock::now();
   const sim::Simulator& sim = pipeline_.simulator();
   const sim::Twist2D& command = sim.commanded_twist();
-  drive_->frame(time_s, robot, {command.v_mps, command.omega_radps}, evaluation_.truth(),
+  drive_->frame(time_s, robot_pose(), {command.v_mps, command.omega_radps}, evaluation_.truth(),
                 sim::robot_contacts(sim.world(), sim.robot().base_body_id()),
                 navigator_->status() == navigation::NavigationStatus::kRunning);
   attribution_ms_ += ms_since(judged);

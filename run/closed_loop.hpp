@@ -2,8 +2,8 @@
 // navigation.mode closed_loop in a run (issue 41): nav2 (navigation/) drives the simulated robot from the layer's
 // costmaps, and the drive is judged against the truth (evaluation/drive.hpp).
 //
-//   sim step (every 1 / controller_frequency) -> Navigator::tick -> twist -> wheels
-//   frame loop, after the layer's update      -> Navigator::update_costmaps (their clocks) -> DriveEvaluation::frame
+//   sim step (every 1 / controller_frequency) -> the costmaps due (their clocks) -> Navigator::tick -> wheels
+//   frame loop, after the layer's update      -> the global costmap's own layer -> DriveEvaluation::frame
 //   every ComputePathToPose                    -> DriveEvaluation::plan_cycle (the truth's plan beside it)
 #include <memory>
 #include <string>
@@ -26,8 +26,8 @@ class ClosedLoop {
   // bag: the run writes one (the controller's twists are kept for it).
   ClosedLoop(const config::Scenario& scenario, pipeline::Pipeline& pipeline, layer::Layer& layer,
              const evaluation::RunEvaluation& evaluation, bool bag);
-  // After each frame's layer update: the global costmap's own layer takes the frame's observation, the costmaps due
-  // take their layers' grids; the drive's figures.
+  // After each frame's layer update: the global costmap's own layer takes the frame's observation; the drive's
+  // figures. (The costmaps update on their own clocks at the controller's ticks, frames or not, as nav2's timers.)
   void after_frame(const pipeline::Frame& frame);
   // Before the frame at time_s goes into the bag: the twists, plans and costmaps published since the last frame.
   void record_bag(BagRecorder& bag, double time_s);
@@ -39,6 +39,8 @@ class ClosedLoop {
 
  private:
   navigation::Pose2 robot_pose() const;
+  // The costmaps due at time_s take their layers' grids as the last update left them.
+  void update_costmaps(double time_s);
 
   const config::Scenario& s_;
   pipeline::Pipeline& pipeline_;

@@ -73,7 +73,7 @@ class TimedFramesTest : public test::MujocoTest {
 TEST_F(TimedFramesTest, TimingThatChangesNothingGivesTheUntimedFrames) {
   pipeline::PipelineConfig c = config();
   c.cameras.front().timing.stamp = sensors::StampMode::kOffset;  // offset 0: stamped at capture
-  c.tf.odom_rate_hz = 10.0;                                       // odometry at the camera's own times
+  c.tf.odom_rate_hz = 10.0;                                      // odometry at the camera's own times
   const std::vector<Delivered> plain = run(config(), false, nullptr), timed = run(c, true, nullptr);
   ASSERT_EQ(plain.size(), timed.size());
   ASSERT_EQ(plain.size(), 16u);  // 0 .. 1.5 s at 10 Hz
