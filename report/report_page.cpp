@@ -64,6 +64,13 @@ nlohmann::json page_data(const PageSeries& p, const std::vector<evaluation::Eval
     for (const auto& c : d.collisions)
       drive["collisions"].push_back({{"t", rounded(c.time_s, 0.001)}, {"body", c.body}});
   }
+  nlohmann::json timing = nullptr;
+  if (p.frame_events && !p.frame_events->empty()) {
+    timing = {{"cameras", p.camera_names}, {"events", nlohmann::json::array()}};
+    for (const auto& e : *p.frame_events)
+      timing["events"].push_back({e.camera_index, rounded(e.capture_s, 0.001),
+                                  e.delivered_s < 0 ? -1.0 : rounded(e.delivered_s - e.capture_s, 0.0001), e.reason});
+  }
   nlohmann::json path = nlohmann::json::array();
   for (const auto& xy : *p.path_W) path.push_back(rounded(xy.x(), 0.001)), path.push_back(rounded(xy.y(), 0.001));
   const MapView& v = *p.view;
@@ -73,6 +80,7 @@ nlohmann::json page_data(const PageSeries& p, const std::vector<evaluation::Eval
           {"points_filtered", nlohmann::json(*p.points_filtered)},
           {"map_voxels", nlohmann::json(*p.map_voxels)},
           {"drive", drive},
+          {"timing", timing},
           {"view",
            {{"voxel_m", v.voxel_size_m},
             {"tp", flat_points(v.mapped_true_W)},
@@ -90,6 +98,10 @@ PageSeries run_series(const RunResult& r) {
   p.points_raw = &r.points_raw, p.points_filtered = &r.points_filtered, p.map_voxels = &r.map_voxels;
   p.path_W = &r.path_W, p.view = &r.map_view;
   if (r.drive) p.drive = &*r.drive;
+  if (!r.frame_events.empty()) {
+    p.frame_events = &r.frame_events;
+    for (const auto& c : r.scenario.pipeline.cameras) p.camera_names.push_back(c.name);
+  }
   return p;
 }
 
@@ -133,6 +145,29 @@ document.addEventListener('DOMContentLoaded', function () {
   chart('chart-voxels', {type: 'line', data: {labels: frames, datasets: [
       {label: 'voxels in the map', data: D.map_voxels, borderColor: '#28a03c', backgroundColor: '#28a03c', pointRadius: 0}]},
     options: {scales: axes('frame', 'voxels')}});
+  if (D.timing && document.getElementById('chart-timing')) {
+    // Camera timing: each delivered frame's delay from capture to the layer (one colour per camera); frames that
+    // never reached it as crosses on the zero line, one colour per reason.
+    var T = D.timing, palette = ['#1e78dc', '#28a03c', '#8c6bb1', '#e6780f'];
+    var reasons = {camera: '#777777', tf_timeout: '#dc2828', queue_full: '#ff8c00', after_end: '#bbbbbb'};
+    var sets = T.cameras.map(function (name, c) {
+      return {label: name + ': delay (s)', type: 'scatter', pointRadius: 2, borderColor: palette[c % 4],
+              backgroundColor: palette[c % 4], data: T.events.filter(function (e) {
+                return e[0] === c && e[3] === 'delivered'; }).map(function (e) {
+                return {x: e[1], y: e[2], what: name + ' delivered after ' + e[2].toFixed(3) + ' s'}; })};
+    });
+    Object.keys(reasons).forEach(function (r) {
+      var pts = T.events.filter(function (e) { return e[3] === r; }).map(function (e) {
+        return {x: e[1], y: 0, what: T.cameras[e[0]] + ': dropped (' + r + ')'}; });
+      if (pts.length) sets.push({label: 'dropped: ' + r + ' (' + pts.length + ')', type: 'scatter', data: pts,
+                                 pointStyle: 'crossRot', pointRadius: 5, borderColor: reasons[r],
+                                 backgroundColor: reasons[r]});
+    });
+    chart('chart-timing', {type: 'scatter', data: {datasets: sets}, options: {
+        interaction: {mode: 'nearest', intersect: true},
+        plugins: {tooltip: {callbacks: {label: function (c) { return c.raw.what; }}}},
+        scales: axes('capture time (s)', 'capture to the layer (s)', {x: {type: 'linear', min: 0}, y: {min: 0}})}});
+  }
   if (D.drive && document.getElementById('chart-drive')) {
     // The drive over simulated time: speed and turn rate from the truth; events as markers on a lane each above
     // them (the tooltip names them), stalls as purple bars along the bottom, collisions as dark red crosses.
@@ -300,8 +335,9 @@ std::string interactive_body_html(const RunResult& r, const ReportScripts& scrip
       v.truth_W.cols() < Eigen::Index(v.truth))
     caption << " Thinned for the browser to about " << v.truth_W.cols()
             << " voxels per colour, chosen by a hash of the voxel key.";
-  return body_html(page_data(run_series(r), r.evaluation.snapshots),
-                   {"chart-stages", "chart-quality", "chart-points", "chart-voxels"}, caption.str());
+  std::vector<const char*> charts{"chart-stages", "chart-quality", "chart-points", "chart-voxels"};
+  if (!r.frame_events.empty()) charts.push_back("chart-timing");  // camera timing: delays and drops
+  return body_html(page_data(run_series(r), r.evaluation.snapshots), charts, caption.str());
 }
 
 std::string interactive_body_html(const PageSeries& series, const std::string& view_caption_html,

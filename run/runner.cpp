@@ -166,6 +166,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     TimedFrames timed(frames, *pipeline, s.pipeline.seed, s.duration_s);
     static_cast<FrameLoopResult&>(r) = run_frame_loop(timed, layer, hooks, settings);
     r.camera_timing = timed.stats();
+    r.frame_events = timed.events();
   } else {
     static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
   }

@@ -29,6 +29,7 @@ struct RunResult : FrameLoopResult {
   // Cameras with timing (camera.timing, tf): per camera, what their latency, stamps, drops and the tf message
   // filter did to their frames (run/timed_frames.hpp); empty for a run without timing.
   std::vector<CameraTimingStats> camera_timing;
+  std::vector<TimedFrameEvent> frame_events;  // every settled frame's fate (report.html's timing chart)
   std::vector<evaluation::OutageResult> outages;
 
   // With map.nav2_costmap: nav2's master costmap at the end and its ghosts over the run.

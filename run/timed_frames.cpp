@@ -66,11 +66,13 @@ bool TimedFrames::capture() {
       sensors::frame_timing(timing, splitmix64(seed_ ^ (0x7173ull + c)), f->frame_index, f->time_s);
   if (t.dropped) {
     ++stats.dropped[layer::to_string(layer::DropReason::kCamera)];
+    events_.push_back({c, f->time_s, -1, layer::to_string(layer::DropReason::kCamera)});
     return true;
   }
   const layer::FilterVerdict verdict = layer::message_filter(tf_, t.arrival_s, t.stamp_s);
   if (!verdict.delivered()) {
     ++stats.dropped[layer::to_string(verdict.reason)];
+    events_.push_back({c, f->time_s, -1, layer::to_string(verdict.reason)});
     return true;
   }
   // The filter's queue: readings of this camera still waiting for their transform when this one arrives; at
@@ -83,7 +85,10 @@ bool TimedFrames::capture() {
     const auto it = std::find_if(pending_.begin(), pending_.end(), [&](const Pending& p) {
       return p.frame.camera_index == c && p.delivered_s == oldest;
     });
-    if (it != pending_.end()) pending_.erase(it);
+    if (it != pending_.end()) {
+      events_.push_back({c, it->capture_s, -1, layer::to_string(layer::DropReason::kQueueFull)});
+      pending_.erase(it);
+    }
     ++stats.dropped[layer::to_string(layer::DropReason::kQueueFull)];
   }
   if (verdict.delivered_s > t.arrival_s) waiting.push_back(verdict.delivered_s);
@@ -121,6 +126,7 @@ void TimedFrames::deliver(Pending& p) {
     f.cameras_now[c].T_world_camera = sim.T_world_camera(cameras()[c].mount);
     f.cameras_now[c].next_frame_time_s += cameras()[c].timing.latency_mean_s;  // its next frame's expected arrival
   }
+  events_.push_back({f.camera_index, p.capture_s, p.delivered_s, "delivered"});
   CameraTimingStats& stats = stats_[f.camera_index];
   const double delay_s = p.delivered_s - p.capture_s, stamp_error_s = std::abs(p.stamp_s - p.capture_s);
   ++stats.delivered;
@@ -145,6 +151,7 @@ const pipeline::Frame* TimedFrames::next() {
       pending_.erase(pending_.begin());
       if (p.delivered_s > duration_s_ + kTimeEpsilon_s) {
         ++stats_[p.frame.camera_index].after_end;
+        events_.push_back({p.frame.camera_index, p.capture_s, -1, "after_end"});
         continue;
       }
       deliver(p);

@@ -30,6 +30,14 @@ struct CameraTimingStats {
   std::size_t after_end = 0;  // delivered after the run's end (not dropped: the run stopped first)
 };
 
+// One captured frame's fate, for the report's timeline.
+struct TimedFrameEvent {
+  std::size_t camera_index = 0;
+  double capture_s = 0;
+  double delivered_s = -1;  // -1: not delivered
+  std::string reason;       // "delivered", "camera", "tf_timeout", "queue_full", "after_end"
+};
+
 class TimedFrames : public FrameSource {
  public:
   // inner: the pipeline's frames (SimulatedFrames, which ends at duration_s); seed: the scenario's (each camera's
@@ -43,6 +51,8 @@ class TimedFrames : public FrameSource {
   }
   // Per camera, in camera order.
   const std::vector<CameraTimingStats>& stats() const { return stats_; }
+  // Every captured frame's fate in the order it was settled (frames still in flight at the end are not listed).
+  const std::vector<TimedFrameEvent>& events() const { return events_; }
 
  private:
   struct Pending {
@@ -64,6 +74,7 @@ class TimedFrames : public FrameSource {
   double duration_s_;
   const layer::TfTimingConfig tf_;
   std::vector<CameraTimingStats> stats_;
+  std::vector<TimedFrameEvent> events_;
   std::vector<Pending> pending_;            // ordered by delivery time, then capture order
   std::vector<std::deque<double>> queued_;  // per camera: delivery times of its readings waiting in the filter
   std::vector<Eigen::Isometry3d> poses_;    // the robot at odometry message k (time k / rate)

@@ -3,7 +3,8 @@
 # report.html. The page must log no script error, every chart canvas and the 3D view must have painted pixels
 # (the page counts them itself once drawn: <pre id="selftest">), the checks table must say what metrics.json
 # says, and every picture must be inlined (one self-contained file). Leaves report.png (a screenshot) beside the report.
-# A closed-loop scenario adds the drive's chart (speed, turn rate, events) in its "Closed loop" section.
+# A closed-loop scenario adds the drive's chart (speed, turn rate, events) in its "Closed loop" section; camera
+# timing (camera.timing, tf) adds the delays and drops chart.
 # With a recording (a bag or PNG folder) instead of a scenario: its replay's report, which has no quality chart
 # and no checks, says it has no ground truth, and shows the map's voxels unjudged.
 set -euo pipefail
@@ -36,6 +37,8 @@ assert t["errors"] == [], f"script errors: {t['errors']}"
 charts = t["charts"]
 replay = metrics.get("kind") == "replay"
 expected_charts = ["chart-points", "chart-stages", "chart-voxels"] + ([] if replay else ["chart-quality"])
+if "frame_timing" in metrics:  # camera timing: the delays and drops chart
+    expected_charts.append("chart-timing")
 closed_loop = metrics.get("navigation", {}).get("mode") == "closed_loop"
 if closed_loop:  # the drive's chart in the "Closed loop" section
     expected_charts.append("chart-drive")
