@@ -70,6 +70,7 @@ void read_controller(const YAML::Node& root, const std::string& file, navigation
   YamlMap server(node, file, path);
   get(server, "controller_frequency", c.controller_frequency_hz);
   get(server, "failure_tolerance", c.failure_tolerance_s);
+  get(server, "costmap_update_timeout", c.controller_costmap_timeout_s);
   std::string name, plugin;
   if (first_plugin(server, node, "goal_checker_plugins", name, plugin)) {
     YamlMap g = server.map(name);
@@ -112,6 +113,7 @@ void read_planner(const YAML::Node& root, const std::string& file, navigation::N
   const YAML::Node node = parameters(root, "planner_server", path);
   if (!node.IsMap()) return;
   YamlMap server(node, file, path);
+  get(server, "costmap_update_timeout", c.planner_costmap_timeout_s);
   std::string name, plugin;
   if (!first_plugin(server, node, "planner_plugins", name, plugin)) return;
   YamlMap p = server.map(name);

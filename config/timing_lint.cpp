@@ -16,7 +16,6 @@ double up_to_centiseconds(double s) { return std::ceil(s * 100.0 - 1e-9) / 100.0
 std::vector<LintFinding> lint_timing(const Scenario& s) {
   std::vector<LintFinding> out;
   const pipeline::PipelineConfig& p = s.pipeline;
-  if (!p.timing_enabled()) return out;
   const layer::TfTimingConfig& tf = p.tf;
   for (std::size_t c = 0; c < p.cameras.size(); ++c) {
     const pipeline::CameraConfig& camera = p.cameras[c];
@@ -33,7 +32,7 @@ std::vector<LintFinding> lint_timing(const Scenario& s) {
     // The pose at the stamp needs the first odometry message at or after it: up to one period later, plus latency.
     const double wait_lo = std::max(0.0, tf.odom_latency_s + lead_lo);
     const double wait_hi = std::max(0.0, 1.0 / tf.odom_rate_hz + tf.odom_latency_s + lead_hi);
-    if (tf.transform_tolerance_s < wait_hi - 1e-9) {
+    if (p.timing_enabled() && tf.transform_tolerance_s < wait_hi - 1e-9) {
       const bool every = tf.transform_tolerance_s < wait_lo - 1e-9;
       out.push_back({s.file, 0, "tf.transform_tolerance",
                      fixed(tf.transform_tolerance_s, 3) + " s: " + readings + " wait " + fixed(wait_lo, 3) + " to " +

@@ -8,8 +8,9 @@
 
 namespace stvl::config {
 
-// For each camera with timing (camera.timing, tf):
-//  - transform_tolerance below the longest wait for the pose at a reading's stamp (the odometry period and latency,
+// For each camera:
+//  - with timing (camera.timing, tf), transform_tolerance below the longest wait for the pose at a reading's stamp (the
+//  odometry period and latency,
 //    less the camera's shortest latency when stamped at capture): readings dropped as tf_timeout, every one when it
 //    is below the shortest wait;
 //  - a source's expected_update_rate shorter than the camera's longest gap between arrivals (its period and

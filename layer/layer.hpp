@@ -97,6 +97,10 @@ class Layer {
   // to its default everywhere and the layer's reset(): STVL's (SpatioTemporalVoxelLayer::reset: every voxel gone),
   // nav2's (ObstacleLayer/VoxelLayer::reset: every cell and voxel back to the default). Buffers are kept.
   virtual void reset() = 0;
+  // STVL's and nav2's isCurrent at a costmap update at time_s: every source with an expected_update_rate had a
+  // reading within it (STVL: MeasurementBuffer::UpdatedAtExpectedRate in updateBounds). nav2's controller and planner
+  // wait for a current costmap (costmap_update_timeout) and fail without one.
+  virtual bool current(double /*time_s*/) const { return true; }
   // Every source's status (sensors in order, their sources in order), spans of staleness closed at until_s.
   virtual std::vector<SourceStatus> source_status(double until_s) const = 0;
   // nav2's master costmap this layer feeds (map.nav2_costmap), as the last update left it; null when not modelled.

@@ -99,6 +99,13 @@ void StvlLayer::update(std::shared_ptr<const Observation> observation, const std
   report.cpu_ms = process_cpu_ms() - cpu_start_ms;
 }
 
+bool StvlLayer::current(double time_s) const {
+  for (const auto& sensor : sensors_)
+    for (const SourceBuffer& buffer : sensor->buffers)
+      if (!buffer.current(time_s)) return false;
+  return true;
+}
+
 bool StvlLayer::updates_now(const Observation& o, const std::vector<SensorNow>& sensors) const {
   if (config_.map.update_grouping == mapping::UpdateGrouping::kInstant)
     // another sensor still takes a frame at this time: STVL's update of the instant runs at the last

@@ -37,6 +37,8 @@ class StvlLayer : public Layer {
   // Inserts voxels into the map directly, key -> time (benchmarks: a map of a given size before the first update).
   void set_voxels(const std::vector<mapping::Voxel>& voxels) { map_.set_voxels(voxels); }
 
+  bool current(double time_s) const override;
+
  private:
   struct Sensor;
   LayerConfig config_;

@@ -90,6 +90,10 @@ void NavigationConfig::validate() const {
           "must be finite and >= 0");
   require(std::isfinite(controller_frequency_hz) && controller_frequency_hz > 0, "controller_frequency",
           controller_frequency_hz, "must be a positive number");
+  require(std::isfinite(controller_costmap_timeout_s) && controller_costmap_timeout_s >= 0, "costmap_update_timeout",
+          controller_costmap_timeout_s, "must be >= 0 s");
+  require(std::isfinite(planner_costmap_timeout_s) && planner_costmap_timeout_s >= 0, "costmap_update_timeout",
+          planner_costmap_timeout_s, "must be >= 0 s");
   require(std::isfinite(failure_tolerance_s) && (failure_tolerance_s >= 0 || failure_tolerance_s == -1.0),
           "failure_tolerance", failure_tolerance_s, "must be >= 0 (or -1: never abort)");
   require(std::isfinite(replan_frequency_hz) && replan_frequency_hz > 0, "replan_frequency", replan_frequency_hz,

@@ -68,9 +68,13 @@ struct NavigationConfig {
   double footprint_padding_m = 0.01;            // footprint_padding (Costmap2DROS)
   double controller_frequency_hz = 20.0;        // controller_server controller_frequency
   double failure_tolerance_s = 0.3;             // controller_server failure_tolerance
-  double replan_frequency_hz = 1.0;             // the tree's <RateController hz> around ComputePathToPose
-  int number_of_retries = 6;                    // the tree's NavigateRecovery number_of_retries
-  CostmapParams local_costmap;                  // local_costmap (rolling, in odom)
+  // controller_server and planner_server costmap_update_timeout: how long each waits for a current costmap
+  // (the 3D layer's sources within expected_update_rate) before ControllerTimedOut / PlannerTimedOut.
+  double controller_costmap_timeout_s = 0.3;
+  double planner_costmap_timeout_s = 1.0;
+  double replan_frequency_hz = 1.0;  // the tree's <RateController hz> around ComputePathToPose
+  int number_of_retries = 6;         // the tree's NavigateRecovery number_of_retries
+  CostmapParams local_costmap;       // local_costmap (rolling, in odom)
   CostmapParams global_costmap{0.0, 0.0, 0.05, 1.0, 1.0, false, true, {0.70, 3.0, false, false}};  // global_costmap
   NavfnParams planner;                     // planner_server GridBased
   RppParams controller;                    // controller_server FollowPath

@@ -54,7 +54,9 @@ bool NavCostmap::due(double time_s) const {
 
 void NavCostmap::reset_to_base() { combined_ = base_; }
 
-void NavCostmap::update(double time_s, const mapping::Costmap2D& layer_W, const Eigen::Vector2d& robot_W) {
+void NavCostmap::update(double time_s, const mapping::Costmap2D& layer_W, const Eigen::Vector2d& robot_W,
+                        bool layer_current) {
+  current_ = layer_current;
   if (params_.rolling_window) {
     // LayeredCostmap::updateMap: new origin = robot - size/2, snapped by Costmap2D::updateOrigin to whole cells
     // from the old origin (the overlap keeps its cells; the window is rebuilt from the layer below anyway).

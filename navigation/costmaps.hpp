@@ -32,7 +32,11 @@ class NavCostmap {
   bool due(double time_s) const;
   // One update at time_s: the window to the robot (rolling), the base (default or static map), the layer's cells
   // combined (updateWithMax: the layer's NO_INFORMATION skipped), inflation.
-  void update(double time_s, const mapping::Costmap2D& layer_W, const Eigen::Vector2d& robot_W);
+  // layer_current: the 3D layer's isCurrent at this update (Layer::current), nav2's costmap isCurrent until the next.
+  void update(double time_s, const mapping::Costmap2D& layer_W, const Eigen::Vector2d& robot_W,
+              bool layer_current = true);
+  // LayeredCostmap::isCurrent: every layer current at the last update (the static and inflation layers always are).
+  bool current() const { return current_; }
   // ClearEntireCostmap: every layer reset (the static layer's cells come back), then inflation.
   void clear();
 
@@ -51,6 +55,7 @@ class NavCostmap {
   mapping::Costmap2D base_, combined_, inflated_;
   std::uint8_t default_value_;
   double updated_at_s_ = -1;
+  bool current_ = true;
   long updates_ = 0;
 };
 

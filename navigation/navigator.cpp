@@ -40,10 +40,10 @@ std::optional<BehaviorKind> Navigator::behavior_running() const {
 }
 
 void Navigator::update_costmaps(double time_s, const mapping::Costmap2D& layer_W, const Pose2& robot_W, bool local,
-                                bool global) {
+                                bool global, bool layer_current) {
   const Eigen::Vector2d robot(robot_W.x_m, robot_W.y_m);
-  if (local && local_.due(time_s)) local_.update(time_s, layer_W, robot);
-  if (global && global_.due(time_s)) global_.update(time_s, layer_W, robot);
+  if (local && local_.due(time_s)) local_.update(time_s, layer_W, robot, layer_current);
+  if (global && global_.due(time_s)) global_.update(time_s, layer_W, robot, layer_current);
 }
 
 void Navigator::event(double time_s, const Pose2& robot, std::string kind, std::string detail) {
@@ -146,12 +146,35 @@ Twist Navigator::tick(double time_s, const Pose2& robot, const Twist& velocity) 
     round_robin_failed_ = 0;
     restart_pipeline();
   }
-  // PipelineSequence: the planner at its rate, then FollowPath.
-  if (plan_now_ || time_s + 1e-9 >= next_plan_s_) {
-    if (!plan(time_s, robot))
-      return pipeline_failed(time_s, robot, "no plan: " + plans_.back().failure, plans_.back().recovery_helps);
+  // PipelineSequence: the planner at its rate, then FollowPath. planner_server::waitForCostmap: no plan until the
+  // global costmap is current, PlannerTimedOut after costmap_update_timeout (the controller follows the old path
+  // meanwhile: the planner's action is running).
+  if (plan_now_ || time_s + 1e-9 >= next_plan_s_ || plan_waiting_since_s_) {
+    if (!global_.current()) {
+      if (!plan_waiting_since_s_) plan_waiting_since_s_ = time_s;
+      if (time_s - *plan_waiting_since_s_ > config_.planner_costmap_timeout_s) {
+        plan_waiting_since_s_.reset();
+        next_plan_s_ = time_s + 1.0 / config_.replan_frequency_hz;
+        plan_now_ = false;
+        event(time_s, robot, "plan_failed", "PlannerTimedOut: Costmap timed out waiting for update");
+        return pipeline_failed(time_s, robot, "no plan: the global costmap timed out waiting for update", true);
+      }
+    } else {
+      plan_waiting_since_s_.reset();
+      if (!plan(time_s, robot))
+        return pipeline_failed(time_s, robot, "no plan: " + plans_.back().failure, plans_.back().recovery_helps);
+    }
   }
   if (!have_path_) return {};
+  // controller_server::computeControl: no command until the local costmap is current; ControllerTimedOut after
+  // costmap_update_timeout. Nothing is published meanwhile: the base keeps the last command.
+  if (!local_.current()) {
+    if (!controller_waiting_since_s_) controller_waiting_since_s_ = time_s;
+    if (time_s - *controller_waiting_since_s_ <= config_.controller_costmap_timeout_s) return last_twist_;
+    controller_waiting_since_s_.reset();
+    return controller_failed(time_s, robot, "ControllerTimedOut: Costmap timed out waiting for update");
+  }
+  controller_waiting_since_s_.reset();
   // controller_server::computeControl: the goal check, then computeAndPublishVelocity (the progress check, then the
   // controller); the odometry's speeds under min_*_velocity_threshold (0.0001) read as zero.
   const auto thresholded = [](double v) { return std::abs(v) < 0.0001 ? 0.0 : v; };
@@ -182,7 +205,12 @@ Twist Navigator::tick(double time_s, const Pose2& robot, const Twist& velocity) 
       controller_failure = command.message;  // any other exception aborts FollowPath at once
     }
   }
-  if (controller_failure.empty()) return twist;
+  if (controller_failure.empty()) return last_twist_ = twist;
+  return controller_failed(time_s, robot, controller_failure);
+}
+
+Twist Navigator::controller_failed(double time_s, const Pose2& robot, const std::string& controller_failure) {
+  last_twist_ = {};
   event(time_s, robot, "controller_failed", controller_failure);
   // RecoveryNode(1) FollowPath | ClearLocalCostmap-Context.
   if (!controller_context_used_) {
@@ -213,6 +241,7 @@ Twist Navigator::pipeline_failed(double time_s, const Pose2& robot, const std::s
 // in a row fail the recovery and so the navigation.
 Twist Navigator::start_recovery(double time_s, const Pose2& robot) {
   stage_ = Stage::kRecovery;
+  last_twist_ = {};
   while (round_robin_failed_ < 4) {
     const int child = round_robin_;
     round_robin_ = (round_robin_ + 1) % 4;

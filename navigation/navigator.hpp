@@ -66,8 +66,9 @@ class Navigator {
 
   // The costmaps' clocks: each one due at time_s (of those asked for) takes the layer's current grid (world frame)
   // around the robot.
+  // layer_current: the 3D layer's isCurrent then (a source past its expected_update_rate makes it false).
   void update_costmaps(double time_s, const mapping::Costmap2D& layer_W, const Pose2& robot_W, bool local = true,
-                       bool global = true);
+                       bool global = true, bool layer_current = true);
   // One tick of the tree and the controller at time_s with the robot's pose and velocity: the twist to drive.
   Twist tick(double time_s, const Pose2& robot_W, const Twist& velocity);
 
@@ -93,6 +94,8 @@ class Navigator {
   void restart_pipeline();
   // The pipeline failed: a recovery from the round robin, or the end.
   Twist pipeline_failed(double time_s, const Pose2& robot, const std::string& why, bool recovery_helps);
+  // FollowPath failed: its RecoveryNode's ClearLocalCostmap-Context once, then the pipeline fails.
+  Twist controller_failed(double time_s, const Pose2& robot, const std::string& why);
   Twist start_recovery(double time_s, const Pose2& robot);
   void finish(double time_s, NavigationStatus status, const std::string& why, const Pose2& robot);
   void event(double time_s, const Pose2& robot, std::string kind, std::string detail = {});
@@ -105,6 +108,8 @@ class Navigator {
   SimpleProgressChecker progress_checker_;
   Behavior behavior_;
   std::function<void()> clear_local_layer_, clear_global_layer_;
+  std::optional<double> plan_waiting_since_s_, controller_waiting_since_s_;  // waiting for a current costmap
+  Twist last_twist_;  // the controller's last command (the base keeps it while nothing is published)
   std::function<void(const PlanCycle&, const NavCostmap&)> plan_observer_;
 
   Stage stage_ = Stage::kPipeline;

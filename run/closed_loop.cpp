@@ -128,14 +128,17 @@ void ClosedLoop::update_costmaps(double time_s) {
   // a costmap that reads them is due.
   const bool local_due = local.due(time_s), global_due = global.due(time_s);
   const layer::Nav2Costmap* master = layer_.master();
+  const bool local_current = layer_.current(time_s);
   if (global_layer_) {
-    if (global_due) navigator_->update_costmaps(time_s, global_layer_->costmap(), robot, false, true);
-    if (local_due && !master) navigator_->update_costmaps(time_s, layer_.costmap(), robot, true, false);
+    if (global_due)
+      navigator_->update_costmaps(time_s, global_layer_->costmap(), robot, false, true, global_layer_->current(time_s));
+    if (local_due && !master) navigator_->update_costmaps(time_s, layer_.costmap(), robot, true, false, local_current);
   } else if (global_due || (local_due && !master)) {
     const mapping::Costmap2D grid = layer_.costmap();
-    navigator_->update_costmaps(time_s, grid, robot, /*local=*/local_due && !master, /*global=*/global_due);
+    navigator_->update_costmaps(time_s, grid, robot, /*local=*/local_due && !master, /*global=*/global_due,
+                                local_current);
   }
-  if (local_due && master) navigator_->update_costmaps(time_s, master->master(), robot, true, false);
+  if (local_due && master) navigator_->update_costmaps(time_s, master->master(), robot, true, false, local_current);
 }
 
 void ClosedLoop::after_frame(const pipeline::Frame& frame) {

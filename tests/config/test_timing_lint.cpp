@@ -17,6 +17,14 @@ Scenario with(const std::string& extra) { return parse_scenario(std::string(test
 
 TEST(TimingLint, NoTimingNoFindings) { EXPECT_TRUE(lint_timing(with("")).empty()); }
 
+TEST(TimingLint, ASlowCameraWithoutTimingStillMeetsExpectedUpdateRate) {
+  // STVL #333: a 2 Hz camera, readings 0.5 s apart, against expected_update_rate 0.3 s.
+  const auto findings = lint_timing(with("camera: {rate_hz: 2}\nmap: {observation: {expected_update_rate: 0.3}}\n"));
+  ASSERT_EQ(findings.size(), 1u);
+  EXPECT_THAT(findings[0].what_stvl_does, HasSubstr("every 0.500 s"));
+  EXPECT_EQ(findings[0].write_instead.rfind("expected_update_rate: 0.75", 0), 0u);
+}
+
 TEST(TimingLint, ToleranceBelowEveryWaitDropsEveryReading) {
   // Odometry at 20 Hz, 0.2 s late; frames 0.05 s late, stamped at capture: a reading waits 0.2 - 0.05 = 0.15 s
   // (a message right at its stamp) to 0.05 + 0.2 - 0.05 = 0.2 s. Tolerance 0.1: every reading dropped; fix 0.20.

@@ -35,11 +35,12 @@ struct Drive {
   mapping::Costmap2D layer;
   Pose2 pose;
   double t = 0;
+  bool layer_current = true;  // the 3D layer's isCurrent at each costmap update
   void run(double seconds) {
     const double dt = 1.0 / nav.config().controller_frequency_hz;
     Twist velocity;
     for (const double end = t + seconds; t < end && nav.status() == NavigationStatus::kRunning; t += dt) {
-      nav.update_costmaps(t, layer, pose);
+      nav.update_costmaps(t, layer, pose, true, true, layer_current);
       velocity = nav.tick(t, pose, velocity);
       pose.yaw_rad += velocity.omega_radps * dt;
       pose.x_m += velocity.v_mps * std::cos(pose.yaw_rad) * dt;
@@ -110,6 +111,27 @@ TEST(Navigator, ClearingResetsTheLayerThroughTheCallback) {
   EXPECT_EQ(local_resets, static_cast<int>(kinds(nav, "clear_local_costmap").size()));
   EXPECT_GT(global_resets, local_resets);
   EXPECT_GE(local_resets, 1);
+}
+
+TEST(Navigator, AStaleLayerMakesThePlannerAndControllerWaitThenTimeOut) {
+  Navigator nav(config({8.0, 2.0, 0.0}), room());
+  Drive d{nav, empty_layer(), {1.0, 2.0, 0.0}};
+  d.run(1.0);  // current: planning and driving
+  ASSERT_FALSE(nav.plans().empty());
+  const double x_before = d.pose.x_m;
+  EXPECT_GT(x_before, 1.05);
+  // The layer goes stale: the local costmap (5 Hz) is not current from its next update; the controller keeps the
+  // last command for costmap_update_timeout (0.3 s), then ControllerTimedOut. The global costmap (1 Hz) follows at
+  // its next update and the planner times out 1.0 s later.
+  d.layer_current = false;
+  d.run(3.0);
+  const auto controller = kinds(nav, "controller_failed");
+  ASSERT_FALSE(controller.empty());
+  EXPECT_EQ(controller.front(), "ControllerTimedOut: Costmap timed out waiting for update");
+  const auto planner = kinds(nav, "plan_failed");
+  ASSERT_FALSE(planner.empty());
+  EXPECT_EQ(planner.front(), "PlannerTimedOut: Costmap timed out waiting for update");
+  EXPECT_GE(nav.recoveries(), 1);
 }
 
 TEST(Navigator, AnObstacleOnlyTheLayerSeesIsDrivenAround) {

@@ -8,6 +8,9 @@
 #  3. late_transforms with transform_tolerance 0.1 s (below the 0.153 s a reading waits for its pose): every reading
 #     dropped as tf_timeout, the run fails (frames_reached_map), exit 1.
 #  4. the same seed gives the same latencies, drops and map; 5. bad timing values: exit 2 naming key and line.
+#  6. slow_camera (2 Hz) with expected_update_rate 0.3 s: the costmaps are not current between readings, nav2's
+#     planner times out waiting (measured: 5 PlannerTimedOut, 5 recoveries, goal at 59.6 s instead of 44.05 s) and
+#     the lint names the fix; required: at least one PlannerTimedOut and one recovery, the run failed (exit 1).
 set -euo pipefail
 bin=$1 out=$2 scenarios=$3
 rm -rf "$out" && mkdir -p "$out"
@@ -75,3 +78,14 @@ expect_bad drop_probability -- --set camera.timing.drop_probability=1.5
 expect_bad stamp -- --set camera.timing.stamp=header
 expect_bad odom_rate_hz -- --set tf.odom_rate_hz=0
 expect_bad latency_means -- --set camera.timing.latency_means=0.1
+run stale slow_camera.yaml -- --set map.observation.expected_update_rate=0.3
+((rc == 1)) || { echo "FAIL: slow_camera with expected_update_rate 0.3 exited $rc, expected 1"; exit 1; }
+grep -q "lint: .*expected_update_rate.*write instead: expected_update_rate: 0.75" "$out/stale.log"
+/usr/bin/python3 - "$out/stale/metrics.json" <<'PY'
+import json, sys
+n = json.load(open(sys.argv[1]))["navigation"]
+timeouts = sum(1 for e in n["events"] if e["kind"] == "plan_failed" and "PlannerTimedOut" in e["detail"])
+assert timeouts >= 1 and n["recoveries"] >= 1, (timeouts, n["recoveries"])
+print(f"PASS: a 2 Hz camera past expected_update_rate: {timeouts} PlannerTimedOut, {n['recoveries']} recoveries, "
+      f"{n['outcome']}")
+PY
