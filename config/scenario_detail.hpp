@@ -81,6 +81,8 @@ inline Eigen::Vector2d to_point2(const std::vector<double>& xy, YamlMap& map, co
 // scenario_sensors.cpp: a camera's sensor keys (preset, intrinsics, range, rate, GL, noise, edge filter), its
 // outages, the top-level `camera`, robot.cameras (their observation overrides kept in `overrides`), `filter`.
 void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c);
+// tf: odometry's rate and latency on tf and the layer's transform_tolerance (issue 43).
+void read_tf(YamlMap tf, Scenario& s);
 void read_outages(YamlMap& camera, pipeline::CameraConfig& c, double duration_s);
 void read_camera(YamlMap camera, Scenario& s);
 void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides);

@@ -302,4 +302,18 @@ void read_clearing_model(YamlMap& o, mapping::ObservationSource& src) {
   read_named(o, "z_reference_frame", &mapping::parse_z_reference, src.z_reference);
 }
 
+// tf (issue 43): the robot's odometry transforms as they reach the tf buffer, and the layer's transform_tolerance
+// (over map.ros_params' transform_tolerance).
+void read_tf(YamlMap tf, Scenario& s) {
+  layer::TfTimingConfig& t = s.pipeline.tf;
+  tf.get("odom_rate_hz", t.odom_rate_hz);
+  tf.get("odom_latency_s", t.odom_latency_s);
+  tf.get("transform_tolerance", t.transform_tolerance_s);
+  tf.finish();
+  validate_keys({{"odom_rate_hz", &tf, "odom_rate_hz"},
+                 {"odom_latency_s", &tf, "odom_latency_s"},
+                 {"transform_tolerance", &tf, "transform_tolerance"}},
+                [&] { t.validate(); });
+}
+
 }  // namespace stvl::config::scenario_detail
