@@ -114,11 +114,7 @@ void read_timing(YamlMap& camera, pipeline::CameraConfig& c) {
   timing.get("latency_jitter_s", t.latency_jitter_s);
   std::string stamp = sensors::to_string(t.stamp);
   timing.get("stamp", stamp);
-  try {
-    t.stamp = sensors::parse_stamp_mode(stamp);
-  } catch (const std::invalid_argument& e) {
-    timing.fail(timing.raw("stamp"), "stamp", e.what());
-  }
+  validate_keys({{"stamp", &timing, "stamp"}}, [&] { t.stamp = sensors::parse_stamp_mode(stamp); });
   timing.get("stamp_offset_s", t.stamp_offset_s);
   timing.get("drop_probability", t.drop_probability);
   timing.get("drop_burst_frames", t.drop_burst_frames);

@@ -1,6 +1,7 @@
 #include "run/closed_loop.hpp"
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "common/format.hpp"
@@ -121,24 +122,23 @@ navigation::Pose2 ClosedLoop::robot_pose() const { return pose_of(pipeline_.simu
 
 void ClosedLoop::update_costmaps(double time_s) {
   const navigation::Pose2 robot = robot_pose();
-  const navigation::NavCostmap& local = navigator_->local_costmap();
-  const navigation::NavCostmap& global = navigator_->global_costmap();
+  const bool local_due = navigator_->local_costmap().due(time_s);
+  const bool global_due = navigator_->global_costmap().due(time_s);
   // The local costmap reads nav2's master around the layer when the scenario models it (map.nav2_costmap: its
-  // bounds and ghosts), else the layer's own grid; the global one its layer's grid. Grids are projected only when
-  // a costmap that reads them is due.
-  const bool local_due = local.due(time_s), global_due = global.due(time_s);
-  const layer::Nav2Costmap* master = layer_.master();
-  const bool local_current = layer_.current(time_s);
-  if (global_layer_) {
-    if (global_due)
-      navigator_->update_costmaps(time_s, global_layer_->costmap(), robot, false, true, global_layer_->current(time_s));
-    if (local_due && !master) navigator_->update_costmaps(time_s, layer_.costmap(), robot, true, false, local_current);
-  } else if (global_due || (local_due && !master)) {
-    const mapping::Costmap2D grid = layer_.costmap();
-    navigator_->update_costmaps(time_s, grid, robot, /*local=*/local_due && !master, /*global=*/global_due,
-                                local_current);
-  }
-  if (local_due && master) navigator_->update_costmaps(time_s, master->master(), robot, true, false, local_current);
+  // bounds and ghosts), else the layer's own grid; the global one its own layer's grid (the run's layer where one
+  // serves both). Each grid is projected once, and only when a costmap that reads it is due.
+  std::optional<mapping::Costmap2D> own;
+  const auto own_grid = [&]() -> const mapping::Costmap2D& {
+    if (!own) own = layer_.costmap();
+    return *own;
+  };
+  const layer::Layer& global_layer = global_layer_ ? *global_layer_ : layer_;
+  if (global_due)
+    navigator_->update_costmaps(time_s, global_layer_ ? global_layer_->costmap() : own_grid(), robot, false, true,
+                                global_layer.current(time_s));
+  if (local_due)
+    navigator_->update_costmaps(time_s, layer_.master() ? layer_.master()->master() : own_grid(), robot, true, false,
+                                layer_.current(time_s));
 }
 
 void ClosedLoop::after_frame(const pipeline::Frame& frame) {
