@@ -5,6 +5,7 @@
 #   scripts/sanitize.sh            ASan + UBSan (+ LeakSanitizer), label unit, then label fault
 #   scripts/sanitize.sh --tsan     ThreadSanitizer on the threaded filter tests, into build-tsan/
 # SANITIZE_EXCLUDE: ctest -E regex of tests skipped (default: the slow renderer image comparisons).
+# -g1: line tables only, which the reports need; full -g made build-asan/ 6 GB (CI disk).
 # Environment: JOBS (default: nproc, at most 2 here), BUILD_DIR, CC/CXX (default gcc; clang works too).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,7 +27,7 @@ if [[ "${1:-}" == "--tsan" ]]; then
 fi
 
 build=${BUILD_DIR:-build-asan}
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DSTVL_SANITIZE=ON \
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" -DSTVL_SANITIZE=ON \
   -DSTVL_CUDA=OFF >/dev/null
 cmake --build "$build" -j"$jobs"
 

@@ -38,3 +38,5 @@ here=$(dirname "$0")
 /usr/bin/python3 "$here/compare_bag_costmap.py" "$out/run.bag" "$out/run"
 "$bin" run "$here/band_edge.yaml" --out "$out/band" --bag "$out/band.bag" --no-progress >/dev/null || true
 /usr/bin/python3 "$here/compare_bag_costmap.py" "$out/band.bag" "$out/band"
+# The bags are deleted once the checks pass (hundreds of MB; CI disk); a failing run keeps them.
+rm -f "$out"/*.bag

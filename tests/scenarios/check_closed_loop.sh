@@ -101,3 +101,5 @@ assert n["success"], n["outcome"]
 print(f"PASS: nav2 map in closed loop: global costmap {i.width} x {i.height} from the map, {unknown} unknown cells; "
       f"{n['outcome']}")
 PY
+# The bags are deleted once the checks pass (hundreds of MB; CI disk); a failing run keeps them.
+rm -f "$out"/*.bag
