@@ -370,6 +370,7 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   read_moving_bodies(root, s);
   read_sensors_and_map(root, s, camera_overrides, base_dir);
   if (root.has("tf")) read_tf(root.map("tf"), s);
+  if (root.has("localization")) read_localization(root.map("localization"), s);
   complete_footprint(s);
   if (root.has("navigation"))
     read_navigation(root.map("navigation"), s, s.pipeline.path.waypoints_W, base_dir, map_world.get());

@@ -83,6 +83,7 @@ inline Eigen::Vector2d to_point2(const std::vector<double>& xy, YamlMap& map, co
 void read_camera_sensor(YamlMap& camera, pipeline::CameraConfig& c);
 // tf: odometry's rate and latency on tf and the layer's transform_tolerance (issue 43).
 void read_tf(YamlMap tf, Scenario& s);
+void read_localization(YamlMap localization, Scenario& s);
 void read_outages(YamlMap& camera, pipeline::CameraConfig& c, double duration_s);
 void read_camera(YamlMap camera, Scenario& s);
 void read_cameras(YamlMap& robot, Scenario& s, std::vector<std::optional<YamlMap>>& overrides);

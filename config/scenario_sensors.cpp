@@ -312,4 +312,42 @@ void read_tf(YamlMap tf, Scenario& s) {
                 [&] { t.validate(); });
 }
 
+// localization (issue 43: sensors/localization.hpp): map -> odom as a localizer publishes it, with scripted jumps.
+void read_localization(YamlMap loc, Scenario& s) {
+  sensors::LocalizationConfig& l = s.pipeline.localization;
+  l.enabled = true;
+  loc.get("rate_hz", l.rate_hz);
+  loc.get("noise_xy_m", l.noise_xy_m);
+  loc.get("noise_yaw_rad", l.noise_yaw_rad);
+  std::string frame = l.layer_in_odom ? "odom" : "map";
+  loc.get("global_frame", frame);
+  require_range(loc, "global_frame", frame, frame == "map" || frame == "odom",
+                "must be map (the global costmap's frame) or odom (the local costmap's)");
+  l.layer_in_odom = frame == "odom";
+  l.jumps.clear();
+  for (auto& entry : loc.list_of_maps("jumps")) {
+    sensors::LocalizationJump j;
+    entry.require("at_s", j.at_s);
+    entry.get("x_m", j.x_m);
+    entry.get("y_m", j.y_m);
+    entry.get("yaw_rad", j.yaw_rad);
+    entry.finish();
+    l.jumps.push_back(j);
+    // The jump's own entry is blamed for its values (jumps[i].KEY in the message names the field).
+    validate_keys(
+        {{"at_s", &entry, "at_s"}, {"x_m", &entry, "x_m"}, {"y_m", &entry, "y_m"}, {"yaw_rad", &entry, "yaw_rad"}},
+        [&] {
+          sensors::LocalizationConfig one;
+          one.jumps = {j};
+          one.validate(s.duration_s);
+        });
+    require_range(entry, "at_s", j.at_s, l.jumps.size() < 2 || j.at_s > l.jumps[l.jumps.size() - 2].at_s,
+                  "jumps must be in time order, one per time");
+  }
+  loc.finish();
+  validate_keys(
+      {{"rate_hz", &loc, "rate_hz"}, {"noise_xy_m", &loc, "noise_xy_m"}, {"noise_yaw_rad", &loc, "noise_yaw_rad"}},
+      [&] { l.validate(s.duration_s); });
+}
+
 }  // namespace stvl::config::scenario_detail

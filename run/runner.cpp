@@ -167,6 +167,8 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     static_cast<FrameLoopResult&>(r) = run_frame_loop(timed, layer, hooks, settings);
     r.camera_timing = timed.stats();
     r.frame_events = timed.events();
+    r.localization = timed.localization();
+    r.corrections = timed.corrections();
   } else {
     static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
   }

@@ -29,20 +29,46 @@ TimedFrames::TimedFrames(FrameSource& inner, pipeline::Pipeline& pipeline, std::
       queued_(pipeline.config().cameras.size()) {}
 
 void TimedFrames::record_poses_until(double time_s) {
-  const double period_s = 1.0 / tf_.odom_rate_hz;
-  for (double t = poses_.size() * period_s; t <= time_s + kTimeEpsilon_s; t = poses_.size() * period_s) {
+  const sensors::LocalizationConfig& loc = pipeline_.config().localization;
+  const double period_s = 1.0 / tf_.odom_rate_hz, inf = std::numeric_limits<double>::infinity();
+  const sim::Simulator& sim = pipeline_.simulator();
+  while (true) {  // the odometry messages and the corrections up to time_s, in time order
+    const double t_odom = poses_.size() * period_s;
+    const double t_loc = loc.enabled ? map_odom_.size() / loc.rate_hz : inf;
+    const double t = std::min(t_odom, t_loc);
+    if (t > time_s + kTimeEpsilon_s) return;
     pipeline_.run_until(t);
-    poses_.push_back(pipeline_.simulator().T_world_base());
+    if (t == t_odom) {
+      poses_.push_back(sim.T_world_base());
+      odom_.push_back(sim.T_odom_base());
+    }
+    if (t == t_loc) {  // the localizer's estimate now, off the truth by the correction's error
+      const std::uint64_t k = map_odom_.size();
+      const sensors::PoseError2 e = sensors::localization_error(loc, splitmix64(seed_ ^ 0x10c4ull), k);
+      Eigen::Isometry3d T_map_base = sim.T_world_base();
+      T_map_base.linear() = Eigen::AngleAxisd(e.yaw_rad, Eigen::Vector3d::UnitZ()) * T_map_base.linear();
+      T_map_base.translation() += Eigen::Vector3d(e.x_m, e.y_m, 0.0);
+      map_odom_.push_back(T_map_base * sim.T_odom_base().inverse());
+      corrections_.push_back({t, std::hypot(e.x_m, e.y_m), std::abs(e.yaw_rad)});
+      ++localization_.corrections;
+      for (const sensors::LocalizationJump& j : loc.jumps)
+        localization_.jumps += j.at_s <= t + 1e-9 && j.at_s > t - 1.0 / loc.rate_hz + 1e-9;
+    }
   }
 }
 
-Eigen::Isometry3d TimedFrames::pose_at(double stamp_s) const {
+const Eigen::Isometry3d& TimedFrames::map_odom_at(double time_s) const {
+  const std::uint64_t k = sensors::correction_index(pipeline_.config().localization, time_s);
+  return map_odom_[std::min<std::size_t>(k, map_odom_.size() - 1)];
+}
+
+Eigen::Isometry3d TimedFrames::pose_at(const std::vector<Eigen::Isometry3d>& poses, double stamp_s) const {
   const double at = std::max(0.0, stamp_s) * tf_.odom_rate_hz;
-  const std::size_t k0 = std::min(static_cast<std::size_t>(std::floor(at + 1e-9)), poses_.size() - 1);
+  const std::size_t k0 = std::min(static_cast<std::size_t>(std::floor(at + 1e-9)), poses.size() - 1);
   const double f = std::clamp(at - static_cast<double>(k0), 0.0, 1.0);
-  if (f < 1e-9 || k0 + 1 >= poses_.size()) return poses_[k0];
+  if (f < 1e-9 || k0 + 1 >= poses.size()) return poses[k0];
   // tf2's interpolation: translation linear, rotation slerp.
-  const Eigen::Isometry3d &a = poses_[k0], &b = poses_[k0 + 1];
+  const Eigen::Isometry3d &a = poses[k0], &b = poses[k0 + 1];
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::Quaterniond(a.linear()).slerp(f, Eigen::Quaterniond(b.linear())).toRotationMatrix();
   T.translation() = (1.0 - f) * a.translation() + f * b.translation();
@@ -108,9 +134,26 @@ void TimedFrames::deliver(Pending& p) {
   out_ = std::move(p.frame);
   pipeline::Frame& f = out_;
   layer::Observation& o = *f.observation;
-  // The cloud was placed with the camera's true pose at capture; tf places it with the robot's pose at the stamp.
+  // The cloud was placed with the camera's true pose at capture; tf places it with the robot's pose at the stamp: in
+  // map with localization, the correction in force then composed with odometry.
+  const sensors::LocalizationConfig& loc = pipeline_.config().localization;
   const Eigen::Isometry3d T_base_camera = f.T_world_base.inverse() * o.T_world_camera;
-  const Eigen::Isometry3d T_world_camera_stamp = pose_at(p.stamp_s) * T_base_camera;
+  const Eigen::Isometry3d T_world_base_stamp = pose_at(poses_, p.stamp_s);
+  Eigen::Isometry3d T_placed_base = T_world_base_stamp;
+  if (loc.enabled) {
+    const Eigen::Isometry3d T_map_base = map_odom_at(p.stamp_s) * pose_at(odom_, p.stamp_s);
+    if (!loc.layer_in_odom) T_placed_base = T_map_base;
+    const Eigen::Isometry3d error = T_world_base_stamp.inverse() * T_map_base;
+    const double error_m = (T_map_base.translation() - T_world_base_stamp.translation()).head<2>().norm();
+    const double error_yaw = std::abs(Eigen::AngleAxisd(error.linear()).angle());
+    LocalizationStats& ls = localization_;
+    ++ls.readings;
+    ls.mean_error_m += (error_m - ls.mean_error_m) / static_cast<double>(ls.readings);
+    ls.mean_error_yaw_rad += (error_yaw - ls.mean_error_yaw_rad) / static_cast<double>(ls.readings);
+    ls.max_error_m = std::max(ls.max_error_m, error_m);
+    ls.max_error_yaw_rad = std::max(ls.max_error_yaw_rad, error_yaw);
+  }
+  const Eigen::Isometry3d T_world_camera_stamp = T_placed_base * T_base_camera;
   const Eigen::Isometry3f correction = (T_world_camera_stamp * o.T_world_camera.inverse()).cast<float>();
   transform_in_place(correction, o.decimated_W);
   transform_in_place(correction, o.marking_W);
@@ -119,9 +162,13 @@ void TimedFrames::deliver(Pending& p) {
   // The layer takes it now: its clock (decay, ticks, staleness) and the robot's pose now (footprint clearing).
   const sim::Simulator& sim = pipeline_.simulator();
   o.time_s = p.delivered_s;
-  o.T_world_base = sim.T_world_base();
+  o.T_world_base =
+      loc.enabled && !loc.layer_in_odom ? map_odom_at(p.delivered_s) * sim.T_odom_base() : sim.T_world_base();
   f.time_s = p.delivered_s;
   f.T_world_base = sim.T_world_base();
+  // tf now, for the bag: odometry, and map -> odom as the localizer publishes it.
+  f.T_odom_base = sim.T_odom_base();
+  f.T_map_odom = loc.enabled ? map_odom_at(p.delivered_s) : sim.T_map_odom();
   for (std::size_t c = 0; c < f.cameras_now.size(); ++c) {
     f.cameras_now[c].T_world_camera = sim.T_world_camera(cameras()[c].mount);
     f.cameras_now[c].next_frame_time_s += cameras()[c].timing.latency_mean_s;  // its next frame's expected arrival

@@ -8,8 +8,13 @@
 //
 //   SimulatedFrames -> TimedFrames -> frame loop -> layer
 //
-// The simulator runs on to each odometry message's time to record the poses tf interpolates (whole timesteps, so
-// the run's physics is that of an untimed run).
+// With localization (sensors/localization.hpp) the pose at the stamp is the localizer's: the map -> odom correction
+// in force at the stamp composed with odometry at the stamp; a layer in odom (localization.global_frame: odom, the
+// local costmap's frame) is not moved by the corrections and is judged as placed with the truth (odometry's drift
+// between a reading and the evaluation is not counted).
+//
+// The simulator runs on to each odometry message's and correction's time to record the poses tf interpolates (whole
+// timesteps, so the run's physics is that of an untimed run).
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -28,6 +33,21 @@ struct CameraTimingStats {
   double mean_delay_s = 0, max_delay_s = 0;              // capture to delivery, of those delivered
   double mean_stamp_error_s = 0, max_stamp_error_s = 0;  // |stamp - capture|, of those delivered
   std::size_t after_end = 0;  // delivered after the run's end (not dropped: the run stopped first)
+};
+
+// What localization did over a run (all zero without it).
+struct LocalizationStats {
+  std::size_t corrections = 0;  // map -> odom corrections published
+  std::size_t jumps = 0;        // scripted jumps that took effect
+  // How far the localizer's map pose at the stamp of each delivered reading was from the truth (the error every
+  // reading was placed with in a map-frame layer).
+  double mean_error_m = 0, max_error_m = 0, mean_error_yaw_rad = 0, max_error_yaw_rad = 0;
+  std::size_t readings = 0;
+};
+
+// One correction, for the report's timeline: its time and its error.
+struct LocalizationEvent {
+  double time_s = 0, error_m = 0, error_yaw_rad = 0;
 };
 
 // One captured frame's fate, for the report's timeline.
@@ -53,6 +73,8 @@ class TimedFrames : public FrameSource {
   const std::vector<CameraTimingStats>& stats() const { return stats_; }
   // Every captured frame's fate in the order it was settled (frames still in flight at the end are not listed).
   const std::vector<TimedFrameEvent>& events() const { return events_; }
+  const LocalizationStats& localization() const { return localization_; }
+  const std::vector<LocalizationEvent>& corrections() const { return corrections_; }
 
  private:
   struct Pending {
@@ -60,10 +82,13 @@ class TimedFrames : public FrameSource {
     double capture_s = 0, stamp_s = 0, delivered_s = 0;
     std::uint64_t order = 0;
   };
-  // Records the robot's pose at every odometry message time up to time_s (running the simulator there).
+  // Records the robot's pose and odometry at every odometry message time, and the localizer's map -> odom at every
+  // correction time, up to time_s (running the simulator there, in time order).
   void record_poses_until(double time_s);
-  // The robot's pose tf gives at stamp_s (interpolated between the recorded messages around it).
-  Eigen::Isometry3d pose_at(double stamp_s) const;
+  // The robot's pose (truth, or odometry) tf gives at stamp_s (interpolated between the messages around it).
+  Eigen::Isometry3d pose_at(const std::vector<Eigen::Isometry3d>& poses, double stamp_s) const;
+  // The localizer's map -> odom in force at time_s (the last correction at or before it).
+  const Eigen::Isometry3d& map_odom_at(double time_s) const;
   // The next captured frame's timing: kept pending (in delivery order) or counted as dropped. False at the end.
   bool capture();
   void deliver(Pending& p);
@@ -75,9 +100,13 @@ class TimedFrames : public FrameSource {
   const layer::TfTimingConfig tf_;
   std::vector<CameraTimingStats> stats_;
   std::vector<TimedFrameEvent> events_;
-  std::vector<Pending> pending_;            // ordered by delivery time, then capture order
-  std::vector<std::deque<double>> queued_;  // per camera: delivery times of its readings waiting in the filter
-  std::vector<Eigen::Isometry3d> poses_;    // the robot at odometry message k (time k / rate)
+  std::vector<Pending> pending_;             // ordered by delivery time, then capture order
+  std::vector<std::deque<double>> queued_;   // per camera: delivery times of its readings waiting in the filter
+  std::vector<Eigen::Isometry3d> poses_;     // the robot at odometry message k (time k / rate)
+  std::vector<Eigen::Isometry3d> odom_;      // odometry's T_odom_base at message k
+  std::vector<Eigen::Isometry3d> map_odom_;  // the localizer's T_map_odom at correction k (time k / its rate)
+  LocalizationStats localization_;
+  std::vector<LocalizationEvent> corrections_;
   std::uint64_t order_ = 0;
   bool inner_done_ = false;
   pipeline::Frame out_;

@@ -30,7 +30,8 @@ class PipelineFrames : public FrameSource {
 };
 
 struct Delivered {
-  double time_s, capture_s, mean_x, base_x;
+  double time_s, capture_s, mean_x, base_x, mean_y = 0, camera_y = 0;
+  Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();
 };
 
 class TimedFramesTest : public test::MujocoTest {
@@ -53,7 +54,8 @@ class TimedFramesTest : public test::MujocoTest {
   }
   // Every frame a source gives over 1.5 s: its time, the capture time of its cloud (the frame's own pose), the
   // mean x of its decimated cloud, and the robot's x at the frame.
-  std::vector<Delivered> run(const pipeline::PipelineConfig& c, bool timed, std::vector<CameraTimingStats>* stats) {
+  std::vector<Delivered> run(const pipeline::PipelineConfig& c, bool timed, std::vector<CameraTimingStats>* stats,
+                             LocalizationStats* localization = nullptr) {
     pipeline::Pipeline pipeline(c);
     PipelineFrames frames(pipeline, 1.5);
     TimedFrames timed_frames(frames, pipeline, 7, 1.5);
@@ -62,9 +64,12 @@ class TimedFramesTest : public test::MujocoTest {
     while (const pipeline::Frame* f = source.next()) {
       const Eigen::Matrix3Xf& cloud = f->observation->decimated_W;
       out.push_back({f->time_s, f->frame_index / 10.0, cloud.cols() ? cloud.row(0).cast<double>().mean() : 0.0,
-                     f->observation->T_world_camera.translation().x()});
+                     f->observation->T_world_camera.translation().x(),
+                     cloud.cols() ? cloud.row(1).cast<double>().mean() : 0.0,
+                     f->observation->T_world_camera.translation().y(), f->T_map_odom});
     }
     if (stats) *stats = timed_frames.stats();
+    if (localization) *localization = timed_frames.localization();
     return out;
   }
   test::WorldFile world_{"wall.xml", test::kRobotBetweenWallsWorld};
@@ -130,6 +135,33 @@ TEST_F(TimedFramesTest, DropsAndTransformTimeoutsAreCountedByReason) {
   EXPECT_TRUE(run(c, true, &stats).empty());
   EXPECT_EQ(stats[0].dropped.at("tf_timeout"), 16u);
   EXPECT_EQ(stats[0].delivered, 0u);
+}
+
+TEST_F(TimedFramesTest, ALocalizationJumpMovesTheMapLayersReadingsNotTheOdomLayers) {
+  pipeline::PipelineConfig c = config();
+  c.localization.enabled = true;
+  c.localization.rate_hz = 10.0;                   // corrections at the camera's own times
+  c.localization.jumps = {{0.55, 0.0, 0.2, 0.0}};  // 0.2 m off in y from the correction at 0.6 s on
+  LocalizationStats stats;
+  const std::vector<Delivered> plain = run(config(), false, nullptr), in_map = run(c, true, nullptr, &stats);
+  ASSERT_EQ(plain.size(), in_map.size());
+  std::size_t moved = 0;
+  for (std::size_t k = 0; k < plain.size(); ++k) {
+    const double expected = plain[k].time_s >= 0.6 - 1e-9 ? 0.2 : 0.0;
+    EXPECT_NEAR(in_map[k].camera_y - plain[k].camera_y, expected, 2e-3) << "frame " << k;
+    EXPECT_NEAR(in_map[k].mean_y - plain[k].mean_y, expected, 2e-3) << "the cloud moves with the camera";
+    // The frame's map -> odom is the localizer's: T_map_odom * T_odom_base is the truth moved by the jump.
+    EXPECT_NEAR(in_map[k].T_map_odom.translation().y(), expected, 2e-3) << "odometry starts at the truth's origin";
+    moved += expected > 0;
+  }
+  EXPECT_GE(moved, 9u);
+  EXPECT_EQ(stats.corrections, 16u);  // 0 .. 1.5 s at 10 Hz
+  EXPECT_EQ(stats.jumps, 1u);
+  EXPECT_NEAR(stats.max_error_m, 0.2, 2e-3);
+  c.localization.layer_in_odom = true;  // the local costmap's frame: the corrections never reach it
+  const std::vector<Delivered> in_odom = run(c, true, nullptr);
+  ASSERT_EQ(plain.size(), in_odom.size());
+  for (std::size_t k = 0; k < plain.size(); ++k) EXPECT_EQ(in_odom[k].mean_y, plain[k].mean_y) << "frame " << k;
 }
 
 }  // namespace
