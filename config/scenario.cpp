@@ -388,7 +388,7 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
   if (!s.checks.path_free_lethal_max) s.checks.path_free_lethal_max = evaluation::kDefaultPathFreeLethalMax;
   root.finish();
   s.pipeline.filter.csnb.seed = s.pipeline.seed;
-  s.pipeline.sim.odometry.seed = s.pipeline.seed;
+  s.pipeline.sim.odometry.seed = s.pipeline.sim.localization.seed = s.pipeline.seed;
   try {
     pipeline::validate_cameras(s.pipeline);
   } catch (const std::invalid_argument& e) {
@@ -437,7 +437,7 @@ void override_option(const char* option, F&& apply) {
 void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
   // Validated on a copy, so a rejected override leaves the scenario as it was.
   Scenario r = s;
-  if (o.seed) r.pipeline.seed = *o.seed, r.pipeline.filter.csnb.seed = *o.seed, r.pipeline.sim.odometry.seed = *o.seed;
+  if (o.seed) r.pipeline.seed = *o.seed, r.pipeline.filter.csnb.seed = *o.seed, r.pipeline.sim.odometry.seed = r.pipeline.sim.localization.seed = *o.seed;
   if (o.filter_type)
     override_option("--filter", [&] { r.pipeline.filter.type = filter::parse_filter_type(*o.filter_type); });
   if (o.device) override_option("--device", [&] { r.pipeline.filter.device = filter::parse_device(*o.device); });

@@ -312,9 +312,9 @@ void read_tf(YamlMap tf, Scenario& s) {
                 [&] { t.validate(); });
 }
 
-// localization (issue 43: sensors/localization.hpp): map -> odom as a localizer publishes it, with scripted jumps.
+// localization (issue 43: sim/localization.hpp): map -> odom as a localizer publishes it, with scripted jumps.
 void read_localization(YamlMap loc, Scenario& s) {
-  sensors::LocalizationConfig& l = s.pipeline.localization;
+  sim::LocalizationConfig& l = s.pipeline.sim.localization;
   l.enabled = true;
   loc.get("rate_hz", l.rate_hz);
   loc.get("noise_xy_m", l.noise_xy_m);
@@ -326,7 +326,7 @@ void read_localization(YamlMap loc, Scenario& s) {
   l.layer_in_odom = frame == "odom";
   l.jumps.clear();
   for (auto& entry : loc.list_of_maps("jumps")) {
-    sensors::LocalizationJump j;
+    sim::LocalizationJump j;
     entry.require("at_s", j.at_s);
     entry.get("x_m", j.x_m);
     entry.get("y_m", j.y_m);
@@ -337,7 +337,7 @@ void read_localization(YamlMap loc, Scenario& s) {
     validate_keys(
         {{"at_s", &entry, "at_s"}, {"x_m", &entry, "x_m"}, {"y_m", &entry, "y_m"}, {"yaw_rad", &entry, "yaw_rad"}},
         [&] {
-          sensors::LocalizationConfig one;
+          sim::LocalizationConfig one;
           one.jumps = {j};
           one.validate(s.duration_s);
         });

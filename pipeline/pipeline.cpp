@@ -135,7 +135,7 @@ void validate_cameras(const PipelineConfig& config) {
 bool PipelineConfig::timing_enabled() const {
   for (const auto& c : cameras)
     if (c.timing.enabled()) return true;
-  return tf.odom_latency_s > 0.0 || localization.enabled;
+  return tf.odom_latency_s > 0.0 || sim.localization.enabled;
 }
 
 bool in_outage(const CameraConfig& camera, double time_s) {

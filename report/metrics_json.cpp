@@ -456,7 +456,7 @@ nlohmann::json metrics_json(const RunResult& r) {
   if (r.soak.sample_every_s > 0) add_soak_json(r, metrics);
   if (r.drive) metrics["navigation"] = navigation_json(r);
   if (!r.camera_timing.empty()) metrics["frame_timing"] = frame_timing_json(r);
-  if (const sensors::LocalizationConfig& l = r.scenario.pipeline.localization; l.enabled) {
+  if (const sim::LocalizationConfig& l = r.scenario.pipeline.sim.localization; l.enabled) {
     const run::LocalizationStats& ls = r.localization;
     metrics["localization"] = {{"rate_hz", l.rate_hz},
                                {"global_frame", l.layer_in_odom ? "odom" : "map"},

@@ -168,7 +168,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     r.camera_timing = timed.stats();
     r.frame_events = timed.events();
     r.localization = timed.localization();
-    r.corrections = timed.corrections();
+    r.corrections = pipeline->simulator().corrections();
   } else {
     static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
   }

@@ -30,9 +30,9 @@ struct RunResult : FrameLoopResult {
   // filter did to their frames (run/timed_frames.hpp); empty for a run without timing.
   std::vector<CameraTimingStats> camera_timing;
   std::vector<TimedFrameEvent> frame_events;  // every settled frame's fate (report.html's timing chart)
-  // With localization: what its corrections did, and each correction's error (report.html's timing chart).
+  // With localization: what its corrections did, and each one (report.html's timing chart).
   LocalizationStats localization;
-  std::vector<LocalizationEvent> corrections;
+  std::vector<sim::LocalizationCorrection> corrections;
   std::vector<evaluation::OutageResult> outages;
 
   // With map.nav2_costmap: nav2's master costmap at the end and its ghosts over the run.

@@ -29,37 +29,22 @@ TimedFrames::TimedFrames(FrameSource& inner, pipeline::Pipeline& pipeline, std::
       queued_(pipeline.config().cameras.size()) {}
 
 void TimedFrames::record_poses_until(double time_s) {
-  const sensors::LocalizationConfig& loc = pipeline_.config().localization;
-  const double period_s = 1.0 / tf_.odom_rate_hz, inf = std::numeric_limits<double>::infinity();
-  const sim::Simulator& sim = pipeline_.simulator();
-  while (true) {  // the odometry messages and the corrections up to time_s, in time order
-    const double t_odom = poses_.size() * period_s;
-    const double t_loc = loc.enabled ? map_odom_.size() / loc.rate_hz : inf;
-    const double t = std::min(t_odom, t_loc);
-    if (t > time_s + kTimeEpsilon_s) return;
+  const double period_s = 1.0 / tf_.odom_rate_hz;
+  for (double t = poses_.size() * period_s; t <= time_s + kTimeEpsilon_s; t = poses_.size() * period_s) {
     pipeline_.run_until(t);
-    if (t == t_odom) {
-      poses_.push_back(sim.T_world_base());
-      odom_.push_back(sim.T_odom_base());
-    }
-    if (t == t_loc) {  // the localizer's estimate now, off the truth by the correction's error
-      const std::uint64_t k = map_odom_.size();
-      const sensors::PoseError2 e = sensors::localization_error(loc, splitmix64(seed_ ^ 0x10c4ull), k);
-      Eigen::Isometry3d T_map_base = sim.T_world_base();
-      T_map_base.linear() = Eigen::AngleAxisd(e.yaw_rad, Eigen::Vector3d::UnitZ()) * T_map_base.linear();
-      T_map_base.translation() += Eigen::Vector3d(e.x_m, e.y_m, 0.0);
-      map_odom_.push_back(T_map_base * sim.T_odom_base().inverse());
-      corrections_.push_back({t, std::hypot(e.x_m, e.y_m), std::abs(e.yaw_rad)});
-      ++localization_.corrections;
-      for (const sensors::LocalizationJump& j : loc.jumps)
-        localization_.jumps += j.at_s <= t + 1e-9 && j.at_s > t - 1.0 / loc.rate_hz + 1e-9;
-    }
+    poses_.push_back(pipeline_.simulator().T_world_base());
+    odom_.push_back(pipeline_.simulator().T_odom_base());
   }
 }
 
-const Eigen::Isometry3d& TimedFrames::map_odom_at(double time_s) const {
-  const std::uint64_t k = sensors::correction_index(pipeline_.config().localization, time_s);
-  return map_odom_[std::min<std::size_t>(k, map_odom_.size() - 1)];
+LocalizationStats TimedFrames::localization() const {
+  LocalizationStats stats = localization_;
+  const sim::Simulator& sim = pipeline_.simulator();
+  stats.corrections = sim.corrections().size();
+  if (stats.corrections == 0) return stats;
+  for (const sim::LocalizationJump& j : pipeline_.config().sim.localization.jumps)
+    stats.jumps += j.at_s <= sim.corrections().back().time_s + 1e-9;
+  return stats;
 }
 
 Eigen::Isometry3d TimedFrames::pose_at(const std::vector<Eigen::Isometry3d>& poses, double stamp_s) const {
@@ -136,12 +121,13 @@ void TimedFrames::deliver(Pending& p) {
   layer::Observation& o = *f.observation;
   // The cloud was placed with the camera's true pose at capture; tf places it with the robot's pose at the stamp: in
   // map with localization, the correction in force then composed with odometry.
-  const sensors::LocalizationConfig& loc = pipeline_.config().localization;
+  const sim::LocalizationConfig& loc = pipeline_.config().sim.localization;
+  const sim::Simulator& sim = pipeline_.simulator();
   const Eigen::Isometry3d T_base_camera = f.T_world_base.inverse() * o.T_world_camera;
   const Eigen::Isometry3d T_world_base_stamp = pose_at(poses_, p.stamp_s);
   Eigen::Isometry3d T_placed_base = T_world_base_stamp;
   if (loc.enabled) {
-    const Eigen::Isometry3d T_map_base = map_odom_at(p.stamp_s) * pose_at(odom_, p.stamp_s);
+    const Eigen::Isometry3d T_map_base = sim.T_map_odom_at(p.stamp_s) * pose_at(odom_, p.stamp_s);
     if (!loc.layer_in_odom) T_placed_base = T_map_base;
     const Eigen::Isometry3d error = T_world_base_stamp.inverse() * T_map_base;
     const double error_m = (T_map_base.translation() - T_world_base_stamp.translation()).head<2>().norm();
@@ -160,15 +146,14 @@ void TimedFrames::deliver(Pending& p) {
   transform_in_place(correction, o.no_return_W);
   o.T_world_camera = T_world_camera_stamp;
   // The layer takes it now: its clock (decay, ticks, staleness) and the robot's pose now (footprint clearing).
-  const sim::Simulator& sim = pipeline_.simulator();
   o.time_s = p.delivered_s;
   o.T_world_base =
-      loc.enabled && !loc.layer_in_odom ? map_odom_at(p.delivered_s) * sim.T_odom_base() : sim.T_world_base();
+      loc.enabled && !loc.layer_in_odom ? sim.T_map_odom() * sim.T_odom_base() : sim.T_world_base();
   f.time_s = p.delivered_s;
   f.T_world_base = sim.T_world_base();
   // tf now, for the bag: odometry, and map -> odom as the localizer publishes it.
   f.T_odom_base = sim.T_odom_base();
-  f.T_map_odom = loc.enabled ? map_odom_at(p.delivered_s) : sim.T_map_odom();
+  f.T_map_odom = sim.T_map_odom();
   for (std::size_t c = 0; c < f.cameras_now.size(); ++c) {
     f.cameras_now[c].T_world_camera = sim.T_world_camera(cameras()[c].mount);
     f.cameras_now[c].next_frame_time_s += cameras()[c].timing.latency_mean_s;  // its next frame's expected arrival

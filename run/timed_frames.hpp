@@ -8,12 +8,12 @@
 //
 //   SimulatedFrames -> TimedFrames -> frame loop -> layer
 //
-// With localization (sensors/localization.hpp) the pose at the stamp is the localizer's: the map -> odom correction
+// With localization (sim/localization.hpp) the pose at the stamp is the localizer's: the map -> odom correction
 // in force at the stamp composed with odometry at the stamp; a layer in odom (localization.global_frame: odom, the
 // local costmap's frame) is not moved by the corrections and is judged as placed with the truth (odometry's drift
 // between a reading and the evaluation is not counted).
 //
-// The simulator runs on to each odometry message's and correction's time to record the poses tf interpolates (whole
+// The simulator runs on to each odometry message's time to record the poses tf interpolates (whole
 // timesteps, so the run's physics is that of an untimed run).
 #include <cstdint>
 #include <deque>
@@ -45,11 +45,6 @@ struct LocalizationStats {
   std::size_t readings = 0;
 };
 
-// One correction, for the report's timeline: its time and its error.
-struct LocalizationEvent {
-  double time_s = 0, error_m = 0, error_yaw_rad = 0;
-};
-
 // One captured frame's fate, for the report's timeline.
 struct TimedFrameEvent {
   std::size_t camera_index = 0;
@@ -73,8 +68,8 @@ class TimedFrames : public FrameSource {
   const std::vector<CameraTimingStats>& stats() const { return stats_; }
   // Every captured frame's fate in the order it was settled (frames still in flight at the end are not listed).
   const std::vector<TimedFrameEvent>& events() const { return events_; }
-  const LocalizationStats& localization() const { return localization_; }
-  const std::vector<LocalizationEvent>& corrections() const { return corrections_; }
+  // What localization did (the corrections are the simulator's: sim::Simulator::corrections()).
+  LocalizationStats localization() const;
 
  private:
   struct Pending {
@@ -82,13 +77,10 @@ class TimedFrames : public FrameSource {
     double capture_s = 0, stamp_s = 0, delivered_s = 0;
     std::uint64_t order = 0;
   };
-  // Records the robot's pose and odometry at every odometry message time, and the localizer's map -> odom at every
-  // correction time, up to time_s (running the simulator there, in time order).
+  // Records the robot's pose and odometry at every odometry message time up to time_s (running the simulator there).
   void record_poses_until(double time_s);
   // The robot's pose (truth, or odometry) tf gives at stamp_s (interpolated between the messages around it).
   Eigen::Isometry3d pose_at(const std::vector<Eigen::Isometry3d>& poses, double stamp_s) const;
-  // The localizer's map -> odom in force at time_s (the last correction at or before it).
-  const Eigen::Isometry3d& map_odom_at(double time_s) const;
   // The next captured frame's timing: kept pending (in delivery order) or counted as dropped. False at the end.
   bool capture();
   void deliver(Pending& p);
@@ -104,9 +96,7 @@ class TimedFrames : public FrameSource {
   std::vector<std::deque<double>> queued_;   // per camera: delivery times of its readings waiting in the filter
   std::vector<Eigen::Isometry3d> poses_;     // the robot at odometry message k (time k / rate)
   std::vector<Eigen::Isometry3d> odom_;      // odometry's T_odom_base at message k
-  std::vector<Eigen::Isometry3d> map_odom_;  // the localizer's T_map_odom at correction k (time k / its rate)
   LocalizationStats localization_;
-  std::vector<LocalizationEvent> corrections_;
   std::uint64_t order_ = 0;
   bool inner_done_ = false;
   pipeline::Frame out_;

@@ -1,5 +1,6 @@
 #include "sim/simulator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -37,6 +38,33 @@ void Simulator::set_start_pose(const Pose2D& pose_W) {
   robot_.set_pose(pose_W.x_m, pose_W.y_m, pose_W.yaw_rad);
   hold_ = pose_W;
   odometry_ = WheelOdometry(robot_.wheel_radius_m(), robot_.track_width_m(), config_.odometry);
+  corrections_.clear();
+  if (config_.localization.enabled) publish_corrections();  // correction 0, at the start
+}
+
+Eigen::Isometry3d Simulator::T_map_odom() const {
+  if (corrections_.empty()) return T_world_base() * T_odom_base().inverse();
+  return corrections_.back().T_map_odom;
+}
+
+const Eigen::Isometry3d& Simulator::T_map_odom_at(double time_s) const {
+  if (corrections_.empty()) throw std::logic_error("T_map_odom_at: no correction published (localization disabled)");
+  const std::uint64_t k = correction_index(config_.localization, time_s);
+  return corrections_[std::min<std::size_t>(k, corrections_.size() - 1)].T_map_odom;
+}
+
+void Simulator::publish_corrections() {
+  const LocalizationConfig& loc = config_.localization;
+  // Correction k at k / rate_hz, published at the first step at or after it (at its time for a rate whose period is
+  // a whole number of timesteps): the estimate of the robot now, off the truth by the correction's error.
+  while (corrections_.size() / loc.rate_hz <= time_s() + 1e-9) {
+    const std::uint64_t k = corrections_.size();
+    const PoseError2 e = localization_error(loc, loc.seed, k);
+    Eigen::Isometry3d T_map_base = T_world_base();
+    T_map_base.linear() = Eigen::AngleAxisd(e.yaw_rad, Eigen::Vector3d::UnitZ()) * T_map_base.linear();
+    T_map_base.translation() += Eigen::Vector3d(e.x_m, e.y_m, 0.0);
+    corrections_.push_back({static_cast<double>(k) / loc.rate_hz, T_map_base * T_odom_base().inverse(), e});
+  }
 }
 
 void Simulator::set_path(const Path& path) {
@@ -67,6 +95,11 @@ void Simulator::set_controller(TwistController controller, double period_s) {
 }
 
 void Simulator::step() {
+  advance();
+  if (config_.localization.enabled) publish_corrections();
+}
+
+void Simulator::advance() {
   if (controller_ && step_count_ % steps_per_controller_ == 0) {
     commanded_ = controller_(time_s());
     if (!kinematic_) robot_.command_twist(commanded_.v_mps, commanded_.omega_radps);

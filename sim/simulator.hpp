@@ -12,6 +12,7 @@
 #include "sim/diff_drive.hpp"
 #include "sim/kinematic_drive.hpp"
 #include "sim/mocap_script.hpp"
+#include "sim/localization.hpp"
 #include "sim/odometry.hpp"
 #include "sim/path_follower.hpp"
 #include "sim/world.hpp"
@@ -22,6 +23,7 @@ struct SimulatorConfig {
   DiffDriveConfig robot;
   PathFollowerConfig follower;
   OdometryConfig odometry;
+  LocalizationConfig localization;  // map -> odom as a localizer publishes it (disabled: exact)
   CameraMount camera_mount;
   double control_period_s = 0.02;  // path follower rate; wheel commands are rate-limited every step
   // kPhysics: the path follower's wheel commands through the physics. kKinematic: the base placed along the path
@@ -53,7 +55,8 @@ class Simulator {
   const Twist2D& commanded_twist() const { return commanded_; }
 
   // One physics step: controller (every control_period_s), wheel commands, physics, mocap
-  // script at the new time, kinematics, odometry. A kinematic drive places the base after the physics instead.
+  // script at the new time, kinematics, odometry, then the localizer's corrections due at the new time. A kinematic
+  // drive places the base after the physics instead.
   void step();
   // Steps until time_s() >= t_s.
   void run_until(double t_s);
@@ -68,7 +71,12 @@ class Simulator {
 
   Eigen::Isometry3d T_world_base() const { return robot_.T_world_base(); }
   Eigen::Isometry3d T_odom_base() const { return odometry_.T_odom_base(); }
-  Eigen::Isometry3d T_map_odom() const { return T_world_base() * T_odom_base().inverse(); }
+  // map -> odom as tf has it now: with localization the last correction the localizer published, else exact (the
+  // truth composed with odometry: the start pose plus the drift).
+  Eigen::Isometry3d T_map_odom() const;
+  // With localization: the correction in force at time_s (at most now), and every one published so far.
+  const Eigen::Isometry3d& T_map_odom_at(double time_s) const;
+  const std::vector<LocalizationCorrection>& corrections() const { return corrections_; }
   Eigen::Isometry3d T_world_camera() const { return robot_.T_world_camera(); }
   // The optical frame of a camera on `mount` (the site above follows config.camera_mount only).
   Eigen::Isometry3d T_world_camera(const CameraMount& mount) const {
@@ -76,7 +84,9 @@ class Simulator {
   }
 
  private:
+  void advance();          // step() but the localizer
   void kinematic_step();
+  void publish_corrections();  // the localizer's corrections due by now, from the truth and odometry now
 
   World world_;
   SimulatorConfig config_;
@@ -91,6 +101,7 @@ class Simulator {
   long steps_per_controller_ = 1;
   int steps_per_control_ = 10;
   long step_count_ = 0;
+  std::vector<LocalizationCorrection> corrections_;
 };
 
 }  // namespace stvl::sim

@@ -139,9 +139,9 @@ TEST_F(TimedFramesTest, DropsAndTransformTimeoutsAreCountedByReason) {
 
 TEST_F(TimedFramesTest, ALocalizationJumpMovesTheMapLayersReadingsNotTheOdomLayers) {
   pipeline::PipelineConfig c = config();
-  c.localization.enabled = true;
-  c.localization.rate_hz = 10.0;                   // corrections at the camera's own times
-  c.localization.jumps = {{0.55, 0.0, 0.2, 0.0}};  // 0.2 m off in y from the correction at 0.6 s on
+  c.sim.localization.enabled = true;
+  c.sim.localization.rate_hz = 10.0;                   // corrections at the camera's own times
+  c.sim.localization.jumps = {{0.55, 0.0, 0.2, 0.0}};  // 0.2 m off in y from the correction at 0.6 s on
   LocalizationStats stats;
   const std::vector<Delivered> plain = run(config(), false, nullptr), in_map = run(c, true, nullptr, &stats);
   ASSERT_EQ(plain.size(), in_map.size());
@@ -158,7 +158,7 @@ TEST_F(TimedFramesTest, ALocalizationJumpMovesTheMapLayersReadingsNotTheOdomLaye
   EXPECT_EQ(stats.corrections, 16u);  // 0 .. 1.5 s at 10 Hz
   EXPECT_EQ(stats.jumps, 1u);
   EXPECT_NEAR(stats.max_error_m, 0.2, 2e-3);
-  c.localization.layer_in_odom = true;  // the local costmap's frame: the corrections never reach it
+  c.sim.localization.layer_in_odom = true;  // the local costmap's frame: the corrections never reach it
   const std::vector<Delivered> in_odom = run(c, true, nullptr);
   ASSERT_EQ(plain.size(), in_odom.size());
   for (std::size_t k = 0; k < plain.size(); ++k) EXPECT_EQ(in_odom[k].mean_y, plain[k].mean_y) << "frame " << k;

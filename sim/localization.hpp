@@ -8,7 +8,9 @@
 #include <cstdint>
 #include <vector>
 
-namespace stvl::sensors {
+#include <Eigen/Geometry>
+
+namespace stvl::sim {
 
 // A scripted jump: from at_s on (until the next jump) the estimate is off the truth by (x_m, y_m) in map and yaw_rad.
 struct LocalizationJump {
@@ -25,6 +27,7 @@ struct LocalizationConfig {
   // global_frame: the frame of the run's layer, as nav2's costmap global_frame: map (false; the global costmap's:
   // readings placed with the localizer's pose) or odom (true; the local costmap's: odometry alone, no corrections).
   bool layer_in_odom = false;
+  std::uint64_t seed = 1;  // the scenario's seed (the draws of correction k derive from it and k)
   // Throws std::invalid_argument naming the key for a rate <= 0 or above 1000 Hz, negative or NaN noise, a jump not
   // finite, out of time order or at or after duration_s (an offset larger than the run), or of 10 m or pi and more.
   void validate(double duration_s) const;
@@ -36,9 +39,16 @@ struct PoseError2 {
   double x_m = 0, y_m = 0, yaw_rad = 0;
 };
 
+// One published correction: its time, map -> odom as published, and the estimate's error then.
+struct LocalizationCorrection {
+  double time_s = 0;
+  Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();
+  PoseError2 error;
+};
+
 // The index of the correction in force at time_s (the last one published at or before it; 0 before the first).
 std::uint64_t correction_index(const LocalizationConfig& config, double time_s);
 // Correction k's error: its noise drawn from (seed, k), plus the offset of the last jump at or before k / rate_hz.
 PoseError2 localization_error(const LocalizationConfig& config, std::uint64_t seed, std::uint64_t k);
 
-}  // namespace stvl::sensors
+}  // namespace stvl::sim

@@ -1,4 +1,4 @@
-#include "sensors/localization.hpp"
+#include "sim/localization.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -6,7 +6,7 @@
 
 #include "common/splitmix.hpp"
 
-namespace stvl::sensors {
+namespace stvl::sim {
 namespace {
 
 double unit(std::uint64_t bits) { return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53; }
@@ -63,4 +63,4 @@ PoseError2 localization_error(const LocalizationConfig& config, std::uint64_t se
   return e;
 }
 
-}  // namespace stvl::sensors
+}  // namespace stvl::sim

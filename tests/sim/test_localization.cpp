@@ -1,13 +1,13 @@
-// The localizer's corrections (sensors/localization.hpp): their index in time, their error (noise per correction,
+// The localizer's corrections (sim/localization.hpp): their index in time, their error (noise per correction,
 // seeded; jumps from their time on), and the config's limits.
-#include "sensors/localization.hpp"
+#include "sim/localization.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <stdexcept>
 
-namespace stvl::sensors {
+namespace stvl::sim {
 namespace {
 
 TEST(Localization, TheCorrectionInForceIsTheLastPublished) {
@@ -77,4 +77,4 @@ TEST(Localization, ValidateNamesTheKey) {
 }
 
 }  // namespace
-}  // namespace stvl::sensors
+}  // namespace stvl::sim
