@@ -380,6 +380,7 @@ Scenario parse_root(YamlMap root, const std::string& base_dir) {
                 "navigation.mode closed_loop stops when the navigation ends; leave it out");
     s.stop_at_path_end = false;
     s.pipeline.path.waypoints_W.clear();
+    s.pipeline.sim.localization.layer_in_odom = true;  // the run's layer is the local costmap's (global: map)
   }
   if (root.has("evaluation")) read_evaluation(root.map("evaluation"), s);
   if (root.has("checks")) read_checks(root.map("checks"), s);
@@ -437,7 +438,9 @@ void override_option(const char* option, F&& apply) {
 void apply_overrides(Scenario& s, const ScenarioOverrides& o) {
   // Validated on a copy, so a rejected override leaves the scenario as it was.
   Scenario r = s;
-  if (o.seed) r.pipeline.seed = *o.seed, r.pipeline.filter.csnb.seed = *o.seed, r.pipeline.sim.odometry.seed = r.pipeline.sim.localization.seed = *o.seed;
+  if (o.seed)
+    r.pipeline.seed = *o.seed, r.pipeline.filter.csnb.seed = *o.seed,
+    r.pipeline.sim.odometry.seed = r.pipeline.sim.localization.seed = *o.seed;
   if (o.filter_type)
     override_option("--filter", [&] { r.pipeline.filter.type = filter::parse_filter_type(*o.filter_type); });
   if (o.device) override_option("--device", [&] { r.pipeline.filter.device = filter::parse_device(*o.device); });

@@ -132,8 +132,9 @@ bool Navigator::plan(double time_s, const Pose2& robot) {
   return true;
 }
 
-Twist Navigator::tick(double time_s, const Pose2& robot, const Twist& velocity) {
+Twist Navigator::tick(double time_s, const Pose2& robot, const Twist& velocity, const std::optional<Pose2>& robot_map) {
   if (stage_ == Stage::kDone) return {};
+  const Pose2& localized = robot_map.value_or(robot);  // the robot in map: the planner's start, the goal check's
   if (stage_ == Stage::kRecovery) {
     const BehaviorStatus s = behavior_.update(time_s, robot);
     if (s == BehaviorStatus::kRunning) return behavior_.twist();
@@ -161,7 +162,7 @@ Twist Navigator::tick(double time_s, const Pose2& robot, const Twist& velocity) 
       }
     } else {
       plan_waiting_since_s_.reset();
-      if (!plan(time_s, robot))
+      if (!plan(time_s, localized))
         return pipeline_failed(time_s, robot, "no plan: " + plans_.back().failure, plans_.back().recovery_helps);
     }
   }
@@ -179,7 +180,7 @@ Twist Navigator::tick(double time_s, const Pose2& robot, const Twist& velocity) 
   // controller); the odometry's speeds under min_*_velocity_threshold (0.0001) read as zero.
   const auto thresholded = [](double v) { return std::abs(v) < 0.0001 ? 0.0 : v; };
   const Twist speed{thresholded(velocity.v_mps), thresholded(velocity.omega_radps)};
-  if (goal_checker_.is_goal_reached(robot, config_.goal, speed)) {
+  if (goal_checker_.is_goal_reached(localized, config_.goal, speed)) {
     finish(time_s, NavigationStatus::kSucceeded, "", robot);
     return {};
   }
@@ -188,8 +189,9 @@ Twist Navigator::tick(double time_s, const Pose2& robot, const Twist& velocity) 
   if (!progress_checker_.check(robot, time_s)) {
     controller_failure = "failed to make progress";
   } else {
-    const RppCommand command = controller_.compute(
-        robot, speed, local_.costmap(), 1.0 / config_.controller_frequency_hz, goal_checker_.xy_goal_tolerance_m());
+    const RppCommand command =
+        controller_.compute(robot, speed, local_.costmap(), 1.0 / config_.controller_frequency_hz,
+                            goal_checker_.xy_goal_tolerance_m(), robot_map);
     if (!last_valid_s_) last_valid_s_ = time_s;  // computeControl: last_valid_cmd_time_ = now at the start
     if (command.status == RppStatus::kOk) {
       last_valid_s_ = time_s;

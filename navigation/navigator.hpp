@@ -70,7 +70,10 @@ class Navigator {
   void update_costmaps(double time_s, const mapping::Costmap2D& layer_W, const Pose2& robot_W, bool local = true,
                        bool global = true, bool layer_current = true);
   // One tick of the tree and the controller at time_s with the robot's pose and velocity: the twist to drive.
-  Twist tick(double time_s, const Pose2& robot_W, const Twist& velocity);
+  // robot_map: with localization, the robot as the localizer has it in map (robot_W is then odometry's frame, the
+  // local costmap's): the planner starts there, the plan (in map) is followed and the goal checked through it.
+  Twist tick(double time_s, const Pose2& robot_W, const Twist& velocity,
+             const std::optional<Pose2>& robot_map = std::nullopt);
 
   NavigationStatus status() const { return status_; }
   const std::string& failure() const { return failure_; }  // why the navigation failed

@@ -303,7 +303,8 @@ bool RegulatedPurePursuit::collision_imminent(const Pose2& robot_W, const Twist&
 }
 
 RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& current_speed,
-                                         const mapping::Costmap2D& costmap, double dt_s, double goal_xy_tolerance_m) {
+                                         const mapping::Costmap2D& costmap, double dt_s, double goal_xy_tolerance_m,
+                                         const std::optional<Pose2>& robot_plan) {
   if (!(costmap.width > 0 && costmap.height > 0 && costmap.resolution_m > 0.0 &&
         costmap.cells.size() == static_cast<std::size_t>(costmap.width) * costmap.height)) {
     throw std::invalid_argument("RegulatedPurePursuit::compute: malformed costmap");
@@ -322,7 +323,7 @@ RppCommand RegulatedPurePursuit::compute(const Pose2& robot_W, const Twist& curr
   if (params_.interpolate_curvature_after_goal && plan_W_.size() == 1) {
     return fail(RppStatus::kInvalidPath, "Received plan with length of one");
   }
-  const std::vector<Pose2> plan_R = transform_plan(robot_W, costmap);
+  const std::vector<Pose2> plan_R = transform_plan(robot_plan.value_or(robot_W), costmap);
   if (plan_R.empty()) return fail(RppStatus::kInvalidPath, "Resulting plan has 0 poses in it.");
 
   // getLookAheadDistance, and the cusp limit when reversing.

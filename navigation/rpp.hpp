@@ -114,8 +114,11 @@ class RegulatedPurePursuit {
 
   // computeVelocityCommands for the robot pose in W and its odometry speed; dt_s = 1 / controller_frequency;
   // goal_xy_tolerance_m = the goal checker's xy tolerance (getTolerances). Prunes the stored plan.
+  // robot_plan: the robot's pose in the plan's frame (map) where that is not W: transformGlobalPlan prunes and
+  // transforms the plan with it, as nav2 does through tf (map -> odom as localization has it); the costmap's checks
+  // use robot_W.
   RppCommand compute(const Pose2& robot_W, const Twist& current_speed, const mapping::Costmap2D& costmap, double dt_s,
-                     double goal_xy_tolerance_m);
+                     double goal_xy_tolerance_m, const std::optional<Pose2>& robot_plan = std::nullopt);
 
   // cancel(): true when the robot may stop now (use_cancel_deceleration off, or the deceleration finished).
   bool cancel();

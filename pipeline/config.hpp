@@ -75,7 +75,7 @@ struct PipelineConfig {
   layer::Nav2CostmapConfig nav2_costmap;
   // tf as the robot has it (YAML tf) and the layer's transform_tolerance, for cameras with timing.
   layer::TfTimingConfig tf;
-  bool timing_enabled() const;               // a camera has timing, tf.odom_latency_s > 0, or localization is enabled
+  bool timing_enabled() const;  // a camera has timing, tf.odom_latency_s > 0, or localization is enabled
   // Robot geoms the cameras see (sim::World::show_robot_geoms_to_cameras): drawn by the depth renderer, so
   // the map marks the robot's own body as STVL would; ground truth still skips them. Default: none.
   std::vector<std::string> robot_geoms_seen;

@@ -50,6 +50,9 @@ struct Frame {
   // What the layer takes (a new one per frame: the layer's buffers keep it): time_s, the poses, the decimated
   // cloud (clears), the marking cloud (decimated and inside the passthrough band), marking_B, no_return_W.
   std::shared_ptr<layer::Observation> observation;
+  // Closed loop with localization: the same reading placed with the localizer's pose in map, for the global
+  // costmap's layer (`observation` is then the local costmap's, in odom); null otherwise.
+  std::shared_ptr<layer::Observation> observation_map;
   // Every camera at this frame (one per camera): its optical frame now and the time of its next frame.
   std::vector<layer::SensorNow> cameras_now;
   SensingTimes times;

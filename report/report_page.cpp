@@ -70,6 +70,16 @@ nlohmann::json page_data(const PageSeries& p, const std::vector<evaluation::Eval
     for (const auto& e : *p.frame_events)
       timing["events"].push_back({e.camera_index, rounded(e.capture_s, 0.001),
                                   e.delivered_s < 0 ? -1.0 : rounded(e.delivered_s - e.capture_s, 0.0001), e.reason});
+    // The localizer's corrections: each one's position error (at most 2000, evenly taken).
+    if (p.corrections && !p.corrections->empty()) {
+      const std::size_t n = p.corrections->size(), step = (n + 1999) / 2000;
+      timing["localization"] = nlohmann::json::array();
+      for (std::size_t i = 0; i < n; i += step) {
+        const auto& c = (*p.corrections)[i];
+        timing["localization"].push_back(
+            {rounded(c.time_s, 0.001), rounded(std::hypot(c.error.x_m, c.error.y_m), 0.001)});
+      }
+    }
   }
   nlohmann::json path = nlohmann::json::array();
   for (const auto& xy : *p.path_W) path.push_back(rounded(xy.x(), 0.001)), path.push_back(rounded(xy.y(), 0.001));
@@ -101,6 +111,7 @@ PageSeries run_series(const RunResult& r) {
   if (!r.frame_events.empty()) {
     p.frame_events = &r.frame_events;
     for (const auto& c : r.scenario.pipeline.cameras) p.camera_names.push_back(c.name);
+    p.corrections = &r.corrections;
   }
   return p;
 }
@@ -163,10 +174,18 @@ document.addEventListener('DOMContentLoaded', function () {
                                  pointStyle: 'crossRot', pointRadius: 5, borderColor: reasons[r],
                                  backgroundColor: reasons[r]});
     });
+    var scales = axes('capture time (s)', 'capture to the layer (s)', {x: {type: 'linear', min: 0}, y: {min: 0}});
+    if (T.localization) {  // the localizer's error at each correction, on its own axis
+      sets.push({label: 'localization error (m)', type: 'line', yAxisID: 'y2', pointRadius: 0, borderWidth: 1.5,
+                 borderColor: '#dc2828', backgroundColor: '#dc2828', data: T.localization.map(function (e) {
+                   return {x: e[0], y: e[1], what: 'localization off by ' + e[1].toFixed(3) + ' m'}; })});
+      scales.y2 = {position: 'right', min: 0, grid: {drawOnChartArea: false},
+                   title: {display: true, text: 'localization error (m)'}};
+    }
     chart('chart-timing', {type: 'scatter', data: {datasets: sets}, options: {
         interaction: {mode: 'nearest', intersect: true},
         plugins: {tooltip: {callbacks: {label: function (c) { return c.raw.what; }}}},
-        scales: axes('capture time (s)', 'capture to the layer (s)', {x: {type: 'linear', min: 0}, y: {min: 0}})}});
+        scales: scales}});
   }
   if (D.drive && document.getElementById('chart-drive')) {
     // The drive over simulated time: speed and turn rate from the truth; events as markers on a lane each above

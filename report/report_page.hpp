@@ -39,8 +39,9 @@ struct PageSeries {
   const std::vector<Eigen::Vector2d>* path_W = nullptr;
   const MapView* view = nullptr;
   const evaluation::DriveSummary* drive = nullptr;  // closed loop: the drive's chart (speed, turn rate, events)
-  const std::vector<run::TimedFrameEvent>* frame_events = nullptr;  // camera timing: the delays and drops chart
-  std::vector<std::string> camera_names;                            // with frame_events
+  const std::vector<run::TimedFrameEvent>* frame_events = nullptr;        // camera timing: the delays and drops chart
+  std::vector<std::string> camera_names;                                  // with frame_events
+  const std::vector<sim::LocalizationCorrection>* corrections = nullptr;  // with localization: its corrections
 };
 std::string interactive_body_html(const PageSeries& series, const std::string& view_caption_html,
                                   const ReportScripts& scripts);

@@ -109,7 +109,7 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
         const navigation::Twist velocity{0.5 * r * (rates.x() + rates.y()), r * (rates.y() - rates.x()) / track};
         const auto start = SteadyClock::now();
         update_costmaps(time_s);  // nav2's costmaps run on their own timers, frames or not
-        const navigation::Twist t = navigator_->tick(time_s, robot_pose(), velocity);
+        const navigation::Twist t = navigator_->tick(time_s, robot_pose(), velocity, localized_pose());
         navigation_ms_ += ms_since(start);
         if (bag_ && navigator_->status() == navigation::NavigationStatus::kRunning)
           twists_.emplace_back(time_s, Eigen::Vector2d(t.v_mps, t.omega_radps));
@@ -119,6 +119,12 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
 }
 
 navigation::Pose2 ClosedLoop::robot_pose() const { return pose_of(pipeline_.simulator().T_world_base()); }
+
+std::optional<navigation::Pose2> ClosedLoop::localized_pose() const {
+  const sim::Simulator& sim = pipeline_.simulator();
+  if (!s_.pipeline.sim.localization.enabled) return std::nullopt;
+  return pose_of(sim.T_map_odom() * sim.T_odom_base());
+}
 
 void ClosedLoop::update_costmaps(double time_s) {
   const navigation::Pose2 robot = robot_pose();
@@ -134,8 +140,8 @@ void ClosedLoop::update_costmaps(double time_s) {
   };
   const layer::Layer& global_layer = global_layer_ ? *global_layer_ : layer_;
   if (global_due)
-    navigator_->update_costmaps(time_s, global_layer_ ? global_layer_->costmap() : own_grid(), robot, false, true,
-                                global_layer.current(time_s));
+    navigator_->update_costmaps(time_s, global_layer_ ? global_layer_->costmap() : own_grid(),
+                                localized_pose().value_or(robot), false, true, global_layer.current(time_s));
   if (local_due)
     navigator_->update_costmaps(time_s, layer_.master() ? layer_.master()->master() : own_grid(), robot, true, false,
                                 layer_.current(time_s));
@@ -144,7 +150,9 @@ void ClosedLoop::update_costmaps(double time_s) {
 void ClosedLoop::after_frame(const pipeline::Frame& frame) {
   const double time_s = frame.time_s;
   const auto start = SteadyClock::now();
-  if (global_layer_) global_layer_->update(frame.observation, frame.cameras_now, global_report_);
+  if (global_layer_)
+    global_layer_->update(frame.observation_map ? frame.observation_map : frame.observation, frame.cameras_now,
+                          global_report_);
   navigation_ms_ += ms_since(start);
   const auto judged = SteadyClock::now();
   const sim::Simulator& sim = pipeline_.simulator();

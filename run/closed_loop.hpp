@@ -6,6 +6,7 @@
 //   frame loop, after the layer's update      -> the global costmap's own layer -> DriveEvaluation::frame
 //   every ComputePathToPose                    -> DriveEvaluation::plan_cycle (the truth's plan beside it)
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "config/scenario.hpp"
@@ -39,6 +40,8 @@ class ClosedLoop {
 
  private:
   navigation::Pose2 robot_pose() const;
+  // With localization: the robot in map as the localizer has it (the last correction composed with odometry).
+  std::optional<navigation::Pose2> localized_pose() const;
   // The costmaps due at time_s take their layers' grids as the last update left them.
   void update_costmaps(double time_s);
 

@@ -163,7 +163,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     closed_loop = std::make_unique<ClosedLoop>(s, *pipeline, layer, evaluation, !options.bag_path.empty());
   RunHooks hooks(s, options, *pipeline, evaluation, closed_loop.get());
   if (s.pipeline.timing_enabled()) {  // frames as the robot's subscriber gets them (issue 43)
-    TimedFrames timed(frames, *pipeline, s.pipeline.seed, s.duration_s);
+    TimedFrames timed(frames, *pipeline, s.pipeline.seed, s.duration_s, closed_loop != nullptr);
     static_cast<FrameLoopResult&>(r) = run_frame_loop(timed, layer, hooks, settings);
     r.camera_timing = timed.stats();
     r.frame_events = timed.events();

@@ -17,13 +17,24 @@ void transform_in_place(const Eigen::Isometry3f& T, Eigen::Matrix3Xf& points) {
   points = (T.linear() * points).colwise() + T.translation();
 }
 
+// An observation's clouds and camera moved rigidly to the camera pose T_world_camera.
+void place(layer::Observation& o, const Eigen::Isometry3d& T_world_camera) {
+  const Eigen::Isometry3f correction = (T_world_camera * o.T_world_camera.inverse()).cast<float>();
+  transform_in_place(correction, o.decimated_W);
+  transform_in_place(correction, o.marking_W);
+  transform_in_place(correction, o.no_return_W);
+  o.T_world_camera = T_world_camera;
+}
+
 }  // namespace
 
-TimedFrames::TimedFrames(FrameSource& inner, pipeline::Pipeline& pipeline, std::uint64_t seed, double duration_s)
+TimedFrames::TimedFrames(FrameSource& inner, pipeline::Pipeline& pipeline, std::uint64_t seed, double duration_s,
+                         bool map_copy)
     : inner_(inner),
       pipeline_(pipeline),
       seed_(seed),
       duration_s_(duration_s),
+      map_copy_(map_copy),
       tf_(pipeline.config().tf),
       stats_(pipeline.config().cameras.size()),
       queued_(pipeline.config().cameras.size()) {}
@@ -125,10 +136,13 @@ void TimedFrames::deliver(Pending& p) {
   const sim::Simulator& sim = pipeline_.simulator();
   const Eigen::Isometry3d T_base_camera = f.T_world_base.inverse() * o.T_world_camera;
   const Eigen::Isometry3d T_world_base_stamp = pose_at(poses_, p.stamp_s);
-  Eigen::Isometry3d T_placed_base = T_world_base_stamp;
+  Eigen::Isometry3d T_placed_base = T_world_base_stamp, T_map_base = T_world_base_stamp;
+  const bool layer_in_odom = loc.layer_in_odom || map_copy_;  // closed loop: the run's layer is the local costmap's
+  std::shared_ptr<layer::Observation> in_map;                 // closed loop: the global costmap's copy, in map
   if (loc.enabled) {
-    const Eigen::Isometry3d T_map_base = sim.T_map_odom_at(p.stamp_s) * pose_at(odom_, p.stamp_s);
-    if (!loc.layer_in_odom) T_placed_base = T_map_base;
+    T_map_base = sim.T_map_odom_at(p.stamp_s) * pose_at(odom_, p.stamp_s);
+    if (!layer_in_odom) T_placed_base = T_map_base;
+    if (map_copy_) in_map = std::make_shared<layer::Observation>(o);
     const Eigen::Isometry3d error = T_world_base_stamp.inverse() * T_map_base;
     const double error_m = (T_map_base.translation() - T_world_base_stamp.translation()).head<2>().norm();
     const double error_yaw = std::abs(Eigen::AngleAxisd(error.linear()).angle());
@@ -139,16 +153,16 @@ void TimedFrames::deliver(Pending& p) {
     ls.max_error_m = std::max(ls.max_error_m, error_m);
     ls.max_error_yaw_rad = std::max(ls.max_error_yaw_rad, error_yaw);
   }
-  const Eigen::Isometry3d T_world_camera_stamp = T_placed_base * T_base_camera;
-  const Eigen::Isometry3f correction = (T_world_camera_stamp * o.T_world_camera.inverse()).cast<float>();
-  transform_in_place(correction, o.decimated_W);
-  transform_in_place(correction, o.marking_W);
-  transform_in_place(correction, o.no_return_W);
-  o.T_world_camera = T_world_camera_stamp;
+  place(o, T_placed_base * T_base_camera);
   // The layer takes it now: its clock (decay, ticks, staleness) and the robot's pose now (footprint clearing).
   o.time_s = p.delivered_s;
-  o.T_world_base =
-      loc.enabled && !loc.layer_in_odom ? sim.T_map_odom() * sim.T_odom_base() : sim.T_world_base();
+  o.T_world_base = loc.enabled && !layer_in_odom ? sim.T_map_odom() * sim.T_odom_base() : sim.T_world_base();
+  if (in_map) {
+    place(*in_map, T_map_base * T_base_camera);
+    in_map->time_s = p.delivered_s;
+    in_map->T_world_base = sim.T_map_odom() * sim.T_odom_base();
+  }
+  f.observation_map = std::move(in_map);
   f.time_s = p.delivered_s;
   f.T_world_base = sim.T_world_base();
   // tf now, for the bag: odometry, and map -> odom as the localizer publishes it.

@@ -56,8 +56,10 @@ struct TimedFrameEvent {
 class TimedFrames : public FrameSource {
  public:
   // inner: the pipeline's frames (SimulatedFrames, which ends at duration_s); seed: the scenario's (each camera's
-  // draws derive from it and the camera's index).
-  TimedFrames(FrameSource& inner, pipeline::Pipeline& pipeline, std::uint64_t seed, double duration_s);
+  // draws derive from it and the camera's index). map_copy (closed loop with localization): each frame's observation
+  // is the local costmap's, in odom, and observation_map a copy placed in map for the global costmap's layer.
+  TimedFrames(FrameSource& inner, pipeline::Pipeline& pipeline, std::uint64_t seed, double duration_s,
+              bool map_copy = false);
   const pipeline::Frame* next() override;
   const std::vector<pipeline::CameraConfig>& cameras() const override { return inner_.cameras(); }
   std::unique_ptr<BagRecorder> open_bag(const std::string& path, const BagSettings& settings,
@@ -89,13 +91,14 @@ class TimedFrames : public FrameSource {
   pipeline::Pipeline& pipeline_;
   std::uint64_t seed_;
   double duration_s_;
+  bool map_copy_;
   const layer::TfTimingConfig tf_;
   std::vector<CameraTimingStats> stats_;
   std::vector<TimedFrameEvent> events_;
-  std::vector<Pending> pending_;             // ordered by delivery time, then capture order
-  std::vector<std::deque<double>> queued_;   // per camera: delivery times of its readings waiting in the filter
-  std::vector<Eigen::Isometry3d> poses_;     // the robot at odometry message k (time k / rate)
-  std::vector<Eigen::Isometry3d> odom_;      // odometry's T_odom_base at message k
+  std::vector<Pending> pending_;            // ordered by delivery time, then capture order
+  std::vector<std::deque<double>> queued_;  // per camera: delivery times of its readings waiting in the filter
+  std::vector<Eigen::Isometry3d> poses_;    // the robot at odometry message k (time k / rate)
+  std::vector<Eigen::Isometry3d> odom_;     // odometry's T_odom_base at message k
   LocalizationStats localization_;
   std::uint64_t order_ = 0;
   bool inner_done_ = false;

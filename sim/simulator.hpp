@@ -11,8 +11,8 @@
 
 #include "sim/diff_drive.hpp"
 #include "sim/kinematic_drive.hpp"
-#include "sim/mocap_script.hpp"
 #include "sim/localization.hpp"
+#include "sim/mocap_script.hpp"
 #include "sim/odometry.hpp"
 #include "sim/path_follower.hpp"
 #include "sim/world.hpp"
@@ -84,7 +84,7 @@ class Simulator {
   }
 
  private:
-  void advance();          // step() but the localizer
+  void advance();  // step() but the localizer
   void kinematic_step();
   void publish_corrections();  // the localizer's corrections due by now, from the truth and odometry now
 
