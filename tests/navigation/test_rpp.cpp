@@ -75,6 +75,23 @@ TEST(Rpp, StraightPathDrivesAtDesiredSpeed) {
   EXPECT_FALSE(c.rotating_to_heading);
 }
 
+TEST(Rpp, ThePlanInMapIsFollowedThroughTheLocalizersPose) {
+  // The plan y = 0 in map; the localizer has the robot 0.3 m to its left (robot_plan) while odometry's pose is on
+  // it: the plan lies 0.3 m to the robot's right, the carrot where the 0.6 m circle meets it, (0.519615, -0.3) from
+  // the robot, curvature 2 * -0.3 / 0.36; the costmap's side keeps robot_W.
+  auto rpp = make(plain_params());
+  rpp.set_plan(ray({0, 0}, 0.0, 2.0));
+  const RppCommand c = rpp.compute({0, 0, 0}, {}, free_map(), kDt, 0.25, Pose2{0, 0.3, 0});
+  ASSERT_EQ(c.status, RppStatus::kOk) << c.message;
+  EXPECT_NEAR(c.carrot_W.x(), std::sqrt(0.36 - 0.09), 1e-6);
+  EXPECT_NEAR(c.carrot_W.y(), -0.3, 1e-6);
+  EXPECT_NEAR(c.curvature_per_m, -0.6 / 0.36, 1e-6);
+  EXPECT_LT(c.twist.omega_radps, -0.1);
+  auto on_it = make(plain_params());
+  on_it.set_plan(ray({0, 0}, 0.0, 2.0));
+  EXPECT_DOUBLE_EQ(on_it.compute({0, 0, 0}, {}, free_map(), kDt, 0.25, Pose2{0, 0, 0}).twist.omega_radps, 0.0);
+}
+
 TEST(Rpp, LeftCurveCarrotCurvatureAndOmega) {
   // The line y = x / 2: the carrot is 0.6 * (2, 1) / sqrt(5) = (0.536656, 0.268328), curvature 2y / L^2 =
   // 1.490712 (radius 0.670820 < 0.9), so v = 0.5 * 0.670820 / 0.9 = 0.372678 and omega = v * k = 0.5 / 0.9.
