@@ -23,11 +23,24 @@ struct SensingTimes {
   double render_ms = 0, noise_ms = 0, cloud_ms = 0, filter_ms = 0;
 };
 
+// One odometry message as tf has it (issue 43): its stamp, the robot (truth), odometry, map -> odom then.
+struct OdomMessage {
+  double stamp_s = 0;
+  Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity(), T_odom_base = Eigen::Isometry3d::Identity(),
+                    T_map_odom = Eigen::Isometry3d::Identity();
+  double v_mps = 0, omega_radps = 0;
+};
+
 struct Frame {
   std::size_t camera_index = 0;
   std::string camera;
   std::size_t frame_index = 0;  // of this camera
   double time_s = 0;            // simulated (or recorded)
+  double stamp_s = 0;           // the header stamp its driver wrote (time_s, but with camera timing; issue 43)
+  // With camera timing: the odometry messages that reached tf since the previous frame (the bag's /tf, /odom and
+  // ground truth at their stamps, so a replay finds the pose at any frame's stamp); tf_from_messages set.
+  bool tf_from_messages = false;
+  std::vector<OdomMessage> odom_messages;
   // False when the robot fell over or left the world at time_s: nothing below the poses was computed, and the run
   // should stop.
   bool robot_upright = true;

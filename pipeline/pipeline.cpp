@@ -251,7 +251,7 @@ const Frame& Pipeline::step() {
   f.camera_index = index;
   f.camera = camera.config.name;
   f.frame_index = camera.next_frame;
-  f.time_s = camera.next_time_s();
+  f.time_s = f.stamp_s = camera.next_time_s();
   ++camera.next_frame;
   camera.skip_outages();
   f.times = {};

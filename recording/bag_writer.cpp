@@ -279,14 +279,14 @@ void BagWriter::write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_m
   impl_->write(topic, stamp, msg);
 }
 
-void BagWriter::write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
-                                  const std::vector<std::uint16_t>& depth_mm, const std::string& camera) {
+void BagWriter::write_depth_image_stamped(double t_s, double stamp_s, const sensors::CameraIntrinsics& intrinsics,
+                                          const std::vector<std::uint16_t>& depth_mm, const std::string& camera) {
   const int width = intrinsics.width, height = intrinsics.height;
   require_image_size(width, height, depth_mm.size(), "depth image");
   const std::string topic = camera_topic(camera, "depth/image_rect_raw");
   const ros::Time stamp = to_ros_time(t_s);
   sensor_msgs::Image& msg = impl_->image;
-  msg.header = impl_->header(topic, stamp, camera_optical_frame(camera));
+  msg.header = impl_->header(topic, to_ros_time(stamp_s), camera_optical_frame(camera));
   msg.width = static_cast<std::uint32_t>(width);
   msg.height = static_cast<std::uint32_t>(height);
   msg.encoding = "16UC1";
@@ -297,7 +297,8 @@ void BagWriter::write_depth_image(double t_s, const sensors::CameraIntrinsics& i
   impl_->write(topic, stamp, msg);
 }
 
-void BagWriter::write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics, const std::string& camera) {
+void BagWriter::write_camera_info_stamped(double t_s, double stamp_s, const sensors::CameraIntrinsics& intrinsics,
+                                          const std::string& camera) {
   const int width = intrinsics.width, height = intrinsics.height;
   const double fx_px = intrinsics.fx, fy_px = intrinsics.fy, cx_px = intrinsics.cx, cy_px = intrinsics.cy;
   if (width <= 0 || height <= 0) {
@@ -310,7 +311,7 @@ void BagWriter::write_camera_info(double t_s, const sensors::CameraIntrinsics& i
   const std::string topic = camera_topic(camera, "depth/camera_info");
   const ros::Time stamp = to_ros_time(t_s);
   sensor_msgs::CameraInfo msg;
-  msg.header = impl_->header(topic, stamp, camera_optical_frame(camera));
+  msg.header = impl_->header(topic, to_ros_time(stamp_s), camera_optical_frame(camera));
   msg.width = static_cast<std::uint32_t>(width);
   msg.height = static_cast<std::uint32_t>(height);
   msg.distortion_model = "plumb_bob";

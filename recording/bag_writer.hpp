@@ -85,10 +85,20 @@ class BagSink {
   virtual void write_tf_static(const std::vector<CameraFrames>& cameras) = 0;
   virtual void write_odometry(double t_s, const Eigen::Isometry3d& T_odom_base, double v_mps, double omega_radps) = 0;
   virtual void write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_map_base) = 0;
-  virtual void write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
-                                 const std::vector<std::uint16_t>& depth_mm, const std::string& camera = "camera") = 0;
-  virtual void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics,
-                                 const std::string& camera = "camera") = 0;
+  // The camera's image and info recorded at t_s with header stamp stamp_s (what its driver wrote: the capture time,
+  // or another; issue 43); the unstamped forms stamp them at t_s.
+  virtual void write_depth_image_stamped(double t_s, double stamp_s, const sensors::CameraIntrinsics& intrinsics,
+                                         const std::vector<std::uint16_t>& depth_mm, const std::string& camera) = 0;
+  virtual void write_camera_info_stamped(double t_s, double stamp_s, const sensors::CameraIntrinsics& intrinsics,
+                                         const std::string& camera) = 0;
+  void write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
+                         const std::vector<std::uint16_t>& depth_mm, const std::string& camera = "camera") {
+    write_depth_image_stamped(t_s, t_s, intrinsics, depth_mm, camera);
+  }
+  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics,
+                         const std::string& camera = "camera") {
+    write_camera_info_stamped(t_s, t_s, intrinsics, camera);
+  }
   virtual void write_points(const std::string& topic, double t_s, const std::string& frame_id,
                             const Eigen::Matrix3Xf& points, bool latched = false) = 0;
   // The same cloud recorded at t_s with header stamp stamp_s: a reading taken at stamp_s (so tf gives the pose it
@@ -145,11 +155,13 @@ class BagWriter : public BagSink {
   void write_ground_truth_pose(double t_s, const Eigen::Isometry3d& T_map_base) override;
   // /<camera>/depth/image_rect_raw 16UC1 (mm, 0 = invalid; sensors::depth_to_millimetres), row-major top row
   // first, frame <camera>_depth_optical_frame. depth_mm.size() must be the intrinsics' width * height.
-  void write_depth_image(double t_s, const sensors::CameraIntrinsics& intrinsics,
-                         const std::vector<std::uint16_t>& depth_mm, const std::string& camera = "camera") override;
+  void write_depth_image_stamped(double t_s, double stamp_s, const sensors::CameraIntrinsics& intrinsics,
+                                 const std::vector<std::uint16_t>& depth_mm, const std::string& camera) override;
   // /<camera>/depth/camera_info: plumb_bob with zero distortion, K, R = I, P = [K | 0].
-  void write_camera_info(double t_s, const sensors::CameraIntrinsics& intrinsics,
-                         const std::string& camera = "camera") override;
+  void write_camera_info_stamped(double t_s, double stamp_s, const sensors::CameraIntrinsics& intrinsics,
+                                 const std::string& camera) override;
+  using BagSink::write_camera_info;
+  using BagSink::write_depth_image;
   // sensor_msgs/PointCloud2 with fields x y z float32, unorganized (height 1); is_dense when all finite.
   void write_points(const std::string& topic, double t_s, const std::string& frame_id, const Eigen::Matrix3Xf& points,
                     bool latched = false) override;

@@ -119,14 +119,14 @@ class Ros2BagWriter final : public BagSink {
     put_pose(w, T_map_base);
     write("/ground_truth/pose", "geometry_msgs/msg/PoseStamped", t);
   }
-  void write_depth_image(double t_s, const sensors::CameraIntrinsics& k, const std::vector<std::uint16_t>& depth_mm,
-                         const std::string& camera) override {
+  void write_depth_image_stamped(double t_s, double stamp_s, const sensors::CameraIntrinsics& k,
+                                 const std::vector<std::uint16_t>& depth_mm, const std::string& camera) override {
     if (k.width <= 0 || k.height <= 0 || depth_mm.size() != std::size_t(k.width) * std::size_t(k.height))
       throw std::invalid_argument("BagWriter: depth image has " + std::to_string(depth_mm.size()) +
                                   " values, expected " + std::to_string(k.width) + "x" + std::to_string(k.height));
     const auto t = stamp_ns(t_s);
     CdrWriter w(buf_);
-    put_header(w, t, camera_optical_frame(camera));
+    put_header(w, stamp_ns(stamp_s), camera_optical_frame(camera));
     w.put(std::uint32_t(k.height)), w.put(std::uint32_t(k.width));
     w.put_string("16UC1");
     w.put(std::uint8_t(0));
@@ -134,13 +134,14 @@ class Ros2BagWriter final : public BagSink {
     w.put_bytes(depth_mm.data(), depth_mm.size() * 2);
     write(camera_topic(camera, "depth/image_rect_raw"), "sensor_msgs/msg/Image", t);
   }
-  void write_camera_info(double t_s, const sensors::CameraIntrinsics& k, const std::string& camera) override {
+  void write_camera_info_stamped(double t_s, double stamp_s, const sensors::CameraIntrinsics& k,
+                                 const std::string& camera) override {
     if (k.width <= 0 || k.height <= 0 || !(k.fx > 0) || !(k.fy > 0) || !std::isfinite(k.fx) || !std::isfinite(k.fy) ||
         !std::isfinite(k.cx) || !std::isfinite(k.cy))
       throw std::invalid_argument("BagWriter: camera_info needs a positive size and finite intrinsics with fx, fy > 0");
     const auto t = stamp_ns(t_s);
     CdrWriter w(buf_);
-    put_header(w, t, camera_optical_frame(camera));
+    put_header(w, stamp_ns(stamp_s), camera_optical_frame(camera));
     w.put(std::uint32_t(k.height)), w.put(std::uint32_t(k.width));
     w.put_string("plumb_bob");
     w.put_sequence(std::vector<double>(5, 0.0));

@@ -78,8 +78,9 @@ void BagRecorder::record(const pipeline::Frame& f, const layer::UpdateReport& re
       readings.push_back({topic, update.time_s, applied.reading->time_s,
                           applied.cloud_W ? *applied.cloud_W : layer::source_marking_W(*applied.reading, source)});
     }
-  // Cameras whose frames share a time share its robot messages (tf would warn of repeated data).
-  const bool robot_messages = !last_robot_time_s_ || f.time_s > *last_robot_time_s_;
+  // Cameras whose frames share a time share its robot messages (tf would warn of repeated data). With camera timing
+  // the robot's messages are odometry's, at their stamps, as they reached tf.
+  const bool robot_messages = !f.tf_from_messages && (!last_robot_time_s_ || f.time_s > *last_robot_time_s_);
   last_robot_time_s_ = f.time_s;
   // The lambda copies what each message needs; the frame is overwritten by the next step().
   const recording::BagTopics& w = topics_;
@@ -91,22 +92,30 @@ void BagRecorder::record(const pipeline::Frame& f, const layer::UpdateReport& re
                        w.wants(camera_topic(camera, "depth/camera_info")),
                        w.wants(camera_topic(camera, "depth/points"))};
   worker_->submit([bag = bag_.get(), want = std::vector<bool>(std::begin(want), std::end(want)), t = f.time_s,
-                   T_world_base = f.T_world_base, T_map_odom = f.T_map_odom, T_odom_base = f.T_odom_base,
-                   v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics, camera, depth = f.depth,
-                   cloud_C = want[6] ? Eigen::Matrix3Xf(f.cloud_C()) : Eigen::Matrix3Xf(),
-                   readings = std::move(readings), voxels = std::move(voxels), want_voxels,
+                   stamp = f.stamp_s, T_world_base = f.T_world_base, T_map_odom = f.T_map_odom,
+                   T_odom_base = f.T_odom_base, v = f.odom_v_mps, omega = f.odom_omega_radps, intrinsics, camera,
+                   depth = f.depth, cloud_C = want[6] ? Eigen::Matrix3Xf(f.cloud_C()) : Eigen::Matrix3Xf(),
+                   readings = std::move(readings), voxels = std::move(voxels), want_voxels, messages = f.odom_messages,
                    costmap = std::move(costmap), robot_messages, ground_truth = ground_truth_] {
     for (const auto& r : readings)
       if (r.update_s < t) bag->write_points_stamped(r.topic, r.update_s, r.stamp_s, kMapFrame, r.points_W);
+    for (const pipeline::OdomMessage& m : messages) {
+      if (want[0]) bag->write_clock(m.stamp_s);
+      if (want[1]) bag->write_tf(m.stamp_s, m.T_map_odom, m.T_odom_base);
+      if (want[2]) bag->write_odometry(m.stamp_s, m.T_odom_base, m.v_mps, m.omega_radps);
+      if (ground_truth && want[3]) bag->write_ground_truth_pose(m.stamp_s, m.T_world_base);
+    }
     if (robot_messages) {
       if (want[0]) bag->write_clock(t);
       if (want[1]) bag->write_tf(t, T_map_odom, T_odom_base);
       if (want[2]) bag->write_odometry(t, T_odom_base, v, omega);
       if (ground_truth && want[3]) bag->write_ground_truth_pose(t, T_world_base);
     }
-    if (want[4]) bag->write_depth_image(t, intrinsics, sensors::depth_to_millimetres(depth), camera);
-    if (want[5]) bag->write_camera_info(t, intrinsics, camera);
-    if (want[6]) bag->write_points(camera_topic(camera, "depth/points"), t, camera_optical_frame(camera), cloud_C);
+    // The camera's messages with the stamp its driver wrote, recorded when they reached the layer.
+    if (want[4]) bag->write_depth_image_stamped(t, stamp, intrinsics, sensors::depth_to_millimetres(depth), camera);
+    if (want[5]) bag->write_camera_info_stamped(t, stamp, intrinsics, camera);
+    if (want[6])
+      bag->write_points_stamped(camera_topic(camera, "depth/points"), t, stamp, camera_optical_frame(camera), cloud_C);
     for (const auto& r : readings)
       if (r.update_s >= t) bag->write_points_stamped(r.topic, t, r.stamp_s, kMapFrame, r.points_W);
     if (want_voxels) bag->write_points("/stvl/voxel_grid", t, kMapFrame, voxels);

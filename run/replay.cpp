@@ -66,12 +66,25 @@ class RecordedFrames : public FrameSource {
     if (!same_model(frame_.intrinsics, config_.cameras.front().intrinsics))
       throw std::invalid_argument(path + ": frame " + std::to_string(frame_.index) +
                                   ": its camera model differs from the first frame's; a replay takes one camera model");
-    if (taken_ > 0 && frame_.time_s < f_.time_s)
-      throw std::invalid_argument(path + ": frame " + std::to_string(frame_.index) + " is stamped " +
-                                  std::to_string(f_.time_s - frame_.time_s) + " s before the frame before it");
+    // Frames recorded as a subscriber got them may be stamped a little out of order (latency with jitter, issue
+    // 43): such a frame is placed with the pose at its stamp and taken at the layer's time so far (its clock does
+    // not run back). More than kMaxStampReorder_s back is a broken recording.
+    double time_s = frame_.time_s;
+    if (taken_ > 0 && frame_.time_s < f_.time_s) {
+      if (f_.time_s - frame_.time_s > kMaxStampReorder_s)
+        throw std::invalid_argument(path + ": frame " + std::to_string(frame_.index) + " is stamped " +
+                                    std::to_string(f_.time_s - frame_.time_s) + " s before the frame before it");
+      if (out_of_order_++ == 0)
+        std::fprintf(stderr,
+                     "replay: frame %zu is stamped %.6f s before the frame before it (recorded as it arrived): "
+                     "placed at its stamp, taken at the layer's time\n",
+                     frame_.index, f_.time_s - frame_.time_s);
+      time_s = f_.time_s;
+    }
     ++taken_;
     f_.frame_index = frame_.index;
-    f_.time_s = frame_.time_s;
+    f_.time_s = time_s;
+    f_.stamp_s = frame_.time_s;
     f_.T_world_camera = frame_.T_fixed_camera;
     f_.T_world_base = frame_.T_fixed_base;
     f_.T_odom_base = frame_.T_fixed_base;
@@ -100,7 +113,8 @@ class RecordedFrames : public FrameSource {
   recording::Recording& recording_;
   const pipeline::PipelineConfig& config_;
   pipeline::Sensing sensing_;
-  std::size_t total_, taken_ = 0;
+  std::size_t total_, taken_ = 0, out_of_order_ = 0;
+  static constexpr double kMaxStampReorder_s = 1.0;
   recording::RecordedFrame frame_;
   pipeline::Frame f_;
 };

@@ -43,8 +43,11 @@ void TimedFrames::record_poses_until(double time_s) {
   const double period_s = 1.0 / tf_.odom_rate_hz;
   for (double t = poses_.size() * period_s; t <= time_s + kTimeEpsilon_s; t = poses_.size() * period_s) {
     pipeline_.run_until(t);
-    poses_.push_back(pipeline_.simulator().T_world_base());
-    odom_.push_back(pipeline_.simulator().T_odom_base());
+    const sim::Simulator& sim = pipeline_.simulator();
+    poses_.push_back(sim.T_world_base());
+    odom_.push_back(sim.T_odom_base());
+    messages_.push_back({t, sim.T_world_base(), sim.T_odom_base(), sim.T_map_odom(), sim.odometry().v_mps(),
+                         sim.odometry().omega_radps()});
   }
 }
 
@@ -164,6 +167,13 @@ void TimedFrames::deliver(Pending& p) {
   }
   f.observation_map = std::move(in_map);
   f.time_s = p.delivered_s;
+  f.stamp_s = p.stamp_s;      // the bag keeps the stamp as given, recorded at delivery
+  f.tf_from_messages = true;  // and tf as it reached the buffer: the odometry messages arrived by now
+  f.odom_messages.clear();
+  for (; messages_sent_ < messages_.size() &&
+         messages_[messages_sent_].stamp_s + tf_.odom_latency_s <= p.delivered_s + kTimeEpsilon_s;
+       ++messages_sent_)
+    f.odom_messages.push_back(messages_[messages_sent_]);
   f.T_world_base = sim.T_world_base();
   // tf now, for the bag: odometry, and map -> odom as the localizer publishes it.
   f.T_odom_base = sim.T_odom_base();

@@ -95,10 +95,12 @@ class TimedFrames : public FrameSource {
   const layer::TfTimingConfig tf_;
   std::vector<CameraTimingStats> stats_;
   std::vector<TimedFrameEvent> events_;
-  std::vector<Pending> pending_;            // ordered by delivery time, then capture order
-  std::vector<std::deque<double>> queued_;  // per camera: delivery times of its readings waiting in the filter
-  std::vector<Eigen::Isometry3d> poses_;    // the robot at odometry message k (time k / rate)
-  std::vector<Eigen::Isometry3d> odom_;     // odometry's T_odom_base at message k
+  std::vector<Pending> pending_;                 // ordered by delivery time, then capture order
+  std::vector<std::deque<double>> queued_;       // per camera: delivery times of its readings waiting in the filter
+  std::vector<Eigen::Isometry3d> poses_;         // the robot at odometry message k (time k / rate)
+  std::vector<Eigen::Isometry3d> odom_;          // odometry's T_odom_base at message k
+  std::vector<pipeline::OdomMessage> messages_;  // message k whole, for the bag
+  std::size_t messages_sent_ = 0;                // handed on with a frame so far
   LocalizationStats localization_;
   std::uint64_t order_ = 0;
   bool inner_done_ = false;
