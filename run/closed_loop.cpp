@@ -1,6 +1,7 @@
 #include "run/closed_loop.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <sstream>
 
@@ -194,6 +195,16 @@ evaluation::DriveSummary ClosedLoop::finish(double end_s) {
   evaluation::DriveSummary d = drive_->finish(*navigator_, end_s);
   d.navigation_ms = navigation_ms_;
   d.attribution_ms = attribution_ms_;
+  // The drive ends with the navigation: a stall or a goal "reached" off the goal may be the localizer's doing.
+  if (const std::optional<navigation::Pose2> localized = localized_pose()) {
+    const navigation::Pose2 truth = robot_pose();
+    const double off_m = std::hypot(localized->x_m - truth.x_m, localized->y_m - truth.y_m);
+    const double off_deg = std::abs(std::remainder(localized->yaw_rad - truth.yaw_rad, 2.0 * M_PI)) * 180.0 / M_PI;
+    char text[128];
+    std::snprintf(text, sizeof text, "; the localizer was %.2f m and %.1f deg off the truth at the end", off_m,
+                  off_deg);
+    d.outcome += text;
+  }
   return d;
 }
 

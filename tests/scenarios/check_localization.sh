@@ -102,6 +102,8 @@ for k in n:
 assert n["door_noise"]["success"] and n["door_noise"]["time_to_goal_s"] < 25, n["door_noise"]["outcome"]
 assert not n["door_jump"]["success"] and n["door_jump"]["recoveries"] >= 1 and n["door_jump"]["stalled_s"] > 2.0
 assert m["door_jump"]["localization"]["global_frame"] == "odom", "closed loop: the run's layer is the local costmap's"
+off = float(n["door_jump"]["outcome"].split("the localizer was ")[1].split(" m")[0])
+assert 0.2 <= off <= 0.4, f"the failure names the localizer's error: {n['door_jump']['outcome']}"
 print("PASS: in closed loop the localizer's jump stalls the robot at the doorway; its noise alone does not")
 PY
 expect_bad() {  # KEY -- sets...
