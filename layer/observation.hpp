@@ -2,6 +2,7 @@
 // What a costmap layer is fed: the observation sources of its sensors, one sensor frame's observation (clouds in
 // the world frame, the optical frame's pose, the stamp) and where every sensor stands when it arrives. Plain
 // structs: the pipeline makes observations (simulated or recorded), a layer buffers and applies them.
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <string>
@@ -43,8 +44,12 @@ struct SensorConfig {
 
 // One sensor frame as the layer takes it and its sources keep it (STVL's buffered observation).
 struct Observation {
-  std::size_t sensor_index = 0;                                      // into the layer's sensors
-  double time_s = 0;                                                 // the stamp (simulated or recorded time)
+  std::size_t sensor_index = 0;  // into the layer's sensors
+  double time_s = 0;  // when the layer takes it (simulated or recorded time): its clock, STVL's _last_updated
+  // The header stamp, where camera timing makes it differ from time_s (NaN: time_s); STVL ages a buffered reading
+  // by it (observation_persistence: _last_updated - header.stamp).
+  double stamp_s = std::numeric_limits<double>::quiet_NaN();
+  double header_stamp_s() const { return std::isnan(stamp_s) ? time_s : stamp_s; }
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();  // optical frame
   Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();    // the robot at time_s
   Eigen::Matrix3Xf decimated_W;                                      // after the voxel grid or CSNB: clears

@@ -9,8 +9,14 @@ void SourceBuffer::receive(std::shared_ptr<const Observation> reading) {
     readings_.resize(1);
     return;
   }
-  // Ages from the last reading (STVL's _last_updated), newest first: drop from the first one too old.
-  while (readings_.size() > 1 && last_updated_s_ - readings_.back()->time_s > persistence_s_) readings_.pop_back();
+  // RemoveStaleObservations (measurement_buffer.cpp): from the newest, the first reading whose header stamp is more
+  // than observation_persistence before the last reception (STVL's _last_updated) goes with every one after it. With
+  // stamps at reception that keeps the newest; a reading stamped earlier than it arrived can go at once.
+  for (auto it = readings_.begin(); it != readings_.end(); ++it)
+    if (last_updated_s_ - (*it)->header_stamp_s() > persistence_s_) {
+      readings_.erase(it, readings_.end());
+      return;
+    }
 }
 
 bool source_current(double now_s, double last_updated_s, double expected_update_rate_s) {

@@ -29,7 +29,7 @@ class SourceBuffer {
         expected_update_rate_s_(expected_update_rate_s),
         last_updated_s_(created_s) {}
 
-  // A reading (not null) arrives at its time_s (its own time: the bench has no transport delay).
+  // A reading (not null) arrives at its time_s (its delivery; its header stamp may be earlier: camera timing).
   void receive(std::shared_ptr<const Observation> reading);
   // What an update applies: newest first.
   const std::deque<std::shared_ptr<const Observation>>& readings() const { return readings_; }

@@ -75,7 +75,7 @@ void BagRecorder::record(const pipeline::Frame& f, const layer::UpdateReport& re
       const std::string topic = source_cloud_topic(cameras, applied.sensor_index, applied.source_index);
       if (!topics_.wants(topic)) continue;
       const auto& source = cameras.at(applied.sensor_index).sources.at(applied.source_index).params;
-      readings.push_back({topic, update.time_s, applied.reading->time_s,
+      readings.push_back({topic, update.time_s, applied.reading->header_stamp_s(),
                           applied.cloud_W ? *applied.cloud_W : layer::source_marking_W(*applied.reading, source)});
     }
   // Cameras whose frames share a time share its robot messages (tf would warn of repeated data). With camera timing

@@ -159,10 +159,12 @@ void TimedFrames::deliver(Pending& p) {
   place(o, T_placed_base * T_base_camera);
   // The layer takes it now: its clock (decay, ticks, staleness) and the robot's pose now (footprint clearing).
   o.time_s = p.delivered_s;
+  o.stamp_s = p.stamp_s;
   o.T_world_base = loc.enabled && !layer_in_odom ? sim.T_map_odom() * sim.T_odom_base() : sim.T_world_base();
   if (in_map) {
     place(*in_map, T_map_base * T_base_camera);
     in_map->time_s = p.delivered_s;
+    in_map->stamp_s = p.stamp_s;
     in_map->T_world_base = sim.T_map_odom() * sim.T_odom_base();
   }
   f.observation_map = std::move(in_map);

@@ -39,6 +39,25 @@ TEST(SourceBuffer, PersistenceCountsFromTheLastReadingNotFromNow) {
   EXPECT_EQ(times(b), (std::vector<double>{5.3}));
 }
 
+TEST(SourceBuffer, PersistenceAgesEachReadingFromItsHeaderStamp) {
+  // Readings delivered 0.2 s after their capture stamp (camera timing): STVL ages them by header.stamp against the
+  // last reception, so with persistence 0.25 s a reading is gone once the next arrives; from the newest, the first
+  // one too old goes with every one after it, the newest itself when it arrived too late.
+  const auto late = [](double stamp_s, double time_s) {
+    auto r = std::make_shared<Observation>();
+    r->time_s = time_s, r->stamp_s = stamp_s;
+    return std::shared_ptr<const Observation>(r);
+  };
+  SourceBuffer b(0.25, 0.0);
+  b.receive(late(0.0, 0.2));
+  b.receive(late(0.1, 0.3));
+  EXPECT_EQ(times(b), (std::vector<double>{0.3}));  // 0.3 - 0.0 > 0.25: by time_s it would stay
+  b.receive(late(0.3, 0.4));
+  EXPECT_EQ(times(b), (std::vector<double>{0.4}));  // 0.4 - 0.1 > 0.25 cuts the older one
+  b.receive(late(0.2, 0.5));
+  EXPECT_TRUE(b.readings().empty()) << "0.5 - 0.2 > 0.25: the newest goes too, as RemoveStaleObservations does";
+}
+
 TEST(SourceBuffer, CurrentWhileTheLastReadingIsNoOlderThanTheExpectedPeriod) {
   SourceBuffer b(0.0, 0.5);     // expected_update_rate 0.5: seconds, not Hz
   EXPECT_TRUE(b.current(0.5));  // since the buffer's creation at 0
