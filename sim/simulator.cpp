@@ -47,8 +47,8 @@ Eigen::Isometry3d Simulator::T_map_odom() const {
   return corrections_.back().T_map_odom;
 }
 
-const Eigen::Isometry3d& Simulator::T_map_odom_at(double time_s) const {
-  if (corrections_.empty()) throw std::logic_error("T_map_odom_at: no correction published (localization disabled)");
+Eigen::Isometry3d Simulator::T_map_odom_at(double time_s) const {
+  if (corrections_.empty()) return T_map_odom();  // none published yet (or localization disabled): exact
   const std::uint64_t k = correction_index(config_.localization, time_s);
   return corrections_[std::min<std::size_t>(k, corrections_.size() - 1)].T_map_odom;
 }

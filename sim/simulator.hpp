@@ -75,7 +75,7 @@ class Simulator {
   // truth composed with odometry: the start pose plus the drift).
   Eigen::Isometry3d T_map_odom() const;
   // With localization: the correction in force at time_s (at most now), and every one published so far.
-  const Eigen::Isometry3d& T_map_odom_at(double time_s) const;
+  Eigen::Isometry3d T_map_odom_at(double time_s) const;
   const std::vector<LocalizationCorrection>& corrections() const { return corrections_; }
   Eigen::Isometry3d T_world_camera() const { return robot_.T_world_camera(); }
   // The optical frame of a camera on `mount` (the site above follows config.camera_mount only).
