@@ -122,9 +122,8 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
 navigation::Pose2 ClosedLoop::robot_pose() const { return pose_of(pipeline_.simulator().T_world_base()); }
 
 std::optional<navigation::Pose2> ClosedLoop::localized_pose() const {
-  const sim::Simulator& sim = pipeline_.simulator();
   if (!s_.pipeline.sim.localization.enabled) return std::nullopt;
-  return pose_of(sim.T_map_odom() * sim.T_odom_base());
+  return pose_of(pipeline_.simulator().T_map_base());
 }
 
 void ClosedLoop::update_costmaps(double time_s) {

@@ -41,11 +41,9 @@ TimedFrames::TimedFrames(FrameSource& inner, pipeline::Pipeline& pipeline, std::
 
 void TimedFrames::record_poses_until(double time_s) {
   const double period_s = 1.0 / tf_.odom_rate_hz;
-  for (double t = poses_.size() * period_s; t <= time_s + kTimeEpsilon_s; t = poses_.size() * period_s) {
+  for (double t = messages_.size() * period_s; t <= time_s + kTimeEpsilon_s; t = messages_.size() * period_s) {
     pipeline_.run_until(t);
     const sim::Simulator& sim = pipeline_.simulator();
-    poses_.push_back(sim.T_world_base());
-    odom_.push_back(sim.T_odom_base());
     messages_.push_back({t, sim.T_world_base(), sim.T_odom_base(), sim.T_map_odom(), sim.odometry().v_mps(),
                          sim.odometry().omega_radps()});
   }
@@ -61,13 +59,13 @@ LocalizationStats TimedFrames::localization() const {
   return stats;
 }
 
-Eigen::Isometry3d TimedFrames::pose_at(const std::vector<Eigen::Isometry3d>& poses, double stamp_s) const {
+Eigen::Isometry3d TimedFrames::pose_at(Eigen::Isometry3d pipeline::OdomMessage::*pose, double stamp_s) const {
   const double at = std::max(0.0, stamp_s) * tf_.odom_rate_hz;
-  const std::size_t k0 = std::min(static_cast<std::size_t>(std::floor(at + 1e-9)), poses.size() - 1);
+  const std::size_t k0 = std::min(static_cast<std::size_t>(std::floor(at + 1e-9)), messages_.size() - 1);
   const double f = std::clamp(at - static_cast<double>(k0), 0.0, 1.0);
-  if (f < 1e-9 || k0 + 1 >= poses.size()) return poses[k0];
+  if (f < 1e-9 || k0 + 1 >= messages_.size()) return messages_[k0].*pose;
   // tf2's interpolation: translation linear, rotation slerp.
-  const Eigen::Isometry3d &a = poses[k0], &b = poses[k0 + 1];
+  const Eigen::Isometry3d &a = messages_[k0].*pose, &b = messages_[k0 + 1].*pose;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::Quaterniond(a.linear()).slerp(f, Eigen::Quaterniond(b.linear())).toRotationMatrix();
   T.translation() = (1.0 - f) * a.translation() + f * b.translation();
@@ -138,12 +136,12 @@ void TimedFrames::deliver(Pending& p) {
   const sim::LocalizationConfig& loc = pipeline_.config().sim.localization;
   const sim::Simulator& sim = pipeline_.simulator();
   const Eigen::Isometry3d T_base_camera = f.T_world_base.inverse() * o.T_world_camera;
-  const Eigen::Isometry3d T_world_base_stamp = pose_at(poses_, p.stamp_s);
+  const Eigen::Isometry3d T_world_base_stamp = pose_at(&pipeline::OdomMessage::T_world_base, p.stamp_s);
   Eigen::Isometry3d T_placed_base = T_world_base_stamp, T_map_base = T_world_base_stamp;
   const bool layer_in_odom = loc.layer_in_odom || map_copy_;  // closed loop: the run's layer is the local costmap's
   std::shared_ptr<layer::Observation> in_map;                 // closed loop: the global costmap's copy, in map
   if (loc.enabled) {
-    T_map_base = sim.T_map_odom_at(p.stamp_s) * pose_at(odom_, p.stamp_s);
+    T_map_base = sim.T_map_odom_at(p.stamp_s) * pose_at(&pipeline::OdomMessage::T_odom_base, p.stamp_s);
     if (!layer_in_odom) T_placed_base = T_map_base;
     if (map_copy_) in_map = std::make_shared<layer::Observation>(o);
     const Eigen::Isometry3d error = T_world_base_stamp.inverse() * T_map_base;
@@ -160,12 +158,12 @@ void TimedFrames::deliver(Pending& p) {
   // The layer takes it now: its clock (decay, ticks, staleness) and the robot's pose now (footprint clearing).
   o.time_s = p.delivered_s;
   o.stamp_s = p.stamp_s;
-  o.T_world_base = loc.enabled && !layer_in_odom ? sim.T_map_odom() * sim.T_odom_base() : sim.T_world_base();
+  o.T_world_base = loc.enabled && !layer_in_odom ? sim.T_map_base() : sim.T_world_base();
   if (in_map) {
     place(*in_map, T_map_base * T_base_camera);
     in_map->time_s = p.delivered_s;
     in_map->stamp_s = p.stamp_s;
-    in_map->T_world_base = sim.T_map_odom() * sim.T_odom_base();
+    in_map->T_world_base = sim.T_map_base();
   }
   f.observation_map = std::move(in_map);
   f.time_s = p.delivered_s;

@@ -82,7 +82,7 @@ class TimedFrames : public FrameSource {
   // Records the robot's pose and odometry at every odometry message time up to time_s (running the simulator there).
   void record_poses_until(double time_s);
   // The robot's pose (truth, or odometry) tf gives at stamp_s (interpolated between the messages around it).
-  Eigen::Isometry3d pose_at(const std::vector<Eigen::Isometry3d>& poses, double stamp_s) const;
+  Eigen::Isometry3d pose_at(Eigen::Isometry3d pipeline::OdomMessage::*pose, double stamp_s) const;
   // The next captured frame's timing: kept pending (in delivery order) or counted as dropped. False at the end.
   bool capture();
   void deliver(Pending& p);
@@ -97,9 +97,7 @@ class TimedFrames : public FrameSource {
   std::vector<TimedFrameEvent> events_;
   std::vector<Pending> pending_;                 // ordered by delivery time, then capture order
   std::vector<std::deque<double>> queued_;       // per camera: delivery times of its readings waiting in the filter
-  std::vector<Eigen::Isometry3d> poses_;         // the robot at odometry message k (time k / rate)
-  std::vector<Eigen::Isometry3d> odom_;          // odometry's T_odom_base at message k
-  std::vector<pipeline::OdomMessage> messages_;  // message k whole, for the bag
+  std::vector<pipeline::OdomMessage> messages_;  // odometry message k (time k / rate): poses tf gives, the bag's
   std::size_t messages_sent_ = 0;                // handed on with a frame so far
   LocalizationStats localization_;
   std::uint64_t order_ = 0;

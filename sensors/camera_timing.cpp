@@ -9,9 +9,6 @@
 namespace stvl::sensors {
 namespace {
 
-// A uniform in (0, 1) from a 64-bit word (53 bits, never 0).
-double unit(std::uint64_t bits) { return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53; }
-
 // Counter-based draws: stream 1 the latency, stream 2 the drop bursts; each from (seed, stream, frame).
 std::uint64_t draw(std::uint64_t seed, std::uint64_t stream, std::uint64_t frame) {
   return splitmix64(splitmix64(seed ^ (stream * 0xD1B54A32D192ED03ull)) ^ frame);
@@ -60,8 +57,7 @@ FrameTiming frame_timing(const CameraTimingConfig& c, std::uint64_t seed, std::u
   double latency_s = c.latency_mean_s;
   if (c.latency_jitter_s > 0.0) {  // Box-Muller on two draws of the frame's latency stream
     const std::uint64_t a = draw(seed, 1, 2 * frame_index), b = draw(seed, 1, 2 * frame_index + 1);
-    const double normal = std::sqrt(-2.0 * std::log(unit(a))) * std::cos(2.0 * M_PI * unit(b));
-    latency_s = std::max(0.0, latency_s + c.latency_jitter_s * normal);
+    latency_s = std::max(0.0, latency_s + c.latency_jitter_s * box_muller(a, b));
   }
   t.arrival_s = capture_s + latency_s;
   switch (c.stamp) {
@@ -74,7 +70,7 @@ FrameTiming frame_timing(const CameraTimingConfig& c, std::uint64_t seed, std::u
                                     ? frame_index + 1 - static_cast<std::uint64_t>(c.drop_burst_frames)
                                     : 0;
     for (std::uint64_t k = first; k <= frame_index && !t.dropped; ++k)
-      t.dropped = unit(draw(seed, 2, k)) < c.drop_probability;
+      t.dropped = unit_open(draw(seed, 2, k)) < c.drop_probability;
   }
   return t;
 }

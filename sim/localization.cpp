@@ -9,13 +9,10 @@
 namespace stvl::sim {
 namespace {
 
-double unit(std::uint64_t bits) { return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53; }
-
-// A standard normal from correction k's stream (Box-Muller on two counter-based draws).
+// A standard normal from correction k's stream (two counter-based draws).
 double normal(std::uint64_t seed, std::uint64_t stream, std::uint64_t k) {
   const std::uint64_t s = splitmix64(seed ^ (stream * 0xD1B54A32D192ED03ull));
-  const double a = unit(splitmix64(s ^ (2 * k))), b = unit(splitmix64(s ^ (2 * k + 1)));
-  return std::sqrt(-2.0 * std::log(a)) * std::cos(2.0 * M_PI * b);
+  return box_muller(splitmix64(s ^ (2 * k)), splitmix64(s ^ (2 * k + 1)));
 }
 
 void require(bool ok, const std::string& key, const std::string& what) {

@@ -77,6 +77,8 @@ class Simulator {
   // With localization: the correction in force at time_s (at most now), and every one published so far.
   Eigen::Isometry3d T_map_odom_at(double time_s) const;
   const std::vector<LocalizationCorrection>& corrections() const { return corrections_; }
+  // The robot in map as tf has it now: T_map_odom() composed with odometry (the localizer's estimate).
+  Eigen::Isometry3d T_map_base() const { return T_map_odom() * T_odom_base(); }
   Eigen::Isometry3d T_world_camera() const { return robot_.T_world_camera(); }
   // The optical frame of a camera on `mount` (the site above follows config.camera_mount only).
   Eigen::Isometry3d T_world_camera(const CameraMount& mount) const {
