@@ -47,7 +47,7 @@ void RunEvaluation::before_update(const pipeline::Frame& f, const sim::World& wo
   const auto start = SteadyClock::now();
   evaluator_.observe_clearing(f.time_s, world, view_of(f), map);
   outages_.before_update(f.time_s, map);
-  before_ms_ = ms_since(start);
+  before_ms_ += ms_since(start);
 }
 
 void RunEvaluation::after_update(const pipeline::Frame& f, const layer::UpdateReport& report, const sim::World& world,
@@ -67,6 +67,13 @@ void RunEvaluation::after_update(const pipeline::Frame& f, const layer::UpdateRe
   }
   frame_ms_ = before_ms_ + ms_since(start);
   before_ms_ = 0;
+}
+
+void RunEvaluation::observe_lost(const pipeline::Frame& f, double time_s) {
+  const auto start = SteadyClock::now();
+  evaluator_.observe(time_s, view_of(f));
+  ++lost_frames_;
+  before_ms_ += ms_since(start);  // counted with the next frame's evaluation
 }
 
 RunVerdict RunEvaluation::finish(const RunEnd& end, const sim::World& world, const mapping::VoxelMap& map) {

@@ -57,6 +57,10 @@ class RunEvaluation {
   // and a snapshot when one is due (every evaluate_every_s).
   void after_update(const pipeline::Frame& frame, const layer::UpdateReport& report, const sim::World& world,
                     const mapping::VoxelMap& map);
+  // A frame lost on the way to the layer (camera timing's drops, the tf filter's), at time_s: what its noise-free
+  // camera saw goes into recall's denominator (the truth the camera looked at and the map never got).
+  void observe_lost(const pipeline::Frame& frame, double time_s);
+  std::size_t lost_frames_observed() const { return lost_frames_; }
   // Wall-clock milliseconds of the last frame's before_update() and after_update() together.
   double last_frame_ms() const { return frame_ms_; }
 
@@ -85,6 +89,7 @@ class RunEvaluation {
   OutageMonitor outages_;
   double next_evaluation_s_;
   double before_ms_ = 0, frame_ms_ = 0;
+  std::size_t lost_frames_ = 0;
 };
 
 }  // namespace stvl::evaluation

@@ -90,12 +90,14 @@ bool TimedFrames::capture() {
   if (t.dropped) {
     ++stats.dropped[layer::to_string(layer::DropReason::kCamera)];
     events_.push_back({c, f->time_s, -1, layer::to_string(layer::DropReason::kCamera)});
+    lost(*f, f->time_s);
     return true;
   }
   const layer::FilterVerdict verdict = layer::message_filter(tf_, t.arrival_s, t.stamp_s);
   if (!verdict.delivered()) {
     ++stats.dropped[layer::to_string(verdict.reason)];
     events_.push_back({c, f->time_s, -1, layer::to_string(verdict.reason)});
+    lost(*f, f->time_s);
     return true;
   }
   // The filter's queue: readings of this camera still waiting for their transform when this one arrives; at
@@ -110,6 +112,7 @@ bool TimedFrames::capture() {
     });
     if (it != pending_.end()) {
       events_.push_back({c, it->capture_s, -1, layer::to_string(layer::DropReason::kQueueFull)});
+      lost(it->frame, f->time_s);
       pending_.erase(it);
     }
     ++stats.dropped[layer::to_string(layer::DropReason::kQueueFull)];

@@ -17,6 +17,7 @@
 // timesteps, so the run's physics is that of an untimed run).
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -72,6 +73,11 @@ class TimedFrames : public FrameSource {
   const std::vector<TimedFrameEvent>& events() const { return events_; }
   // What localization did (the corrections are the simulator's: sim::Simulator::corrections()).
   LocalizationStats localization() const;
+  // Called with every frame lost on the way (camera, tf_timeout, queue_full; not after_end) when its loss is known,
+  // at the capture time being processed then (never earlier than a frame already handed on): the evaluation counts
+  // what the lost frame's camera saw in recall's denominator, as the camera looked there.
+  using LostFrameObserver = std::function<void(const pipeline::Frame& frame, double time_s)>;
+  void set_lost_observer(LostFrameObserver observer) { lost_observer_ = std::move(observer); }
 
  private:
   struct Pending {
@@ -104,6 +110,10 @@ class TimedFrames : public FrameSource {
   bool inner_done_ = false;
   pipeline::Frame out_;
   const pipeline::Frame* passthrough_ = nullptr;  // a frame of a fallen robot: handed on as it is
+  LostFrameObserver lost_observer_;
+  void lost(const pipeline::Frame& frame, double time_s) {
+    if (lost_observer_) lost_observer_(frame, time_s);
+  }
 };
 
 }  // namespace stvl::run

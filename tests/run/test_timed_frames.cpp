@@ -54,14 +54,20 @@ class TimedFramesTest : public test::MujocoTest {
   }
   // Every frame a source gives over 1.5 s: its time, the capture time of its cloud (the frame's own pose), the
   // mean x of its decimated cloud, and the robot's x at the frame.
+  // lost: every (time, capture time) the lost-frame observer got, and every delivered frame's (time, -1), in order.
   std::vector<Delivered> run(const pipeline::PipelineConfig& c, bool timed, std::vector<CameraTimingStats>* stats,
-                             LocalizationStats* localization = nullptr) {
+                             LocalizationStats* localization = nullptr,
+                             std::vector<std::pair<double, double>>* lost = nullptr) {
     pipeline::Pipeline pipeline(c);
     PipelineFrames frames(pipeline, 1.5);
     TimedFrames timed_frames(frames, pipeline, 7, 1.5);
+    if (lost)
+      timed_frames.set_lost_observer(
+          [lost](const pipeline::Frame& f, double time_s) { lost->emplace_back(time_s, f.frame_index / 10.0); });
     FrameSource& source = timed ? static_cast<FrameSource&>(timed_frames) : frames;
     std::vector<Delivered> out;
     while (const pipeline::Frame* f = source.next()) {
+      if (lost) lost->emplace_back(f->time_s, -1.0);
       const Eigen::Matrix3Xf& cloud = f->observation->decimated_W;
       out.push_back({f->time_s, f->frame_index / 10.0, cloud.cols() ? cloud.row(0).cast<double>().mean() : 0.0,
                      f->observation->T_world_camera.translation().x(),
@@ -135,6 +141,23 @@ TEST_F(TimedFramesTest, DropsAndTransformTimeoutsAreCountedByReason) {
   EXPECT_TRUE(run(c, true, &stats).empty());
   EXPECT_EQ(stats[0].dropped.at("tf_timeout"), 16u);
   EXPECT_EQ(stats[0].delivered, 0u);
+}
+
+TEST_F(TimedFramesTest, EveryLostFrameReachesTheEvaluationInTimeOrder) {
+  pipeline::PipelineConfig c = config();
+  c.cameras.front().timing.latency_mean_s = 0.15;
+  c.cameras.front().timing.drop_probability = 0.5;
+  std::vector<CameraTimingStats> stats;
+  std::vector<std::pair<double, double>> seen;  // (time, capture time; -1 for a delivered frame)
+  const std::vector<Delivered> delivered = run(c, true, &stats, nullptr, &seen);
+  const std::size_t lost = seen.size() - delivered.size();
+  ASSERT_GT(stats[0].dropped.at("camera"), 2u);
+  EXPECT_EQ(lost, stats[0].dropped.at("camera"));
+  EXPECT_EQ(delivered.size() + lost + stats[0].after_end, stats[0].captured);
+  for (std::size_t k = 0; k < seen.size(); ++k) {
+    if (seen[k].second >= 0) EXPECT_NEAR(seen[k].first, seen[k].second, 1e-9) << "known lost at its capture";
+    if (k > 0) EXPECT_GE(seen[k].first, seen[k - 1].first - 1e-9) << "the evaluation's clock never runs back";
+  }
 }
 
 TEST_F(TimedFramesTest, ALocalizationJumpMovesTheMapLayersReadingsNotTheOdomLayers) {

@@ -11,6 +11,7 @@
 #  6. slow_camera (2 Hz) with expected_update_rate 0.3 s: the costmaps are not current between readings, nav2's
 #     planner times out waiting (measured: 5 PlannerTimedOut, 5 recoveries, goal at 59.6 s instead of 44.05 s) and
 #     the lint names the fix; required: at least one PlannerTimedOut and one recovery, the run failed (exit 1).
+#  7. the bags' stamps and their replays, 8. drops against recall: described where they run.
 set -euo pipefail
 bin=$1 out=$2 scenarios=$3
 rm -rf "$out" && mkdir -p "$out"
@@ -50,6 +51,24 @@ import json, sys
 c = json.load(open(sys.argv[1]))["frame_timing"]["cameras"][0]
 assert c["delivered"] == 0 and c["dropped_by_reason"] == {"tf_timeout": c["captured"]}, c
 print(f"PASS: transform_tolerance below the wait drops all {c['captured']} readings as tf_timeout")
+PY
+# 8. Drops cost recall: recall counts what every captured frame's camera saw, lost ones included. Measured
+#    (late_transforms, 15 s): 1 s bursts (drop_probability 0.1, 15 frames) lose 197 of 226 frames, mean recall 0.841,
+#    door_left_2 and door_right_1 never detected; the same drive losing 123 single frames keeps recall 0.993.
+#    Required: bursts' recall at most 0.93 with an obstacle missed (exit 1); single drops' at least 0.97.
+run bursts late_transforms.yaml -- --set camera.timing.drop_probability=0.1 --set camera.timing.drop_burst_frames=15
+((rc == 1)) || { echo "FAIL: 1 s drop bursts exited $rc, expected 1 (an obstacle missed)"; exit 1; }
+grep -q "FAIL all_obstacles_detected" "$out/bursts.log"
+run singles late_transforms.yaml -- --set camera.timing.drop_probability=0.5
+/usr/bin/python3 - "$out/bursts/metrics.json" "$out/singles/metrics.json" <<'PY'
+import json, sys
+b, s = (json.load(open(p)) for p in sys.argv[1:3])
+rb, rs = (m["evaluation"]["mean"]["recall"] for m in (b, s))
+lb, ls = (m["frame_timing"]["cameras"][0]["dropped_by_reason"]["camera"] for m in (b, s))
+print(f"bursts: {lb} frames lost, mean recall {rb:.3f}; single drops: {ls} lost, mean recall {rs:.3f}")
+assert rb <= 0.93, "frames lost in 1 s bursts must cost recall"
+assert rs >= 0.97, "single lost frames on a slow drive cost next to nothing"
+print("PASS: drops cost recall as a robot's map misses what its camera looked at")
 PY
 # 7. The bag keeps the stamps as given (recorded at delivery) and tf as odometry's messages: a replay of it sees what
 #    the robot saw (measured, 20 s of late_frames: the capture-stamped bag replays to the run's map, agreement 0.993;
