@@ -44,6 +44,24 @@ std::vector<LintFinding> lint_timing(const Scenario& s) {
                      "transform_tolerance: " + fixed(up_to_centiseconds(wait_hi), 2) +
                          " (or odometry sooner: a higher rate or less latency)"});
     }
+    // A reading's age at delivery (delivery - stamp): its own lateness, or the wait for the odometry message at or
+    // after its stamp, whichever is longer. STVL's RemoveStaleObservations and nav2's purgeStaleObservations age it
+    // from its stamp at reception: older than observation_persistence (> 0), it goes at once, the newest included.
+    const double age_lo = std::max(-lead_hi, tf.odom_latency_s);
+    const double age_hi = std::max(-lead_lo, tf.odom_latency_s + 1.0 / tf.odom_rate_hz);
+    for (const auto& source : camera.sources) {
+      const double keep = source.params.observation_persistence_s;
+      if (!p.timing_enabled() || !(keep > 0.0) || age_hi <= keep + 1e-9) continue;
+      const bool every = age_lo > keep + 1e-9;
+      out.push_back({s.file, 0, "observation_persistence (source " + source.name + ")",
+                     fixed(keep, 3) + " s: " + readings + " are " + fixed(age_lo, 3) + " to " + fixed(age_hi, 3) +
+                         " s old when they reach the layer (stamp " + sensors::to_string(t.stamp) +
+                         ", odometry every " + fixed(1.0 / tf.odom_rate_hz, 3) + " s, " + fixed(tf.odom_latency_s, 3) +
+                         " s late): the buffer ages them from their stamp and drops " +
+                         (every ? "every reading" : "the older ones") + " on arrival, the newest included",
+                     "observation_persistence: " + fixed(up_to_centiseconds(age_hi + keep), 2) +
+                         " (the age on arrival plus the persistence meant), or 0 (the newest reading only)"});
+    }
     // Arrivals are one period apart, give or take the jitter (a lost frame aside).
     const double gap_s = 1.0 / camera.intrinsics.rate_hz + (latency_hi - latency_lo);
     for (const auto& source : camera.sources) {

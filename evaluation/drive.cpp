@@ -230,21 +230,22 @@ void DriveEvaluation::frame(double time_s, const navigation::Pose2& robot, const
 }
 
 void DriveEvaluation::plan_cycle(const navigation::PlanCycle& cycle, const navigation::NavCostmap& global,
-                                 const Truth& truth) {
+                                 const Truth& truth, const navigation::Pose2& robot_W) {
   PlanAttribution a;
   a.time_s = cycle.time_s;
   a.layer_found = cycle.found;
   a.layer_length_m = cycle.length_m;
+  a.localization_error_m = std::hypot(cycle.robot_W.x_m - robot_W.x_m, cycle.robot_W.y_m - robot_W.y_m);
   const mapping::Costmap2D truth_combined = truth_costmap(truth);
   mapping::Costmap2D inflated = truth_combined;
   navigation::inflate(inflated, config_.inscribed_radius_m(), config_.global_costmap.inflation);
-  const navigation::PlanResult t = navigation::navfn_plan(inflated, {cycle.robot_W.x_m, cycle.robot_W.y_m},
+  const navigation::PlanResult t = navigation::navfn_plan(inflated, {robot_W.x_m, robot_W.y_m},
                                                           {config_.goal.x_m, config_.goal.y_m}, config_.planner);
   a.truth_found = t.found;
   a.truth_length_m = navigation::path_length_m(t.path_W);
   if (first_plan_s_ < 0) {  // SPL's shortest path: from where the drive started, on the truth then
     first_plan_s_ = cycle.time_s;
-    const Eigen::Vector2d from(cycle.robot_W.x_m, cycle.robot_W.y_m), to(config_.goal.x_m, config_.goal.y_m);
+    const Eigen::Vector2d from(robot_W.x_m, robot_W.y_m), to(config_.goal.x_m, config_.goal.y_m);
     s_.shortest_truth_m = shortest_free_path_m(inflated, from, to);
     if (s_.shortest_truth_m == 0) {  // a moving body shuts the way now: the static map's shortest path then
       mapping::Costmap2D building = building_;
@@ -338,6 +339,9 @@ DriveSummary DriveEvaluation::finish(const navigation::Navigator& navigator, dou
           if (!it->phantom_cells_W.empty())
             o << " at (" << it->phantom_cells_W.front().x() << ", " << it->phantom_cells_W.front().y() << ")";
           o << " where the truth is free";
+          if (it->localization_error_m >= truth_cell_m_)  // the layer's cells misplaced by a cell and more
+            o << ", the localizer " << it->localization_error_m << " m off then (the global costmap's readings "
+              << "placed as far from where they were seen)";
           break;
         }
     }

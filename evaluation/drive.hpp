@@ -42,6 +42,9 @@ struct PlanAttribution {
   std::size_t phantom_cells = 0;     // blocking: the layer's lethal cells where the truth is free near the truth's plan
   std::size_t unseen_cells = 0;      // the true lethal cells the layer's plan crosses
   std::vector<Eigen::Vector2d> phantom_cells_W, unseen_cells_W;  // their centres, the first kListed
+  // How far the pose the planner started from (the localizer's, in map) lay from the truth: the global costmap's
+  // readings were placed with an error of this order (0 without localization).
+  double localization_error_m = 0;
 };
 
 struct DriveSummary {
@@ -89,8 +92,10 @@ class DriveEvaluation {
   // kinematic drive: the footprint overlapping a true cell counts), stalls.
   void frame(double time_s, const navigation::Pose2& robot_W, const navigation::Twist& command, const Truth& truth,
              const std::vector<std::string>& contacts, bool navigating);
-  // Each planning cycle: the truth's costmap and plan beside the layer's.
-  void plan_cycle(const navigation::PlanCycle& cycle, const navigation::NavCostmap& global, const Truth& truth);
+  // Each planning cycle: the truth's costmap and plan (from robot_W, the true pose) beside the layer's (from the
+  // pose the planner had: the localizer's with localization).
+  void plan_cycle(const navigation::PlanCycle& cycle, const navigation::NavCostmap& global, const Truth& truth,
+                  const navigation::Pose2& robot_W);
   DriveSummary finish(const navigation::Navigator& navigator, double end_s);
   // The global costmap built from the truth now: the static map with every true footprint cell lethal (combined),
   // and with the global costmap's inflation.

@@ -137,6 +137,10 @@ class Evaluator {
   // What the camera's noise-free view sees this frame (recall's denominator, the truth voxels in range and band,
   // per camera too); frame_keys() holds them afterwards.
   void observe(double time_s, const CameraView& view);
+  // The truth of the world's state now (moving bodies), without a frame: a frame lost on the way.
+  void refresh_truth(const sim::World& world) {
+    if (truth_.has_moving_bodies()) update_truth(world);
+  }
   // Before the map's update: moved bodies' stale voxels the view now sees through (clearing latency starts).
   void observe_clearing(double time_s, const sim::World& world, const CameraView& view, const mapping::VoxelMap& map);
   // cleared_keys: the voxels the update's clearing removed (layer::UpdateReport::cleared_keys); false_clears

@@ -69,8 +69,9 @@ void RunEvaluation::after_update(const pipeline::Frame& f, const layer::UpdateRe
   before_ms_ = 0;
 }
 
-void RunEvaluation::observe_lost(const pipeline::Frame& f, double time_s) {
+void RunEvaluation::observe_lost(const pipeline::Frame& f, double time_s, const sim::World& world) {
   const auto start = SteadyClock::now();
+  evaluator_.refresh_truth(world);  // the drive's judging reads it (a closed loop driving without frames)
   evaluator_.observe(time_s, view_of(f));
   ++lost_frames_;
   before_ms_ += ms_since(start);  // counted with the next frame's evaluation

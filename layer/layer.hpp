@@ -93,13 +93,16 @@ class Layer {
   // The layer's costmap as it would publish it now: its projection, with its footprint freed at the robot's pose
   // of the last observation.
   virtual mapping::Costmap2D costmap() const = 0;
-  // nav2's ClearEntireCostmap on the costmap holding this layer (Costmap2DROS::resetLayers): the master, if any, back
-  // to its default everywhere and the layer's reset(): STVL's (SpatioTemporalVoxelLayer::reset: every voxel gone),
-  // nav2's (ObstacleLayer/VoxelLayer::reset: every cell and voxel back to the default). Buffers are kept.
-  virtual void reset() = 0;
+  // nav2's ClearEntireCostmap at time_s on the costmap holding this layer (Costmap2DROS::resetLayers): the master,
+  // if any, back to its default everywhere and the layer's reset(): STVL's (SpatioTemporalVoxelLayer::reset: every
+  // voxel gone), nav2's (ObstacleLayer/VoxelLayer::reset: every cell and voxel back to the default). Both keep the
+  // buffers' readings and restart their last-updated time at time_s (ResetLastUpdatedTime / resetLastUpdated); the
+  // costmap is not current until its next update, which is (was_reset_: navigation::NavCostmap).
+  virtual void reset(double time_s) = 0;
   // STVL's and nav2's isCurrent at a costmap update at time_s: every source with an expected_update_rate had a
-  // reading within it (STVL: MeasurementBuffer::UpdatedAtExpectedRate in updateBounds). nav2's controller and planner
-  // wait for a current costmap (costmap_update_timeout) and fail without one.
+  // reading (or a reset) within it (STVL: MeasurementBuffer::UpdatedAtExpectedRate in updateBounds; nav2:
+  // ObservationBuffer::isCurrent in get*Observations). nav2's controller and planner wait for a current costmap
+  // (costmap_update_timeout) and fail without one.
   virtual bool current(double /*time_s*/) const { return true; }
   // Every source's status (sensors in order, their sources in order), spans of staleness closed at until_s.
   virtual std::vector<SourceStatus> source_status(double until_s) const = 0;

@@ -120,16 +120,17 @@ void Nav2Layer::update(std::shared_ptr<const Observation> observation, const std
   T_world_base_ = o.T_world_base;
   const auto start_buffering = SteadyClock::now();
 
-  // pointCloud2Callback -> bufferCloud, received at its stamp: the decimated cloud in the global frame, the optical
-  // centre as the sensor origin.
+  // pointCloud2Callback -> bufferCloud, received now with its header stamp (earlier with camera timing: the purge
+  // ages it from there): the decimated cloud in the global frame, the optical centre as the sensor origin.
   const std::int64_t now_ns = nav2::ros_ns_from_seconds(o.time_s);
+  const std::int64_t stamp_ns = nav2::ros_ns_from_seconds(o.header_stamp_s());
   const std::size_t end =
       o.sensor_index + 1 < first_source_.size() ? first_source_[o.sensor_index + 1] : sources_.size();
   for (std::size_t i = first_source_.at(o.sensor_index); i < end; ++i) {
     Source& source = sources_[i];
     if (const auto span = stale_span(source.last_updated_s, o.time_s, source.status.expected_update_rate_s))
       source.status.stale.push_back(*span);
-    source.buffer.buffer_cloud(o.T_world_camera.translation(), o.decimated_W, now_ns, now_ns);
+    source.buffer.buffer_cloud(o.T_world_camera.translation(), o.decimated_W, stamp_ns, now_ns);
     source.last_updated_s = o.time_s;
     source.reading_of[source.buffer.observations().front().get()] = observation;
     for (auto it = source.reading_of.begin(); it != source.reading_of.end();) {  // forget the purged ones
@@ -235,7 +236,6 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
 
 void Nav2Layer::report_applied(const std::vector<std::pair<std::size_t, const nav2::Nav2Observation*>>& applied,
                                double time_s, LayerUpdate& update, UpdateReport& report) {
-  const std::int64_t now_ns = nav2::ros_ns_from_seconds(time_s);
   // The readings applied, once each (a buffer in both lists gives its observations twice), in gathering order.
   std::vector<const nav2::Nav2Observation*> seen;
   for (const auto& [i, obs] : applied) {
@@ -251,7 +251,7 @@ void Nav2Layer::report_applied(const std::vector<std::pair<std::size_t, const na
     if (held != s.buffer.observations().end())
       cloud = std::shared_ptr<const Eigen::Matrix3Xf>(*held, &(*held)->cloud_W);
     update.applied_readings.push_back({s.sensor_index, s.source_index, it->second, std::move(cloud)});
-    if (obs->stamp_ns == now_ns) continue;
+    if (std::abs(it->second->time_s - time_s) <= kTimeEpsilon_s) continue;  // delivered for this cycle
     ++report.reapplied_readings;
     ++s.status.reapplied_readings;
     s.status.max_reapplied_age_s = std::max(s.status.max_reapplied_age_s, time_s - it->second->time_s);
@@ -334,13 +334,26 @@ void Nav2Layer::roll_to(double new_origin_x_m, double new_origin_y_m) {
     throw std::logic_error("Nav2Layer: the layer's grid and the master rolled apart");
 }
 
-void Nav2Layer::reset() {
-  // navigation2 jazzy f4108e5 voxel_layer.cpp / obstacle_layer.cpp reset(): resetMaps() (every cell the default),
-  // the voxel grid reset, current_ true; the buffers kept.
+bool Nav2Layer::current(double time_s) const {
+  const std::int64_t now_ns = nav2::ros_ns_from_seconds(time_s);
+  return std::all_of(sources_.begin(), sources_.end(), [&](const Source& s) { return s.buffer.is_current(now_ns); });
+}
+
+void Nav2Layer::reset(double time_s) {
+  // navigation2 jazzy f4108e5 obstacle_layer.cpp reset() (voxel_layer.cpp's calls it, then resets its grid):
+  // resetMaps() (every cell the default), resetBuffersLastUpdated() (the observations kept), current_ false and
+  // was_reset_ (navigation::NavCostmap keeps those). A source stale until now is recorded so before its clock
+  // restarts.
+  for (Source& s : sources_) {
+    if (const auto span = stale_span(s.last_updated_s, time_s, s.status.expected_update_rate_s))
+      s.status.stale.push_back(*span);
+    s.last_updated_s = time_s;
+    s.buffer.reset_last_updated(nav2::ros_ns_from_seconds(time_s));
+  }
   grid_.costs.assign(grid_.costs.size(),
                      master_->config().track_unknown_space ? nav2::kNoInformation : nav2::kFreeSpace);
   voxel_grid_.reset();
-  current_ = true;
+  current_ = false;
   view_stale_ = true;
   master_->reset();
 }

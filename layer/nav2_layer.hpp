@@ -11,9 +11,10 @@
 // buffers at t (the voxel layer always gathers both lists, the obstacle layer its clearing buffers only while every
 // marking buffer is current), raytraces every clearing observation, then marks every marking one, then touches the
 // footprint; the master is reset inside the bounds touched and updateCosts frees the footprint in the layer's own
-// grid (footprint_clearing_enabled) and combines it there (combination_method). Observations go into the buffers at
-// their stamp (reception = stamp): the decimated cloud in the world frame and the optical centre as origin; a
-// buffer keeps the points of its source's [min_obstacle_height, max_obstacle_height].
+// grid (footprint_clearing_enabled) and combines it there (combination_method). Observations go into the buffers
+// when they are delivered, with their header stamp (earlier with camera timing: the purge ages them from it): the
+// decimated cloud in the world frame and the optical centre as origin; a buffer keeps the points of its source's
+// [min_obstacle_height, max_obstacle_height].
 //
 // costmap() is the layer's own grid after its last cycle (the footprint freed), master() nav2's combined costmap;
 // voxels() is the voxel layer's marked voxels as the bench's cubic voxels of map.voxel_size (= the resolution): each
@@ -48,15 +49,17 @@ class Nav2Layer : public Layer {
     return voxel_grid_.columns().size() * sizeof(std::uint32_t) + grid_.costs.size();
   }
   mapping::Costmap2D costmap() const override;
-  void reset() override;
+  void reset(double time_s) override;
+  // isCurrent at a cycle at time_s: every buffer's (the obstacle layer's short-circuit gives the same answer).
+  bool current(double time_s) const override;
   std::vector<SourceStatus> source_status(double until_s) const override;
 
   // The voxel layer's grid (empty for the obstacle layer) and the layer's own 2D grid, as the last cycle left them.
   const nav2::VoxelGrid& voxel_grid() const { return voxel_grid_; }
   const nav2::CellGrid& layer_grid() const { return grid_; }
-  // Cycles run so far, and whether the last one found every buffer current (nav2's isCurrent).
+  // Cycles run so far, and whether the last one found every buffer current (nav2's current_ after updateBounds).
   std::size_t cycles() const { return cycles_; }
-  bool current() const { return current_; }
+  bool current_at_last_cycle() const { return current_; }
 
  private:
   struct Source;

@@ -67,6 +67,8 @@ class Nav2ObservationBuffer {
   void purge_stale(std::int64_t now_ns);
   // isCurrent at now_ns.
   bool is_current(std::int64_t now_ns) const;
+  // resetLastUpdated (the layer's reset at now_ns): last updated now, the observations kept.
+  void reset_last_updated(std::int64_t now_ns) { last_updated_ns_ = now_ns; }
 
   const std::deque<std::shared_ptr<const Nav2Observation>>& observations() const { return list_; }
   std::int64_t last_updated_ns() const { return last_updated_ns_; }

@@ -34,6 +34,8 @@ class SourceBuffer {
   // What an update applies: newest first.
   const std::deque<std::shared_ptr<const Observation>>& readings() const { return readings_; }
   bool current(double now_s) const;  // source_current() at now_s with this buffer's times
+  // ResetLastUpdatedTime (the layer's reset at now_s): last updated now, the readings kept.
+  void reset_last_updated(double now_s) { last_updated_s_ = now_s; }
   // The newest reading's time (created_s before any), and the expected update period (seconds; 0: always current).
   double last_updated_s() const { return last_updated_s_; }
   double expected_update_rate_s() const { return expected_update_rate_s_; }

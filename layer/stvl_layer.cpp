@@ -57,10 +57,19 @@ std::vector<SourceStatus> StvlLayer::source_status(double until_s) const {
   return all;
 }
 
-void StvlLayer::reset() {
-  // spatio_temporal_voxel_layer.cpp (ros2 branch) reset(): resetMaps() and ResetGrid(), the buffers kept.
+void StvlLayer::reset(double time_s) {
+  // spatio_temporal_voxel_layer.cpp (ros2 branch 0559ae8) reset(): resetMaps() and ResetGrid(), current_ false and
+  // was_reset_ (navigation::NavCostmap keeps those), every buffer's ResetLastUpdatedTime; the readings kept. A source
+  // stale until now is recorded so before its clock restarts.
   map_.erase(map_.voxel_keys());
   if (master_) master_->reset();
+  for (auto& sensor : sensors_)
+    for (std::size_t s = 0; s < sensor->buffers.size(); ++s) {
+      SourceBuffer& buffer = sensor->buffers[s];
+      if (const auto span = stale_span(buffer.last_updated_s(), time_s, buffer.expected_update_rate_s()))
+        sensor->status[s].stale.push_back(*span);
+      buffer.reset_last_updated(time_s);
+    }
 }
 
 mapping::Costmap2D StvlLayer::costmap() const { return map_.project_costmap(costmap_options(config_, T_world_base_)); }

@@ -29,7 +29,7 @@ class StvlLayer : public Layer {
   void update(std::shared_ptr<const Observation> observation, const std::vector<SensorNow>& sensors,
               UpdateReport& report) override;
   const mapping::VoxelMap& voxels() const override { return map_; }
-  void reset() override;
+  void reset(double time_s) override;
   std::size_t map_bytes() const override { return map_.memory_bytes(); }
   mapping::Costmap2D costmap() const override;
   std::vector<SourceStatus> source_status(double until_s) const override;

@@ -56,7 +56,8 @@ void NavCostmap::reset_to_base() { combined_ = base_; }
 
 void NavCostmap::update(double time_s, const mapping::Costmap2D& layer_W, const Eigen::Vector2d& robot_W,
                         bool layer_current) {
-  current_ = layer_current;
+  current_ = layer_current || was_reset_;
+  was_reset_ = false;
   if (params_.rolling_window) {
     // LayeredCostmap::updateMap: new origin = robot - size/2, snapped by Costmap2D::updateOrigin to whole cells
     // from the old origin (the overlap keeps its cells; the window is rebuilt from the layer below anyway).
@@ -87,6 +88,8 @@ void NavCostmap::update(double time_s, const mapping::Costmap2D& layer_W, const 
 void NavCostmap::clear() {
   reset_to_base();
   inflate_now();
+  current_ = false;
+  was_reset_ = true;
 }
 
 void NavCostmap::inflate_now() {

@@ -37,7 +37,9 @@ class NavCostmap {
               bool layer_current = true);
   // LayeredCostmap::isCurrent: every layer current at the last update (the static and inflation layers always are).
   bool current() const { return current_; }
-  // ClearEntireCostmap: every layer reset (the static layer's cells come back), then inflation.
+  // ClearEntireCostmap: every layer reset (the static layer's cells come back), then inflation. Not current until the
+  // next update, which is whatever the 3D layer's buffers say (its was_reset_ and the static layer's reset: both
+  // current again at their next updateCosts; obstacle_layer.cpp, static_layer.cpp, STVL's reset, at f4108e5).
   void clear();
 
   // The costmap the planner, controller and behaviours read (inflated), and its combined layers before inflation.
@@ -56,6 +58,7 @@ class NavCostmap {
   std::uint8_t default_value_;
   double updated_at_s_ = -1;
   bool current_ = true;
+  bool was_reset_ = false;  // cleared since the last update
   long updates_ = 0;
 };
 

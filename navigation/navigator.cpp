@@ -60,13 +60,13 @@ void Navigator::finish(double time_s, NavigationStatus status, const std::string
 
 void Navigator::clear_global(double time_s, const Pose2& robot, const std::string& why) {
   event(time_s, robot, "clear_global_costmap", why);
-  if (clear_global_layer_) clear_global_layer_();
+  if (clear_global_layer_) clear_global_layer_(time_s);
   global_.clear();
 }
 
 void Navigator::clear_local(double time_s, const Pose2& robot, const std::string& why) {
   event(time_s, robot, "clear_local_costmap", why);
-  if (clear_local_layer_) clear_local_layer_();
+  if (clear_local_layer_) clear_local_layer_(time_s);
   local_.clear();
 }
 
@@ -102,24 +102,27 @@ void Navigator::restart_pipeline() {
   plan_now_ = true;
   have_path_ = false;
   planner_context_used_ = controller_context_used_ = false;
+  // The halted ComputePathToPose and FollowPath goals are gone: the new ones wait for their costmap anew
+  // (waitForCostmap's timer starts with the goal).
+  plan_waiting_since_s_.reset();
+  controller_waiting_since_s_.reset();
   restart_follow();
 }
 
-bool Navigator::plan(double time_s, const Pose2& robot) {
+bool Navigator::plan(double time_s, const Pose2& robot, const Pose2& localized) {
   next_plan_s_ = time_s + 1.0 / config_.replan_frequency_hz;
   plan_now_ = false;
-  PlanCycle cycle = compute_path(time_s, robot);
+  PlanCycle cycle = compute_path(time_s, localized);
   if (!cycle.found) {
     event(time_s, robot, "plan_failed", cycle.failure);
-    // RecoveryNode(1) ComputePathToPose | ClearGlobalCostmap-Context: once, then the planner again.
+    // RecoveryNode(1) ComputePathToPose | ClearGlobalCostmap-Context: once, then the planner again, which waits
+    // for the cleared costmap's next update (planner_server::waitForCostmap: "after clear costmap"); the controller
+    // goes on with the path it has meanwhile (the PipelineSequence's planner branch is running).
     if (planner_context_used_ || !cycle.recovery_helps) return false;
     planner_context_used_ = true;
     clear_global(time_s, robot, "ClearGlobalCostmap-Context");
-    cycle = compute_path(time_s, robot);
-    if (!cycle.found) {
-      event(time_s, robot, "plan_failed", cycle.failure);
-      return false;
-    }
+    plan_now_ = true;
+    return true;
   }
   planner_context_used_ = false;  // a success resets the RecoveryNode
   std::vector<Pose2> poses;
@@ -162,7 +165,7 @@ Twist Navigator::tick(double time_s, const Pose2& robot, const Twist& velocity, 
       }
     } else {
       plan_waiting_since_s_.reset();
-      if (!plan(time_s, localized))
+      if (!plan(time_s, robot, localized))
         return pipeline_failed(time_s, robot, "no plan: " + plans_.back().failure, plans_.back().recovery_helps);
     }
   }

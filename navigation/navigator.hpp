@@ -31,7 +31,7 @@ enum class NavigationStatus { kRunning, kSucceeded, kFailed };
 struct NavigationEvent {
   double time_s = 0;
   std::string kind, detail;
-  Eigen::Vector2d at_W = Eigen::Vector2d::Zero();  // the robot then
+  Eigen::Vector2d at_W = Eigen::Vector2d::Zero();  // the robot then (its true pose, whatever the localizer said)
 };
 
 // One ComputePathToPose on the global costmap.
@@ -54,8 +54,8 @@ class Navigator {
   Navigator(NavigationConfig config, mapping::Costmap2D static_map);
 
   // ClearEntireCostmap also resets the costmap's 3D layer (nav2 runs one instance per costmap): `local` is called
-  // at each ClearLocalCostmap, `global` at each ClearGlobalCostmap (either may be empty).
-  void set_clear_layers(std::function<void()> local, std::function<void()> global) {
+  // with the time at each ClearLocalCostmap, `global` at each ClearGlobalCostmap (either may be empty).
+  void set_clear_layers(std::function<void(double time_s)> local, std::function<void(double time_s)> global) {
     clear_local_layer_ = std::move(local);
     clear_global_layer_ = std::move(global);
   }
@@ -89,7 +89,9 @@ class Navigator {
 
  private:
   enum class Stage { kPipeline, kRecovery, kDone };
-  bool plan(double time_s, const Pose2& robot);  // ComputePathToPose with its context recovery
+  // ComputePathToPose from `localized` (the planner's start) with its context recovery: false when the pipeline fails
+  // (the retry after the context clear is pending until the cleared costmap is current). Events are at `robot`.
+  bool plan(double time_s, const Pose2& robot, const Pose2& localized);
   PlanCycle compute_path(double time_s, const Pose2& robot);
   void clear_global(double time_s, const Pose2& robot, const std::string& why);
   void clear_local(double time_s, const Pose2& robot, const std::string& why);
@@ -110,7 +112,7 @@ class Navigator {
   SimpleGoalChecker goal_checker_;
   SimpleProgressChecker progress_checker_;
   Behavior behavior_;
-  std::function<void()> clear_local_layer_, clear_global_layer_;
+  std::function<void(double)> clear_local_layer_, clear_global_layer_;
   std::optional<double> plan_waiting_since_s_, controller_waiting_since_s_;  // waiting for a current costmap
   Twist last_twist_;  // the controller's last command (the base keeps it while nothing is published)
   std::function<void(const PlanCycle&, const NavCostmap&)> plan_observer_;

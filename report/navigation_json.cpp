@@ -37,7 +37,8 @@ nlohmann::json navigation_json(const run::RunResult& r) {
                       {"phantom_cells_at", cells_json(a.phantom_cells_W)},
                       {"into_unseen", a.into_unseen},
                       {"unseen_cells", a.unseen_cells},
-                      {"unseen_cells_at", cells_json(a.unseen_cells_W)}});
+                      {"unseen_cells_at", cells_json(a.unseen_cells_W)},
+                      {"localization_error_m", a.localization_error_m}});
   nlohmann::json stand_ins = nlohmann::json::array();
   for (const auto& f : r.scenario.navigation_findings) stand_ins.push_back(config::format_finding(f));
   return {{"mode", "closed_loop"},

@@ -96,10 +96,11 @@ ClosedLoop::ClosedLoop(const config::Scenario& s, pipeline::Pipeline& pipeline, 
   if (s.pipeline.layer_type == layer::LayerType::kStvl)
     global_layer_ = layer::make_layer(pipeline::layer_config(s.pipeline));
   layer::Layer& global_layer = global_layer_ ? *global_layer_ : layer_;
-  navigator_->set_clear_layers([this] { layer_.reset(); }, [&global_layer] { global_layer.reset(); });
+  navigator_->set_clear_layers([this](double t) { layer_.reset(t); },
+                               [&global_layer](double t) { global_layer.reset(t); });
   navigator_->set_plan_observer([this](const navigation::PlanCycle& cycle, const navigation::NavCostmap& global) {
     const auto start = SteadyClock::now();
-    drive_->plan_cycle(cycle, global, evaluation_.truth());
+    drive_->plan_cycle(cycle, global, evaluation_.truth(), robot_pose());
     attribution_ms_ += ms_since(start);
   });
   pipeline.set_controller(
@@ -154,6 +155,10 @@ void ClosedLoop::after_frame(const pipeline::Frame& frame) {
     global_layer_->update(frame.observation_map ? frame.observation_map : frame.observation, frame.cameras_now,
                           global_report_);
   navigation_ms_ += ms_since(start);
+  judge(time_s);
+}
+
+void ClosedLoop::judge(double time_s) {
   const auto judged = SteadyClock::now();
   const sim::Simulator& sim = pipeline_.simulator();
   const sim::Twist2D& command = sim.commanded_twist();

@@ -30,6 +30,9 @@ class ClosedLoop {
   // After each frame's layer update: the global costmap's own layer takes the frame's observation; the drive's
   // figures. (The costmaps update on their own clocks at the controller's ticks, frames or not, as nav2's timers.)
   void after_frame(const pipeline::Frame& frame);
+  // A frame lost on the way at time_s (camera timing): the drive is judged as at a frame (trajectory, clearance,
+  // collisions, stalls), so a robot driving blind is still watched.
+  void after_lost_frame(double time_s) { judge(time_s); }
   // Before the frame at time_s goes into the bag: the twists, plans and costmaps published since the last frame.
   void record_bag(BagRecorder& bag, double time_s);
   // Whether the navigation ended (the goal reached or given up).
@@ -40,6 +43,8 @@ class ClosedLoop {
 
  private:
   navigation::Pose2 robot_pose() const;
+  // The drive's figures at time_s against the truth now.
+  void judge(double time_s);
   // With localization: the robot in map as the localizer has it (the last correction composed with odometry).
   std::optional<navigation::Pose2> localized_pose() const;
   // The costmaps due at time_s take their layers' grids as the last update left them.

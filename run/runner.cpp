@@ -164,7 +164,10 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   RunHooks hooks(s, options, *pipeline, evaluation, closed_loop.get());
   if (s.pipeline.timing_enabled()) {  // frames as the robot's subscriber gets them (issue 43)
     TimedFrames timed(frames, *pipeline, s.pipeline.seed, s.duration_s, closed_loop != nullptr);
-    timed.set_lost_observer([&evaluation](const pipeline::Frame& f, double t) { evaluation.observe_lost(f, t); });
+    timed.set_lost_observer([&](const pipeline::Frame& f, double t) {
+      evaluation.observe_lost(f, t, world);
+      if (closed_loop) closed_loop->after_lost_frame(t);
+    });
     static_cast<FrameLoopResult&>(r) = run_frame_loop(timed, layer, hooks, settings);
     r.camera_timing = timed.stats();
     r.frame_events = timed.events();

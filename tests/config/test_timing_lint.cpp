@@ -64,5 +64,28 @@ TEST(TimingLint, ExpectedUpdateRateShorterThanTheGapBetweenReadings) {
   EXPECT_EQ(findings[0].write_instead.rfind("expected_update_rate: 0.93", 0), 0u);  // 1.5 x 0.62
 }
 
+TEST(TimingLint, PersistenceShorterThanTheAgeOnArrivalDropsEveryReading) {
+  // Frames 0.3 s late, stamped at capture; odometry at 50 Hz, 0.02 s late: a reading is 0.3 s old (0.3 >= 0.02 +
+  // 0.02) when it reaches the layer. observation_persistence 0.2: every one goes on arrival; fix 0.3 + 0.2 = 0.50.
+  const auto findings =
+      lint_timing(with("camera: {timing: {latency_mean_s: 0.3}}\n"
+                       "tf: {odom_rate_hz: 50, odom_latency_s: 0.02, transform_tolerance: 0.5}\n"
+                       "map: {observation: {observation_persistence: 0.2}}\n"));
+  ASSERT_EQ(findings.size(), 1u);
+  EXPECT_THAT(findings[0].key, HasSubstr("observation_persistence"));
+  EXPECT_THAT(findings[0].what_stvl_does, HasSubstr("0.300 to 0.300 s old"));
+  EXPECT_THAT(findings[0].what_stvl_does, HasSubstr("drops every reading"));
+  EXPECT_EQ(findings[0].write_instead.rfind("observation_persistence: 0.50", 0), 0u);
+  // Stamped at arrival a reading is as old as its wait for odometry (0.02 to 0.04 s): 0.2 keeps it.
+  EXPECT_TRUE(lint_timing(with("camera: {timing: {latency_mean_s: 0.3, stamp: arrival}}\n"
+                               "tf: {odom_rate_hz: 50, odom_latency_s: 0.02, transform_tolerance: 0.5}\n"
+                               "map: {observation: {observation_persistence: 0.2}}\n"))
+                  .empty());
+  // Persistence 0 keeps the newest whatever its age.
+  EXPECT_TRUE(lint_timing(with("camera: {timing: {latency_mean_s: 0.3}}\n"
+                               "tf: {odom_rate_hz: 50, odom_latency_s: 0.02, transform_tolerance: 0.5}\n"))
+                  .empty());
+}
+
 }  // namespace
 }  // namespace stvl::config

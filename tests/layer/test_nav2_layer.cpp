@@ -189,6 +189,48 @@ TEST(Nav2Layer, CyclesRunAtTheCostmapsFrequency) {
   EXPECT_EQ(layer.cycles(), 2u);
 }
 
+// isCurrent (ObservationBuffer::isCurrent): within expected_update_rate of the last reception; reset() restarts
+// that clock (resetBuffersLastUpdated) without dropping the readings.
+TEST(Nav2Layer, CurrentWithinTheExpectedRateAndAgainAfterAReset) {
+  LayerConfig c = config_of(LayerType::kNav2Voxel);
+  c.sensors[0].sources[0].params.expected_update_rate_s = 0.3;
+  Nav2Layer layer(c);
+  UpdateReport report;
+  layer.update(observation(1.0, {0.55, 2.05, 0.55}, {{2.05f, 2.05f, 0.55f}}), kOneCamera, report);
+  EXPECT_TRUE(layer.current(1.3));
+  EXPECT_FALSE(layer.current(1.31));
+  layer.reset(2.0);
+  EXPECT_TRUE(layer.current(2.3));
+  EXPECT_FALSE(layer.current(2.31));
+  EXPECT_EQ(cell(layer, 20, 20), nav2::kFreeSpace) << "the reset empties the grid (track_unknown_space false)";
+  // A source stale from 0.3 s (created at 0) to its first reading, from 1.3 s until the reset, then from 2.3 s until
+  // its next reading at 2.5 s.
+  layer.update(observation(2.5, {0.55, 2.05, 0.55}, {{2.05f, 2.05f, 0.55f}}), kOneCamera, report);
+  const std::vector<SourceStatus> status = layer.source_status(2.5);
+  ASSERT_EQ(status.size(), 1u);
+  ASSERT_EQ(status[0].stale.size(), 3u);
+  EXPECT_NEAR(status[0].stale[1].from_s, 1.3, 1e-9);
+  EXPECT_NEAR(status[0].stale[1].to_s, 2.0, 1e-9);
+  EXPECT_NEAR(status[0].stale[2].from_s, 2.3, 1e-9);
+  EXPECT_NEAR(status[0].stale[2].to_s, 2.5, 1e-9);
+}
+
+// purgeStaleObservations ages a reading from its header stamp: a reading delivered 0.3 s after its stamp with
+// observation_persistence 0.2 is purged on arrival, the newest included, and marks nothing.
+TEST(Nav2Layer, PersistenceAgesAReadingFromItsHeaderStamp) {
+  for (const double latency_s : {0.1, 0.3}) {
+    LayerConfig c = config_of(LayerType::kNav2Voxel);
+    c.sensors[0].sources[0].params.observation_persistence_s = 0.2;
+    Nav2Layer layer(c);
+    UpdateReport report;
+    const auto o = observation(1.0 + latency_s, {0.55, 2.05, 0.55}, {{2.05f, 2.05f, 0.55f}});
+    o->stamp_s = 1.0;
+    layer.update(o, kOneCamera, report);
+    EXPECT_EQ(cell(layer, 20, 20), latency_s < 0.2 ? nav2::kLethalObstacle : nav2::kFreeSpace)
+        << "latency " << latency_s;
+  }
+}
+
 // The obstacle layer's range rules (nav2_obstacle_layer.hpp): a point at 2.5 m plus a hair (2D) is past
 // obstacle_max_range in metres, but its cell, 25 cells from the origin's, is not past cellDistance(2.5) = 25: #5697
 // marks it, #6092's 2D prefilter and the 3D rule before #5697 do not.

@@ -51,6 +51,25 @@ TEST(StvlLayer, MarksAWallSeenInARecordedImage) {
   EXPECT_EQ(fed.layer.master(), nullptr);  // no map.nav2_costmap
 }
 
+// STVL's reset (ClearEntireCostmap): every voxel gone, the buffers' last-updated time restarted (a source that was
+// not current is current again for expected_update_rate).
+TEST(StvlLayer, ResetEmptiesTheMapAndRestartsTheSourcesClock) {
+  PipelineConfig config = small_config(mapping::ClearingMode::kFrustum);
+  config.cameras.front().sources.front().params.expected_update_rate_s = 0.5;
+  SensedLayer fed(config);
+  Frame f = wall_frame(config, 2.0, 0.0);
+  fed.take(f);
+  ASSERT_FALSE(fed.map().empty());
+  EXPECT_TRUE(fed.layer.current(0.5));
+  EXPECT_FALSE(fed.layer.current(1.0));
+  fed.layer.reset(1.0);
+  EXPECT_TRUE(fed.map().empty());
+  EXPECT_TRUE(fed.layer.current(1.5));
+  EXPECT_FALSE(fed.layer.current(1.6));
+  ASSERT_EQ(fed.layer.source_status(1.6).size(), 1u);
+  EXPECT_EQ(fed.layer.source_status(1.6)[0].stale.size(), 2u);  // 0.5 .. 1.0, then 1.5 .. 1.6
+}
+
 TEST(StvlLayer, RaycastClearingRemovesAWallThatMovedAway) {
   const PipelineConfig config = small_config(mapping::ClearingMode::kRaycast);
   SensedLayer fed(config);

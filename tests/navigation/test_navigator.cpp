@@ -94,6 +94,13 @@ TEST(Navigator, AWallAcrossTheRoomRunsTheRecoveriesInNav2sOrderThenGivesUp) {
   const auto clears = kinds(nav, "clear_global_costmap");
   ASSERT_FALSE(clears.empty());
   EXPECT_EQ(clears.front(), "ClearGlobalCostmap-Context");
+  // The planner's retry after the context clear waits for the cleared costmap's next update (1 Hz): the first two
+  // plans are a second apart, not at the same instant.
+  std::vector<double> failed_s;
+  for (const auto& e : nav.events())
+    if (e.kind == "plan_failed") failed_s.push_back(e.time_s);
+  ASSERT_GE(failed_s.size(), 2u);
+  EXPECT_NEAR(failed_s[1] - failed_s[0], 1.0, 1e-6);
 }
 
 TEST(Navigator, ClearingResetsTheLayerThroughTheCallback) {
@@ -101,12 +108,13 @@ TEST(Navigator, ClearingResetsTheLayerThroughTheCallback) {
   for (int y = 0; y < 80; ++y) blocked.cells[y * 200 + 100] = mapping::kCostLethal;
   Navigator nav(config({8.0, 2.0, 0.0}), blocked);
   int local_resets = 0, global_resets = 0;
-  nav.set_clear_layers([&] { ++local_resets; }, [&] { ++global_resets; });
+  nav.set_clear_layers([&](double) { ++local_resets; }, [&](double) { ++global_resets; });
   Drive d{nav, empty_layer(), {1.0, 2.0, 0.0}};
-  d.run(1.0);
+  d.run(2.5);
   EXPECT_GE(global_resets, 1);  // ClearGlobalCostmap-Context at the first failed plan
   // Each costmap's clearing resets its own layer: the planner's context clears the global one alone, the
-  // recoveries' ClearingActions both (here: 2 contexts and 1 recovery in the first second).
+  // recoveries' ClearingActions both (here: the context at 0 s, its retry failing at the cleared costmap's next
+  // update at 1 s, the clearing recovery then).
   EXPECT_EQ(global_resets, static_cast<int>(kinds(nav, "clear_global_costmap").size()));
   EXPECT_EQ(local_resets, static_cast<int>(kinds(nav, "clear_local_costmap").size()));
   EXPECT_GT(global_resets, local_resets);
@@ -122,9 +130,18 @@ TEST(Navigator, AStaleLayerMakesThePlannerAndControllerWaitThenTimeOut) {
   EXPECT_GT(x_before, 1.05);
   // The layer goes stale: the local costmap (5 Hz) is not current from its next update; the controller keeps the
   // last command for costmap_update_timeout (0.3 s), then ControllerTimedOut. The global costmap (1 Hz) follows at
-  // its next update and the planner times out 1.0 s later.
+  // its next update and the planner times out 1.0 s later. A cleared costmap is current at its next update whatever
+  // the layer says (was_reset_): the clear recovery's ClearGlobalCostmap lets one plan through.
   d.layer_current = false;
-  d.run(3.0);
+  d.run(6.0);
+  double cleared_s = -1, planned_after_s = -1;
+  for (const auto& e : nav.events()) {
+    if (e.kind == "clear_global_costmap" && cleared_s < 0) cleared_s = e.time_s;
+    if (e.kind == "plan" && cleared_s >= 0 && planned_after_s < 0) planned_after_s = e.time_s;
+  }
+  ASSERT_GE(cleared_s, 0.0);
+  EXPECT_GT(planned_after_s, cleared_s);
+  EXPECT_LE(planned_after_s, cleared_s + 1.0 + 1e-9) << "the global costmap's next update after the clear is current";
   const auto controller = kinds(nav, "controller_failed");
   ASSERT_FALSE(controller.empty());
   EXPECT_EQ(controller.front(), "ControllerTimedOut: Costmap timed out waiting for update");

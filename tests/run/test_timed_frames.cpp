@@ -155,8 +155,12 @@ TEST_F(TimedFramesTest, EveryLostFrameReachesTheEvaluationInTimeOrder) {
   EXPECT_EQ(lost, stats[0].dropped.at("camera"));
   EXPECT_EQ(delivered.size() + lost + stats[0].after_end, stats[0].captured);
   for (std::size_t k = 0; k < seen.size(); ++k) {
-    if (seen[k].second >= 0) EXPECT_NEAR(seen[k].first, seen[k].second, 1e-9) << "known lost at its capture";
-    if (k > 0) EXPECT_GE(seen[k].first, seen[k - 1].first - 1e-9) << "the evaluation's clock never runs back";
+    if (seen[k].second >= 0) {
+      EXPECT_NEAR(seen[k].first, seen[k].second, 1e-9) << "known lost at its capture";
+    }
+    if (k > 0) {
+      EXPECT_GE(seen[k].first, seen[k - 1].first - 1e-9) << "the evaluation's clock never runs back";
+    }
   }
 }
 

@@ -9,7 +9,8 @@
 #     with ray-cast clearing (the scenario's) it touches nothing.
 #  5. the no-return phantom's twin in the doorway (phantom_in_doorway.yaml): without clear_on_no_return (STVL's
 #     behaviour) a planning cycle is blocked by the person's old place while the truth is free, and the controller
-#     stops before it (measured: the cycle at 3 s, 101 named cells; a controller failure at 6.35 s); with it neither.
+#     stops before it (measured: the cycles at 3 and 5 s, 107 and 81 named cells; a controller failure at 13.35 s,
+#     goal at 25.65 s after 2 recoveries); with it neither (goal at 21.35 s).
 #  6. a nav2 map in closed loop (office_floor_map.yaml): the global costmap is the map as nav2's StaticLayer reads it
 #     (its 200 x 120 cells at 0.05 m from (-1, -2), the unknown corner kept unknown: -1 in the bag's OccupancyGrid),
 #     and the drive reaches the planned path's end.
