@@ -163,49 +163,30 @@ int Evaluator::body_of(SeenVoxels::Entry& seen) const {
   return seen.static_body >= 0 ? seen.static_body : truth_.moving_body_of(seen.key);
 }
 
-void Evaluator::update_stale_candidates() {
-  if (stale_version_ == truth_.version()) return;
-  stale_version_ = truth_.version();
-  stale_rank_.clear();
-  stale_lo_ = {1, 1, 1}, stale_hi_ = {0, 0, 0};
-  std::uint32_t rank = 0;
-  for (const VoxelKey& k : truth_.vacated()) {
-    ++rank;
-    const auto [near_static, fresh] = vacated_near_static_.try_emplace(k, false);
-    if (fresh) near_static->second = truth_.near_static(k);
-    if (near_static->second || truth_.near_moving(k)) continue;
-    if (stale_rank_.empty()) stale_lo_ = stale_hi_ = k;
-    stale_lo_ = {std::min(stale_lo_.x, k.x), std::min(stale_lo_.y, k.y), std::min(stale_lo_.z, k.z)};
-    stale_hi_ = {std::max(stale_hi_.x, k.x), std::max(stale_hi_.y, k.y), std::max(stale_hi_.z, k.z)};
-    stale_rank_.emplace(k, rank);
-  }
-}
-
 void Evaluator::observe_clearing(double time_s, const sim::World& world, const CameraView& view,
                                  const mapping::VoxelMap& map) {
   if (!truth_.has_moving_bodies()) return;
   const ScopedMsTimer timer(times_.clearing_ms);
   update_truth(world);
-  update_stale_candidates();
+  stale_.update(truth_);
   // Stale voxels: in the map (as the previous update left it), where a moving body was, now far from every
   // true surface; seen through when the noise-free depth at their pixel lies beyond them. The map's voxels in
-  // the candidates' box are visited (fewer than the candidates), then recorded in the candidates' own order.
+  // the candidates' box are visited (fewer than the candidates), then recorded in the vacated set's order.
   const sensors::DepthImage& depth = *view.clean_depth;
   const Eigen::Isometry3d T_camera_world = view.T_world_camera.inverse();
-  std::vector<std::pair<std::uint32_t, VoxelKey>> seen;
-  map.for_each_key_in(stale_lo_, stale_hi_, [&](const VoxelKey& k) {
-    const auto candidate = stale_rank_.find(k);
-    if (candidate == stale_rank_.end() || clearing_.tracked(k)) return;
+  std::vector<VoxelKey> seen;
+  map.for_each_key_in(stale_.lo(), stale_.hi(), [&](const VoxelKey& k) {
+    if (!stale_.contains(k) || clearing_.tracked(k)) return;
     const Eigen::Vector3d p_C = T_camera_world * voxel_center(k, config_.voxel_size_m);
     const auto pixel = sensors::project_to_pixel(view.intrinsics, p_C);
     if (!pixel) return;
     const int u = static_cast<int>(std::lround(pixel->x())), v = static_cast<int>(std::lround(pixel->y()));
     if (u < 0 || v < 0 || u >= depth.width || v >= depth.height) return;
     const float z = depth.at(u, v);
-    if (z > 0.0f && z > p_C.z() + config_.voxel_size_m) seen.emplace_back(candidate->second, k);
+    if (z > 0.0f && z > p_C.z() + config_.voxel_size_m) seen.push_back(k);
   });
-  std::sort(seen.begin(), seen.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [rank, k] : seen) clearing_.seen_through(k, time_s);
+  sort_in_vacated_order(truth_, seen);
+  for (const VoxelKey& k : seen) clearing_.seen_through(k, time_s);
 }
 
 void Evaluator::after_update(double time_s, const mapping::VoxelMap& map, const std::vector<VoxelKey>& cleared_keys) {

@@ -17,6 +17,7 @@
 #include "evaluation/metrics.hpp"
 #include "evaluation/occlusion.hpp"
 #include "evaluation/seen_voxels.hpp"
+#include "evaluation/stale_candidates.hpp"
 #include "evaluation/truth.hpp"
 #include "mapping/voxel_map.hpp"
 #include "sensors/camera.hpp"
@@ -173,9 +174,6 @@ class Evaluator {
 
  private:
   void update_truth(const sim::World& world);
-  // The vacated voxels far from every true surface (where stale voxels can be), with their rank in the vacated
-  // set's order, and their bounding box; rebuilt when the truth changes.
-  void update_stale_candidates();
   // evaluate(), step by step.
   VoxelMatches match_mapped_voxels(const mapping::VoxelMap& map);  // also pools the surface distances
   // These two read the map as match_mapped_voxels() last saw it (mapped_, the same map in evaluate()).
@@ -201,11 +199,8 @@ class Evaluator {
   ClearingLatency clearing_;
   std::size_t false_clears_ = 0;
   HiddenClears hidden_clears_;
-  std::unordered_map<VoxelKey, std::uint32_t, VoxelKeyHash> stale_rank_;
-  VoxelKey stale_lo_{1, 1, 1}, stale_hi_{0, 0, 0};  // empty
-  std::size_t stale_version_ = 0;
-  std::unordered_map<VoxelKey, bool, VoxelKeyHash> vacated_near_static_;  // static truth does not move
-  MappedIndex mapped_;  // the mapped voxels' results and pooled distances (bounded by distinct values: #270)
+  StaleCandidates stale_;  // where stale map voxels can be
+  MappedIndex mapped_;     // the mapped voxels' results and pooled distances (bounded by distinct values: #270)
   std::vector<EvaluationSnapshot> snapshots_;
   TopDown top_down_;
   std::size_t top_down_version_ = 0;  // the truth version of top_down_.truth (versions start at 1)

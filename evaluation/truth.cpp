@@ -86,6 +86,7 @@ void Truth::update(const sim::World& world) {
   geoms_ = std::move(geoms);
   dynamic_geoms_ = std::move(dynamic);
   dynamic_bodies_ = voxelize_in_band(dynamic_geoms_, config_);
+  touched_.insert(touched_.end(), dynamic_near_.begin(), dynamic_near_.end());  // near the bodies before
   dynamic_truth_.clear();
   dynamic_near_.clear();
   dynamic_body_of_.clear();
@@ -102,9 +103,12 @@ void Truth::update(const sim::World& world) {
       dynamic_body_of_.emplace(k, index);
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz) vacated_.insert({k.x + dx, k.y + dy, k.z + dz});
+          for (int dz = -1; dz <= 1; ++dz)
+            if (vacated_.insert({k.x + dx, k.y + dy, k.z + dz}).second)
+              touched_.push_back({k.x + dx, k.y + dy, k.z + dz});
     }
   }
+  touched_.insert(touched_.end(), dynamic_near_.begin(), dynamic_near_.end());  // and after
   index_geoms();
 }
 

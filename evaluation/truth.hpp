@@ -45,6 +45,12 @@ class Truth {
   bool has_moving_bodies() const { return !dynamic_geoms_.empty(); }
   // Every voxel a moving body has occupied since the start, grown by one voxel: where stale map voxels can be.
   const VoxelSet& vacated() const { return vacated_; }
+  // Appends to out the voxels whose place among vacated(), near_moving() or both may have changed since the last call
+  // (repeats allowed): the ones newly vacated and the moving bodies' grown voxels before and after each update.
+  void take_touched(std::vector<VoxelKey>& out) {
+    out.insert(out.end(), touched_.begin(), touched_.end());
+    touched_.clear();
+  }
   // Footprint cells (cell = voxel size) of every body's solid in the band, now (kept until the truth changes).
   const CellGrid& footprint() const;
   // Distance from p_W to the nearest obstacle surface now; nullopt when there is no obstacle at all.
@@ -85,6 +91,7 @@ class Truth {
   mutable CellGrid footprint_;  // footprint() at footprint_version_
   mutable std::size_t footprint_version_ = 0;
   VoxelSet vacated_;
+  std::vector<VoxelKey> touched_;  // take_touched()'s, since its last call
   // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so a distance tests a few geoms.
   struct Bucket {
     std::vector<int> geoms;  // in geom order

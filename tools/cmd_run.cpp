@@ -87,10 +87,12 @@ int abandon_interrupted_run(const RunCommandOptions& o, const RunOptions& option
     bag = (incomplete / std::filesystem::path(options.bag_path).lexically_relative(staged.path())).string();
   const bool ros2 = !bag.empty() && recording::parse_bag_format(o.bag_format, o.bag) == recording::BagFormat::kRos2;
   const std::string active = bag.empty() ? "" : (ros2 ? recording::ros2_bag_folder(bag) : bag) + ".active";
+  std::error_code error;  // nothing written before the signal: no partial output to point at
+  const std::string partial =
+      std::filesystem::exists(incomplete, error) ? "the partial output in " + incomplete : "nothing written yet";
   std::fprintf(stderr,
-               "stvl-bench: interrupted by signal %d after %zu frames; no result written (%s left as it was, "
-               "the partial output in %s)%s\n",
-               caught_signal(), result.frames, staged.final_path().c_str(), incomplete.c_str(),
+               "stvl-bench: interrupted by signal %d after %zu frames; no result written (%s left as it was, %s)%s\n",
+               caught_signal(), result.frames, staged.final_path().c_str(), partial.c_str(),
                active.empty() ? "" : (", the bag stays as " + active).c_str());
   return 128 + caught_signal();
 }

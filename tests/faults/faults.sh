@@ -188,10 +188,11 @@ case $case_name in
     before=$(md5sum "$tmp/out/metrics.json")
     "$bench" run "$scenario" --out "$tmp/out" --no-progress >"$tmp/stdout" 2>"$tmp/stderr" &
     pid=$!
-    for _ in $(seq 1 300); do
+    for _ in $(seq 1 1200); do  # up to 120 s (ASan on a busy machine): the interrupt must come after a frame
       compgen -G "$tmp/out.partial-*/frames/*.png" >/dev/null && break
       sleep 0.1
     done
+    compgen -G "$tmp/out.partial-*/frames/*.png" >/dev/null || fail "no frame written within 120 s"
     kill -s INT "$pid"
     wait "$pid"
     rc=$?

@@ -1,0 +1,42 @@
+#pragma once
+// Where stale map voxels can be, for the clearing latency of moved bodies (evaluator.hpp): the voxels a moving body
+// has occupied (Truth::vacated()) that are now far from every true surface (near neither a static body nor a moving
+// one, at the tolerance). Kept up to date incrementally: after truth updates only the voxels they touched
+// (Truth::take_touched(): newly vacated ones, and the moving bodies' surroundings before and after) are looked at
+// again, where rebuilding visits every vacated voxel (all the places the people ever walked). The plain rebuild,
+// reference::stale_candidates(), is compared with it in tests/evaluation/test_stale_candidates.cpp.
+#include <unordered_map>
+#include <vector>
+
+#include "common/voxel_key.hpp"
+#include "evaluation/truth.hpp"
+
+namespace stvl::evaluation {
+
+class StaleCandidates {
+ public:
+  // Brings the set to truth's current state (takes truth's touched voxels).
+  void update(Truth& truth);
+  bool contains(const VoxelKey& key) const { return keys_.count(key) > 0; }
+  const VoxelSet& keys() const { return keys_; }
+  // A box (keys, each axis) holding every candidate; it never shrinks, so it may hold former ones. Empty: lo > hi.
+  const VoxelKey& lo() const { return lo_; }
+  const VoxelKey& hi() const { return hi_; }
+
+ private:
+  VoxelSet keys_;
+  std::unordered_map<VoxelKey, bool, VoxelKeyHash> near_static_;  // static truth does not move: asked once
+  std::vector<VoxelKey> touched_;
+  VoxelKey lo_{1, 1, 1}, hi_{0, 0, 0};
+};
+
+// Sorts distinct vacated voxels by their place in truth.vacated()'s iteration (the order clearing records them in,
+// which the latencies' sums follow).
+void sort_in_vacated_order(const Truth& truth, std::vector<VoxelKey>& keys);
+
+namespace reference {
+// The candidates rebuilt from scratch: every vacated voxel near neither a static nor a moving body.
+VoxelSet stale_candidates(const Truth& truth);
+}  // namespace reference
+
+}  // namespace stvl::evaluation
