@@ -36,15 +36,4 @@ void sort_in_vacated_order(const Truth& truth, std::vector<VoxelKey>& keys) {
   }
   std::sort(keys.begin(), keys.end(), [&](const VoxelKey& a, const VoxelKey& b) { return rank.at(a) < rank.at(b); });
 }
-
-namespace reference {
-
-VoxelSet stale_candidates(const Truth& truth) {
-  VoxelSet out;
-  for (const VoxelKey& k : truth.vacated())
-    if (!truth.near_static(k) && !truth.near_moving(k)) out.insert(k);
-  return out;
-}
-
-}  // namespace reference
 }  // namespace stvl::evaluation

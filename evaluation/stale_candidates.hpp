@@ -4,7 +4,8 @@
 // one, at the tolerance). Kept up to date incrementally: after truth updates only the voxels they touched
 // (Truth::take_touched(): newly vacated ones, and the moving bodies' surroundings before and after) are looked at
 // again, where rebuilding visits every vacated voxel (all the places the people ever walked). The plain rebuild,
-// reference::stale_candidates(), is compared with it in tests/evaluation/test_stale_candidates.cpp.
+// reference::stale_candidates() (reference/stale_candidates.hpp), is compared with it in
+// tests/evaluation/test_stale_candidates.cpp.
 #include <unordered_map>
 #include <vector>
 
@@ -33,10 +34,5 @@ class StaleCandidates {
 // Sorts distinct vacated voxels by their place in truth.vacated()'s iteration (the order clearing records them in,
 // which the latencies' sums follow).
 void sort_in_vacated_order(const Truth& truth, std::vector<VoxelKey>& keys);
-
-namespace reference {
-// The candidates rebuilt from scratch: every vacated voxel near neither a static nor a moving body.
-VoxelSet stale_candidates(const Truth& truth);
-}  // namespace reference
 
 }  // namespace stvl::evaluation

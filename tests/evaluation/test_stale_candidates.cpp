@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "evaluation/reference/stale_candidates.hpp"
 #include "tests/evaluation/box_face.hpp"
 #include "tests/support/fixture.hpp"
 
