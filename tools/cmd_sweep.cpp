@@ -1,10 +1,12 @@
 // stvl-bench sweep SCENARIO|--worlds SPEC --set KEY=V1,V2 [--option NAME=V1,V2] [--seeds 1..5] [--jobs N | --emit
 // ENGINE]: the grid of a scenario's variants, run here or written out for GNU parallel, CTest or Slurm; stvl-bench
 // sweep --collect DIR: every point's metrics.json in one table (CSV, JSON, HTML with charts).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "analysis/sweep.hpp"
@@ -24,7 +26,7 @@ struct SweepOptions {
   std::string seeds;
   std::string worlds;
   std::string out_dir;
-  int jobs = 1;
+  int jobs = 0;  // 0: one point per core (std::thread::hardware_concurrency)
   std::string emit;
   std::string collect;
   std::string junit;
@@ -114,8 +116,9 @@ int sweep(const SweepOptions& o) {
     std::printf("sweep: %zu points; then stvl-bench sweep --collect %s\n", points.size(), out.c_str());
     return kExitOk;
   }
-  std::printf("sweep: %zu points, %d at a time, into %s\n", points.size(), o.jobs, out.c_str());
-  const int worst = run_sweep_locally(binary, scenario, out, points, o.jobs);
+  const int jobs = o.jobs > 0 ? o.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::printf("sweep: %zu points, %d at a time, into %s\n", points.size(), jobs, out.c_str());
+  const int worst = run_sweep_locally(binary, scenario, out, points, jobs);
   write_junit(o, collect_sweep(out));
   std::printf("sweep: table in %s/sweep.csv and %s/sweep.html\n", out.c_str(), out.c_str());
   return worst;
@@ -142,7 +145,7 @@ const CommandRegistration kSweep("sweep", [](CLI::App& app) {
                   "worlds by world from-map) and scenario files; sweep.html gives each figure's mean, p5, p95 and "
                   "worst world with the command that reproduces it, and the share of worlds where each check holds");
   cmd->add_option("--out", o->out_dir, "Output folder: one subfolder per point (default: out/sweep-<scenario>)");
-  cmd->add_option("--jobs", o->jobs, "Points run at once here (default 1)")->check(CLI::Range(1, 256));
+  cmd->add_option("--jobs", o->jobs, "Points run at once here (default: one per core)")->check(CLI::Range(1, 256));
   cmd->add_option("--emit", o->emit, "Write the grid for an engine instead of running it: parallel | ctest | slurm")
       ->check(CLI::IsMember({"parallel", "ctest", "slurm"}));
   cmd->add_option("--collect", o->collect, "Merge the points' metrics.json of a sweep folder into one table");
