@@ -73,7 +73,6 @@ void RunEvaluation::observe_lost(const pipeline::Frame& f, double time_s, const 
   const auto start = SteadyClock::now();
   evaluator_.refresh_truth(world);  // the drive's judging reads it (a closed loop driving without frames)
   evaluator_.observe(time_s, view_of(f));
-  ++lost_frames_;
   before_ms_ += ms_since(start);  // counted with the next frame's evaluation
 }
 

@@ -190,18 +190,13 @@ void Nav2Layer::run_cycle(double time_s, UpdateReport& report) {
   // The cycle's time: rolling, gathering and raytracing count as clearing, marking, the footprint and the combination
   // as marking (the bench's bookkeeping after it, the view's keys, counts in neither).
   if (config_.type == LayerType::kNav2Voxel) {
-    // VoxelLayer::updateBounds: both lists gathered whatever the first says.
-    bool current = true;
-    current = gather(true, marking) && current;
-    current = gather(false, clearing) && current;
-    current_ = current;
+    // VoxelLayer::updateBounds: both lists gathered whatever the first says (its current_ is current(time_s)).
+    gather(true, marking);
+    gather(false, clearing);
     for (const auto& obs : clearing) voxel_raytrace(*obs, bounds);
   } else {
     // ObstacleLayer::updateBounds: the clearing buffers only while every marking one is current.
-    bool current = true;
-    current = current && gather(true, marking);
-    current = current && gather(false, clearing);
-    current_ = current;
+    if (gather(true, marking)) gather(false, clearing);
     for (const auto& obs : clearing)
       nav2::raytrace_freespace(grid_, obs->origin_W.x(), obs->origin_W.y(), obs->cloud_W, obs->raytrace_max_range_m,
                                obs->raytrace_min_range_m, bounds);
@@ -341,8 +336,8 @@ bool Nav2Layer::current(double time_s) const {
 
 void Nav2Layer::reset(double time_s) {
   // navigation2 jazzy f4108e5 obstacle_layer.cpp reset() (voxel_layer.cpp's calls it, then resets its grid):
-  // resetMaps() (every cell the default), resetBuffersLastUpdated() (the observations kept), current_ false and
-  // was_reset_ (navigation::NavCostmap keeps those). A source stale until now is recorded so before its clock
+  // resetMaps() (every cell the default), resetBuffersLastUpdated() (the observations kept); current_ false and
+  // was_reset_ are navigation::NavCostmap's. A source stale until now is recorded so before its clock
   // restarts.
   for (Source& s : sources_) {
     if (const auto span = stale_span(s.last_updated_s, time_s, s.status.expected_update_rate_s))
@@ -353,7 +348,6 @@ void Nav2Layer::reset(double time_s) {
   grid_.costs.assign(grid_.costs.size(),
                      master_->config().track_unknown_space ? nav2::kNoInformation : nav2::kFreeSpace);
   voxel_grid_.reset();
-  current_ = false;
   view_stale_ = true;
   master_->reset();
 }

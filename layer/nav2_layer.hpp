@@ -57,9 +57,8 @@ class Nav2Layer : public Layer {
   // The voxel layer's grid (empty for the obstacle layer) and the layer's own 2D grid, as the last cycle left them.
   const nav2::VoxelGrid& voxel_grid() const { return voxel_grid_; }
   const nav2::CellGrid& layer_grid() const { return grid_; }
-  // Cycles run so far, and whether the last one found every buffer current (nav2's current_ after updateBounds).
+  // Cycles run so far.
   std::size_t cycles() const { return cycles_; }
-  bool current_at_last_cycle() const { return current_; }
 
  private:
   struct Source;
@@ -70,7 +69,6 @@ class Nav2Layer : public Layer {
   std::vector<std::size_t> first_source_;  // per sensor: its first source's index in sources_
   std::size_t next_tick_ = 0;
   std::size_t cycles_ = 0;
-  bool current_ = true;
   Eigen::Isometry3d T_world_base_ = Eigen::Isometry3d::Identity();
   mutable mapping::VoxelMap view_;  // voxels(), rebuilt on demand
   mutable bool view_stale_ = true;
