@@ -12,6 +12,10 @@
 #include "layer/observation.hpp"
 #include "sensors/depth_image.hpp"
 
+namespace stvl::sim {
+class World;
+}
+
 namespace stvl::pipeline {
 
 // Wall-clock milliseconds of one frame's sensing (the only part of a frame that is not deterministic). cloud_ms
@@ -44,6 +48,11 @@ struct Frame {
   // False when the robot fell over or left the world at time_s: nothing below the poses was computed, and the run
   // should stop.
   bool robot_upright = true;
+  // The simulated world at time_s (poses, contacts) for the evaluation against the truth: the pipeline's live world,
+  // or its snapshot when the pipeline runs ahead (Pipeline::set_world_snapshots). Null for a recording.
+  const sim::World* world = nullptr;
+  bool path_finished = false;  // the robot had reached its path's end (Simulator::path_finished)
+  int laps_completed = 0;      // Simulator::laps_completed
   Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();    // truth
   Eigen::Isometry3d T_odom_base = Eigen::Isometry3d::Identity();     // wheel odometry
   Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();      // odometry drift (map = world)

@@ -205,6 +205,14 @@ Pipeline::Pipeline(PipelineConfig config) : config_(std::move(config)) {
 
 Pipeline::~Pipeline() = default;
 
+void Pipeline::set_world_snapshots(bool on) {
+  for (auto& snapshot : snapshots_) snapshot = on ? std::make_unique<sim::World>(sim_->world().copy()) : nullptr;
+}
+
+void Pipeline::release_gl_contexts() {
+  for (auto& camera : cameras_) camera->renderer.release_context();
+}
+
 std::size_t Pipeline::skipped_frames(std::size_t camera) const { return cameras_.at(camera)->skipped_frames; }
 
 const char* Pipeline::gl_backend() const { return cameras_.front()->renderer.backend_name(); }
@@ -220,7 +228,7 @@ bool Pipeline::draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_ca
   if (!draw_ahead_) return false;
   Camera& camera = *cameras_[index];
   std::vector<std::size_t> others;
-  const double now_s = frame_.time_s;
+  const double now_s = frames_[current_].time_s;
   for (std::size_t c = 0; c < cameras_.size(); ++c)
     if (c != index && !cameras_[c]->drawn && cameras_[c]->next_time_s() == now_s) others.push_back(c);
   if (others.empty()) return false;
@@ -247,7 +255,8 @@ const Frame& Pipeline::step() {
   for (std::size_t c = 1; c < cameras_.size(); ++c)
     if (cameras_[c]->next_time_s() < cameras_[index]->next_time_s()) index = c;
   Camera& camera = *cameras_[index];
-  Frame& f = frame_;
+  current_ ^= 1;
+  Frame& f = frames_[current_];
   f.camera_index = index;
   f.camera = camera.config.name;
   f.frame_index = camera.next_frame;
@@ -264,6 +273,14 @@ const Frame& Pipeline::step() {
   f.odom_v_mps = sim_->odometry().v_mps();
   f.odom_omega_radps = sim_->odometry().omega_radps();
   f.robot_upright = upright(*sim_);
+  f.path_finished = sim_->path_finished();
+  f.laps_completed = sim_->laps_completed();
+  if (snapshots_[current_]) {
+    snapshots_[current_]->copy_state_from(sim_->world());
+    f.world = snapshots_[current_].get();
+  } else {
+    f.world = &sim_->world();
+  }
   if (!f.robot_upright) return f;
 
   auto start = SteadyClock::now();

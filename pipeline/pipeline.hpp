@@ -14,6 +14,7 @@
 // Frames: camera c takes frame k at k / rate_hz (its intrinsics' rate); step() takes the earliest pending
 // frame of any camera (ties: the lower camera index), so cameras at different rates interleave in simulated
 // time. Frames inside a camera's outages are not taken at all.
+#include <array>
 #include <memory>
 
 #include "pipeline/config.hpp"
@@ -36,9 +37,14 @@ class Pipeline {
 
   // Simulated time of the frame the next step() takes.
   double next_time_s() const;
-  // Runs the next frame up to its observation. The result is owned by the pipeline and overwritten by the next
-  // step().
+  // Runs the next frame up to its observation. The result is owned by the pipeline and stays valid through the
+  // next step() (two frames alternate), so that a caller may use it while the next one is made on another thread.
   const Frame& step();
+  // On: each step() copies the simulated world into a snapshot of the frame's own (Frame::world), which the
+  // step() after it leaves alone; off (default): Frame::world is the live world, which the next step() moves on.
+  void set_world_snapshots(bool on);
+  // Releases the cameras' GL contexts from the calling thread, so that step() may run on another one.
+  void release_gl_contexts();
 
   const PipelineConfig& config() const { return config_; }   // as given to the constructor
   const sim::Simulator& simulator() const { return *sim_; }  // the world and robot it steps
@@ -65,7 +71,9 @@ class Pipeline {
   std::unique_ptr<sim::Simulator> sim_;
   std::vector<std::unique_ptr<Camera>> cameras_;
   std::unique_ptr<Sensing> sensing_;  // edge filter, cloud, decimation
-  Frame frame_;
+  std::array<Frame, 2> frames_;       // step() alternates: frames_[current_] is the latest
+  std::size_t current_ = 0;
+  std::array<std::unique_ptr<sim::World>, 2> snapshots_;  // with set_world_snapshots(true): each frame's world
   bool draw_ahead_ = true;
   // Renders camera `index`'s frame with the other cameras of this instant; false (nothing done) when none.
   bool draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_camera);

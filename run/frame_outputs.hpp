@@ -25,6 +25,10 @@ struct RunOptions {
   // reported as not evaluated unless require_path (--require-path).
   double cut_short_from_s = 0;
   bool require_path = false;
+  // Frame k + 1 made on a thread of its own while frame k updates the layer and is evaluated (same outputs; off:
+  // one after another, --no-run-ahead). Never in closed loop or with camera timing, which drive or read the live
+  // simulator between frames.
+  bool run_ahead = true;
 };
 
 // Throws std::invalid_argument naming both paths when the bag at bag_path (format "ros1", "ros2" or "" as in

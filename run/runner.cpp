@@ -3,8 +3,10 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <utility>
 
 #include "common/atomic_file.hpp"
+#include "common/serial_worker.hpp"
 #include "common/units.hpp"
 #include "layer/layer.hpp"
 #include "pipeline/pipeline.hpp"
@@ -28,13 +30,30 @@ std::unique_ptr<pipeline::Pipeline> build_pipeline(const config::Scenario& s) {
 }
 
 // The pipeline's frames up to the scenario's duration; the bag with the cameras' mounts and the truth.
+// Running ahead, frame k + 1 is simulated, rendered and sensed on a thread of its own while the loop updates the
+// layer and evaluates frame k (on the world's snapshot at k): the same frames, in the same order, as one after
+// another. Only where nothing the loop does with frame k reaches the simulator (not in closed loop).
 class SimulatedFrames : public FrameSource {
  public:
   SimulatedFrames(pipeline::Pipeline& pipeline, double duration_s, const evaluation::Truth& truth)
       : pipeline_(pipeline), duration_s_(duration_s), truth_(truth) {}
+  bool running_ahead() const { return worker_ != nullptr; }
+  // Before the first next(): frames made a frame ahead on a worker thread.
+  void run_ahead() {
+    pipeline_.set_world_snapshots(true);
+    pipeline_.release_gl_contexts();  // the worker draws from now on
+    worker_ = std::make_unique<SerialWorker>(1);
+  }
+  // The world at the last frame given (the live world, or its snapshot when running ahead); null before it.
+  const sim::World* last_world() const { return last_ ? last_->world : nullptr; }
   const pipeline::Frame* next() override {
-    if (pipeline_.next_time_s() > duration_s_ + kTimeEpsilon_s) return nullptr;
-    return &pipeline_.step();
+    if (!worker_) return more() ? last_ = &pipeline_.step() : nullptr;
+    if (!started_) started_ = true, submit_step();
+    worker_->finish();  // frame k (rethrows the step's exception)
+    const pipeline::Frame* f = std::exchange(ahead_, nullptr);
+    if (f) last_ = f;
+    if (f && f->robot_upright) submit_step();  // k + 1, while the caller takes k
+    return f;
   }
   const std::vector<pipeline::CameraConfig>& cameras() const override { return pipeline_.config().cameras; }
   std::unique_ptr<BagRecorder> open_bag(const std::string& path, const BagSettings& settings,
@@ -44,20 +63,28 @@ class SimulatedFrames : public FrameSource {
   }
 
  private:
+  bool more() const { return pipeline_.next_time_s() <= duration_s_ + kTimeEpsilon_s; }
+  void submit_step() {
+    if (!more()) return;
+    worker_->submit([this] { ahead_ = &pipeline_.step(); });
+  }
   pipeline::Pipeline& pipeline_;
   double duration_s_;
   const evaluation::Truth& truth_;
+  bool started_ = false;
+  const pipeline::Frame* ahead_ = nullptr;  // written by the worker, read after finish()
+  const pipeline::Frame* last_ = nullptr;
+  std::unique_ptr<SerialWorker> worker_;  // last: joined before the members its task uses go
 };
 
 // The run's side of each frame: the evaluation against the truth, sampled depth frames, the soak's samples, the
 // progress line, where the robot last moved, and the stop at the path's end.
 class RunHooks : public FrameHooks {
  public:
-  RunHooks(const config::Scenario& s, const RunOptions& options, const pipeline::Pipeline& pipeline,
-           evaluation::RunEvaluation& evaluation, ClosedLoop* closed_loop)
+  RunHooks(const config::Scenario& s, const RunOptions& options, evaluation::RunEvaluation& evaluation,
+           ClosedLoop* closed_loop)
       : s_(s),
         closed_loop_(closed_loop),
-        sim_(pipeline.simulator()),
         evaluation_(evaluation),
         progress_(options.progress, s.duration_s),
         soak_(s.outputs.soak_sample_every_s) {
@@ -69,15 +96,15 @@ class RunHooks : public FrameHooks {
                              several ? c.name + "_" : "");
   }
   void before_update(const pipeline::Frame& f, const layer::Layer& layer) override {
-    evaluation_.before_update(f, sim_.world(), layer.voxels());
+    evaluation_.before_update(f, *f.world, layer.voxels());
   }
   void after_update(const pipeline::Frame& f, const layer::UpdateReport& report, const layer::Layer& layer) override {
-    evaluation_.after_update(f, report, sim_.world(), layer.voxels());
+    evaluation_.after_update(f, report, *f.world, layer.voxels());
     if (closed_loop_) closed_loop_->after_frame(f);
     samplers_[f.camera_index].offer(f, s_.pipeline.cameras[f.camera_index].intrinsics.min_range_m);
     const Eigen::Vector2d p_W = f.T_world_base.translation().head<2>();
     if (!((p_W - moved_at_W_).norm() <= 0.02)) moved_at_W_ = p_W, moved_s_ = f.time_s;
-    soak_.frame(f.time_s, report.clear_ms + report.mark_ms, report.cpu_ms, sim_.laps_completed(), layer.voxels());
+    soak_.frame(f.time_s, report.clear_ms + report.mark_ms, report.cpu_ms, f.laps_completed, layer.voxels());
   }
   double last_frame_ms() const override { return evaluation_.last_frame_ms(); }
   void before_bag(BagRecorder& bag, const pipeline::Frame& f) override {
@@ -85,7 +112,7 @@ class RunHooks : public FrameHooks {
   }
   bool done(const pipeline::Frame& f, const layer::UpdateReport& report, std::size_t frames) override {
     progress_.update(f.time_s, frames);
-    path_done_ = s_.stop_at_path_end && report.map_updated() && sim_.path_finished();
+    path_done_ = s_.stop_at_path_end && report.map_updated() && f.path_finished;
     return path_done_ || (closed_loop_ && closed_loop_->finished());
   }
   // Once the loop has ended.
@@ -97,7 +124,6 @@ class RunHooks : public FrameHooks {
  private:
   const config::Scenario& s_;
   ClosedLoop* closed_loop_;
-  const sim::Simulator& sim_;
   evaluation::RunEvaluation& evaluation_;
   Progress progress_;
   evaluation::SoakSampler soak_;
@@ -110,7 +136,7 @@ class RunHooks : public FrameHooks {
 // How the loop ended, for the evaluation's checks: a robot that stopped short of the path's end (2 s and more
 // without moving) with where it stands and what it touches.
 evaluation::RunEnd run_end(const config::Scenario& s, const RunOptions& options, const RunResult& r,
-                           const RunHooks& hooks, const pipeline::Pipeline& pipeline) {
+                           const RunHooks& hooks, const pipeline::Pipeline& pipeline, const sim::World& world) {
   evaluation::RunEnd end;
   end.path_required = s.stop_at_path_end;
   end.duration_s = s.duration_s;
@@ -119,7 +145,6 @@ evaluation::RunEnd run_end(const config::Scenario& s, const RunOptions& options,
   end.fell = r.fell, end.fell_at_s = r.fell_at_s;
   if (r.fell) end.tilt_rad = pipeline.simulator().robot().tilt_rad();
   end.path_done = hooks.path_done();
-  const sim::World& world = pipeline.simulator().world();
   if (end.path_required && !end.path_done && !end.fell && r.frames > 0 && r.sim_time_s - hooks.moved_s() >= 2.0)
     end.blocked =
         evaluation::blocked_diagnosis(r.path_W.back(), hooks.moved_s(), s.pipeline.path.waypoints_W.back(),
@@ -161,7 +186,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   std::unique_ptr<ClosedLoop> closed_loop;
   if (s.navigation.mode == navigation::NavigationMode::kClosedLoop)
     closed_loop = std::make_unique<ClosedLoop>(s, *pipeline, layer, evaluation, !options.bag_path.empty());
-  RunHooks hooks(s, options, *pipeline, evaluation, closed_loop.get());
+  RunHooks hooks(s, options, evaluation, closed_loop.get());
   if (s.pipeline.timing_enabled()) {  // frames as the robot's subscriber gets them (issue 43)
     TimedFrames timed(frames, *pipeline, s.pipeline.seed, s.duration_s, closed_loop != nullptr);
     timed.set_lost_observer([&](const pipeline::Frame& f, double t) {
@@ -174,13 +199,17 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     r.localization = timed.localization();
     r.corrections = pipeline->simulator().corrections();
   } else {
+    if (options.run_ahead && !closed_loop) frames.run_ahead();
     static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
   }
   hooks.finish();
   r.soak = hooks.soak();
   if (r.interrupted) return r;  // no result file is written
 
-  evaluation::RunVerdict verdict = evaluation.finish(run_end(s, options, r, hooks, *pipeline), world, layer.voxels());
+  // The world at the loop's end: the last frame's (a pipeline running ahead has simulated one frame further).
+  const sim::World& end_world = frames.running_ahead() && frames.last_world() ? *frames.last_world() : world;
+  evaluation::RunVerdict verdict =
+      evaluation.finish(run_end(s, options, r, hooks, *pipeline, end_world), end_world, layer.voxels());
   r.evaluation = std::move(verdict.evaluation);
   r.top_down = std::move(verdict.top_down);
   r.evaluation_phases = verdict.phases;

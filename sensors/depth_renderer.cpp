@@ -25,7 +25,9 @@ using GlReadPixels = void (*)(int, int, int, int, unsigned, unsigned, void*);
 
 struct DepthRenderer::Impl {
   Impl(const mjModel* model, const CameraIntrinsics& intrinsics, GlBackend backend, const std::array<bool, 6>& groups)
-      : mj(model, intrinsics, backend, groups, "DepthRenderer") {}
+      : mj(model, intrinsics, backend, groups, "DepthRenderer") {
+    mj.cull_outside_view = true;
+  }
   MujocoScene mj;
   GlColorMask gl_color_mask = nullptr;
   GlReadPixels gl_read_pixels = nullptr;
@@ -159,5 +161,6 @@ const CameraIntrinsics& DepthRenderer::intrinsics() const { return impl_->mj.int
 GlBackend DepthRenderer::backend() const { return impl_->mj.gl->backend(); }
 const char* DepthRenderer::backend_name() const { return to_string(impl_->mj.gl->backend()); }
 double DepthRenderer::znear_m() const { return impl_->mj.znear_m; }
+int DepthRenderer::culled_geoms() const { return impl_->mj.culled_geoms; }
 
 }  // namespace stvl::sensors

@@ -47,6 +47,9 @@ class DepthRenderer {
   GlBackend backend() const;
   const char* backend_name() const;  // "egl" or "osmesa"
   double znear_m() const;            // GL near plane: geometry closer than this is not drawn
+  // Geoms the last prepare() left out of the scene: wholly outside the view, so GL would have clipped them to
+  // nothing (MujocoScene::cull_outside_view; the image is the same, tests compare it with the reference).
+  int culled_geoms() const;
 
  private:
   struct Impl;

@@ -1,6 +1,7 @@
 #include "sensors/mujoco_scene.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <mutex>
 #include <stdexcept>
@@ -65,6 +66,32 @@ void make_render_context(const mjModel* model, const CameraIntrinsics& k, const 
     throw;
   }
   mj_deleteModel(copy);
+}
+
+// Drops from `scene` the geoms whose bounding sphere lies wholly outside the view of a camera at p_W looking
+// along R_W_C's z (optical frame: x right, y down), with the image's half-angle tangents tan_x, tan_y (the larger
+// side of each axis, so the test does not depend on which way the frustum's centre shifts) and the far plane
+// zfar_m. Conservative: a 2 % and 1 cm margin on every radius and the angles widened by 2 %. Returns how many.
+int cull_geoms_outside_view(mjvScene& scene, const Eigen::Matrix3d& R_W_C, const Eigen::Vector3d& p_W, double tan_x,
+                            double tan_y, double zfar_m) {
+  const double nx = 1.0 / std::sqrt(1.0 + tan_x * tan_x), ny = 1.0 / std::sqrt(1.0 + tan_y * tan_y);
+  int kept = 0;
+  for (int i = 0; i < scene.ngeom; ++i) {
+    const mjvGeom& g = scene.geoms[i];
+    const double rbound = double(g.modelrbound);
+    bool outside = false;
+    if (g.objtype == mjOBJ_GEOM && rbound > 0.0 && g.type != mjGEOM_PLANE && g.type != mjGEOM_HFIELD) {
+      const double r = 1.02 * rbound + 0.01;
+      const Eigen::Vector3d c = R_W_C.transpose() * (Eigen::Vector3d(g.pos[0], g.pos[1], g.pos[2]) - p_W);
+      // Side planes through the optical centre, x = +-tan_x z and y = +-tan_y z; signed distance outwards.
+      outside = c.z() + r < 0.0 || c.z() - r > zfar_m || (std::abs(c.x()) - tan_x * c.z()) * nx > r ||
+                (std::abs(c.y()) - tan_y * c.z()) * ny > r;
+    }
+    if (!outside) scene.geoms[kept++] = g;
+  }
+  const int culled = scene.ngeom - kept;
+  scene.ngeom = kept;
+  return culled;
 }
 
 }  // namespace
@@ -162,6 +189,12 @@ void MujocoScene::update(const mjModel* model, mjData* data, const Eigen::Isomet
   scene.camera[0] = gl_camera;
   scene.camera[1] = gl_camera;
   scene.enabletransform = 0;
+  culled_geoms = 0;
+  if (cull_outside_view) {
+    const double tan_x = 1.02 * std::max(k.cx + 0.5, k.width - 0.5 - k.cx) / k.fx;
+    const double tan_y = 1.02 * std::max(k.cy + 0.5, k.height - 0.5 - k.cy) / k.fy;
+    culled_geoms = cull_geoms_outside_view(scene, R, p, tan_x, tan_y, zfar_m);
+  }
 }
 
 }  // namespace stvl::sensors

@@ -43,6 +43,13 @@ struct MujocoScene {
   // Throws std::invalid_argument (naming owner::render), std::runtime_error from MuJoCo.
   void update(const mjModel* model, mjData* data, const Eigen::Isometry3d& T_world_camera);
 
+  // When set, update() leaves out of the scene every geom whose bounding sphere (the model's rbound) lies wholly
+  // outside the camera's view (behind it, beyond the far plane, or past a side of the image with a margin): GL
+  // clips such a geom to nothing, so every depth value stays what it was, at less vertex work. Planes and height
+  // fields (no finite bound) always stay. Off in the reference twin, which the tests compare with.
+  bool cull_outside_view = false;
+  int culled_geoms = 0;  // how many the last update() left out
+
   std::string owner;
   CameraIntrinsics intrinsics;
   std::unique_ptr<GlContext> gl;

@@ -47,6 +47,23 @@ World::World(mjModel* model, std::string source)
   mj_forward(model_.get(), data_.get());
 }
 
+World World::copy() const {
+  mjModel* model = mj_copyModel(nullptr, model_.get());
+  if (!model) throw std::runtime_error("mj_copyModel failed for world '" + source_ + "'");
+  World world(model, source_);
+  world.copy_state_from(*this);
+  return world;
+}
+
+void World::copy_state_from(const World& other) {
+  const mjModel* m = model_.get();
+  const mjModel* o = other.model_.get();
+  if (m->nbuffer != o->nbuffer || m->nstack != o->nstack || m->ngeom != o->ngeom || m->nbody != o->nbody)
+    throw std::invalid_argument("World::copy_state_from: '" + other.source_ + "' has another model than '" + source_ +
+                                "'");
+  mj_copyData(data_.get(), m, other.data_.get());
+}
+
 World::World(World&&) noexcept = default;
 World& World::operator=(World&&) noexcept = default;
 World::~World() = default;

@@ -43,6 +43,7 @@ struct RunCommandOptions {
   std::vector<std::string> sets;
   std::string noise;
   bool require_path = false;
+  bool no_run_ahead = false;
 };
 
 // What the scenario's URDF robot gave: notices, the robot, its drive and footprint.
@@ -141,6 +142,7 @@ int run(const RunCommandOptions& o) {
   options.stop_requested = catch_stop_signals();
   if (scenario.duration_s < scenario_duration_s) options.cut_short_from_s = scenario_duration_s;
   options.require_path = o.require_path;
+  options.run_ahead = !o.no_run_ahead;
 
   RunResult result;
   try {
@@ -182,6 +184,9 @@ const CommandRegistration kRun("run", [](CLI::App& app) {
   cmd->add_flag(
       "--require-path", o->require_path,
       "Fail path_completed when --duration cuts the run short before the path's end (default: not evaluated)");
+  cmd->add_flag("--no-run-ahead", o->no_run_ahead,
+                "Make each frame after the last one's evaluation (default: the next frame is made meanwhile on a "
+                "second thread; the outputs are the same)");
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
   cmd->add_flag("--profile", o->profile, "Print where the time went: per stage and per evaluation phase");
   return [o] { return run(*o); };

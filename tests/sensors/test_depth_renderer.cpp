@@ -275,7 +275,9 @@ Eigen::Isometry3d view(const Eigen::Vector3d& position_W, double yaw_rad, double
 // The renderer as it was (colour writes on, mjr_readPixels of float depth) on every pixel: the shipped worlds
 // (boxes, cylinders, capsules, spheres, meshes, planes) from several poses, both D435 streams.
 TEST_P(Renderer, EveryPixelAsTheFloatReadbackGaveIt) {
-  for (const char* name : {"office_corridor.xml", "cart_crossing.xml", "l_corridor.xml", "mesh_room.xml"}) {
+  long culled = 0;  // geoms the renderer left out of view (the reference draws every one)
+  for (const char* name : {"office_corridor.xml", "cart_crossing.xml", "l_corridor.xml", "mesh_room.xml", "doorway.xml",
+                           "ramp_platform.xml"}) {
     char error[1000] = "";
     test::MjModelPtr model(mj_loadXML((test::worlds_dir() + "/" + name).c_str(), nullptr, error, sizeof(error)));
     ASSERT_TRUE(model) << name << ": " << error;
@@ -297,10 +299,34 @@ TEST_P(Renderer, EveryPixelAsTheFloatReadbackGaveIt) {
         const DepthImage& now = fast->render(model.get(), data.get(), T);
         EXPECT_EQ(differing_pixels(now, before), 0u) << name << " " << k.width << "x" << k.height << " pose " << pose;
         valid += before.valid_count();
+        culled += fast->culled_geoms();
       }
       EXPECT_GT(valid, 6L * k.width * k.height / 4) << name;  // the poses see something
     }
   }
+  EXPECT_GT(culled, 0);  // the comparison covered views with geoms left out
+}
+
+// Geoms crossing every side of the image and the far plane as the camera turns and backs away in small steps:
+// each image as the reference (which draws every geom) gives it, with geoms left out at most poses.
+TEST_P(Renderer, GeomsLeftOutOfViewChangeNoPixel) {
+  World world(kShapes);
+  std::string why;
+  CameraIntrinsics k = CameraIntrinsics::d435_640x480();
+  k.max_range_m = 3.0;  // far plane at 7 m: the back wall crosses it as the camera backs away
+  auto fast = try_renderer(world, k, GetParam(), why);
+  if (!fast) GTEST_SKIP() << why;
+  reference::FloatDepthRenderer plain(world.model(), k, GetParam());
+  int poses_with_culling = 0, poses = 0;
+  for (int step = 0; step < 48; ++step, ++poses) {
+    const double yaw = -1.6 + 0.07 * step, pitch = 0.35 * std::sin(0.5 * step);
+    const Eigen::Isometry3d T = view({-1.0 - 0.05 * step, 0.3 * std::cos(0.3 * step), 0.9}, yaw, pitch);
+    const DepthImage& before = plain.render(world.model(), world.data(), T);
+    const DepthImage& now = fast->render(world.model(), world.data(), T);
+    EXPECT_EQ(differing_pixels(now, before), 0u) << "step " << step;
+    poses_with_culling += fast->culled_geoms() > 0;
+  }
+  EXPECT_GT(poses_with_culling, poses / 2);
 }
 
 TEST_P(Renderer, ConcurrentDrawsGiveTheImagesOfOneAfterAnother) {
