@@ -37,6 +37,18 @@ class SimulatedFrames : public FrameSource {
  public:
   SimulatedFrames(pipeline::Pipeline& pipeline, double duration_s, const evaluation::Truth& truth)
       : pipeline_(pipeline), duration_s_(duration_s), truth_(truth) {}
+  // Running ahead, the worker's GL contexts are released on its own thread, so that the renderers can be freed here.
+  ~SimulatedFrames() override {
+    if (!worker_) return;
+    try {
+      worker_->finish();
+      worker_->submit([this] { pipeline_.release_gl_contexts(); });
+      worker_->finish();
+    } catch (const std::exception&) {  // the frame's own error was reported by next(); freeing goes on
+    }
+  }
+  SimulatedFrames(const SimulatedFrames&) = delete;
+  SimulatedFrames& operator=(const SimulatedFrames&) = delete;
   bool running_ahead() const { return worker_ != nullptr; }
   // Before the first next(): frames made a frame ahead on a worker thread.
   void run_ahead() {

@@ -178,6 +178,9 @@ void TimedFrames::deliver(Pending& p) {
        ++messages_sent_)
     f.odom_messages.push_back(messages_[messages_sent_]);
   f.T_world_base = sim.T_world_base();
+  f.world = &sim.world();  // the evaluation and the stop at the path's end judge the world at delivery
+  f.path_finished = sim.path_finished();
+  f.laps_completed = sim.laps_completed();
   // tf now, for the bag: odometry, and map -> odom as the localizer publishes it.
   f.T_odom_base = sim.T_odom_base();
   f.T_map_odom = sim.T_map_odom();
