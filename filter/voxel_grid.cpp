@@ -23,6 +23,9 @@ struct KeyPoint {
 constexpr int kDirectBits = 10;
 // Buckets of a most-significant-digit pass: few enough that the scatter's write positions stay in L1.
 constexpr int kBucketBits = 8;
+// The first pass (over the whole cloud, in parallel) may use up to 2^kFirstPassBits buckets: a depth camera's cloud
+// (keys of about 20 bits at 5 cm) then goes from its buckets straight to the direct table.
+constexpr int kFirstPassBits = 12;
 // Buckets of at most this many points are sorted by insertion instead.
 constexpr std::size_t kInsertionPoints = 24;
 
@@ -318,7 +321,9 @@ Eigen::Matrix3Xf reduce_to_centroids(const GridInput& in, std::size_t min_points
   const detail::AtScopeExit release{[&] {
     if (in.n > detail::kKeepBuffersUpToPoints) w = {};
   }};
-  const int high_bits = std::min(in.layout.key_bits, kBucketBits);
+  // As many buckets as leave each one's keys to the direct table (no split pass), up to kFirstPassBits.
+  const int high_bits =
+      std::min(in.layout.key_bits, std::max(kBucketBits, std::min(kFirstPassBits, in.layout.key_bits - kDirectBits)));
   const int low_bits = in.layout.key_bits - high_bits;
   const std::size_t buckets = std::size_t{1} << high_bits;
   std::vector<std::uint32_t> count;
