@@ -250,12 +250,12 @@ bool Pipeline::draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_ca
   return true;
 }
 
-const Frame& Pipeline::step() {
+Frame& Pipeline::capture() {
   std::size_t index = 0;
   for (std::size_t c = 1; c < cameras_.size(); ++c)
     if (cameras_[c]->next_time_s() < cameras_[index]->next_time_s()) index = c;
   Camera& camera = *cameras_[index];
-  current_ ^= 1;
+  current_ = (current_ + 1) % kFrames;
   Frame& f = frames_[current_];
   f.camera_index = index;
   f.camera = camera.config.name;
@@ -293,15 +293,19 @@ const Frame& Pipeline::step() {
   }
   f.clean_depth = camera.renderer.image();
   f.times.render_ms = ms_since(start);
-
-  start = SteadyClock::now();
-  camera.noise.apply(f.clean_depth, f.depth, camera.noise_seed, f.frame_index);  // clean -> noisy, no copy
-  f.times.noise_ms = ms_since(start);
-
-  sensing_->sense(f);
   f.cameras_now.resize(cameras_.size());
   for (std::size_t c = 0; c < cameras_.size(); ++c)
     f.cameras_now[c] = {sim_->T_world_camera(cameras_[c]->config.mount), cameras_[c]->next_time_s()};
+  return f;
+}
+
+const Frame& Pipeline::sense(Frame& f) {
+  if (!f.robot_upright) return f;
+  Camera& camera = *cameras_.at(f.camera_index);
+  const auto start = SteadyClock::now();
+  camera.noise.apply(f.clean_depth, f.depth, camera.noise_seed, f.frame_index);  // clean -> noisy, no copy
+  f.times.noise_ms = ms_since(start);
+  sensing_->sense(f);
   return f;
 }
 

@@ -37,13 +37,20 @@ class Pipeline {
 
   // Simulated time of the frame the next step() takes.
   double next_time_s() const;
-  // Runs the next frame up to its observation. The result is owned by the pipeline and stays valid through the
-  // next step() (two frames alternate), so that a caller may use it while the next one is made on another thread.
-  const Frame& step();
-  // On: each step() copies the simulated world into a snapshot of the frame's own (Frame::world), which the
-  // step() after it leaves alone; off (default): Frame::world is the live world, which the next step() moves on.
+  // Runs the next frame up to its observation: sense(capture()). The result is owned by the pipeline and stays
+  // valid through the next two captures (three frames take turns), so that a caller may use it while the next
+  // ones are made on other threads.
+  const Frame& step() { return sense(capture()); }
+  // The first half of step(): the simulator up to the next frame, its poses, the world's snapshot, where every
+  // camera stands, and the noise-free image (nothing more for a robot that fell: robot_upright false).
+  Frame& capture();
+  // The second half, for a frame capture() gave: the camera's noise, then Sensing (cloud, decimation, band). Touches
+  // nothing capture() does, so frame k may be sensed on one thread while frame k + 1 is captured on another.
+  const Frame& sense(Frame& frame);
+  // On: each capture() copies the simulated world into a snapshot of the frame's own (Frame::world), which the
+  // next two captures leave alone; off (default): Frame::world is the live world, which the next capture() moves on.
   void set_world_snapshots(bool on);
-  // Releases the cameras' GL contexts from the calling thread, so that step() may run on another one.
+  // Releases the cameras' GL contexts from the calling thread, so that capture() may run on another one.
   void release_gl_contexts();
 
   const PipelineConfig& config() const { return config_; }   // as given to the constructor
@@ -70,10 +77,11 @@ class Pipeline {
   PipelineConfig config_;
   std::unique_ptr<sim::Simulator> sim_;
   std::vector<std::unique_ptr<Camera>> cameras_;
-  std::unique_ptr<Sensing> sensing_;  // edge filter, cloud, decimation
-  std::array<Frame, 2> frames_;       // step() alternates: frames_[current_] is the latest
+  std::unique_ptr<Sensing> sensing_;         // edge filter, cloud, decimation
+  static constexpr std::size_t kFrames = 3;  // capture() takes them in turn: frames_[current_] is the latest
+  std::array<Frame, kFrames> frames_;
   std::size_t current_ = 0;
-  std::array<std::unique_ptr<sim::World>, 2> snapshots_;  // with set_world_snapshots(true): each frame's world
+  std::array<std::unique_ptr<sim::World>, kFrames> snapshots_;  // with set_world_snapshots(true): each frame's world
   bool draw_ahead_ = true;
   // Renders camera `index`'s frame with the other cameras of this instant; false (nothing done) when none.
   bool draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_camera);

@@ -3,14 +3,13 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <utility>
 
 #include "common/atomic_file.hpp"
-#include "common/serial_worker.hpp"
 #include "common/units.hpp"
 #include "layer/layer.hpp"
 #include "pipeline/pipeline.hpp"
 #include "run/closed_loop.hpp"
+#include "run/frames_ahead.hpp"
 #include "sim/contacts.hpp"
 
 namespace stvl::run {
@@ -29,42 +28,22 @@ std::unique_ptr<pipeline::Pipeline> build_pipeline(const config::Scenario& s) {
   }
 }
 
-// The pipeline's frames up to the scenario's duration; the bag with the cameras' mounts and the truth.
-// Running ahead, frame k + 1 is simulated, rendered and sensed on a thread of its own while the loop updates the
-// layer and evaluates frame k (on the world's snapshot at k): the same frames, in the same order, as one after
-// another. Only where nothing the loop does with frame k reaches the simulator (not in closed loop).
+// The pipeline's frames up to the scenario's duration; the bag with the cameras' mounts and the truth. Running
+// ahead (FramesAhead), the next frames are made on threads of their own while the loop takes this one.
 class SimulatedFrames : public FrameSource {
  public:
   SimulatedFrames(pipeline::Pipeline& pipeline, double duration_s, const evaluation::Truth& truth)
       : pipeline_(pipeline), duration_s_(duration_s), truth_(truth) {}
-  // Running ahead, the worker's GL contexts are released on its own thread, so that the renderers can be freed here.
-  ~SimulatedFrames() override {
-    if (!worker_) return;
-    try {
-      worker_->finish();
-      worker_->submit([this] { pipeline_.release_gl_contexts(); });
-      worker_->finish();
-    } catch (const std::exception&) {  // the frame's own error was reported by next(); freeing goes on
-    }
-  }
-  SimulatedFrames(const SimulatedFrames&) = delete;
-  SimulatedFrames& operator=(const SimulatedFrames&) = delete;
-  bool running_ahead() const { return worker_ != nullptr; }
-  // Before the first next(): frames made a frame ahead on a worker thread.
-  void run_ahead() {
-    pipeline_.set_world_snapshots(true);
-    pipeline_.release_gl_contexts();  // the worker draws from now on
-    worker_ = std::make_unique<SerialWorker>(1);
-  }
+  // Before the first next().
+  void run_ahead() { ahead_ = std::make_unique<FramesAhead>(pipeline_, duration_s_); }
+  bool running_ahead() const { return ahead_ != nullptr; }
   // The world at the last frame given (the live world, or its snapshot when running ahead); null before it.
   const sim::World* last_world() const { return last_ ? last_->world : nullptr; }
   const pipeline::Frame* next() override {
-    if (!worker_) return more() ? last_ = &pipeline_.step() : nullptr;
-    if (!started_) started_ = true, submit_step();
-    worker_->finish();  // frame k (rethrows the step's exception)
-    const pipeline::Frame* f = std::exchange(ahead_, nullptr);
+    const pipeline::Frame* f = nullptr;
+    if (ahead_) f = ahead_->next();
+    else if (pipeline_.next_time_s() <= duration_s_ + kTimeEpsilon_s) f = &pipeline_.step();
     if (f) last_ = f;
-    if (f && f->robot_upright) submit_step();  // k + 1, while the caller takes k
     return f;
   }
   const std::vector<pipeline::CameraConfig>& cameras() const override { return pipeline_.config().cameras; }
@@ -75,18 +54,11 @@ class SimulatedFrames : public FrameSource {
   }
 
  private:
-  bool more() const { return pipeline_.next_time_s() <= duration_s_ + kTimeEpsilon_s; }
-  void submit_step() {
-    if (!more()) return;
-    worker_->submit([this] { ahead_ = &pipeline_.step(); });
-  }
   pipeline::Pipeline& pipeline_;
   double duration_s_;
   const evaluation::Truth& truth_;
-  bool started_ = false;
-  const pipeline::Frame* ahead_ = nullptr;  // written by the worker, read after finish()
   const pipeline::Frame* last_ = nullptr;
-  std::unique_ptr<SerialWorker> worker_;  // last: joined before the members its task uses go
+  std::unique_ptr<FramesAhead> ahead_;
 };
 
 // The run's side of each frame: the evaluation against the truth, sampled depth frames, the soak's samples, the
