@@ -13,7 +13,8 @@ constexpr std::size_t kInFlight = 3;
 
 }  // namespace
 
-FramesAhead::FramesAhead(pipeline::Pipeline& pipeline, double duration_s) : pipeline_(pipeline), duration_s_(duration_s) {
+FramesAhead::FramesAhead(pipeline::Pipeline& pipeline, double duration_s)
+    : pipeline_(pipeline), duration_s_(duration_s) {
   pipeline_.set_world_snapshots(true);
   pipeline_.release_gl_contexts();  // the capturing thread draws from now on
 }

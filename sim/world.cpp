@@ -1,6 +1,7 @@
 #include "sim/world.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -61,7 +62,14 @@ void World::copy_state_from(const World& other) {
   if (m->nbuffer != o->nbuffer || m->nstack != o->nstack || m->ngeom != o->ngeom || m->nbody != o->nbody)
     throw std::invalid_argument("World::copy_state_from: '" + other.source_ + "' has another model than '" + source_ +
                                 "'");
-  mj_copyData(data_.get(), m, other.data_.get());
+  // mj_copyData without its stack: every field before `buffer` is a size, a statistic or a scalar of the state
+  // (time, contact and constraint counts), every field after it points into the buffer at offsets the model fixes,
+  // alike in both; the buffer holds the whole state, and the stack (10 MB by default) is scratch, free between
+  // steps.
+  mjData* d = data_.get();
+  const mjData* s = other.data_.get();
+  std::memcpy(static_cast<void*>(d), static_cast<const void*>(s), offsetof(mjData, buffer));
+  std::memcpy(d->buffer, s->buffer, static_cast<std::size_t>(m->nbuffer));
 }
 
 World::World(World&&) noexcept = default;

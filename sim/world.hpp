@@ -58,8 +58,8 @@ class World {
   // A world of its own with a copy of this one's model and state (mj_copyModel, mj_copyData): a snapshot that
   // copy_state_from() keeps in step with this world while this one moves on (the pipeline running a frame ahead).
   World copy() const;
-  // Takes `other`'s whole state (mj_copyData: time, positions, poses, contacts). Throws std::invalid_argument
-  // when other's model differs in its sizes.
+  // Takes `other`'s whole state (as mj_copyData: time, positions, poses, contacts; not the scratch stack).
+  // Throws std::invalid_argument when other's model differs in its sizes.
   void copy_state_from(const World& other);
 
   // x/y extent (world frame, m) of the geoms outside groups 2 and 3 (the robot's) at their current poses: finite

@@ -2,6 +2,8 @@
 #include <gtest/gtest-spi.h>
 #include <gtest/gtest.h>
 
+#include <cstddef>
+#include <cstring>
 #include <stdexcept>
 
 #include "sim/mocap_script.hpp"
@@ -68,6 +70,33 @@ TEST(World, LoadsStringWithIncludeAndIsMovable) {
   EXPECT_NEAR(moved.time_s(), 0.002, 1e-12);
   EXPECT_GE(moved.body_id("base_link"), 1);
   EXPECT_THROW(moved.body_id("no_such_body"), std::invalid_argument);
+}
+
+// A snapshot takes the state as mj_copyData does, but not the scratch stack: every scalar before the buffer and
+// every byte of the buffer (positions, poses, contacts) as mj_copyData gives them. (Stepped on, a copy would not
+// follow its world exactly without the stack's leftovers, which MuJoCo 2.2.2's split step reads; snapshots are
+// for reading.)
+TEST(World, SnapshotTakesTheWholeState) {
+  World world = World::from_string(test::kFlatWorld, test::worlds_dir());
+  for (int i = 0; i < 200; ++i) world.step();  // the robot settles on its wheels: contacts
+  World snapshot = world.copy();
+  for (int i = 0; i < 50; ++i) world.step();
+  snapshot.copy_state_from(world);
+  const mjData* d = world.data();
+  const mjData* s = snapshot.data();
+  ASSERT_GT(d->ncon, 0);
+  EXPECT_EQ(s->ncon, d->ncon);
+  EXPECT_EQ(s->time, d->time);
+  EXPECT_EQ(std::memcmp(s->buffer, d->buffer, static_cast<std::size_t>(world.model()->nbuffer)), 0);
+  mjData* full = mj_makeData(world.model());
+  mj_copyData(full, world.model(), d);
+  EXPECT_EQ(std::memcmp(s, full, offsetof(mjData, buffer)), 0);
+  EXPECT_EQ(std::memcmp(s->buffer, full->buffer, static_cast<std::size_t>(world.model()->nbuffer)), 0);
+  mj_deleteData(full);
+  for (int g = 0; g < 3 * world.model()->ngeom; ++g) EXPECT_EQ(s->geom_xpos[g], d->geom_xpos[g]);
+  for (int c = 0; c < d->ncon; ++c) EXPECT_EQ(s->contact[c].geom1, d->contact[c].geom1);
+  const World other = World::from_string("<mujoco><worldbody><geom type='sphere' size='1'/></worldbody></mujoco>");
+  EXPECT_THROW(snapshot.copy_state_from(other), std::invalid_argument);
 }
 
 TEST(World, RobotGeomsAreAllInGroupTwo) {
