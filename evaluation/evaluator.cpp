@@ -1,6 +1,7 @@
 #include "evaluation/evaluator.hpp"
 
 #include "common/stopwatch.hpp"
+#include "evaluation/observe_keys.hpp"
 #include "mapping/footprint.hpp"
 
 #include <tbb/parallel_for.h>
@@ -11,60 +12,6 @@
 #include <optional>
 
 namespace stvl::evaluation {
-
-namespace {
-
-constexpr int kObserveStride = 2;  // observe() reads every second pixel of every second row
-
-// observe()'s keys of one block of rows [row_begin, row_end) (in strided rows), sorted and unique. Neighbouring
-// pixels mostly fall in one voxel: a key equal to its left or upper neighbour's (both already kept) is skipped.
-// ray_x: the pixel rays' x per column, as pixel_ray_C() gives them.
-void row_block_keys(const CameraView& view, const std::vector<float>& ray_x, const EvaluationConfig& config,
-                    int row_begin, int row_end, int columns, std::vector<VoxelKey>& keys) {
-  const sensors::DepthImage& depth = *view.clean_depth;
-  const sensors::CameraIntrinsics& k = view.intrinsics;
-  const Eigen::Isometry3f T = view.T_world_camera.cast<float>();
-  bool have_last = false;
-  VoxelKey last{};
-  // The last key computed in each column (kept, or equal to a kept one); have_above: whether there is one.
-  std::vector<VoxelKey> above(static_cast<std::size_t>(columns));
-  std::vector<char> have_above(static_cast<std::size_t>(columns), 0);
-  for (int row = row_begin; row < row_end; ++row) {
-    const int v = row * kObserveStride;
-    const float ray_y = static_cast<float>((v - k.cy) / k.fy);
-    for (int u = 0; u < depth.width; u += kObserveStride) {
-      const float z = depth.at(u, v);
-      if (!(z > 0.0f)) continue;
-      const Eigen::Vector3f p_C = z * Eigen::Vector3f(ray_x[u], ray_y, 1.0f);
-      if (p_C.norm() > view.obstacle_range_m) continue;
-      const Eigen::Vector3d p_W = (T * p_C).cast<double>();
-      if (p_W.z() < config.min_obstacle_height_m || p_W.z() > config.max_obstacle_height_m) continue;
-      const VoxelKey key = voxel_key(p_W, config.voxel_size_m);
-      const std::size_t column = static_cast<std::size_t>(u / kObserveStride);
-      const bool repeat = (have_last && key == last) || (have_above[column] && key == above[column]);
-      have_last = true, last = key;
-      have_above[column] = 1, above[column] = key;
-      if (!repeat) keys.push_back(key);
-    }
-  }
-  std::sort(keys.begin(), keys.end());  // each block sorted in parallel, then merged: the same sorted set
-  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-}
-
-// Merges sorted `blocks` pairwise (log2(blocks) rounds) into blocks.front(); `scratch` is the merge buffer.
-void merge_sorted_blocks(std::vector<std::vector<VoxelKey>>& blocks, std::vector<VoxelKey>& scratch) {
-  for (std::size_t step = 1; step < blocks.size(); step *= 2)
-    for (std::size_t b = 0; b + step < blocks.size(); b += 2 * step) {
-      std::vector<VoxelKey>& a = blocks[b];
-      std::vector<VoxelKey>& c = blocks[b + step];
-      scratch.resize(a.size() + c.size());
-      std::merge(a.begin(), a.end(), c.begin(), c.end(), scratch.begin());
-      a.swap(scratch);
-      std::vector<VoxelKey>().swap(c);
-    }
-}
-
-}  // namespace
 
 EvaluationMean mean_of(const std::vector<EvaluationSnapshot>& snapshots, double warm_up_s) {
   EvaluationMean m;
@@ -131,24 +78,7 @@ void Evaluator::observe(double time_s, const CameraView& view) {
     throw std::invalid_argument("evaluation: camera index " + std::to_string(view.camera_index) + " of " +
                                 std::to_string(config_.cameras) + " cameras");
   ++times_.frames;
-  const sensors::DepthImage& depth = *view.clean_depth;
-  const sensors::CameraIntrinsics& k = view.intrinsics;
-  // The pixel rays of pixel_ray_C(), per column and per row (the same values, computed once).
-  ray_x_.resize(static_cast<std::size_t>(depth.width));
-  for (int u = 0; u < depth.width; u += kObserveStride) ray_x_[u] = static_cast<float>((u - k.cx) / k.fx);
-  // Rows in parallel, each block of rows keeping its own keys, then each voxel is recorded once (in sorted
-  // order; the order of recording does not matter: a voxel's last-seen time is this frame's either way).
-  const int rows = (depth.height + kObserveStride - 1) / kObserveStride;
-  const int columns = (depth.width + kObserveStride - 1) / kObserveStride;
-  const int blocks = std::max(1, std::min(rows, 16));
-  std::vector<std::vector<VoxelKey>> block_keys(static_cast<std::size_t>(blocks));
-  tbb::parallel_for(0, blocks, [&](int b) {
-    row_block_keys(view, ray_x_, config_, b * rows / blocks, (b + 1) * rows / blocks, columns,
-                   block_keys[static_cast<std::size_t>(b)]);
-  });
-  merge_sorted_blocks(block_keys, frame_keys_);
-  frame_keys_.swap(block_keys.front());
-  frame_keys_.erase(std::unique(frame_keys_.begin(), frame_keys_.end()), frame_keys_.end());
+  observed_keys(*view.clean_depth, view.intrinsics, view.T_world_camera, view.obstacle_range_m, config_, frame_keys_);
   // Voxels last seen before the recall window are forgotten here as at an evaluation (evaluations come later).
   const double oldest_s = time_s - config_.recall_window_s;
   last_seen_.record(frame_keys_, time_s, oldest_s, [&](SeenVoxels::Entry& seen) {

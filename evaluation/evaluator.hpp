@@ -194,7 +194,6 @@ class Evaluator {
   // The same per camera, when there are several (one camera's is last_seen_ itself).
   std::vector<SeenVoxels> last_seen_by_camera_;
   VoxelSet off_truth_keys_;
-  std::vector<float> ray_x_;          // observe(): per-column ray slopes
   std::vector<VoxelKey> frame_keys_;  // observe(): the voxels of one frame
   ClearingLatency clearing_;
   std::size_t false_clears_ = 0;
