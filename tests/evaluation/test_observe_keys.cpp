@@ -36,7 +36,8 @@ TEST(ObserveKeys, EqualsThePerPixelLoop) {
   std::uniform_real_distribution<double> angle(-3.0, 3.0), offset(-20.0, 20.0);
   int nonempty = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    const int width = trial % 4 == 0 ? 848 : 31 + 37 * (trial % 7), height = trial % 4 == 0 ? 480 : 17 + 29 * (trial % 5);
+    const int width = trial % 4 == 0 ? 848 : 31 + 37 * (trial % 7),
+              height = trial % 4 == 0 ? 480 : 17 + 29 * (trial % 5);
     sensors::CameraIntrinsics k = sensors::CameraIntrinsics::d435_848x480();
     k.width = width, k.height = height, k.cx = 0.5 * width - 0.3, k.cy = 0.5 * height + 0.7;
     const sensors::DepthImage depth = image(width, height, rng, trial % 2 == 0);
