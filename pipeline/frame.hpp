@@ -53,6 +53,8 @@ struct Frame {
   const sim::World* world = nullptr;
   bool path_finished = false;  // the robot had reached its path's end (Simulator::path_finished)
   int laps_completed = 0;      // Simulator::laps_completed
+  // Per camera: frames skipped in its outages up to this one (Pipeline::skipped_frames just after it was taken).
+  std::vector<std::size_t> skipped_frames;
   Eigen::Isometry3d T_world_base = Eigen::Isometry3d::Identity();    // truth
   Eigen::Isometry3d T_odom_base = Eigen::Isometry3d::Identity();     // wheel odometry
   Eigen::Isometry3d T_map_odom = Eigen::Isometry3d::Identity();      // odometry drift (map = world)

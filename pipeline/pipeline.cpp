@@ -273,6 +273,8 @@ Frame& Pipeline::capture() {
   f.odom_v_mps = sim_->odometry().v_mps();
   f.odom_omega_radps = sim_->odometry().omega_radps();
   f.robot_upright = upright(*sim_);
+  f.skipped_frames.resize(cameras_.size());
+  for (std::size_t c = 0; c < cameras_.size(); ++c) f.skipped_frames[c] = cameras_[c]->skipped_frames;
   f.path_finished = sim_->path_finished();
   f.laps_completed = sim_->laps_completed();
   if (snapshots_[current_]) {
