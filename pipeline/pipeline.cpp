@@ -255,7 +255,7 @@ Frame& Pipeline::capture() {
   for (std::size_t c = 1; c < cameras_.size(); ++c)
     if (cameras_[c]->next_time_s() < cameras_[index]->next_time_s()) index = c;
   Camera& camera = *cameras_[index];
-  current_ = (current_ + 1) % kFrames;
+  current_ = (current_ + 1) % kFramesInTurn;
   Frame& f = frames_[current_];
   f.camera_index = index;
   f.camera = camera.config.name;

@@ -37,9 +37,11 @@ class Pipeline {
 
   // Simulated time of the frame the next step() takes.
   double next_time_s() const;
+  // Frames capture() takes in turn: one stays valid through the next kFramesInTurn - 1 captures.
+  static constexpr std::size_t kFramesInTurn = 3;
   // Runs the next frame up to its observation: sense(capture()). The result is owned by the pipeline and stays
-  // valid through the next two captures (three frames take turns), so that a caller may use it while the next
-  // ones are made on other threads.
+  // valid through the next two captures (kFramesInTurn frames take turns), so that a caller may use it while the
+  // next ones are made on other threads.
   const Frame& step() { return sense(capture()); }
   // The first half of step(): the simulator up to the next frame, its poses, the world's snapshot, where every
   // camera stands, and the noise-free image (nothing more for a robot that fell: robot_upright false).
@@ -78,10 +80,10 @@ class Pipeline {
   std::unique_ptr<sim::Simulator> sim_;
   std::vector<std::unique_ptr<Camera>> cameras_;
   std::unique_ptr<Sensing> sensing_;         // edge filter, cloud, decimation
-  static constexpr std::size_t kFrames = 3;  // capture() takes them in turn: frames_[current_] is the latest
-  std::array<Frame, kFrames> frames_;
+  std::array<Frame, kFramesInTurn> frames_;  // frames_[current_] is the latest
   std::size_t current_ = 0;
-  std::array<std::unique_ptr<sim::World>, kFrames> snapshots_;  // with set_world_snapshots(true): each frame's world
+  std::array<std::unique_ptr<sim::World>, kFramesInTurn>
+      snapshots_;  // with set_world_snapshots(true): each frame's world
   bool draw_ahead_ = true;
   // Renders camera `index`'s frame with the other cameras of this instant; false (nothing done) when none.
   bool draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_camera);

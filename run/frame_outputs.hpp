@@ -25,9 +25,9 @@ struct RunOptions {
   // reported as not evaluated unless require_path (--require-path).
   double cut_short_from_s = 0;
   bool require_path = false;
-  // Frame k + 1 made on a thread of its own while frame k updates the layer and is evaluated (same outputs; off:
-  // one after another, --no-run-ahead). Never in closed loop or with camera timing, which drive or read the live
-  // simulator between frames.
+  // Frames k + 1 and k + 2 made on two threads of their own while frame k updates the layer and is evaluated
+  // (run/frames_ahead.hpp; same outputs; off: one after another, --no-run-ahead). Never in closed loop or with camera
+  // timing, which drive or read the live simulator between frames.
   bool run_ahead = true;
 };
 

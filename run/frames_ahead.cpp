@@ -6,12 +6,6 @@
 #include "common/units.hpp"
 
 namespace stvl::run {
-namespace {
-
-// The loop holds one frame, and two are in flight: the three the pipeline takes in turn.
-constexpr std::size_t kInFlight = 3;
-
-}  // namespace
 
 FramesAhead::FramesAhead(pipeline::Pipeline& pipeline, double duration_s)
     : pipeline_(pipeline), duration_s_(duration_s) {
@@ -65,7 +59,8 @@ void FramesAhead::submit() {
 }
 
 const pipeline::Frame* FramesAhead::next() {
-  while (in_flight_.size() < kInFlight) submit();
+  // The frame the loop held is done with: as many in flight as the pipeline has frames in turn, then one is taken.
+  while (in_flight_.size() < pipeline::Pipeline::kFramesInTurn) submit();
   std::future<const pipeline::Frame*> frame = std::move(in_flight_.front());
   in_flight_.pop_front();
   return frame.get();

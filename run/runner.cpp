@@ -36,14 +36,12 @@ class SimulatedFrames : public FrameSource {
       : pipeline_(pipeline), duration_s_(duration_s), truth_(truth) {}
   // Before the first next().
   void run_ahead() { ahead_ = std::make_unique<FramesAhead>(pipeline_, duration_s_); }
-  bool running_ahead() const { return ahead_ != nullptr; }
   // Once the loop has ended: the frames in flight are waited for and the threads end, so that nothing touches the
   // pipeline any more (it may have simulated up to two frames past the last one given).
   void stop() { ahead_.reset(); }
-  // The last frame given; null before the first.
+  // The last frame taken from the pipeline (its world: the live one, or its snapshot when running ahead); null
+  // before the first.
   const pipeline::Frame* last() const { return last_; }
-  // The world at the last frame given (the live world, or its snapshot when running ahead); null before it.
-  const sim::World* last_world() const { return last_ ? last_->world : nullptr; }
   const pipeline::Frame* next() override {
     const pipeline::Frame* f = nullptr;
     if (ahead_) f = ahead_->next();
@@ -191,14 +189,15 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     if (options.run_ahead && !closed_loop) frames.run_ahead();
     static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
   }
-  const bool ran_ahead = frames.running_ahead();
   frames.stop();
   hooks.finish();
   r.soak = hooks.soak();
   if (r.interrupted) return r;  // no result file is written
 
-  // The world at the loop's end: the last frame's (a pipeline running ahead may have simulated two frames further).
-  const sim::World& end_world = ran_ahead && frames.last_world() ? *frames.last_world() : world;
+  // The world and the outage counts at the loop's end are the last frame's (a pipeline running ahead may have
+  // simulated two frames further; otherwise they are the pipeline's own).
+  const pipeline::Frame* last = frames.last();
+  const sim::World& end_world = last ? *last->world : world;
   evaluation::RunVerdict verdict =
       evaluation.finish(run_end(s, options, r, hooks, *pipeline, end_world), end_world, layer.voxels());
   r.evaluation = std::move(verdict.evaluation);
@@ -227,9 +226,8 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     r.nav2_ghosts = master->ghosts();
     r.nav2_config = master->config();
   }
-  for (std::size_t c = 0; c < s.pipeline.cameras.size(); ++c)  // as they were at the last frame given
-    r.skipped_frames.push_back(ran_ahead && frames.last() ? frames.last()->skipped_frames.at(c)
-                                                          : pipeline->skipped_frames(c));
+  for (std::size_t c = 0; c < s.pipeline.cameras.size(); ++c)
+    r.skipped_frames.push_back(last ? last->skipped_frames.at(c) : pipeline->skipped_frames(c));
   write_layer_outputs(layer, options.out_dir);
   return r;
 }

@@ -55,8 +55,8 @@ class World {
   // Recomputes everything from qpos/qvel/mocap (mj_forward), e.g. after editing the state.
   void forward();
 
-  // A world of its own with a copy of this one's model and state (mj_copyModel, mj_copyData): a snapshot that
-  // copy_state_from() keeps in step with this world while this one moves on (the pipeline running a frame ahead).
+  // A world of its own with a copy of this one's model (mj_copyModel) and state (copy_state_from): a snapshot that
+  // copy_state_from() keeps in step with this world while this one moves on (the pipeline running ahead).
   World copy() const;
   // Takes `other`'s whole state (as mj_copyData: time, positions, poses, contacts; not the scratch stack).
   // Throws std::invalid_argument when other's model differs in its sizes.
