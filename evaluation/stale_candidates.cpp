@@ -7,19 +7,28 @@ namespace stvl::evaluation {
 void StaleCandidates::update(Truth& truth) {
   truth.take_touched(touched_);
   for (const VoxelKey& k : touched_) {
-    if (!truth.vacated().count(k)) continue;
-    const auto [near_static, fresh] = near_static_.try_emplace(k, false);
-    if (fresh) near_static->second = truth.near_static(k);
-    if (near_static->second || truth.near_moving(k)) {
+    if (!truth.is_vacated(k)) continue;
+    if (!asked_static_.contains(k)) {
+      asked_static_.insert(k);
+      if (truth.near_static(k)) near_static_.insert(k);
+    }
+    if (near_static_.contains(k) || truth.near_moving(k)) {
       keys_.erase(k);
       continue;
     }
-    if (!keys_.insert(k).second) continue;
+    if (keys_.contains(k)) continue;
+    keys_.insert(k);
     if (lo_.x > hi_.x) lo_ = hi_ = k;
     lo_ = {std::min(lo_.x, k.x), std::min(lo_.y, k.y), std::min(lo_.z, k.z)};
     hi_ = {std::max(hi_.x, k.x), std::max(hi_.y, k.y), std::max(hi_.z, k.z)};
   }
   touched_.clear();
+}
+
+VoxelSet StaleCandidates::keys() const {
+  VoxelSet out;
+  keys_.for_each([&](const VoxelKey& k) { out.insert(k); });
+  return out;
 }
 
 void sort_in_vacated_order(const Truth& truth, std::vector<VoxelKey>& keys) {

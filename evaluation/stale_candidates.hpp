@@ -6,11 +6,11 @@
 // again, where rebuilding visits every vacated voxel (all the places the people ever walked). The plain rebuild,
 // reference::stale_candidates() (reference/stale_candidates.hpp), is compared with it in
 // tests/evaluation/test_stale_candidates.cpp.
-#include <unordered_map>
 #include <vector>
 
 #include "common/voxel_key.hpp"
 #include "evaluation/truth.hpp"
+#include "evaluation/voxel_mask_set.hpp"
 
 namespace stvl::evaluation {
 
@@ -18,15 +18,17 @@ class StaleCandidates {
  public:
   // Brings the set to truth's current state (takes truth's touched voxels).
   void update(Truth& truth);
-  bool contains(const VoxelKey& key) const { return keys_.count(key) > 0; }
-  const VoxelSet& keys() const { return keys_; }
+  // Whether key is a candidate (a bit test where the last one was in the same 8^3 leaf: one thread at a time).
+  bool contains(const VoxelKey& key) const { return keys_.contains(key); }
+  // The candidates, as a set (a copy).
+  VoxelSet keys() const;
   // A box (keys, each axis) holding every candidate; it never shrinks, so it may hold former ones. Empty: lo > hi.
   const VoxelKey& lo() const { return lo_; }
   const VoxelKey& hi() const { return hi_; }
 
  private:
-  VoxelSet keys_;
-  std::unordered_map<VoxelKey, bool, VoxelKeyHash> near_static_;  // static truth does not move: asked once
+  VoxelMaskSet keys_;
+  VoxelMaskSet asked_static_, near_static_;  // static truth does not move: asked once
   std::vector<VoxelKey> touched_;
   VoxelKey lo_{1, 1, 1}, hi_{0, 0, 0};
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <mutex>
@@ -46,14 +47,85 @@ void print_once(const std::string& note) {
   if (printed.insert(note).second) std::fprintf(stderr, "stvl truth: %s\n", note.c_str());
 }
 
-// Same geoms at the same poses (and so the same voxels, footprints and distances).
+// The same geom at the same pose (and so the same voxels, footprints and distances).
+bool same_placement(const truth::ObstacleGeom& a, const truth::ObstacleGeom& b) {
+  return a.geom_id == b.geom_id && a.T_world_geom.matrix() == b.T_world_geom.matrix() && a.size_m == b.size_m;
+}
 bool same_placement(const std::vector<truth::ObstacleGeom>& a, const std::vector<truth::ObstacleGeom>& b) {
   if (a.size() != b.size()) return false;
   for (std::size_t i = 0; i < a.size(); ++i)
-    if (a[i].geom_id != b[i].geom_id || !(a[i].T_world_geom.matrix() == b[i].T_world_geom.matrix()) ||
-        a[i].size_m != b[i].size_m)
-      return false;
+    if (!same_placement(a[i], b[i])) return false;
   return true;
+}
+
+// The moving bodies' voxels in the band, as voxelize_in_band(geoms) gives them, taking a body's voxels from
+// `before` (made from before_geoms) when none of its geoms moved.
+std::vector<truth::BodyVoxels> voxelize_moved_in_band(const std::vector<truth::ObstacleGeom>& geoms,
+                                                      const std::vector<truth::ObstacleGeom>& before_geoms,
+                                                      std::vector<truth::BodyVoxels>&& before,
+                                                      const EvaluationConfig& c) {
+  std::vector<truth::BodyVoxels> out;
+  std::vector<std::vector<truth::ObstacleGeom>> of_body;  // geoms per body, in order of first appearance
+  std::vector<bool> moved;
+  for (std::size_t i = 0; i < geoms.size(); ++i) {
+    std::size_t b = 0;
+    while (b < out.size() && out[b].body_id != geoms[i].body_id) ++b;
+    if (b == out.size())
+      out.push_back({geoms[i].body_id, geoms[i].body_name, {}}), of_body.emplace_back(), moved.push_back(false);
+    of_body[b].push_back(geoms[i]);
+    moved[b] = moved[b] || geoms.size() != before_geoms.size() || !same_placement(geoms[i], before_geoms[i]);
+  }
+  for (std::size_t b = 0; b < out.size(); ++b) {
+    if (!moved[b] && b < before.size() && before[b].body_id == out[b].body_id) {
+      out[b].voxels = std::move(before[b].voxels);
+      continue;
+    }
+    std::vector<truth::BodyVoxels> one = voxelize_in_band(of_body[b], c);
+    if (!one.empty()) out[b].voxels = std::move(one.front().voxels);
+  }
+  return out;
+}
+
+// Appends to out every key within tol voxels (Chebyshev) of a key of voxels, each once: a dilation of the keys'
+// bounding box in a dense grid, axis by axis (the keys of a body are few and close together). Boxes of more than
+// kMaxCells fall back to a hash set.
+void grow_keys(const std::vector<VoxelKey>& voxels, int tol, std::vector<VoxelKey>& out) {
+  if (voxels.empty()) return;
+  constexpr std::int64_t kMaxCells = std::int64_t{1} << 24;
+  VoxelKey lo = voxels.front(), hi = voxels.front();
+  for (const VoxelKey& k : voxels) {
+    lo = {std::min(lo.x, k.x), std::min(lo.y, k.y), std::min(lo.z, k.z)};
+    hi = {std::max(hi.x, k.x), std::max(hi.y, k.y), std::max(hi.z, k.z)};
+  }
+  const std::int64_t nx = std::int64_t(hi.x) - lo.x + 1 + 2 * tol, ny = std::int64_t(hi.y) - lo.y + 1 + 2 * tol,
+                     nz = std::int64_t(hi.z) - lo.z + 1 + 2 * tol;
+  if (nx * ny * nz > kMaxCells) {
+    VoxelSet grown;
+    for (const VoxelKey& k : voxels) any_within(k, tol, [&](const VoxelKey& n) { return grown.insert(n), false; });
+    out.insert(out.end(), grown.begin(), grown.end());
+    return;
+  }
+  const auto at = [&](std::int64_t x, std::int64_t y, std::int64_t z) { return (x * ny + y) * nz + z; };
+  std::vector<std::uint8_t> a(std::size_t(nx * ny * nz), 0), b(a.size(), 0);
+  for (const VoxelKey& k : voxels) a[std::size_t(at(k.x - lo.x + tol, k.y - lo.y + tol, k.z - lo.z + tol))] = 1;
+  // One axis at a time: b = a dilated along the axis with stride `step` over `n` cells, then swapped back.
+  const auto dilate = [&](std::int64_t n, std::int64_t step) {
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::int64_t pos = (std::int64_t(i) / step) % n;
+      std::uint8_t v = 0;
+      for (std::int64_t d = std::max<std::int64_t>(-tol, -pos); d <= tol && pos + d < n; ++d) v |= a[i + d * step];
+      b[i] = v;
+    }
+    a.swap(b);
+  };
+  dilate(nz, 1);
+  dilate(ny, nz);
+  dilate(nx, ny * nz);
+  for (std::int64_t x = 0; x < nx; ++x)
+    for (std::int64_t y = 0; y < ny; ++y)
+      for (std::int64_t z = 0; z < nz; ++z)
+        if (a[std::size_t(at(x, y, z))])
+          out.push_back({std::int32_t(lo.x - tol + x), std::int32_t(lo.y - tol + y), std::int32_t(lo.z - tol + z)});
 }
 
 }  // namespace
@@ -63,6 +135,7 @@ Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(
   notes_ = truth::truth_notes(world);
   for (const auto& n : notes_) print_once(n.note);
   geoms_ = truth::obstacle_geoms(world);
+  poses_only_ = !truth::poses_decide_membership(world);
   std::vector<truth::ObstacleGeom> statics;
   for (const auto& g : geoms_) (is_mocap(world, g.body_id) ? dynamic_geoms_ : statics).push_back(g);
   static_bodies_ = voxelize_in_band(statics, config_);
@@ -77,38 +150,52 @@ Truth::Truth(const sim::World& world, const EvaluationConfig& config) : config_(
 }
 
 void Truth::update(const sim::World& world) {
-  std::vector<truth::ObstacleGeom> geoms = truth::obstacle_geoms(world);
-  std::vector<truth::ObstacleGeom> dynamic;
-  for (const auto& g : geoms)
-    if (is_mocap(world, g.body_id)) dynamic.push_back(g);
+  // Which geoms there are is fixed unless a plane rides a moving body: then the list is made again.
+  std::vector<truth::ObstacleGeom> geoms, dynamic;
+  if (poses_only_) {
+    dynamic = dynamic_geoms_;
+    truth::refresh_poses(world, dynamic);
+  } else {
+    geoms = truth::obstacle_geoms(world);
+    for (const auto& g : geoms)
+      if (is_mocap(world, g.body_id)) dynamic.push_back(g);
+  }
   if (version_ > 0 && same_placement(dynamic, dynamic_geoms_)) return;
   ++version_;
-  geoms_ = std::move(geoms);
+  if (poses_only_) truth::refresh_poses(world, geoms_);
+  else geoms_ = std::move(geoms);
+  dynamic_bodies_ = voxelize_moved_in_band(dynamic, dynamic_geoms_, std::move(dynamic_bodies_), config_);
   dynamic_geoms_ = std::move(dynamic);
-  dynamic_bodies_ = voxelize_in_band(dynamic_geoms_, config_);
-  touched_.insert(touched_.end(), dynamic_near_.begin(), dynamic_near_.end());  // near the bodies before
+  dynamic_near_.for_each([&](const VoxelKey& k) { touched_.push_back(k); });  // near the bodies before
   dynamic_truth_.clear();
   dynamic_near_.clear();
-  dynamic_body_of_.clear();
   bodies_.clear();
   for (const auto& body : static_bodies_) bodies_.push_back(&body);
+  std::vector<VoxelKey> grown;
   for (const auto& body : dynamic_bodies_) {
     const int index = static_cast<int>(bodies_.size());
     bodies_.push_back(&body);
-    dynamic_truth_.insert(body.voxels.begin(), body.voxels.end());
-    const int tol = config_.tolerance_voxels;
-    for (const auto& k : body.voxels)
-      any_within(k, tol, [&](const VoxelKey& n) { return dynamic_near_.insert(n), false; });
+    grown.clear();
+    grow_keys(body.voxels, config_.tolerance_voxels, grown);
+    for (const auto& k : grown) dynamic_near_.insert(k);
     for (const auto& k : body.voxels) {
-      dynamic_body_of_.emplace(k, index);
+      dynamic_truth_.insert(k, index);  // a key of several bodies keeps the first
+      // A voxel once a body's has all its neighbours in vacated_ already; the others add theirs in this order
+      // (vacated_'s iteration order is the order clearing records in).
+      if (vacated_done_.contains(k)) continue;
+      vacated_done_.insert(k);
       for (int dx = -1; dx <= 1; ++dx)
         for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz)
-            if (vacated_.insert({k.x + dx, k.y + dy, k.z + dz}).second)
-              touched_.push_back({k.x + dx, k.y + dy, k.z + dz});
+          for (int dz = -1; dz <= 1; ++dz) {
+            const VoxelKey n{k.x + dx, k.y + dy, k.z + dz};
+            if (vacated_mask_.contains(n)) continue;
+            vacated_mask_.insert(n);
+            vacated_.insert(n);
+            touched_.push_back(n);
+          }
     }
   }
-  touched_.insert(touched_.end(), dynamic_near_.begin(), dynamic_near_.end());  // and after
+  dynamic_near_.for_each([&](const VoxelKey& k) { touched_.push_back(k); });  // and after
   index_geoms();
 }
 
@@ -130,10 +217,10 @@ void Truth::index_geoms() {
   }
 }
 
-bool Truth::contains(const VoxelKey& k) const { return static_truth_.contains(k) || dynamic_truth_.count(k); }
+bool Truth::contains(const VoxelKey& k) const { return static_truth_.contains(k) || dynamic_truth_.contains(k); }
 
 bool Truth::near(const VoxelKey& k, int tol) const {
-  return near_static_mask(k, tol) || near_voxel(dynamic_truth_, k, tol);
+  return near_static_mask(k, tol) || any_within(k, tol, [&](const VoxelKey& n) { return dynamic_truth_.contains(n); });
 }
 
 bool Truth::near_static(const VoxelKey& k) const { return near_static_mask(k, config_.tolerance_voxels); }
@@ -149,11 +236,7 @@ int Truth::body_of(const VoxelKey& k) const {
 
 int Truth::static_body_of(const VoxelKey& k) const { return static_truth_.label_of(k); }
 
-int Truth::moving_body_of(const VoxelKey& k) const {
-  if (dynamic_body_of_.empty()) return -1;
-  const auto it = dynamic_body_of_.find(k);
-  return it == dynamic_body_of_.end() ? -1 : it->second;
-}
+int Truth::moving_body_of(const VoxelKey& k) const { return dynamic_truth_.label_of(k); }
 
 const CellGrid& Truth::footprint() const {
   if (footprint_version_ == version_) return footprint_;
@@ -238,9 +321,10 @@ Eigen::AlignedBox2d Truth::bounds_W() const {
 }
 
 Eigen::Matrix3Xf Truth::voxel_centers() const {
-  std::vector<VoxelKey> keys(dynamic_truth_.begin(), dynamic_truth_.end());
+  std::vector<VoxelKey> keys;
+  dynamic_truth_.for_each([&](const VoxelKey& k) { keys.push_back(k); });
   static_truth_.for_each([&](const VoxelKey& k) {
-    if (!dynamic_truth_.count(k)) keys.push_back(k);  // once, as in a set of both
+    if (!dynamic_truth_.contains(k)) keys.push_back(k);  // once, as in a set of both
   });
   std::sort(keys.begin(), keys.end());
   Eigen::Matrix3Xf centers(3, static_cast<Eigen::Index>(keys.size()));

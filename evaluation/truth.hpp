@@ -33,7 +33,7 @@ class Truth {
   // The two halves of near() at the config's tolerance_voxels: static bodies, and moving ones now (one lookup
   // in the moving bodies' voxels grown by the tolerance).
   bool near_static(const VoxelKey& key) const;
-  bool near_moving(const VoxelKey& key) const { return dynamic_near_.count(key) > 0; }
+  bool near_moving(const VoxelKey& key) const { return dynamic_near_.contains(key); }
   // Index into bodies() of the first body holding `key` (static bodies first), -1 when none does.
   int body_of(const VoxelKey& key) const;
   // Its two halves: body_of() is static_body_of() when that is >= 0 (never changes), else moving_body_of().
@@ -45,6 +45,8 @@ class Truth {
   bool has_moving_bodies() const { return !dynamic_geoms_.empty(); }
   // Every voxel a moving body has occupied since the start, grown by one voxel: where stale map voxels can be.
   const VoxelSet& vacated() const { return vacated_; }
+  // Whether key is in vacated() (a bit test where the last one was in the same 8^3 leaf).
+  bool is_vacated(const VoxelKey& key) const { return vacated_mask_.contains(key); }
   // Appends to out the voxels whose place among vacated(), near_moving() or both may have changed since the last call
   // (repeats allowed): the ones newly vacated and the moving bodies' grown voxels before and after each update.
   void take_touched(std::vector<VoxelKey>& out) {
@@ -83,14 +85,16 @@ class Truth {
   std::vector<truth::ObstacleGeom> dynamic_geoms_;  // those of mocap bodies
   std::vector<truth::BodyVoxels> static_bodies_, dynamic_bodies_;
   std::vector<const truth::BodyVoxels*> bodies_;
-  VoxelMaskSet static_truth_;  // the static bodies' voxels labelled with their body (not thread-safe)
-  VoxelSet dynamic_truth_;
-  VoxelSet dynamic_near_;  // dynamic_truth_ grown by tolerance_voxels
-  std::unordered_map<VoxelKey, int, VoxelKeyHash> dynamic_body_of_;
+  VoxelMaskSet static_truth_;   // the static bodies' voxels labelled with their body (not thread-safe)
+  VoxelMaskSet dynamic_truth_;  // the moving bodies' voxels labelled with their index in bodies_
+  VoxelMaskSet dynamic_near_;   // dynamic_truth_ grown by tolerance_voxels
   CellGrid static_footprint_;
   mutable CellGrid footprint_;  // footprint() at footprint_version_
   mutable std::size_t footprint_version_ = 0;
-  VoxelSet vacated_;
+  VoxelSet vacated_;               // in insertion order's iteration (sort_in_vacated_order() follows it)
+  VoxelMaskSet vacated_mask_;      // vacated_'s keys again, for the quick test
+  VoxelMaskSet vacated_done_;      // the moving bodies' voxels so far: their neighbours are all in vacated_
+  bool poses_only_ = false;        // the obstacle geoms never change, only their poses (truth::refresh_poses())
   std::vector<VoxelKey> touched_;  // take_touched()'s, since its last call
   // Geoms bucketed by 1 m cells of their bounding boxes grown by kReach, so a distance tests a few geoms.
   struct Bucket {

@@ -17,18 +17,31 @@ class VoxelMaskSet {
  public:
   // Adds key with label (-1: none); a key already present keeps its first label.
   void insert(const VoxelKey& key, int label = -1) {
-    const auto [it, fresh] = leaves_.try_emplace(origin_of(key));
-    Leaf& leaf = it->second;
+    const VoxelKey origin = origin_of(key);
+    bool fresh = false;
+    if (origin != last_origin_ || !last_) {  // a rehash moves no leaf: the cached one stays valid
+      const auto emplaced = leaves_.try_emplace(origin);
+      fresh = emplaced.second;
+      last_origin_ = origin, last_ = &emplaced.first->second;
+    }
+    Leaf& leaf = *last_;
     const int i = offset_of(key);
     const bool had = (leaf.on[i >> 6] >> (i & 63)) & 1u;
     leaf.on[i >> 6] |= std::uint64_t{1} << (i & 63);
-    last_origin_ = {1, 1, 1}, last_ = nullptr;  // insertion may rehash: pointers stay, the cache is reset anyway
     if (fresh) leaf.label = label;
     if (leaf.label == kMixed) mixed_.emplace(key, label);
     else if (!had && leaf.label != label) {  // a second label in this leaf: every key keeps its own from now on
-      for_each_in(it->first, leaf, [&](const VoxelKey& k) { mixed_.emplace(k, k == key ? label : leaf.label); });
+      for_each_in(origin, leaf, [&](const VoxelKey& k) { mixed_.emplace(k, k == key ? label : leaf.label); });
       leaf.label = kMixed;
     }
+  }
+  // Removes key (and its label); an empty leaf stays, holding no key.
+  void erase(const VoxelKey& key) {
+    Leaf* leaf = leaf_of(key);
+    const int i = offset_of(key);
+    if (!leaf || !((leaf->on[i >> 6] >> (i & 63)) & 1u)) return;
+    leaf->on[i >> 6] &= ~(std::uint64_t{1} << (i & 63));
+    if (leaf->label == kMixed) mixed_.erase(key);
   }
   // Whether key is in the set.
   bool contains(const VoxelKey& key) const {
@@ -67,12 +80,12 @@ class VoxelMaskSet {
         f(VoxelKey{origin.x + (i >> 6), origin.y + ((i >> 3) & 7), origin.z + (i & 7)});
       }
   }
-  const Leaf* leaf_of(const VoxelKey& key) const {
+  Leaf* leaf_of(const VoxelKey& key) const {
     const VoxelKey origin = origin_of(key);
     if (origin != last_origin_) {
       const auto it = leaves_.find(origin);
       last_origin_ = origin;
-      last_ = it == leaves_.end() ? nullptr : &it->second;
+      last_ = it == leaves_.end() ? nullptr : const_cast<Leaf*>(&it->second);
     }
     return last_;
   }
@@ -80,7 +93,7 @@ class VoxelMaskSet {
   std::unordered_map<VoxelKey, Leaf, VoxelKeyHash> leaves_;
   std::unordered_map<VoxelKey, int, VoxelKeyHash> mixed_;  // the keys of leaves with several labels
   mutable VoxelKey last_origin_{1, 1, 1};                  // no leaf's origin
-  mutable const Leaf* last_ = nullptr;
+  mutable Leaf* last_ = nullptr;                           // its leaf, or null where there is none
 };
 
 }  // namespace stvl::evaluation

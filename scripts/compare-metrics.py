@@ -13,7 +13,7 @@ import json
 import os
 import sys
 
-# Fields that measure the machine, not the run.
+# Fields that measure the machine, not the run, wherever they are.
 TIMING = ("timing_ms", "real_time_factor", "wall_time_s")
 
 
@@ -41,6 +41,8 @@ def flatten(value, prefix, out):
 
 
 def ignored(field, prefixes):
+    if any(part in TIMING for part in field.replace("[", ".").split(".")):
+        return True  # a timing at any depth (navigation.timing_ms.planner)
     for p in prefixes:
         if field == p or field.startswith(p + ".") or field.startswith(p + "["):
             return True

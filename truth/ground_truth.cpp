@@ -113,6 +113,15 @@ bool is_ground(const mjModel* m, int g) {
   return name != nullptr && std::strncmp(name, "floor", 5) == 0;
 }
 
+Eigen::Isometry3d pose_of(const mjData* d, int g) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (int r = 0; r < 3; ++r) {
+    T.translation()[r] = d->geom_xpos[3 * g + r];
+    for (int c = 0; c < 3; ++c) T.linear()(r, c) = d->geom_xmat[9 * g + 3 * r + c];
+  }
+  return T;
+}
+
 std::vector<detail::Triangle> triangles_W(const ObstacleGeom& geom) {
   std::vector<detail::Triangle> out(geom.mesh->faces().size());
   for (std::size_t f = 0; f < out.size(); ++f) {
@@ -208,10 +217,7 @@ std::vector<ObstacleGeom> obstacle_geoms(const sim::World& world, unsigned group
     geom.geom_id = g;
     geom.body_id = m->geom_bodyid[g];
     geom.body_name = world.body_name(geom.body_id);
-    for (int r = 0; r < 3; ++r) {
-      geom.T_world_geom.translation()[r] = d->geom_xpos[3 * g + r];
-      for (int c = 0; c < 3; ++c) geom.T_world_geom.linear()(r, c) = d->geom_xmat[9 * g + 3 * r + c];
-    }
+    geom.T_world_geom = pose_of(d, g);
     const Eigen::Vector3d size(m->geom_size[3 * g], m->geom_size[3 * g + 1], m->geom_size[3 * g + 2]);
     switch (m->geom_type[g]) {
       case mjGEOM_BOX:
@@ -262,6 +268,25 @@ std::vector<ObstacleGeom> obstacle_geoms(const sim::World& world, unsigned group
   return out;
 }
 
+void refresh_poses(const sim::World& world, std::vector<ObstacleGeom>& geoms) {
+  for (ObstacleGeom& geom : geoms) {
+    if (geom.geom_id < 0 || geom.geom_id >= world.model()->ngeom)
+      throw std::invalid_argument("refresh_poses: geom id " + std::to_string(geom.geom_id) + " is not in the model");
+    geom.T_world_geom = pose_of(world.data(), geom.geom_id);
+  }
+}
+
+bool poses_decide_membership(const sim::World& world, unsigned group_mask) {
+  const mjModel* m = world.model();
+  for (int g = 0; g < m->ngeom; ++g) {
+    const int b = m->geom_bodyid[g];
+    if (in_groups(m, g, group_mask) && m->geom_type[g] == mjGEOM_PLANE &&
+        (m->body_mocapid[b] >= 0 || m->body_weldid[b] != 0))
+      return true;
+  }
+  return false;
+}
+
 std::vector<TruthNote> truth_notes(const sim::World& world, unsigned group_mask) {
   const mjModel* m = world.model();
   const mjData* d = world.data();
@@ -307,7 +332,9 @@ std::vector<VoxelKey> voxelize(const ObstacleGeom& geom, const VoxelizeOptions& 
         if (options.solid) {
           keep = d <= 0.0 || geom.intersects_solid(cube, tolerance);
         } else {
-          keep = d >= -half_diagonal && geom.intersects_solid(cube, tolerance) && !geom.contains_box(cube);
+          // Every shape here is convex: a cube whose centre is outside (d > 0) is not inside, and contains_box()
+          // (eight distances) would say so. tests/truth checks the implication.
+          keep = d >= -half_diagonal && geom.intersects_solid(cube, tolerance) && (d > 0.0 || !geom.contains_box(cube));
         }
         if (keep) out.push_back({x, y, z});
       }

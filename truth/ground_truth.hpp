@@ -83,6 +83,13 @@ struct ObstacleGeom {
 // non-finite vertex.
 std::vector<ObstacleGeom> obstacle_geoms(const sim::World& world, unsigned group_mask = kObstacleGroups);
 
+// Sets each geom's T_world_geom to its pose in world now, as obstacle_geoms() would (the rest is kept). Throws
+// std::invalid_argument for a geom id outside the model.
+void refresh_poses(const sim::World& world, std::vector<ObstacleGeom>& geoms);
+// Whether which geoms obstacle_geoms() returns can change with the state: a plane on a moving body (mocap or
+// jointed) is left out only while it lies as a floor. False: refresh_poses() keeps a list current.
+bool poses_decide_membership(const sim::World& world, unsigned group_mask = kObstacleGroups);
+
 // What the truth cannot make exact, one line per geom: an open mesh (its solid is its surface:
 // solid voxels, footprints), an infinite plane that is not the floor (left out). Empty for
 // every shipped world. Throws as obstacle_geoms() does.

@@ -144,6 +144,23 @@ TEST(VoxelMaskSet, AnswersAsTheVoxelSetItReplaces) {
     ASSERT_EQ(masks.contains(k), plain.count(k) > 0);
   }
   EXPECT_GT(hits, 4000u);
+  // Erases and inserts mixed, looked up in between (the cached leaf stays right through both).
+  std::size_t erased = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const VoxelKey k{coord(rng), coord(rng), coord(rng)};
+    if (i % 3 == 0) {
+      erased += plain.erase(k);
+      masks.erase(k);
+    } else if (i % 3 == 1) {
+      plain.insert(k), masks.insert(k);
+    }
+    ASSERT_EQ(masks.contains(k), plain.count(k) > 0);
+  }
+  EXPECT_GT(erased, 500u);
+  std::size_t visited = 0, in_plain = 0;
+  masks.for_each([&](const VoxelKey& k) { ++visited, in_plain += plain.count(k); });
+  EXPECT_EQ(visited, plain.size());
+  EXPECT_EQ(in_plain, plain.size());
 }
 
 // Labels (Truth's body per static voxel) against the map they replace, filled with emplace() in body order: the

@@ -4,6 +4,7 @@
 #include <functional>
 #include <ostream>
 #include <stdexcept>
+#include <vector>
 
 #include "tests/support/fixture.hpp"
 #include "truth/ground_truth.hpp"
@@ -182,6 +183,35 @@ TEST_P(VoxelizeShape, SolidCountBracketsVolume) {
   EXPECT_GE(solid_m3, shape.volume_m3);
   EXPECT_LE(solid_m3 - surface_m3, shape.volume_m3);
   EXPECT_LE(solid_m3, shape.volume_m3 + 1.2 * shape.area_m2 * s * std::sqrt(3.0));
+}
+
+// voxelize() skips contains_box() for cubes whose centre is outside (every primitive is convex): the same voxels
+// as the plain per-cube test, contains_box() asked of every candidate, and never a contained cube with its centre
+// outside.
+TEST_P(VoxelizeShape, SurfaceIsThePlainPerCubeTest) {
+  const auto& [shape, s] = GetParam();
+  const ObstacleGeom g = make_geom(shape.shape, shape.size, test_pose());
+  VoxelizeOptions options;
+  options.voxel_size_m = s;
+  const double half_diagonal = 0.5 * std::sqrt(3.0) * s, tolerance = options.tolerance_fraction * s;
+  const Eigen::AlignedBox3d box = g.aabb_W();
+  std::vector<VoxelKey> plain;
+  std::size_t outside_centres = 0;
+  for (int x = int(std::floor(box.min().x() / s)); x <= int(std::floor(box.max().x() / s)); ++x)
+    for (int y = int(std::floor(box.min().y() / s)); y <= int(std::floor(box.max().y() / s)); ++y)
+      for (int z = int(std::floor(box.min().z() / s)); z <= int(std::floor(box.max().z() / s)); ++z) {
+        const Eigen::Vector3d lo(x * s, y * s, z * s);
+        const Eigen::AlignedBox3d cube(lo, lo + Eigen::Vector3d::Constant(s));
+        const double d = g.signed_distance_m(cube.center());
+        if (d > 0.0 && d <= half_diagonal) {
+          ++outside_centres;
+          ASSERT_FALSE(g.contains_box(cube)) << x << " " << y << " " << z;
+        }
+        if (std::abs(d) <= half_diagonal && g.intersects_solid(cube, tolerance) && !g.contains_box(cube))
+          plain.push_back({x, y, z});
+      }
+  EXPECT_GT(outside_centres, 10u);
+  EXPECT_EQ(voxelize(g, options), plain);
 }
 
 const ShapeCase kShapes[] = {
