@@ -7,21 +7,21 @@
 #include <tbb/parallel_for.h>
 
 #include "common/stopwatch.hpp"
+#include "common/transform_points.hpp"
 #include "common/voxel_key.hpp"
 #include "filter/passthrough.hpp"
 
 namespace stvl::pipeline {
 namespace {
 
-// The first `count` points to another frame, blocks of columns in parallel (TBB); each column's arithmetic is the
-// same whatever the blocks.
+// The first `count` points to another frame in float (Eigen's (R * P).colwise() + t to the bit), blocks of columns
+// in parallel (TBB); each column's arithmetic is the same whatever the blocks.
 void transform(const Eigen::Isometry3d& T, const Eigen::Matrix3Xf& points, Eigen::Index count, Eigen::Matrix3Xf& out) {
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   out.resize(3, count);
   tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, count, 16384), [&](const tbb::blocked_range<Eigen::Index>& r) {
-    const Eigen::Index n = Eigen::Index(r.size());
-    out.middleCols(r.begin(), n) = (R * points.middleCols(r.begin(), n)).colwise() + t;
+    transform_points(R, t, points.data() + 3 * r.begin(), out.data() + 3 * r.begin(), r.size());
   });
 }
 
@@ -69,8 +69,7 @@ void Sensing::sense(Frame& f) {
   } else {
     f.edge_filtered_depth = {};
   }
-  f.point_count = sensors::depth_to_cloud(*cloud_depth, camera.intrinsics, f.points_C);
-  transform(f.T_world_camera, f.points_C, f.point_count, f.cloud_W);
+  f.point_count = sensors::depth_to_cloud(*cloud_depth, camera.intrinsics, f.points_C, f.T_world_camera, f.cloud_W);
   f.observation = std::make_shared<layer::Observation>();
   layer::Observation& o = *f.observation;
   o.sensor_index = f.camera_index;

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "common/png.hpp"
+#include "common/transform_points.hpp"
 #include "common/units.hpp"
 
 namespace stvl::sensors {
@@ -66,7 +67,11 @@ inline bool valid_depth(float z) { return (z > 0.0f) & (z < std::numeric_limits<
 // Blocks of rows in parallel (TBB): each block's valid pixels counted, then each block's points written from its
 // offset, so that the points keep row-major pixel order whatever the threads. Within a row the arithmetic runs
 // over every pixel (vectorised, the same operations per pixel as one at a time), then the row is compacted.
-Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C) {
+namespace {
+
+// depth_to_cloud's work; with T_world_camera, each block's points are also moved into points_W.
+Eigen::Index cloud_of(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C,
+                      const Eigen::Isometry3d* T_world_camera, Eigen::Matrix3Xf* points_W) {
   check_matches(image, intrinsics);
   const Eigen::Index n_pixels = Eigen::Index(image.width) * image.height;
   if (points_C.cols() < n_pixels) points_C.resize(3, n_pixels);
@@ -87,6 +92,13 @@ Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& int
     offset[size_t(b) + 1] = count;
   });
   for (int b = 0; b < blocks; ++b) offset[size_t(b) + 1] += offset[size_t(b)];
+  Eigen::Matrix3f R_W_C = Eigen::Matrix3f::Identity();
+  Eigen::Vector3f t_W = Eigen::Vector3f::Zero();
+  if (T_world_camera) {
+    R_W_C = T_world_camera->linear().cast<float>();
+    t_W = T_world_camera->translation().cast<float>();
+    points_W->resize(3, offset.back());
+  }
   tbb::parallel_for(0, blocks, [&](int b) {
     Eigen::Index n = offset[size_t(b)];
     const Eigen::Index limit = offset[size_t(b) + 1];
@@ -123,8 +135,23 @@ Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& int
         n += valid_depth(z[u]);
       }
     }
+    if (T_world_camera) {
+      const Eigen::Index first = offset[size_t(b)];
+      transform_points(R_W_C, t_W, out + 3 * first, points_W->data() + 3 * first, std::size_t(limit - first));
+    }
   });
   return offset.back();
+}
+
+}  // namespace
+
+Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C) {
+  return cloud_of(image, intrinsics, points_C, nullptr, nullptr);
+}
+
+Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C,
+                            const Eigen::Isometry3d& T_world_camera, Eigen::Matrix3Xf& points_W) {
+  return cloud_of(image, intrinsics, points_C, &T_world_camera, &points_W);
 }
 
 Eigen::Matrix3Xf depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics) {

@@ -3,6 +3,7 @@
 #include "sensors/camera.hpp"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <string>
@@ -28,6 +29,11 @@ Eigen::Matrix3Xf depth_to_cloud(const DepthImage& image, const CameraIntrinsics&
 // Allocation-free variant for the frame loop: points_C keeps width * height columns (resized only when smaller);
 // the first `return value` columns are the points.
 Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C);
+// The same, and the points in the world frame too: points_W (exactly the points' columns) = T_world_camera *
+// points_C in float, rounded as Eigen's (R * points_C).colwise() + t (common/transform_points.hpp), each block of
+// rows moved while it is still in cache.
+Eigen::Index depth_to_cloud(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C,
+                            const Eigen::Isometry3d& T_world_camera, Eigen::Matrix3Xf& points_W);
 
 // Depth in millimetres as realsense2_camera publishes it (16UC1): rounded, saturated at 65535, 0 = invalid.
 std::vector<std::uint16_t> depth_to_millimetres(const DepthImage& image);

@@ -73,7 +73,8 @@ void check_moving_bodies(const std::string& world_xml, bool with_board) {
     const Truth fresh(world, config);
     ASSERT_EQ(names(truth), names(fresh)) << "step " << step;
     for (std::size_t b = 0; b < fresh.bodies().size(); ++b)
-      ASSERT_EQ(truth.bodies()[b]->voxels, fresh.bodies()[b]->voxels) << fresh.bodies()[b]->body_name << " step " << step;
+      ASSERT_EQ(truth.bodies()[b]->voxels, fresh.bodies()[b]->voxels)
+          << fresh.bodies()[b]->body_name << " step " << step;
     boards_seen += names(truth).back() == "board";
     std::size_t near = 0;
     for (int x = -15; x <= 40; ++x)

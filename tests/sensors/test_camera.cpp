@@ -176,11 +176,22 @@ TEST(DepthToCloud, SameAsAPlainLoopOnVariedImages) {
       for (int threads : {1, 2, 3}) {
         tbb::task_arena arena(threads);
         Eigen::Matrix3Xf fresh, reused = Eigen::Matrix3Xf::Constant(3, Eigen::Index(k.width) * k.height + 5, 7.0f);
-        Eigen::Index n_fresh = 0, n_reused = 0;
+        Eigen::Index n_fresh = 0, n_reused = 0, n_fused = 0;
+        Eigen::Matrix3Xf fused_C, fused_W = Eigen::Matrix3Xf::Constant(3, 9, 7.0f);
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.linear() =
+            Eigen::AngleAxisd(6.0 * uniform(), Eigen::Vector3d(uniform(), uniform(), 1.0).normalized()).matrix();
+        T.translation() = Eigen::Vector3d(20.0 * uniform() - 10.0, 20.0 * uniform() - 10.0, uniform());
         arena.execute([&] {
           n_fresh = depth_to_cloud(image, k, fresh);
           n_reused = depth_to_cloud(image, k, reused);
+          n_fused = depth_to_cloud(image, k, fused_C, T, fused_W);
         });
+        // The fused world points: Eigen's own expression on the plain points, bit for bit.
+        ASSERT_EQ(n_fused, expected.cols()) << "trial " << trial;
+        ASSERT_EQ(fused_W.cols(), expected.cols()) << "trial " << trial;
+        const Eigen::Matrix3Xf expected_W =
+            (T.linear().cast<float>() * expected).colwise() + T.translation().cast<float>();
         ASSERT_EQ(n_fresh, expected.cols()) << "trial " << trial;
         ASSERT_EQ(n_reused, expected.cols()) << "trial " << trial;
         EXPECT_EQ(reused.cols(), Eigen::Index(k.width) * k.height + 5);  // kept, not shrunk
@@ -188,6 +199,10 @@ TEST(DepthToCloud, SameAsAPlainLoopOnVariedImages) {
         if (bytes == 0) continue;  // an empty matrix's data() may be null, which memcmp must not get
         EXPECT_EQ(std::memcmp(fresh.data(), expected.data(), bytes), 0) << "trial " << trial << " threads " << threads;
         EXPECT_EQ(std::memcmp(reused.data(), expected.data(), bytes), 0) << "trial " << trial << " threads " << threads;
+        EXPECT_EQ(std::memcmp(fused_C.data(), expected.data(), bytes), 0)
+            << "trial " << trial << " threads " << threads;
+        EXPECT_EQ(std::memcmp(fused_W.data(), expected_W.data(), bytes), 0)
+            << "trial " << trial << " threads " << threads;
       }
     }
   }
