@@ -11,8 +11,8 @@ namespace stvl {
 // out_j = R in_j + t for count points of 3 interleaved floats (x, y, z); in and out may not overlap.
 inline void transform_points(const Eigen::Matrix3f& R, const Eigen::Vector3f& t, const float* in, float* out,
                              std::size_t count) {
-  const float r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1), r12 = R(1, 2),
-              r20 = R(2, 0), r21 = R(2, 1), r22 = R(2, 2), t0 = t.x(), t1 = t.y(), t2 = t.z();
+  const float r00 = R(0, 0), r01 = R(0, 1), r02 = R(0, 2), r10 = R(1, 0), r11 = R(1, 1), r12 = R(1, 2), r20 = R(2, 0),
+              r21 = R(2, 1), r22 = R(2, 2), t0 = t.x(), t1 = t.y(), t2 = t.z();
   const float* __restrict p = in;
   float* __restrict o = out;
   for (std::size_t j = 0; j < count; ++j) {
