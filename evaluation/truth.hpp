@@ -22,7 +22,8 @@ class Truth {
   // Static bodies voxelized once, moving ones at their poses in world now. Throws std::invalid_argument for a
   // bad config.
   Truth(const sim::World& world, const EvaluationConfig& config);
-  // Moving bodies at their poses in `world` now (nothing is recomputed when none of them moved).
+  // Moving bodies at their poses in `world` now (nothing is recomputed when none of them moved; a body that did
+  // not move keeps its voxels).
   void update(const sim::World& world);
   // Increases whenever the truth changes (a moving body moved); the same version, the same truth.
   std::size_t version() const { return version_; }
