@@ -82,8 +82,8 @@ class Pipeline {
   std::unique_ptr<Sensing> sensing_;         // edge filter, cloud, decimation
   std::array<Frame, kFramesInTurn> frames_;  // frames_[current_] is the latest
   std::size_t current_ = 0;
-  std::array<std::unique_ptr<sim::World>, kFramesInTurn>
-      snapshots_;  // with set_world_snapshots(true): each frame's world
+  // With set_world_snapshots(true): each frame's world.
+  std::array<std::unique_ptr<sim::World>, kFramesInTurn> snapshots_;
   bool draw_ahead_ = true;
   // Renders camera `index`'s frame with the other cameras of this instant; false (nothing done) when none.
   bool draw_ahead(std::size_t index, const Eigen::Isometry3d& T_world_camera);

@@ -64,12 +64,12 @@ inline bool valid_depth(float z) { return (z > 0.0f) & (z < std::numeric_limits<
 
 }  // namespace
 
-// Blocks of rows in parallel (TBB): each block's valid pixels counted, then each block's points written from its
-// offset, so that the points keep row-major pixel order whatever the threads. Within a row the arithmetic runs
-// over every pixel (vectorised, the same operations per pixel as one at a time), then the row is compacted.
 namespace {
 
 // depth_to_cloud's work; with T_world_camera, each block's points are also moved into points_W.
+// Blocks of rows in parallel (TBB): each block's valid pixels counted, then each block's points written from its
+// offset, so that the points keep row-major pixel order whatever the threads. Within a row the arithmetic runs
+// over every pixel (vectorised, the same operations per pixel as one at a time), then the row is compacted.
 Eigen::Index cloud_of(const DepthImage& image, const CameraIntrinsics& intrinsics, Eigen::Matrix3Xf& points_C,
                       const Eigen::Isometry3d* T_world_camera, Eigen::Matrix3Xf* points_W) {
   check_matches(image, intrinsics);
