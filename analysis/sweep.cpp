@@ -228,7 +228,8 @@ std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std
 }
 
 std::vector<std::string> point_command(const std::string& binary, const std::string& scenario,
-                                       const std::string& out_dir, const SweepPoint& point) {
+                                       const std::string& out_dir, const SweepPoint& point,
+                                       const std::vector<SweepTwin>& twins) {
   std::vector<std::string> argv = {binary,
                                    "run",
                                    point.scenario.empty() ? scenario : point.scenario,
@@ -246,6 +247,11 @@ std::vector<std::string> point_command(const std::string& binary, const std::str
     }
   }
   if (point.seed) argv.insert(argv.end(), {"--seed", std::to_string(*point.seed)});
+  for (const SweepTwin& twin : twins) {
+    std::string spec = (fs::path(twin.out_dir) / point.name).string();
+    for (const auto& set : twin.sets) spec += ";" + set;
+    argv.insert(argv.end(), {"--twin", spec});
+  }
   return argv;
 }
 
@@ -260,33 +266,45 @@ std::string shell_line(const std::vector<std::string>& argv) {
 }
 
 std::vector<std::string> emit_sweep(const std::string& engine, const std::string& binary, const std::string& scenario,
-                                    const std::string& out_dir, const std::vector<SweepPoint>& points) {
+                                    const std::string& out_dir, const std::vector<SweepPoint>& points,
+                                    const std::vector<SweepTwin>& given_twins) {
   if (engine != "parallel" && engine != "ctest" && engine != "slurm")
     throw std::invalid_argument("--emit " + engine + ": expected parallel, ctest or slurm");
   fs::create_directories(out_dir);
   const fs::path dir = fs::absolute(out_dir);
-  std::vector<std::string> written;
-  const auto write = [&](const std::string& name, const std::string& text) {
-    write_file_atomically(dir / name, text);
-    written.push_back((dir / name).string());
-  };
-  nlohmann::json grid = {{"scenario", scenario}, {"points", nlohmann::json::array()}};
-  for (const auto& p : points) {
-    nlohmann::json point = {
-        {"name", p.name}, {"sets", p.sets}, {"command", shell_line(point_command(binary, scenario, dir.string(), p))}};
-    if (p.seed) point["seed"] = *p.seed;
-    if (!p.world.empty()) point["world"] = p.world, point["make_world"] = p.make_world;
-    grid["points"].push_back(point);
+  std::vector<SweepTwin> twins = given_twins;
+  for (SweepTwin& twin : twins) {
+    fs::create_directories(twin.out_dir);
+    twin.out_dir = fs::absolute(twin.out_dir).string();
   }
-  write("sweep.json", grid.dump(2) + "\n");
+  std::vector<std::string> written;
+  const auto write_in = [&](const fs::path& folder, const std::string& name, const std::string& text) {
+    write_file_atomically(folder / name, text);
+    written.push_back((folder / name).string());
+  };
+  const auto write = [&](const std::string& name, const std::string& text) { write_in(dir, name, text); };
+  const auto command = [&](const SweepPoint& p) { return point_command(binary, scenario, dir.string(), p, twins); };
+  // One grid per folder: a twin's points carry the twin's sets after their own, and the command that makes them.
+  for (std::size_t t = 0; t <= twins.size(); ++t) {
+    nlohmann::json grid = {{"scenario", scenario}, {"points", nlohmann::json::array()}};
+    for (const auto& p : points) {
+      std::vector<std::string> sets = p.sets;
+      if (t > 0) sets.insert(sets.end(), twins[t - 1].sets.begin(), twins[t - 1].sets.end());
+      nlohmann::json point = {{"name", p.name}, {"sets", sets}, {"command", shell_line(command(p))}};
+      if (p.seed) point["seed"] = *p.seed;
+      if (!p.world.empty()) point["world"] = p.world, point["make_world"] = p.make_world;
+      grid["points"].push_back(point);
+    }
+    write_in(t == 0 ? dir : fs::path(twins[t - 1].out_dir), "sweep.json", grid.dump(2) + "\n");
+  }
   std::string jobs;
-  for (const auto& p : points) jobs += shell_line(point_command(binary, scenario, dir.string(), p)) + "\n";
+  for (const auto& p : points) jobs += shell_line(command(p)) + "\n";
   if (engine == "parallel" || engine == "slurm") write("jobs.txt", jobs);
   if (engine == "ctest") {
     std::string tests = "# stvl-bench sweep: one test per point; run with ctest --test-dir " + dir.string() + " -j N\n";
     for (const auto& p : points) {
       std::string args;
-      for (const auto& arg : point_command(binary, scenario, dir.string(), p)) {
+      for (const auto& arg : command(p)) {
         std::string escaped;
         for (char c : arg)
           escaped += c == '"' || c == '\\' || c == '$' || c == ';' ? std::string("\\") + c : std::string(1, c);
@@ -315,9 +333,12 @@ std::vector<std::string> emit_sweep(const std::string& engine, const std::string
 }
 
 int run_sweep_locally(const std::string& binary, const std::string& scenario, const std::string& out_dir,
-                      const std::vector<SweepPoint>& points, int jobs) {
+                      const std::vector<SweepPoint>& points, int jobs, const std::vector<SweepTwin>& given_twins) {
   if (jobs < 1) throw std::invalid_argument("--jobs must be at least 1");
-  emit_sweep("parallel", binary, scenario, out_dir, points);  // sweep.json (and jobs.txt) for --collect and reruns
+  // sweep.json (and jobs.txt) for --collect and reruns, in every twin's folder too
+  emit_sweep("parallel", binary, scenario, out_dir, points, given_twins);
+  std::vector<SweepTwin> twins = given_twins;
+  for (SweepTwin& twin : twins) twin.out_dir = fs::absolute(twin.out_dir).string();
   const fs::path dir = fs::absolute(out_dir);
   int worst = 0;
   std::size_t next = 0, running = 0;
@@ -338,7 +359,7 @@ int run_sweep_locally(const std::string& binary, const std::string& scenario, co
   while (next < points.size() || running > 0) {
     if (next < points.size() && running < static_cast<std::size_t>(jobs)) {
       const SweepPoint& p = points[next++];
-      const std::vector<std::string> args = point_command(binary, scenario, dir.string(), p);
+      const std::vector<std::string> args = point_command(binary, scenario, dir.string(), p, twins);
       std::vector<char*> argv;
       for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
       argv.push_back(nullptr);

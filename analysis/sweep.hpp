@@ -57,10 +57,18 @@ std::vector<std::uint64_t> parse_seeds(const std::string& text);
 std::vector<SweepPoint> sweep_grid(const std::vector<SweepAxis>& axes, const std::vector<std::uint64_t>& seeds,
                                    std::size_t max_points = 10000, const std::vector<SweepWorld>& worlds = {});
 
+// A twin of every point (sweep --twin OUT;KEY=VALUE;...): the same point with more --sets, run on the point's drive
+// (run --twin) into its own sweep folder, out_dir, which --collect reads like any sweep.
+struct SweepTwin {
+  std::string out_dir;
+  std::vector<std::string> sets;
+};
+
 // The argument vector of a point's run: BIN run SCENARIO --out OUT_DIR/NAME --no-progress [--set ...] [--seed S]
-// (the point's own scenario when it has one).
+// (the point's own scenario when it has one), and --twin TWIN_DIR/NAME;SET;... per twin.
 std::vector<std::string> point_command(const std::string& binary, const std::string& scenario,
-                                       const std::string& out_dir, const SweepPoint& point);
+                                       const std::string& out_dir, const SweepPoint& point,
+                                       const std::vector<SweepTwin>& twins = {});
 // One shell command line (arguments single-quoted).
 std::string shell_line(const std::vector<std::string>& argv);
 
@@ -69,14 +77,16 @@ std::string shell_line(const std::vector<std::string>& argv);
 //   parallel: jobs.txt, one command per line (`parallel --jobs N < jobs.txt`);
 //   ctest:    CTestTestfile.cmake, one test per point named sweep.NAME (`ctest --test-dir DIR -j N`);
 //   slurm:    jobs.txt and sweep.sbatch, an array job whose task i runs line i + 1 (`sbatch sweep.sbatch`).
-// Returns the paths written. Throws std::invalid_argument for an unknown engine.
+// Each twin's folder gets a sweep.json of its own (its points' sets: the point's, then the twin's). Returns the paths
+// written. Throws std::invalid_argument for an unknown engine.
 std::vector<std::string> emit_sweep(const std::string& engine, const std::string& binary, const std::string& scenario,
-                                    const std::string& out_dir, const std::vector<SweepPoint>& points);
+                                    const std::string& out_dir, const std::vector<SweepPoint>& points,
+                                    const std::vector<SweepTwin>& twins = {});
 
 // Runs the points here, at most `jobs` at a time, each a child process (its output in OUT_DIR/NAME.log). Returns
 // the worst exit code (0 all passed, 1 a check failed, 2 bad input or a crash).
 int run_sweep_locally(const std::string& binary, const std::string& scenario, const std::string& out_dir,
-                      const std::vector<SweepPoint>& points, int jobs);
+                      const std::vector<SweepPoint>& points, int jobs, const std::vector<SweepTwin>& twins = {});
 
 // Merges DIR/sweep.json's points with their DIR/NAME/metrics.json: one row per point (its sets, seed, exit state
 // and headline figures). Writes DIR/sweep.csv, DIR/sweep_table.json and DIR/sweep.html (Chart.js inlined from

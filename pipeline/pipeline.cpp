@@ -301,13 +301,17 @@ Frame& Pipeline::capture() {
   return f;
 }
 
-const Frame& Pipeline::sense(Frame& f) {
+Frame& Pipeline::add_noise(Frame& f) {
   if (!f.robot_upright) return f;
   Camera& camera = *cameras_.at(f.camera_index);
   const auto start = SteadyClock::now();
   camera.noise.apply(f.clean_depth, f.depth, camera.noise_seed, f.frame_index);  // clean -> noisy, no copy
   f.times.noise_ms = ms_since(start);
-  sensing_->sense(f);
+  return f;
+}
+
+const Frame& Pipeline::sense_only(Frame& f) {
+  if (f.robot_upright) sensing_->sense(f);
   return f;
 }
 

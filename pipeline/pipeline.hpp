@@ -48,7 +48,11 @@ class Pipeline {
   Frame& capture();
   // The second half, for a frame capture() gave: the camera's noise, then Sensing (cloud, decimation, band). Touches
   // nothing capture() does, so frame k may be sensed on one thread while frame k + 1 is captured on another.
-  const Frame& sense(Frame& frame);
+  const Frame& sense(Frame& frame) { return sense_only(add_noise(frame)); }
+  // sense()'s first part: the camera's noise, frame.depth from frame.clean_depth (times.noise_ms).
+  Frame& add_noise(Frame& frame);
+  // sense()'s second part: Sensing, from frame.depth to the observation.
+  const Frame& sense_only(Frame& frame);
   // On: each capture() copies the simulated world into a snapshot of the frame's own (Frame::world), which the
   // next two captures leave alone; off (default): Frame::world is the live world, which the next capture() moves on.
   void set_world_snapshots(bool on);

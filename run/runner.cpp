@@ -3,13 +3,16 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <thread>
 
 #include "common/atomic_file.hpp"
 #include "common/units.hpp"
 #include "layer/layer.hpp"
 #include "pipeline/pipeline.hpp"
+#include "pipeline/sensing.hpp"
 #include "run/closed_loop.hpp"
 #include "run/frames_ahead.hpp"
+#include "run/shared_drive.hpp"
 #include "sim/contacts.hpp"
 
 namespace stvl::run {
@@ -62,6 +65,37 @@ class SimulatedFrames : public FrameSource {
   const evaluation::Truth& truth_;
   const pipeline::Frame* last_ = nullptr;
   std::unique_ptr<FramesAhead> ahead_;
+};
+
+// A twin's frames (run_twins): the shared drive's, each sensed with the twin's own settings.
+class TwinFrames : public FrameSource {
+ public:
+  TwinFrames(SharedDrive& drive, std::size_t twin, const pipeline::PipelineConfig& config,
+             const evaluation::Truth& truth)
+      : drive_(drive), twin_(twin), config_(config), sensing_(config), truth_(truth) {}
+  const pipeline::Frame* next() override {
+    if (!drive_.take(twin_, frame_)) return nullptr;
+    if (frame_.robot_upright) sensing_.sense(frame_);
+    taken_ = true;
+    return &frame_;
+  }
+  const pipeline::Frame* last() const { return taken_ ? &frame_ : nullptr; }  // its world: until drive.leave()
+  const std::vector<pipeline::CameraConfig>& cameras() const override { return config_.cameras; }
+  std::unique_ptr<BagRecorder> open_bag(const std::string& path, const BagSettings& settings,
+                                        const pipeline::Frame*) override {
+    const Eigen::Matrix3Xf truth_W = truth_.voxel_centers();  // latched in the bag
+    return std::make_unique<BagRecorder>(path, settings, camera_frames(cameras()), &truth_W);
+  }
+  const char* filter_device() const { return sensing_.filter_device(); }
+
+ private:
+  SharedDrive& drive_;
+  std::size_t twin_;
+  const pipeline::PipelineConfig& config_;
+  pipeline::Sensing sensing_;
+  const evaluation::Truth& truth_;
+  pipeline::Frame frame_;
+  bool taken_ = false;
 };
 
 // The run's side of each frame: the evaluation against the truth, sampled depth frames, the soak's samples, the
@@ -142,64 +176,26 @@ evaluation::RunEnd run_end(const config::Scenario& s, const RunOptions& options,
   return end;
 }
 
-}  // namespace
-
-bool RunResult::passed() const {
-  for (const auto& c : checks)
-    if (c.evaluated && !c.passed) return false;
-  return !interrupted;
-}
-
-RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
-  RunResult r;
-  r.scenario = s;
-  const std::unique_ptr<pipeline::Pipeline> pipeline = build_pipeline(s);
-  const std::unique_ptr<layer::Layer> the_layer = layer::make_layer(pipeline::layer_config(s.pipeline));
-  layer::Layer& layer = *the_layer;
-  const sim::World& world = pipeline->simulator().world();
-  evaluation::RunEvaluation evaluation(world, config::evaluation_config(s), s.checks, s.pipeline.cameras);
-  if (s.pipeline.layer_type != layer::LayerType::kStvl)
-    evaluation.set_layer_costmap([&layer] { return layer.costmap(); });
-  if (!options.out_dir.empty()) ensure_writable_directory(std::filesystem::path(options.out_dir) / "frames");
-  r.gl_backend = pipeline->gl_backend();
-  r.filter_device = pipeline->filter_device();
+FrameLoopSettings loop_settings(const config::Scenario& s, const RunOptions& options) {
   FrameLoopSettings settings;
   settings.bag_path = options.bag_path;
   if (!options.bag_path.empty())
     settings.bag = bag_settings(options.bag_path, options.bag_format, options.bag_compression, options.bag_topics);
   settings.publish_period_s = s.outputs.publish_period_s;
   settings.stop_requested = options.stop_requested;
-  SimulatedFrames frames(*pipeline, s.duration_s, evaluation.truth());
-  std::unique_ptr<ClosedLoop> closed_loop;
-  if (s.navigation.mode == navigation::NavigationMode::kClosedLoop)
-    closed_loop = std::make_unique<ClosedLoop>(s, *pipeline, layer, evaluation, !options.bag_path.empty());
-  RunHooks hooks(s, options, evaluation, closed_loop.get());
-  if (s.pipeline.timing_enabled()) {  // frames as the robot's subscriber gets them (issue 43)
-    TimedFrames timed(frames, *pipeline, s.pipeline.seed, s.duration_s, closed_loop != nullptr);
-    timed.set_lost_observer([&](const pipeline::Frame& f, double t) {
-      evaluation.observe_lost(f, t, world);
-      if (closed_loop) closed_loop->after_lost_frame(t);
-    });
-    static_cast<FrameLoopResult&>(r) = run_frame_loop(timed, layer, hooks, settings);
-    r.camera_timing = timed.stats();
-    r.frame_events = timed.events();
-    r.localization = timed.localization();
-    r.corrections = pipeline->simulator().corrections();
-  } else {
-    if (options.run_ahead && !closed_loop) frames.run_ahead();
-    static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
-  }
-  frames.stop();
-  hooks.finish();
-  r.soak = hooks.soak();
-  if (r.interrupted) return r;  // no result file is written
+  return settings;
+}
 
+// After the frame loop (r holds its result): the verdict against the truth at the last frame (`last`, null when
+// there was none), the checks, nav2's master costmap, and the layer's files.
+void conclude(const config::Scenario& s, const RunOptions& options, const RunHooks& hooks,
+              const pipeline::Pipeline& pipeline, const pipeline::Frame* last, evaluation::RunEvaluation& evaluation,
+              layer::Layer& layer, ClosedLoop* closed_loop, RunResult& r) {
   // The world and the outage counts at the loop's end are the last frame's (a pipeline running ahead may have
   // simulated two frames further; otherwise they are the pipeline's own).
-  const pipeline::Frame* last = frames.last();
-  const sim::World& end_world = last ? *last->world : world;
+  const sim::World& end_world = last ? *last->world : pipeline.simulator().world();
   evaluation::RunVerdict verdict =
-      evaluation.finish(run_end(s, options, r, hooks, *pipeline, end_world), end_world, layer.voxels());
+      evaluation.finish(run_end(s, options, r, hooks, pipeline, end_world), end_world, layer.voxels());
   r.evaluation = std::move(verdict.evaluation);
   r.top_down = std::move(verdict.top_down);
   r.evaluation_phases = verdict.phases;
@@ -227,9 +223,130 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
     r.nav2_config = master->config();
   }
   for (std::size_t c = 0; c < s.pipeline.cameras.size(); ++c)
-    r.skipped_frames.push_back(last ? last->skipped_frames.at(c) : pipeline->skipped_frames(c));
+    r.skipped_frames.push_back(last ? last->skipped_frames.at(c) : pipeline.skipped_frames(c));
   write_layer_outputs(layer, options.out_dir);
+}
+
+}  // namespace
+
+bool RunResult::passed() const {
+  for (const auto& c : checks)
+    if (c.evaluated && !c.passed) return false;
+  return !interrupted;
+}
+
+RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
+  RunResult r;
+  r.scenario = s;
+  const std::unique_ptr<pipeline::Pipeline> pipeline = build_pipeline(s);
+  const std::unique_ptr<layer::Layer> the_layer = layer::make_layer(pipeline::layer_config(s.pipeline));
+  layer::Layer& layer = *the_layer;
+  const sim::World& world = pipeline->simulator().world();
+  evaluation::RunEvaluation evaluation(world, config::evaluation_config(s), s.checks, s.pipeline.cameras);
+  if (s.pipeline.layer_type != layer::LayerType::kStvl)
+    evaluation.set_layer_costmap([&layer] { return layer.costmap(); });
+  if (!options.out_dir.empty()) ensure_writable_directory(std::filesystem::path(options.out_dir) / "frames");
+  r.gl_backend = pipeline->gl_backend();
+  r.filter_device = pipeline->filter_device();
+  const FrameLoopSettings settings = loop_settings(s, options);
+  SimulatedFrames frames(*pipeline, s.duration_s, evaluation.truth());
+  std::unique_ptr<ClosedLoop> closed_loop;
+  if (s.navigation.mode == navigation::NavigationMode::kClosedLoop)
+    closed_loop = std::make_unique<ClosedLoop>(s, *pipeline, layer, evaluation, !options.bag_path.empty());
+  RunHooks hooks(s, options, evaluation, closed_loop.get());
+  if (s.pipeline.timing_enabled()) {  // frames as the robot's subscriber gets them (issue 43)
+    TimedFrames timed(frames, *pipeline, s.pipeline.seed, s.duration_s, closed_loop != nullptr);
+    timed.set_lost_observer([&](const pipeline::Frame& f, double t) {
+      evaluation.observe_lost(f, t, world);
+      if (closed_loop) closed_loop->after_lost_frame(t);
+    });
+    static_cast<FrameLoopResult&>(r) = run_frame_loop(timed, layer, hooks, settings);
+    r.camera_timing = timed.stats();
+    r.frame_events = timed.events();
+    r.localization = timed.localization();
+    r.corrections = pipeline->simulator().corrections();
+  } else {
+    if (options.run_ahead && !closed_loop) frames.run_ahead();
+    static_cast<FrameLoopResult&>(r) = run_frame_loop(frames, layer, hooks, settings);
+  }
+  frames.stop();
+  hooks.finish();
+  r.soak = hooks.soak();
+  if (r.interrupted) return r;  // no result file is written
+
+  conclude(s, options, hooks, *pipeline, frames.last(), evaluation, layer, closed_loop.get(), r);
   return r;
+}
+
+bool can_share_drive(const config::Scenario& s) {
+  return s.navigation.mode != navigation::NavigationMode::kClosedLoop && !s.pipeline.timing_enabled();
+}
+
+std::vector<RunResult> run_twins(const std::vector<config::Scenario>& scenarios,
+                                 const std::vector<RunOptions>& options) {
+  if (scenarios.empty() || scenarios.size() != options.size())
+    throw std::invalid_argument("run_twins: " + std::to_string(scenarios.size()) + " scenarios, " +
+                                std::to_string(options.size()) + " option sets");
+  for (const auto& s : scenarios)
+    if (!can_share_drive(s))
+      throw std::invalid_argument("run_twins: '" + s.name + "' drives in closed loop or with camera timing");
+  const std::size_t n = scenarios.size();
+  const std::unique_ptr<pipeline::Pipeline> pipeline = build_pipeline(scenarios.front());
+  const sim::World& world = pipeline->simulator().world();
+  // Each twin's layer, evaluation (its truth made now, from the world before the drive starts) and hooks.
+  struct Twin {
+    Twin(const config::Scenario& s, const RunOptions& options, const sim::World& world)
+        : layer(layer::make_layer(pipeline::layer_config(s.pipeline))),
+          evaluation(world, config::evaluation_config(s), s.checks, s.pipeline.cameras),
+          hooks(s, options, evaluation, nullptr) {}
+    std::unique_ptr<layer::Layer> layer;
+    evaluation::RunEvaluation evaluation;
+    RunHooks hooks;
+    std::unique_ptr<TwinFrames> frames;
+    RunResult result;
+    std::exception_ptr error;
+  };
+  std::vector<std::unique_ptr<Twin>> twins;
+  for (std::size_t i = 0; i < n; ++i) {
+    const config::Scenario& s = scenarios[i];
+    twins.push_back(std::make_unique<Twin>(s, options[i], world));
+    Twin& t = *twins.back();
+    if (s.pipeline.layer_type != layer::LayerType::kStvl)
+      t.evaluation.set_layer_costmap([&layer = *t.layer] { return layer.costmap(); });
+    if (!options[i].out_dir.empty()) ensure_writable_directory(std::filesystem::path(options[i].out_dir) / "frames");
+    t.result.scenario = s;
+    t.result.gl_backend = pipeline->gl_backend();
+  }
+  SharedDrive drive(*pipeline, n, scenarios.front().duration_s);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < n; ++i) {
+    Twin& t = *twins[i];
+    t.frames = std::make_unique<TwinFrames>(drive, i, scenarios[i].pipeline, t.evaluation.truth());
+    t.result.filter_device = t.frames->filter_device();
+    threads.emplace_back([&, i] {
+      Twin& twin = *twins[i];
+      try {
+        static_cast<FrameLoopResult&>(twin.result) =
+            run_frame_loop(*twin.frames, *twin.layer, twin.hooks, loop_settings(scenarios[i], options[i]));
+        twin.hooks.finish();
+        twin.result.soak = twin.hooks.soak();
+        // Before leaving: the last frame's world is the drive's snapshot, kept until then.
+        if (!twin.result.interrupted)
+          conclude(scenarios[i], options[i], twin.hooks, *pipeline, twin.frames->last(), twin.evaluation, *twin.layer,
+                   nullptr, twin.result);
+      } catch (...) {
+        twin.error = std::current_exception();
+      }
+      drive.leave(i);
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+  std::vector<RunResult> results;
+  for (auto& t : twins) {
+    if (t->error) std::rethrow_exception(t->error);
+    results.push_back(std::move(t->result));
+  }
+  return results;
 }
 
 }  // namespace stvl::run

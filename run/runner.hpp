@@ -51,4 +51,16 @@ struct RunResult : FrameLoopResult {
 // Throws std::invalid_argument / std::runtime_error for bad input or environment (exit code 2).
 RunResult run_scenario(const config::Scenario& scenario, const RunOptions& options);
 
+// Whether the scenario's frames are made whatever its layer does: not in closed loop, not with camera timing.
+bool can_share_drive(const config::Scenario& scenario);
+
+// Twins: scenarios that differ only in what is done with the frames (run/shared_drive.hpp's twin_sets_problem:
+// the layer, filter, evaluation, checks, outputs, edge filter; the caller ensures it), run on one drive, each with its
+// options and on a thread of its own. Each result is run_scenario's for that scenario and options (timings
+// aside); the first scenario's simulator, cameras and noise make the frames. Throws std::invalid_argument for a
+// scenario that cannot share its drive (can_share_drive), and what run_scenario throws (a twin's error once all
+// have ended).
+std::vector<RunResult> run_twins(const std::vector<config::Scenario>& scenarios,
+                                 const std::vector<RunOptions>& options);
+
 }  // namespace stvl::run

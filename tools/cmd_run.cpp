@@ -1,8 +1,10 @@
 // stvl-bench run [SCENARIO.yaml] [--out DIR] [--bag FILE] ...: one scenario end to end.
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "common/staged_directory.hpp"
 #include "config/ros_binding.hpp"
@@ -11,6 +13,7 @@
 #include "recording/bag_writer.hpp"
 #include "report/report.hpp"
 #include "run/runner.hpp"
+#include "run/shared_drive.hpp"
 #include "sim/urdf_robot.hpp"
 #include "tools/command.hpp"
 
@@ -44,6 +47,7 @@ struct RunCommandOptions {
   std::string noise;
   bool require_path = false;
   bool no_run_ahead = false;
+  std::vector<std::string> twins;  // --twin OUT;KEY=VALUE;...
 };
 
 // What the scenario's URDF robot gave: notices, the robot, its drive and footprint.
@@ -114,48 +118,102 @@ void print_run_summary(const RunCommandOptions& o, const Scenario& scenario, con
               result.frames, result.sim_time_s, result.real_time_factor, quality, out_dir.c_str());
 }
 
-int run(const RunCommandOptions& o) {
-  Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario, o.sets);
+// The scenario with the run's --sets and then `extra_sets`, and the overrides; prints the URDF robot and the lint
+// findings when asked. Returns the scenario's own duration (before --duration) in `scenario_duration_s`.
+Scenario load_run_scenario(const RunCommandOptions& o, const std::vector<std::string>& extra_sets, bool print,
+                           double& scenario_duration_s) {
+  std::vector<std::string> sets = o.sets;
+  sets.insert(sets.end(), extra_sets.begin(), extra_sets.end());
+  Scenario scenario = load_scenario(o.scenario.empty() ? default_scenario_path() : o.scenario, sets);
   ScenarioOverrides overrides = o.overrides;
   if (!o.noise.empty()) {
     if (o.noise != "on" && o.noise != "off")
       throw std::invalid_argument("--noise must be on or off, got '" + o.noise + "'");
     overrides.noise = o.noise == "on";
   }
-  print_urdf_robot(scenario);
-  const double scenario_duration_s = scenario.duration_s;
+  if (print) print_urdf_robot(scenario);
+  scenario_duration_s = scenario.duration_s;
   apply_overrides(scenario, overrides);
-  print_lint_findings(scenario);
+  if (print) print_lint_findings(scenario);
+  return scenario;
+}
 
-  const std::string out_dir = o.out_dir.empty() ? "out/" + scenario.name : o.out_dir;
-  check_bag_outside_outputs(out_dir, o.bag, o.bag_format);  // before anything is written
+// The run's options for one output folder (staged: written whole or not at all); the bag for the first run only.
+RunOptions run_options(const RunCommandOptions& o, const Scenario& scenario, double scenario_duration_s,
+                       StagedDirectory& staged, bool first) {
   RunOptions options;
-  // Every output goes into a fresh staging folder, moved over --out only once the run is complete
-  // (common/staged_directory.hpp); a bag inside --out travels with it.
-  StagedDirectory staged(out_dir);
   options.out_dir = staged.path().string();
-  options.bag_path = o.bag.empty() ? std::string() : staged.redirect(o.bag).string();
-  options.bag_compression = o.bag_compression;
-  options.bag_format = o.bag_format;
-  options.bag_topics = o.bag_topics;
-  options.progress = !o.no_progress;
+  if (first) {
+    options.bag_path = o.bag.empty() ? std::string() : staged.redirect(o.bag).string();
+    options.bag_compression = o.bag_compression;
+    options.bag_format = o.bag_format;
+    options.bag_topics = o.bag_topics;
+  }
+  options.progress = first && !o.no_progress;
   options.stop_requested = catch_stop_signals();
   if (scenario.duration_s < scenario_duration_s) options.cut_short_from_s = scenario_duration_s;
   options.require_path = o.require_path;
   options.run_ahead = !o.no_run_ahead;
+  return options;
+}
 
-  RunResult result;
+// The runs: one, or the run and its twins on one drive (one after another where the drive cannot be shared).
+std::vector<RunResult> run_all(const std::vector<Scenario>& scenarios, const std::vector<RunOptions>& options) {
+  if (scenarios.size() == 1) return {run_scenario(scenarios.front(), options.front())};
+  if (can_share_drive(scenarios.front())) return run_twins(scenarios, options);
+  std::printf(
+      "notice: --twin: a closed-loop or timed drive depends on each run's layer; the twins run one after "
+      "another\n");
+  std::vector<RunResult> results;
+  for (std::size_t i = 0; i < scenarios.size(); ++i) {
+    results.push_back(run_scenario(scenarios[i], options[i]));
+    if (results.back().interrupted) break;
+  }
+  return results;
+}
+
+int run(const RunCommandOptions& o) {
+  std::vector<TwinSpec> twins{{o.out_dir, {}}};
+  for (const auto& text : o.twins) twins.push_back(run::parse_twin(text));
+  std::vector<Scenario> scenarios;
+  double scenario_duration_s = 0;
+  for (std::size_t i = 0; i < twins.size(); ++i) {
+    scenarios.push_back(load_run_scenario(o, twins[i].sets, i == 0, scenario_duration_s));
+    if (i == 0 && twins[0].out_dir.empty()) twins[0].out_dir = "out/" + scenarios[0].name;
+    for (std::size_t j = 0; j < i; ++j)
+      if (std::filesystem::weakly_canonical(twins[i].out_dir) == std::filesystem::weakly_canonical(twins[j].out_dir))
+        throw std::invalid_argument("--twin: two runs would write " + twins[i].out_dir);
+  }
+  check_bag_outside_outputs(twins[0].out_dir, o.bag, o.bag_format);  // before anything is written
+  // Every output goes into a fresh staging folder, moved over its folder only once the run is complete
+  // (common/staged_directory.hpp); a bag inside --out travels with it.
+  std::vector<std::unique_ptr<StagedDirectory>> staged;
+  std::vector<RunOptions> options;
+  for (std::size_t i = 0; i < twins.size(); ++i) {
+    staged.push_back(std::make_unique<StagedDirectory>(twins[i].out_dir));
+    options.push_back(run_options(o, scenarios[i], scenario_duration_s, *staged[i], i == 0));
+  }
+  std::vector<RunResult> results;
   try {
-    result = run_scenario(scenario, options);
-    if (!result.interrupted) write_report(result, staged.path());
+    results = run_all(scenarios, options);
+    for (std::size_t i = 0; i < results.size(); ++i)
+      if (!results[i].interrupted) write_report(results[i], staged[i]->path());
   } catch (const std::exception& e) {
-    staged.abandon(std::string("stvl-bench: error: ") + e.what());
+    for (auto& s : staged) s->abandon(std::string("stvl-bench: error: ") + e.what());
     throw;
   }
-  if (result.interrupted) return abandon_interrupted_run(o, options, result, staged);
-  staged.commit();
-  print_run_summary(o, scenario, result, staged.final_path().string());
-  return result.passed() ? kExitOk : kExitCheckFailed;
+  for (std::size_t i = 0; i < results.size(); ++i)
+    if (results[i].interrupted) {
+      for (std::size_t j = 1; j < staged.size(); ++j) staged[j]->abandon("interrupted");
+      return abandon_interrupted_run(o, options[0], results[i], *staged[0]);
+    }
+  int exit_code = kExitOk;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    staged[i]->commit();
+    print_run_summary(o, scenarios[i], results[i], staged[i]->final_path().string());
+    if (!results[i].passed()) exit_code = kExitCheckFailed;
+  }
+  return exit_code;
 }
 
 const CommandRegistration kRun("run", [](CLI::App& app) {
@@ -187,6 +245,13 @@ const CommandRegistration kRun("run", [](CLI::App& app) {
   cmd->add_flag("--no-run-ahead", o->no_run_ahead,
                 "Make each frame after the last one's evaluation (default: the next frame is made meanwhile on a "
                 "second thread; the outputs are the same)");
+  cmd->add_option("--twin", o->twins,
+                  "Also run the scenario with more --sets into another folder, on this run's drive (its physics, "
+                  "renders and noise made once): OUT;KEY=VALUE;... with keys under map., filter., evaluation., "
+                  "checks., outputs., name or a camera's edge_filter. (repeatable; each twin's outputs are those of "
+                  "its own run; the bag is this run's only)")
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_flag("--no-progress", o->no_progress, "No progress output");
   cmd->add_flag("--profile", o->profile, "Print where the time went: per stage and per evaluation phase");
   return [o] { return run(*o); };

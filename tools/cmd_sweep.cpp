@@ -13,6 +13,8 @@
 #include "analysis/sweep_page.hpp"
 #include "common/atomic_file.hpp"
 #include "config/scenario.hpp"
+#include "run/runner.hpp"
+#include "run/shared_drive.hpp"
 #include "tools/command.hpp"
 
 namespace stvl::tools {
@@ -30,7 +32,26 @@ struct SweepOptions {
   std::string emit;
   std::string collect;
   std::string junit;
+  std::vector<std::string> twins;  // --twin OUT;KEY=VALUE;...
 };
+
+// --twin: each a sweep folder of its own, none of them the sweep's or another twin's.
+std::vector<SweepTwin> sweep_twins(const SweepOptions& o, const std::string& out) {
+  std::vector<SweepTwin> twins;
+  std::vector<std::filesystem::path> folders{std::filesystem::weakly_canonical(out)};
+  for (const auto& text : o.twins) {
+    const run::TwinSpec spec = run::parse_twin(text);
+    const std::filesystem::path folder = std::filesystem::weakly_canonical(spec.out_dir);
+    for (const auto& other : folders)
+      if (folder == other || other.lexically_relative(folder).string().rfind("..", 0) != 0 ||
+          folder.lexically_relative(other).string().rfind("..", 0) != 0)
+        throw std::invalid_argument("--twin '" + text + "': its folder " + spec.out_dir +
+                                    " must lie apart from the sweep's folder and the other twins'");
+    folders.push_back(folder);
+    twins.push_back({spec.out_dir, spec.sets});
+  }
+  return twins;
+}
 
 // --junit F: one testcase per point of the collected table.
 void write_junit(const SweepOptions& o, const nlohmann::json& table) {
@@ -39,47 +60,62 @@ void write_junit(const SweepOptions& o, const nlohmann::json& table) {
   std::printf("sweep: JUnit in %s\n", o.junit.c_str());
 }
 
-// Every point must load before any runs: a key that does not exist or a value of the wrong type names the
-// assignment (and the point).
-void validate_points(const std::string& sweep_scenario, const std::vector<SweepPoint>& points) {
-  for (const auto& p : points) {
-    std::vector<std::string> sets;
-    ScenarioOverrides overrides;
-    for (const auto& s : p.sets) {
-      const std::size_t equals = s.find('=');
-      const std::string key = s.substr(0, equals), value = s.substr(equals + 1);
-      if (key.rfind("--", 0) != 0) {
-        sets.push_back(s);
-        continue;
-      }
-      const auto number = [&] {
-        try {
-          std::size_t used = 0;
-          const double v = std::stod(value, &used);
-          if (used == value.size()) return v;
-        } catch (const std::exception&) {
-        }
-        throw std::invalid_argument("--option " + key.substr(2) + "=" + value + ": expected a number");
-      };
-      if (key == "--voxel-size") overrides.voxel_size_m = number();
-      if (key == "--duration") overrides.duration_s = number();
-      if (key == "--filter") overrides.filter_type = value;
-      if (key == "--device") overrides.device = value;
-      if (key == "--memory") overrides.memory = value;
-      if (key == "--gl") overrides.gl_backend = value;
-      if (key == "--noise") {
-        if (value != "on" && value != "off")
-          throw std::invalid_argument("--option noise=" + value + ": expected on or off");
-        overrides.noise = value == "on";
-      }
+// A point (with a twin's sets after its own) as its run loads it: a key that does not exist or a value of the wrong
+// type names the assignment (and the point).
+Scenario load_point(const std::string& sweep_scenario, const SweepPoint& p, const std::vector<std::string>& twin_sets) {
+  std::vector<std::string> sets;
+  ScenarioOverrides overrides;
+  for (const auto& s : p.sets) {
+    const std::size_t equals = s.find('=');
+    const std::string key = s.substr(0, equals), value = s.substr(equals + 1);
+    if (key.rfind("--", 0) != 0) {
+      sets.push_back(s);
+      continue;
     }
-    try {
-      Scenario s = load_scenario(p.scenario.empty() ? sweep_scenario : p.scenario, sets);
-      apply_overrides(s, overrides);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(std::string(e.what()) + " (sweep point " + p.name + ")");
+    const auto number = [&] {
+      try {
+        std::size_t used = 0;
+        const double v = std::stod(value, &used);
+        if (used == value.size()) return v;
+      } catch (const std::exception&) {
+      }
+      throw std::invalid_argument("--option " + key.substr(2) + "=" + value + ": expected a number");
+    };
+    if (key == "--voxel-size") overrides.voxel_size_m = number();
+    if (key == "--duration") overrides.duration_s = number();
+    if (key == "--filter") overrides.filter_type = value;
+    if (key == "--device") overrides.device = value;
+    if (key == "--memory") overrides.memory = value;
+    if (key == "--gl") overrides.gl_backend = value;
+    if (key == "--noise") {
+      if (value != "on" && value != "off")
+        throw std::invalid_argument("--option noise=" + value + ": expected on or off");
+      overrides.noise = value == "on";
     }
   }
+  sets.insert(sets.end(), twin_sets.begin(), twin_sets.end());
+  try {
+    Scenario s = load_scenario(p.scenario.empty() ? sweep_scenario : p.scenario, sets);
+    apply_overrides(s, overrides);
+    return s;
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string(e.what()) + " (sweep point " + p.name +
+                                (twin_sets.empty() ? "" : ", its twin") + ")");
+  }
+}
+
+// Every point and its twins must load before any runs.
+void validate_points(const std::string& sweep_scenario, const std::vector<SweepPoint>& points,
+                     const std::vector<SweepTwin>& twins) {
+  std::size_t unshared = 0;
+  for (const auto& p : points) {
+    const Scenario s = load_point(sweep_scenario, p, {});
+    for (const SweepTwin& twin : twins) load_point(sweep_scenario, p, twin.sets);
+    unshared += !twins.empty() && !run::can_share_drive(s);
+  }
+  if (unshared > 0)
+    std::printf("sweep: notice: %zu points drive in closed loop or with camera timing: their twins run after them\n",
+                unshared);
 }
 
 int sweep(const SweepOptions& o) {
@@ -109,18 +145,24 @@ int sweep(const SweepOptions& o) {
   }
   const auto points =
       sweep_grid(axes, o.seeds.empty() ? std::vector<std::uint64_t>{} : parse_seeds(o.seeds), 10000, worlds);
-  validate_points(scenario, points);
+  const std::vector<SweepTwin> twins = sweep_twins(o, out);
+  validate_points(scenario, points, twins);
   if (!o.emit.empty()) {
-    for (const auto& path : emit_sweep(o.emit, binary, scenario, out, points))
+    for (const auto& path : emit_sweep(o.emit, binary, scenario, out, points, twins))
       std::printf("sweep: wrote %s\n", path.c_str());
     std::printf("sweep: %zu points; then stvl-bench sweep --collect %s\n", points.size(), out.c_str());
     return kExitOk;
   }
   const int jobs = o.jobs > 0 ? o.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::printf("sweep: %zu points, %d at a time, into %s\n", points.size(), jobs, out.c_str());
-  const int worst = run_sweep_locally(binary, scenario, out, points, jobs);
+  const int worst = run_sweep_locally(binary, scenario, out, points, jobs, twins);
   write_junit(o, collect_sweep(out));
   std::printf("sweep: table in %s/sweep.csv and %s/sweep.html\n", out.c_str(), out.c_str());
+  for (const auto& twin : twins) {
+    collect_sweep(twin.out_dir);
+    std::printf("sweep: its twin's table in %s/sweep.csv and %s/sweep.html\n", twin.out_dir.c_str(),
+                twin.out_dir.c_str());
+  }
   return worst;
 }
 
@@ -145,6 +187,13 @@ const CommandRegistration kSweep("sweep", [](CLI::App& app) {
                   "worlds by world from-map) and scenario files; sweep.html gives each figure's mean, p5, p95 and "
                   "worst world with the command that reproduces it, and the share of worlds where each check holds");
   cmd->add_option("--out", o->out_dir, "Output folder: one subfolder per point (default: out/sweep-<scenario>)");
+  cmd->add_option("--twin", o->twins,
+                  "Also run every point with more --sets, on the point's drive (run --twin: physics, renders and "
+                  "noise made once for both), into a sweep folder of its own: OUT;KEY=VALUE;... with keys under map., "
+                  "filter., evaluation., checks., outputs., name or a camera's edge_filter. (repeatable); "
+                  "--collect OUT gives its table")
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--jobs", o->jobs, "Points run at once here (default: one per core)")->check(CLI::Range(1, 256));
   cmd->add_option("--emit", o->emit, "Write the grid for an engine instead of running it: parallel | ctest | slurm")
       ->check(CLI::IsMember({"parallel", "ctest", "slurm"}));

@@ -118,6 +118,26 @@ TEST(SweepEmit, EveryEngineGetsOneJobPerPoint) {
   EXPECT_THAT(invalid_argument_of([&] { emit_sweep("make", "/b", "/s.yaml", out, points); }), HasSubstr("--emit make"));
 }
 
+TEST(SweepEmit, TwinsRunWithTheirPointAndHaveAGridOfTheirOwn) {
+  const stvl::test::TempDir dir("sweep_twins");
+  const auto points = sweep_grid({parse_sweep_axis("a=1,2")}, {});
+  const std::string out = (dir.path() / "g").string(), twin = (dir.path() / "t").string();
+  const std::vector<SweepTwin> twins = {{twin, {"map.b=3", "filter.c=4"}}};
+  EXPECT_THAT(point_command("/b", "/s.yaml", "/out", points[1], {{"/t", {"map.b=3"}}}),
+              ElementsAre("/b", "run", "/s.yaml", "--out", "/out/001_a=2", "--no-progress", "--set", "a=2", "--twin",
+                          "/t/001_a=2;map.b=3"));
+  emit_sweep("parallel", "/b", "/s.yaml", out, points, twins);
+  const std::string jobs = stvl::test::TempDir::read(dir.path() / "g" / "jobs.txt");
+  EXPECT_EQ(lines_of(jobs), 2u);  // one process per point and its twin
+  EXPECT_THAT(jobs, HasSubstr("'--twin' '" + fs::absolute(twin).string() + "/000_a=1;map.b=3;filter.c=4'"));
+  const auto grid = nlohmann::json::parse(stvl::test::TempDir::read(dir.path() / "t" / "sweep.json"));
+  ASSERT_EQ(grid["points"].size(), 2u);
+  EXPECT_EQ(grid["points"][1]["name"], "001_a=2");
+  EXPECT_EQ(grid["points"][1]["sets"], nlohmann::json({"a=2", "map.b=3", "filter.c=4"}));
+  const auto own = nlohmann::json::parse(stvl::test::TempDir::read(dir.path() / "g" / "sweep.json"));
+  EXPECT_EQ(own["points"][1]["sets"], nlohmann::json({"a=2"}));
+}
+
 TEST(SweepCollect, OneRowPerPointWithItsFiguresOrMissing) {
   const stvl::test::TempDir dir("sweep_collect");
   const auto points =

@@ -212,6 +212,47 @@ case $case_name in
     grep -E "path_completed" "$tmp/stdout"
     ;;
 
+  twin_drive_key)
+    # A twin shares its run's drive: a key that changes what is simulated, rendered or made noisy is refused.
+    run_bench run "$scenario" --out "$tmp/out" --twin "$tmp/twin;map.voxel_size=0.1;seed=3" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "--twin .*'seed' may change the drive"
+    expect_no_results "$tmp"
+    run_bench sweep "$scenario" --set map.voxel_size=0.05,0.1 --out "$tmp/sweep" --twin "$tmp/sweep_twin;camera.noise.enabled=false"
+    expect_rc 2
+    expect_error_line "'camera.noise.enabled' may change the drive"
+    expect_no_results "$tmp"
+    ;;
+
+  twin_same_out)
+    run_bench run "$scenario" --out "$tmp/out" --twin "$tmp/out/../out;map.voxel_size=0.1" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "two runs would write"
+    expect_no_results "$tmp"
+    run_bench sweep "$scenario" --set map.voxel_size=0.05,0.1 --out "$tmp/sweep" --twin "$tmp/sweep/inner;map.voxel_size=0.1"
+    expect_rc 2
+    expect_error_line "must lie apart from the sweep's folder"
+    ;;
+
+  twin_same_as_alone)
+    # The command line's twin: its outputs are those of its own run, and so are its run's.
+    fixes=(map.clearing_mode=raycast camera.edge_filter.enabled=true map.mark_rounding=floor)
+    run_bench run "$scenario" --out "$tmp/a" --twin "$tmp/b;$(IFS=';'; echo "${fixes[*]}")" --no-progress --duration 3
+    expect_rc 0
+    sets=()
+    for s in "${fixes[@]}"; do sets+=(--set "$s"); done
+    run_bench run "$scenario" --out "$tmp/b_alone" "${sets[@]}" --no-progress --duration 3
+    expect_rc 0
+    run_bench run "$scenario" --out "$tmp/a_alone" --no-progress --duration 3
+    expect_rc 0
+    for f in map.ply costmap.pgm; do
+      cmp "$tmp/a/$f" "$tmp/a_alone/$f" || fail "the run's $f differs from its run alone"
+      cmp "$tmp/b/$f" "$tmp/b_alone/$f" || fail "the twin's $f differs from its run alone"
+    done
+    cmp -s "$tmp/a/map.ply" "$tmp/b/map.ply" && fail "the two behaviours gave the same map: the check above proves nothing"
+    [[ -f "$tmp/b/metrics.json" && -f "$tmp/b/report.html" ]] || fail "the twin has no metrics.json or report.html"
+    ;;
+
   gl_bogus)
     STVL_GL=bogus run_bench run "$scenario" --out "$tmp/out" --no-progress --duration 1
     expect_rc 2
