@@ -91,8 +91,7 @@ TEST_F(SharedDriveTest, ThreeTwinsEachWithItsOwnLayerAndEvaluation) {
   const config::Scenario a = scenario({"evaluation.evaluate_every_s=0.25"}), b = scenario({"map.voxel_size=0.05"});
   const RunResult a_alone = run_scenario(a, options("a_alone"));
   const RunResult b_alone = run_scenario(b, options("b_alone"));
-  const std::vector<RunResult> twins =
-      run_twins({a, b, a}, {options("a_twin"), options("b_twin"), options("a_again")});
+  const std::vector<RunResult> twins = run_twins({a, b, a}, {options("a_twin"), options("b_twin"), options("a_again")});
   ASSERT_EQ(twins.size(), 3u);
   expect_same(a_alone, options("a_alone").out_dir, twins[0], options("a_twin").out_dir);
   expect_same(b_alone, options("b_alone").out_dir, twins[1], options("b_twin").out_dir);
@@ -103,7 +102,9 @@ TEST_F(SharedDriveTest, ClosedLoopOrTimedDrivesAreNotShared) {
   const config::Scenario timed = scenario({"camera.timing.latency_mean_s=0.05"});
   EXPECT_FALSE(can_share_drive(timed));
   EXPECT_TRUE(can_share_drive(scenario({})));
-  EXPECT_THAT(test::invalid_argument_of([&] { run_twins({timed, timed}, {options("t1"), options("t2")}); }),
+  EXPECT_THAT(test::invalid_argument_of([&] {
+                run_twins({timed, timed}, {options("t1"), options("t2")});
+              }),
               HasSubstr("closed loop or with camera timing"));
 }
 
@@ -112,8 +113,8 @@ TEST(TwinSets, OnlyWhatIsDoneWithTheFrames) {
                           "evaluation.tolerance_voxels=2", "checks.f1_3d_min=0.5", "outputs.sample_depth_frames=0",
                           "camera.edge_filter.enabled=true", "cameras[1].edge_filter.enabled=true", "map={}"})
     EXPECT_EQ(twin_sets_problem({set}), "") << set;
-  for (const char* set : {"seed=2", "duration_s=5", "camera.noise.enabled=false", "robot.speed_mps=1",
-                          "world=w.xml", "mapx.a=1", "names=b", "camera.edge_filterx=1", "cameras[a].edge_filter.x=1",
+  for (const char* set : {"seed=2", "duration_s=5", "camera.noise.enabled=false", "robot.speed_mps=1", "world=w.xml",
+                          "mapx.a=1", "names=b", "camera.edge_filterx=1", "cameras[a].edge_filter.x=1",
                           "camera.timing.latency_s=0.1", "navigation.mode=closed_loop"})
     EXPECT_THAT(twin_sets_problem({set}), HasSubstr("may change the drive")) << set;
   EXPECT_THAT(twin_sets_problem({"map.voxel_size"}), HasSubstr("is not KEY=VALUE"));
