@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # stvl-bench sweep with the real engines: a 2 x 2 grid (voxel size x seed, 0.4 s runs) run here with --jobs, then
 # emitted for GNU parallel and for CTest and run by them; every point must leave its metrics.json with its own
-# settings, and --collect must see every point passed. Bad grids exit 2 before anything runs.
+# settings, and --collect must see every point passed; the same with a twin per point. Bad grids exit 2 before anything
+# runs.
 set -euo pipefail
 bin=$1 out=$2 scenario=$3
 rm -rf "$out" && mkdir -p "$out"
@@ -16,6 +17,15 @@ check_points() {  # DIR: the four points ran with their own voxel size and seed,
 
 "$bin" sweep "$scenario" "${grid[@]}" --jobs 2 --out "$out/local" >"$out/local.log" || fail "local sweep: $(cat "$out/local.log")"
 check_points "$out/local"
+
+# Each point with a twin on its drive (ray-cast clearing) into a sweep folder of its own: both folders' points pass
+# with their own voxel size and seed, and each ran its own clearing.
+"$bin" sweep "$scenario" "${grid[@]}" --jobs 2 --out "$out/with_twin" --twin "$out/twin;map.clearing_mode=raycast" \
+  >"$out/with_twin.log" || fail "sweep with a twin: $(cat "$out/with_twin.log")"
+check_points "$out/with_twin"
+check_points "$out/twin"
+for m in "$out"/with_twin/0*/metrics.json; do grep -q '"clearing_mode": "frustum"' "$m" || fail "$m: not frustum"; done
+for m in "$out"/twin/0*/metrics.json; do grep -q '"clearing_mode": "raycast"' "$m" || fail "$m: not raycast"; done
 
 if command -v parallel >/dev/null; then
   "$bin" sweep "$scenario" "${grid[@]}" --emit parallel --out "$out/parallel" >/dev/null
