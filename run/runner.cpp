@@ -336,6 +336,7 @@ std::vector<RunResult> run_twins(const std::vector<config::Scenario>& scenarios,
                    nullptr, twin.result);
       } catch (...) {
         twin.error = std::current_exception();
+        drive.stop();  // the others end at their next frame: the command fails anyway
       }
       drive.leave(i);
     });

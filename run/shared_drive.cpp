@@ -111,6 +111,7 @@ void SharedDrive::drive() {
       pipeline::Frame& f = pipeline_.capture();
       pipeline_.add_noise(f);
       std::lock_guard<std::mutex> lock(mutex_);
+      if (stop_) break;
       latest_ = &f;
       ++captured_;
       ended_ = !f.robot_upright;  // the simulator stops at a fallen robot's frame
@@ -147,6 +148,14 @@ bool SharedDrive::take(std::size_t twin, pipeline::Frame& into) {
   }
   if (error_) std::rethrow_exception(error_);
   return false;
+}
+
+void SharedDrive::stop() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = ended_ = true;
+  }
+  changed_.notify_all();
 }
 
 void SharedDrive::leave(std::size_t twin) {

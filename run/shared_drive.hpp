@@ -45,6 +45,8 @@ class SharedDrive {
   bool take(std::size_t twin, pipeline::Frame& into);
   // Twin `twin` takes no more frames: the drive goes on without waiting for it.
   void leave(std::size_t twin);
+  // No more frames for anyone (a twin failed): every take() from now on gives false.
+  void stop();
 
  private:
   void drive();           // the drive's thread

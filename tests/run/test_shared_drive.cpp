@@ -98,6 +98,15 @@ TEST_F(SharedDriveTest, ThreeTwinsEachWithItsOwnLayerAndEvaluation) {
   expect_same(a_alone, options("a_alone").out_dir, twins[2], options("a_again").out_dir);
 }
 
+TEST_F(SharedDriveTest, ATwinsErrorEndsTheDriveAndIsRethrown) {
+  // The first twin's bag cannot be written: its loop fails at the start, the other twin ends at its next frame, and
+  // the error comes out of run_twins (no hang waiting on the failed twin).
+  RunOptions broken = options("broken");
+  broken.bag_path = (fs::path(world_.path()).parent_path() / "no_such_folder" / "run.bag").string();
+  const config::Scenario s = scenario({});
+  EXPECT_ANY_THROW(run_twins({s, s}, {broken, options("fine")}));
+}
+
 TEST_F(SharedDriveTest, ClosedLoopOrTimedDrivesAreNotShared) {
   const config::Scenario timed = scenario({"camera.timing.latency_mean_s=0.05"});
   EXPECT_FALSE(can_share_drive(timed));
