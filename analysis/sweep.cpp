@@ -248,7 +248,7 @@ std::vector<std::string> point_command(const std::string& binary, const std::str
   }
   if (point.seed) argv.insert(argv.end(), {"--seed", std::to_string(*point.seed)});
   for (const SweepTwin& twin : twins) {
-    std::string spec = (fs::path(twin.out_dir) / point.name).string();
+    std::string spec = (fs::absolute(twin.out_dir) / point.name).string();
     for (const auto& set : twin.sets) spec += ";" + set;
     argv.insert(argv.end(), {"--twin", spec});
   }
@@ -267,16 +267,12 @@ std::string shell_line(const std::vector<std::string>& argv) {
 
 std::vector<std::string> emit_sweep(const std::string& engine, const std::string& binary, const std::string& scenario,
                                     const std::string& out_dir, const std::vector<SweepPoint>& points,
-                                    const std::vector<SweepTwin>& given_twins) {
+                                    const std::vector<SweepTwin>& twins) {
   if (engine != "parallel" && engine != "ctest" && engine != "slurm")
     throw std::invalid_argument("--emit " + engine + ": expected parallel, ctest or slurm");
   fs::create_directories(out_dir);
   const fs::path dir = fs::absolute(out_dir);
-  std::vector<SweepTwin> twins = given_twins;
-  for (SweepTwin& twin : twins) {
-    fs::create_directories(twin.out_dir);
-    twin.out_dir = fs::absolute(twin.out_dir).string();
-  }
+  for (const SweepTwin& twin : twins) fs::create_directories(twin.out_dir);
   std::vector<std::string> written;
   const auto write_in = [&](const fs::path& folder, const std::string& name, const std::string& text) {
     write_file_atomically(folder / name, text);
@@ -295,7 +291,7 @@ std::vector<std::string> emit_sweep(const std::string& engine, const std::string
       if (!p.world.empty()) point["world"] = p.world, point["make_world"] = p.make_world;
       grid["points"].push_back(point);
     }
-    write_in(t == 0 ? dir : fs::path(twins[t - 1].out_dir), "sweep.json", grid.dump(2) + "\n");
+    write_in(t == 0 ? dir : fs::absolute(twins[t - 1].out_dir), "sweep.json", grid.dump(2) + "\n");
   }
   std::string jobs;
   for (const auto& p : points) jobs += shell_line(command(p)) + "\n";
@@ -333,12 +329,10 @@ std::vector<std::string> emit_sweep(const std::string& engine, const std::string
 }
 
 int run_sweep_locally(const std::string& binary, const std::string& scenario, const std::string& out_dir,
-                      const std::vector<SweepPoint>& points, int jobs, const std::vector<SweepTwin>& given_twins) {
+                      const std::vector<SweepPoint>& points, int jobs, const std::vector<SweepTwin>& twins) {
   if (jobs < 1) throw std::invalid_argument("--jobs must be at least 1");
   // sweep.json (and jobs.txt) for --collect and reruns, in every twin's folder too
-  emit_sweep("parallel", binary, scenario, out_dir, points, given_twins);
-  std::vector<SweepTwin> twins = given_twins;
-  for (SweepTwin& twin : twins) twin.out_dir = fs::absolute(twin.out_dir).string();
+  emit_sweep("parallel", binary, scenario, out_dir, points, twins);
   const fs::path dir = fs::absolute(out_dir);
   int worst = 0;
   std::size_t next = 0, running = 0;

@@ -39,6 +39,15 @@ StagedDirectory::~StagedDirectory() {
   if (!done_) abandon("the run ended before its outputs were complete");
 }
 
+bool folders_apart(const fs::path& a, const fs::path& b) {
+  const fs::path x = fs::weakly_canonical(a), y = fs::weakly_canonical(b);
+  const auto inside = [](const fs::path& p, const fs::path& folder) {
+    const fs::path relative = p.lexically_relative(folder);
+    return !relative.empty() && *relative.begin() != "..";
+  };
+  return !inside(x, y) && !inside(y, x);
+}
+
 fs::path StagedDirectory::redirect(const fs::path& p) const {
   const fs::path relative =
       fs::absolute(p).lexically_normal().lexically_relative(fs::absolute(final_).lexically_normal());

@@ -36,4 +36,8 @@ class StagedDirectory {
   bool done_ = false;
 };
 
+// Whether output folders a and b can each be staged and committed on their own: neither is the other nor holds it
+// (a commit replaces the whole folder, and a folder inside it with it). Compared resolved (weakly_canonical).
+bool folders_apart(const std::filesystem::path& a, const std::filesystem::path& b);
+
 }  // namespace stvl

@@ -31,6 +31,14 @@ std::unique_ptr<pipeline::Pipeline> build_pipeline(const config::Scenario& s) {
   }
 }
 
+// A simulated run's bag: the cameras' mounts and the truth's voxels (latched).
+std::unique_ptr<BagRecorder> bag_with_truth(const std::string& path, const BagSettings& settings,
+                                            const std::vector<pipeline::CameraConfig>& cameras,
+                                            const evaluation::Truth& truth) {
+  const Eigen::Matrix3Xf truth_W = truth.voxel_centers();
+  return std::make_unique<BagRecorder>(path, settings, camera_frames(cameras), &truth_W);
+}
+
 // The pipeline's frames up to the scenario's duration; the bag with the cameras' mounts and the truth. Running
 // ahead (FramesAhead), the next frames are made on threads of their own while the loop takes this one.
 class SimulatedFrames : public FrameSource {
@@ -55,8 +63,7 @@ class SimulatedFrames : public FrameSource {
   const std::vector<pipeline::CameraConfig>& cameras() const override { return pipeline_.config().cameras; }
   std::unique_ptr<BagRecorder> open_bag(const std::string& path, const BagSettings& settings,
                                         const pipeline::Frame*) override {
-    const Eigen::Matrix3Xf truth_W = truth_.voxel_centers();  // latched in the bag
-    return std::make_unique<BagRecorder>(path, settings, camera_frames(cameras()), &truth_W);
+    return bag_with_truth(path, settings, cameras(), truth_);
   }
 
  private:
@@ -83,8 +90,7 @@ class TwinFrames : public FrameSource {
   const std::vector<pipeline::CameraConfig>& cameras() const override { return config_.cameras; }
   std::unique_ptr<BagRecorder> open_bag(const std::string& path, const BagSettings& settings,
                                         const pipeline::Frame*) override {
-    const Eigen::Matrix3Xf truth_W = truth_.voxel_centers();  // latched in the bag
-    return std::make_unique<BagRecorder>(path, settings, camera_frames(cameras()), &truth_W);
+    return bag_with_truth(path, settings, cameras(), truth_);
   }
   const char* filter_device() const { return sensing_.filter_device(); }
 
@@ -176,6 +182,15 @@ evaluation::RunEnd run_end(const config::Scenario& s, const RunOptions& options,
   return end;
 }
 
+// Before the frame loop: a nav2 layer's own costmap is what the evaluation scores, and the sampled frames' folder
+// must be writable.
+void prepare_run(const config::Scenario& s, const RunOptions& options, const layer::Layer& layer,
+                 evaluation::RunEvaluation& evaluation) {
+  if (s.pipeline.layer_type != layer::LayerType::kStvl)
+    evaluation.set_layer_costmap([&layer] { return layer.costmap(); });
+  if (!options.out_dir.empty()) ensure_writable_directory(std::filesystem::path(options.out_dir) / "frames");
+}
+
 FrameLoopSettings loop_settings(const config::Scenario& s, const RunOptions& options) {
   FrameLoopSettings settings;
   settings.bag_path = options.bag_path;
@@ -243,9 +258,7 @@ RunResult run_scenario(const config::Scenario& s, const RunOptions& options) {
   layer::Layer& layer = *the_layer;
   const sim::World& world = pipeline->simulator().world();
   evaluation::RunEvaluation evaluation(world, config::evaluation_config(s), s.checks, s.pipeline.cameras);
-  if (s.pipeline.layer_type != layer::LayerType::kStvl)
-    evaluation.set_layer_costmap([&layer] { return layer.costmap(); });
-  if (!options.out_dir.empty()) ensure_writable_directory(std::filesystem::path(options.out_dir) / "frames");
+  prepare_run(s, options, layer, evaluation);
   r.gl_backend = pipeline->gl_backend();
   r.filter_device = pipeline->filter_device();
   const FrameLoopSettings settings = loop_settings(s, options);
@@ -311,9 +324,7 @@ std::vector<RunResult> run_twins(const std::vector<config::Scenario>& scenarios,
     const config::Scenario& s = scenarios[i];
     twins.push_back(std::make_unique<Twin>(s, options[i], world));
     Twin& t = *twins.back();
-    if (s.pipeline.layer_type != layer::LayerType::kStvl)
-      t.evaluation.set_layer_costmap([&layer = *t.layer] { return layer.costmap(); });
-    if (!options[i].out_dir.empty()) ensure_writable_directory(std::filesystem::path(options[i].out_dir) / "frames");
+    prepare_run(s, options[i], *t.layer, t.evaluation);
     t.result.scenario = s;
     t.result.gl_backend = pipeline->gl_backend();
   }

@@ -80,11 +80,7 @@ SharedDrive::SharedDrive(pipeline::Pipeline& pipeline, std::size_t twins, double
 }
 
 SharedDrive::~SharedDrive() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    stop_ = true;
-  }
-  changed_.notify_all();
+  stop();
   thread_.join();
 }
 

@@ -34,7 +34,7 @@ class SharedDrive {
   // Takes over `pipeline` (world snapshots on, its GL contexts moved to the drive's thread) for `twins` twins, up to
   // duration_s; starts the drive's thread.
   SharedDrive(pipeline::Pipeline& pipeline, std::size_t twins, double duration_s);
-  // Stops the drive's thread and gives the GL contexts back to the calling thread.
+  // Stops the drive's thread (stop()) and waits for it; the thread releases the GL contexts as it ends.
   ~SharedDrive();
   SharedDrive(const SharedDrive&) = delete;
   SharedDrive& operator=(const SharedDrive&) = delete;

@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/markup.hpp"
+
 namespace stvl::sim {
 namespace {
 
@@ -82,11 +84,6 @@ std::string static_pair_excludes(const mjModel* m) {
   }
   mj_deleteData(d);
   std::set<int> excluded(m->exclude_signature, m->exclude_signature + m->nexclude);
-  auto escaped = [](const std::string& text) {
-    std::string out;
-    for (char c : text) out += c == '"' ? "&quot;" : c == '&' ? "&amp;" : c == '<' ? "&lt;" : std::string(1, c);
-    return out;
-  };
   std::string xml;
   std::size_t pairs = 0;
   for (std::size_t i = 0; i < bodies.size(); ++i)
@@ -95,7 +92,7 @@ std::string static_pair_excludes(const mjModel* m) {
       const bool near = !std::isfinite(a.radius) || !std::isfinite(b.radius) ||
                         (a.centre - b.centre).norm() <= std::sqrt(3.0) * (a.radius + b.radius);
       if (!near || excluded.count(((a.body + 1) << 16) + b.body + 1)) continue;
-      xml += "<exclude body1=\"" + escaped(a.name) + "\" body2=\"" + escaped(b.name) + "\"/>\n";
+      xml += "<exclude body1=\"" + xml_escape(a.name) + "\" body2=\"" + xml_escape(b.name) + "\"/>\n";
       if (++pairs > kMaxStaticExcludes) return {};
     }
   return pairs == 0 ? std::string() : "<contact>\n" + xml + "</contact>\n";

@@ -181,8 +181,9 @@ int run(const RunCommandOptions& o) {
     scenarios.push_back(load_run_scenario(o, twins[i].sets, i == 0, scenario_duration_s));
     if (i == 0 && twins[0].out_dir.empty()) twins[0].out_dir = "out/" + scenarios[0].name;
     for (std::size_t j = 0; j < i; ++j)
-      if (std::filesystem::weakly_canonical(twins[i].out_dir) == std::filesystem::weakly_canonical(twins[j].out_dir))
-        throw std::invalid_argument("--twin: two runs would write " + twins[i].out_dir);
+      if (!folders_apart(twins[i].out_dir, twins[j].out_dir))
+        throw std::invalid_argument("--twin: two runs would write " + twins[i].out_dir + " (with " + twins[j].out_dir +
+                                    "): each needs a folder of its own, neither inside the other");
   }
   check_bag_outside_outputs(twins[0].out_dir, o.bag, o.bag_format);  // before anything is written
   // Every output goes into a fresh staging folder, moved over its folder only once the run is complete

@@ -12,6 +12,7 @@
 #include "analysis/sweep.hpp"
 #include "analysis/sweep_page.hpp"
 #include "common/atomic_file.hpp"
+#include "common/staged_directory.hpp"
 #include "config/scenario.hpp"
 #include "run/runner.hpp"
 #include "run/shared_drive.hpp"
@@ -38,16 +39,14 @@ struct SweepOptions {
 // --twin: each a sweep folder of its own, none of them the sweep's or another twin's.
 std::vector<SweepTwin> sweep_twins(const SweepOptions& o, const std::string& out) {
   std::vector<SweepTwin> twins;
-  std::vector<std::filesystem::path> folders{std::filesystem::weakly_canonical(out)};
+  std::vector<std::string> folders{out};
   for (const auto& text : o.twins) {
     const run::TwinSpec spec = run::parse_twin(text);
-    const std::filesystem::path folder = std::filesystem::weakly_canonical(spec.out_dir);
     for (const auto& other : folders)
-      if (folder == other || other.lexically_relative(folder).string().rfind("..", 0) != 0 ||
-          folder.lexically_relative(other).string().rfind("..", 0) != 0)
+      if (!folders_apart(spec.out_dir, other))
         throw std::invalid_argument("--twin '" + text + "': its folder " + spec.out_dir +
                                     " must lie apart from the sweep's folder and the other twins'");
-    folders.push_back(folder);
+    folders.push_back(spec.out_dir);
     twins.push_back({spec.out_dir, spec.sets});
   }
   return twins;

@@ -80,6 +80,15 @@ TEST_F(StagedDirectoryTest, RedirectsPathsInsideTheFinalFolder) {
   staged.commit();
 }
 
+TEST_F(StagedDirectoryTest, FoldersApartWhenNeitherHoldsTheOther) {
+  EXPECT_TRUE(folders_apart(out, dir.path() / "twin"));
+  EXPECT_TRUE(folders_apart(out, dir.path() / "out_twin"));  // a name that starts alike is another folder
+  EXPECT_FALSE(folders_apart(out, out));
+  EXPECT_FALSE(folders_apart(out, out / "twin"));
+  EXPECT_FALSE(folders_apart(out / "twin", out));
+  EXPECT_FALSE(folders_apart(out, out / ".." / "out"));  // the same folder, written another way
+}
+
 TEST_F(StagedDirectoryTest, AFolderUnderAFileThrowsNamingIt) {
   put(dir.path() / "plain_file", "");
   try {

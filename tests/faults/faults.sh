@@ -229,6 +229,11 @@ case $case_name in
     expect_rc 2
     expect_error_line "two runs would write"
     expect_no_results "$tmp"
+    # A twin inside the run's folder would go with it when the run's outputs replace the folder.
+    run_bench run "$scenario" --out "$tmp/out" --twin "$tmp/out/twin;map.voxel_size=0.1" --no-progress --duration 1
+    expect_rc 2
+    expect_error_line "two runs would write .*neither inside the other"
+    expect_no_results "$tmp"
     run_bench sweep "$scenario" --set map.voxel_size=0.05,0.1 --out "$tmp/sweep" --twin "$tmp/sweep/inner;map.voxel_size=0.1"
     expect_rc 2
     expect_error_line "must lie apart from the sweep's folder"
